@@ -1,0 +1,58 @@
+// A polyhedral object model: corners, edges and faces in model millimetres.
+//
+// `Model` is a fixed-layout, trivially copyable record: it is what the table blob stores in its
+// model directory and what code reads in place from the blob, so its layout is part of the blob
+// format (docs/tables.md). All floats are IEEE-754 binary32, little-endian.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <type_traits>
+
+namespace sh {
+
+inline constexpr int kMaxModelCorners = 32;
+inline constexpr int kMaxModelEdges = 48;
+inline constexpr int kMaxModelFaces = 24;
+inline constexpr int kMaxFaceVertices = 15;
+inline constexpr int kMaxModelSymmetries = 24;
+inline constexpr int kMaxModelNameLength = 31;
+
+struct ModelEdge {
+  uint8_t a = 0, b = 0;          // corner indices
+  uint8_t face0 = 0, face1 = 0;  // the two faces that meet at this edge
+};
+
+struct ModelFace {
+  uint8_t n_vertices = 0;
+  uint8_t vertices[kMaxFaceVertices] = {};  // corner indices, counter-clockwise from outside
+  float normal[3] = {};                     // outward unit normal
+  float offset_mm = 0;                      // plane: normal . x = offset_mm
+};
+
+struct Model {
+  char name[kMaxModelNameLength + 1] = {};  // NUL-terminated (OBJ file stem)
+  uint16_t n_corners = 0;
+  uint16_t n_edges = 0;
+  uint16_t n_faces = 0;
+  uint16_t n_symmetries = 0;  // proper rotations mapping the model onto itself (identity first)
+  float corners_mm[kMaxModelCorners][3] = {};
+  ModelEdge edges[kMaxModelEdges] = {};
+  ModelFace faces[kMaxModelFaces] = {};
+  float symmetries[kMaxModelSymmetries][9] = {};  // row-major rotation matrices
+
+  Eigen::Vector3f corner(int i) const {
+    return {corners_mm[i][0], corners_mm[i][1], corners_mm[i][2]};
+  }
+  Eigen::Vector3f face_normal(int f) const {
+    return {faces[f].normal[0], faces[f].normal[1], faces[f].normal[2]};
+  }
+  Eigen::Matrix3f symmetry(int k) const {
+    return Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(symmetries[k]);
+  }
+};
+
+static_assert(std::is_trivially_copyable_v<Model>);
+static_assert(std::is_standard_layout_v<Model>);
+
+}  // namespace sh
