@@ -1,0 +1,24 @@
+// Subcommands of the `stereohash` host program register themselves here, one file each.
+#pragma once
+
+namespace sh::tools {
+
+struct Command {
+  const char* name;     // e.g. "render"; "tables build" style groups use their first word
+  const char* summary;  // one line for `stereohash --help`
+  int (*run)(int argc, char** argv);  // argv[0] is the command name; returns the exit code
+};
+
+void RegisterCommand(const Command& command);
+const Command* FindCommand(const char* name);
+void ListCommands(void (*print)(const Command&));
+
+struct CommandRegistrar {
+  explicit CommandRegistrar(const Command& command) { RegisterCommand(command); }
+};
+
+}  // namespace sh::tools
+
+// Usage at namespace scope: SH_REGISTER_COMMAND(render, "draw a stereo pair", RunRender);
+#define SH_REGISTER_COMMAND(id, summary, fn) \
+  static ::sh::tools::CommandRegistrar sh_command_##id({#id, summary, fn})

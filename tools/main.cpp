@@ -1,0 +1,65 @@
+// stereohash: host command-line program. Each subcommand lives in its own cmd_*.cpp file.
+#include <cstdio>
+#include <cstring>
+
+#include "tools/command.hpp"
+
+namespace sh::tools {
+namespace {
+
+constexpr int kMaxCommands = 32;
+Command g_commands[kMaxCommands];
+int g_count = 0;
+
+void PrintUsage() {
+  std::printf(
+      "usage: stereohash <command> [options]\n"
+      "Recognises polyhedral objects in calibrated stereo images by 3-D geometric hashing.\n\n"
+      "commands:\n");
+  ListCommands([](const Command& c) { std::printf("  %-12s %s\n", c.name, c.summary); });
+  std::printf("\n'stereohash <command> --help' describes a command.\n");
+}
+
+}  // namespace
+
+void RegisterCommand(const Command& command) {
+  if (g_count < kMaxCommands) g_commands[g_count++] = command;
+}
+
+const Command* FindCommand(const char* name) {
+  for (int i = 0; i < g_count; ++i) {
+    if (std::strcmp(g_commands[i].name, name) == 0) return &g_commands[i];
+  }
+  return nullptr;
+}
+
+void ListCommands(void (*print)(const Command&)) {
+  // Alphabetical, independent of static-initialisation order.
+  bool printed[kMaxCommands] = {};
+  for (int n = 0; n < g_count; ++n) {
+    int best = -1;
+    for (int i = 0; i < g_count; ++i) {
+      if (!printed[i] && (best < 0 || std::strcmp(g_commands[i].name, g_commands[best].name) < 0))
+        best = i;
+    }
+    printed[best] = true;
+    print(g_commands[best]);
+  }
+}
+
+}  // namespace sh::tools
+
+int main(int argc, char** argv) {
+  using namespace sh::tools;
+  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
+    PrintUsage();
+    return argc < 2 ? 2 : 0;
+  }
+  const Command* command = FindCommand(argv[1]);
+  if (command == nullptr) {
+    std::fprintf(stderr, "stereohash: unknown command '%s'\n\n", argv[1]);
+    PrintUsage();
+    return 2;
+  }
+  return command->run(argc - 1, argv + 1);
+}
