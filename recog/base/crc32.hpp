@@ -1,0 +1,13 @@
+// CRC-32 (IEEE 802.3 / zlib / PNG polynomial 0xEDB88320, reflected, init and final xor
+// 0xFFFFFFFF). Used by the table blob header and the PNG writer.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace sh {
+
+// Continues a CRC over more data: Crc32(b, nb, Crc32(a, na)) == Crc32(a ++ b).
+uint32_t Crc32(const void* data, size_t length, uint32_t crc = 0);
+
+}  // namespace sh
