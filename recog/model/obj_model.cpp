@@ -1,0 +1,485 @@
+#include "recog/model/obj_model.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+namespace sh {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Tokenising. The text is not NUL-terminated, so every read is bounded by `end`.
+
+bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+bool IsDigit(char c) { return c >= '0' && c <= '9'; }
+
+void SkipSpaces(const char*& p, const char* end) {
+  while (p < end && IsSpace(*p)) ++p;
+}
+
+bool AtTokenEnd(const char* p, const char* end) { return p == end || IsSpace(*p); }
+
+// Parses a decimal floating-point number ([+-]digits[.digits][(e|E)[+-]digits]) without the
+// C library (strtod needs a NUL terminator and depends on the locale).
+enum class NumberError { kNone, kMissing, kMalformed, kNonFinite };
+
+NumberError ParseDouble(const char*& p, const char* end, double* value) {
+  SkipSpaces(p, end);
+  if (p == end) return NumberError::kMissing;
+  const char* start = p;
+  bool negative = false;
+  if (*p == '+' || *p == '-') negative = *p++ == '-';
+  if (p < end && (*p == 'n' || *p == 'N' || *p == 'i' || *p == 'I')) {
+    while (p < end && !IsSpace(*p)) ++p;
+    return NumberError::kNonFinite;
+  }
+  double mantissa = 0;
+  int exponent10 = 0;
+  int digits = 0;
+  while (p < end && IsDigit(*p)) {
+    mantissa = mantissa * 10 + (*p++ - '0');
+    ++digits;
+  }
+  if (p < end && *p == '.') {
+    ++p;
+    while (p < end && IsDigit(*p)) {
+      mantissa = mantissa * 10 + (*p++ - '0');
+      --exponent10;
+      ++digits;
+    }
+  }
+  if (digits == 0) {
+    p = start;
+    while (p < end && !IsSpace(*p)) ++p;
+    return NumberError::kMalformed;
+  }
+  if (p < end && (*p == 'e' || *p == 'E')) {
+    ++p;
+    bool exp_negative = false;
+    if (p < end && (*p == '+' || *p == '-')) exp_negative = *p++ == '-';
+    int e = 0;
+    int exp_digits = 0;
+    while (p < end && IsDigit(*p)) {
+      if (e < 100000) e = e * 10 + (*p - '0');  // saturate: anything this big is non-finite
+      ++p;
+      ++exp_digits;
+    }
+    if (exp_digits == 0) return NumberError::kMalformed;
+    exponent10 += exp_negative ? -e : e;
+  }
+  if (!AtTokenEnd(p, end)) return NumberError::kMalformed;
+  const double v = mantissa * std::pow(10.0, exponent10);
+  if (!std::isfinite(v)) return NumberError::kNonFinite;
+  *value = negative ? -v : v;
+  return NumberError::kNone;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Working data of one parse (about 40 KB, on the stack; model loading is not per-frame).
+
+struct ObjMesh {
+  int n_vertices = 0;
+  Eigen::Vector3d vertices[kMaxObjVertices];
+  int n_polygons = 0;
+  int polygon_start[kMaxObjPolygons + 1] = {};  // into corner_index, CSR style
+  int polygon_line[kMaxObjPolygons] = {};       // OBJ line number, for messages
+  int n_half_edges = 0;
+  uint16_t vertex_of[kMaxObjHalfEdges] = {};  // half-edge h starts at this vertex
+
+  int size(int f) const { return polygon_start[f + 1] - polygon_start[f]; }
+  int from(int h) const { return vertex_of[h]; }
+  // Half-edges of polygon f are polygon_start[f] .. polygon_start[f+1]-1; h goes from
+  // vertex_of[h] to the vertex of the next half-edge of the same polygon.
+  int next_in_polygon(int h, int f) const {
+    return h + 1 < polygon_start[f + 1] ? h + 1 : polygon_start[f];
+  }
+};
+
+Status ParseText(const char* text, size_t len, ObjMesh& mesh) {
+  const char* p = text;
+  const char* const end = text + len;
+  int line = 0;
+  while (p < end) {
+    ++line;
+    const char* line_end = p;
+    while (line_end < end && *line_end != '\n') ++line_end;
+    SkipSpaces(p, line_end);
+    const char* keyword = p;
+    while (p < line_end && !IsSpace(*p)) ++p;
+    const size_t keyword_len = static_cast<size_t>(p - keyword);
+    if (keyword_len == 1 && keyword[0] == 'v') {
+      if (mesh.n_vertices >= kMaxObjVertices) {
+        return Status::Error(StatusCode::kResourceExhausted, "OBJ line %d: more than %d vertices",
+                             line, kMaxObjVertices);
+      }
+      double xyz[3];
+      for (int k = 0; k < 3; ++k) {
+        switch (ParseDouble(p, line_end, &xyz[k])) {
+          case NumberError::kNone:
+            break;
+          case NumberError::kMissing:
+            return Status::Error(StatusCode::kInvalidArgument,
+                                 "OBJ line %d: vertex needs 3 coordinates", line);
+          case NumberError::kMalformed:
+            return Status::Error(StatusCode::kInvalidArgument,
+                                 "OBJ line %d: malformed vertex coordinate", line);
+          case NumberError::kNonFinite:
+            return Status::Error(StatusCode::kInvalidArgument,
+                                 "OBJ line %d: non-finite vertex coordinate", line);
+        }
+      }
+      mesh.vertices[mesh.n_vertices++] = {xyz[0], xyz[1], xyz[2]};
+    } else if (keyword_len == 1 && keyword[0] == 'f') {
+      if (mesh.n_polygons >= kMaxObjPolygons) {
+        return Status::Error(StatusCode::kResourceExhausted, "OBJ line %d: more than %d faces",
+                             line, kMaxObjPolygons);
+      }
+      const int first = mesh.n_half_edges;
+      for (;;) {
+        SkipSpaces(p, line_end);
+        if (p == line_end) break;
+        // Token "v", "v/vt", "v/vt/vn" or "v//vn": only v matters.
+        bool negative = false;
+        if (*p == '-' || *p == '+') negative = *p++ == '-';
+        long index = 0;
+        int digits = 0;
+        while (p < line_end && IsDigit(*p)) {
+          if (index < 1000000) index = index * 10 + (*p - '0');
+          ++p;
+          ++digits;
+        }
+        if (digits == 0 || (p < line_end && !IsSpace(*p) && *p != '/')) {
+          return Status::Error(StatusCode::kInvalidArgument,
+                               "OBJ line %d: malformed face vertex index", line);
+        }
+        while (p < line_end && !IsSpace(*p)) ++p;
+        // Negative indices count back from the latest vertex (-1 is the last one).
+        const long resolved = negative ? mesh.n_vertices - index : index - 1;
+        if (index == 0 || resolved < 0 || resolved >= mesh.n_vertices) {
+          return Status::Error(StatusCode::kInvalidArgument,
+                               "OBJ line %d: face refers to vertex %s%ld but %d are defined", line,
+                               negative ? "-" : "", index, mesh.n_vertices);
+        }
+        if (mesh.n_half_edges - first >= kMaxObjPolygonVertices ||
+            mesh.n_half_edges >= kMaxObjHalfEdges) {
+          return Status::Error(StatusCode::kResourceExhausted,
+                               "OBJ line %d: face too large (limits: %d vertices per face, %d "
+                               "face vertices in total)",
+                               line, kMaxObjPolygonVertices, kMaxObjHalfEdges);
+        }
+        mesh.vertex_of[mesh.n_half_edges++] = static_cast<uint16_t>(resolved);
+      }
+      if (mesh.n_half_edges - first < 3) {
+        return Status::Error(StatusCode::kInvalidArgument,
+                             "OBJ line %d: face has fewer than 3 vertices", line);
+      }
+      mesh.polygon_line[mesh.n_polygons] = line;
+      mesh.polygon_start[++mesh.n_polygons] = mesh.n_half_edges;
+    }
+    p = line_end < end ? line_end + 1 : end;
+  }
+  if (mesh.n_polygons == 0) {
+    return Status::Error(StatusCode::kInvalidArgument, "OBJ has no faces");
+  }
+  return Status::Ok();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Topology and merging.
+
+struct Topology {
+  int polygon_of[kMaxObjHalfEdges] = {};
+  int twin[kMaxObjHalfEdges] = {};
+  Eigen::Vector3d newell[kMaxObjPolygons];  // |newell| = 2 * area, direction = normal
+  double offset[kMaxObjPolygons] = {};
+  int parent[kMaxObjPolygons] = {};  // union-find over polygons
+  int group_of[kMaxObjPolygons] = {};
+  int n_groups = 0;
+  int corner_index[kMaxObjVertices] = {};  // -1 if the vertex is not a corner
+  bool is_corner[kMaxObjVertices] = {};
+  int next_boundary[kMaxObjHalfEdges] = {};  // -1 for interior half-edges
+  int group_first_half_edge[kMaxModelFaces] = {};
+};
+
+int Find(int* parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+int ToVertex(const ObjMesh& mesh, const Topology& topo, int h) {
+  return mesh.from(mesh.next_in_polygon(h, topo.polygon_of[h]));
+}
+
+Status BuildTopology(const ObjMesh& mesh, double tolerance_mm, Topology& topo) {
+  for (int f = 0; f < mesh.n_polygons; ++f) {
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int h = mesh.polygon_start[f]; h < mesh.polygon_start[f + 1]; ++h) {
+      topo.polygon_of[h] = f;
+      const Eigen::Vector3d& a = mesh.vertices[mesh.from(h)];
+      const Eigen::Vector3d& b = mesh.vertices[mesh.from(mesh.next_in_polygon(h, f))];
+      if (mesh.from(h) == mesh.from(mesh.next_in_polygon(h, f))) {
+        return Status::Error(StatusCode::kInvalidArgument, "OBJ line %d: face repeats vertex %d",
+                             mesh.polygon_line[f], mesh.from(h) + 1);
+      }
+      n += a.cross(b);  // Newell's method: robust for non-convex planar polygons
+      centroid += a;
+    }
+    centroid /= mesh.size(f);
+    if (n.norm() < 1e-12 * tolerance_mm * tolerance_mm || !std::isfinite(n.norm())) {
+      return Status::Error(StatusCode::kInvalidArgument, "OBJ line %d: face has zero area",
+                           mesh.polygon_line[f]);
+    }
+    topo.newell[f] = n;
+    const Eigen::Vector3d unit = n.normalized();
+    topo.offset[f] = unit.dot(centroid);
+    for (int h = mesh.polygon_start[f]; h < mesh.polygon_start[f + 1]; ++h) {
+      if (std::abs(unit.dot(mesh.vertices[mesh.from(h)]) - topo.offset[f]) > tolerance_mm) {
+        return Status::Error(StatusCode::kInvalidArgument, "OBJ line %d: face is not planar",
+                             mesh.polygon_line[f]);
+      }
+    }
+    topo.parent[f] = f;
+  }
+
+  // Twins: a closed, consistently wound 2-manifold has exactly one b->a for every a->b.
+  for (int h = 0; h < mesh.n_half_edges; ++h) {
+    const int a = mesh.from(h), b = ToVertex(mesh, topo, h);
+    int twin = -1;
+    for (int g = 0; g < mesh.n_half_edges; ++g) {
+      if (g == h) continue;
+      const int c = mesh.from(g), d = ToVertex(mesh, topo, g);
+      if (c == a && d == b) {
+        return Status::Error(StatusCode::kInvalidArgument,
+                             "OBJ: edge %d-%d is used twice in the same direction (non-manifold "
+                             "or inconsistent winding)",
+                             a + 1, b + 1);
+      }
+      if (c == b && d == a) {
+        if (twin >= 0) {
+          return Status::Error(StatusCode::kInvalidArgument,
+                               "OBJ: edge %d-%d is shared by more than two faces (non-manifold)",
+                               a + 1, b + 1);
+        }
+        twin = g;
+      }
+    }
+    if (twin < 0) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "OBJ: edge %d-%d belongs to one face only (surface not closed)", a + 1,
+                           b + 1);
+    }
+    topo.twin[h] = twin;
+  }
+
+  // Merge adjacent coplanar polygons.
+  for (int h = 0; h < mesh.n_half_edges; ++h) {
+    const int f = topo.polygon_of[h], g = topo.polygon_of[topo.twin[h]];
+    const Eigen::Vector3d nf = topo.newell[f].normalized(), ng = topo.newell[g].normalized();
+    if (nf.dot(ng) > 1.0 - 1e-9 && std::abs(topo.offset[f] - topo.offset[g]) < tolerance_mm) {
+      topo.parent[Find(topo.parent, f)] = Find(topo.parent, g);
+    }
+  }
+  int root_group[kMaxObjPolygons];
+  for (int f = 0; f < mesh.n_polygons; ++f) root_group[f] = -1;
+  for (int f = 0; f < mesh.n_polygons; ++f) {
+    const int r = Find(topo.parent, f);
+    if (root_group[r] < 0) {
+      if (topo.n_groups >= kMaxModelFaces) {
+        return Status::Error(StatusCode::kResourceExhausted,
+                             "OBJ: more than %d faces after merging coplanar polygons",
+                             kMaxModelFaces);
+      }
+      root_group[r] = topo.n_groups++;
+    }
+    topo.group_of[f] = root_group[r];
+  }
+  return Status::Ok();
+}
+
+bool IsBoundary(const Topology& topo, int h) {
+  return topo.group_of[topo.polygon_of[h]] != topo.group_of[topo.polygon_of[topo.twin[h]]];
+}
+
+// Links each boundary half-edge of a merged face to the next one along the face outline, checks
+// that every face has exactly one outline (no holes, no pinched vertices), and marks as corners
+// the vertices where some outline turns.
+Status TraceOutlines(const ObjMesh& mesh, double tolerance_mm, Topology& topo) {
+  for (int h = 0; h < mesh.n_half_edges; ++h) {
+    topo.next_boundary[h] = -1;
+    if (!IsBoundary(topo, h)) continue;
+    const int group = topo.group_of[topo.polygon_of[h]];
+    const int b = ToVertex(mesh, topo, h);
+    for (int g = 0; g < mesh.n_half_edges; ++g) {
+      if (mesh.from(g) != b || !IsBoundary(topo, g) || topo.group_of[topo.polygon_of[g]] != group)
+        continue;
+      if (topo.next_boundary[h] >= 0) {
+        return Status::Error(StatusCode::kInvalidArgument,
+                             "OBJ: face outline passes twice through vertex %d (pinched face)",
+                             b + 1);
+      }
+      topo.next_boundary[h] = g;
+    }
+    if (topo.next_boundary[h] < 0) {
+      return Status::Error(StatusCode::kInternal, "OBJ: open face outline at vertex %d", b + 1);
+    }
+  }
+  for (int group = 0; group < topo.n_groups; ++group) {
+    int first = -1, n_boundary = 0;
+    for (int h = 0; h < mesh.n_half_edges; ++h) {
+      if (topo.next_boundary[h] >= 0 && topo.group_of[topo.polygon_of[h]] == group) {
+        if (first < 0) first = h;
+        ++n_boundary;
+      }
+    }
+    int loop_length = 0;
+    int h = first;
+    do {
+      ++loop_length;
+      h = topo.next_boundary[h];
+    } while (h != first && loop_length <= n_boundary);
+    if (first < 0 || loop_length != n_boundary) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "OBJ: a face has a hole (more than one outline); not supported");
+    }
+    topo.group_first_half_edge[group] = first;
+    h = first;
+    do {
+      const int nh = topo.next_boundary[h];
+      const Eigen::Vector3d& a = mesh.vertices[mesh.from(h)];
+      const Eigen::Vector3d& v = mesh.vertices[mesh.from(nh)];
+      const Eigen::Vector3d& b = mesh.vertices[ToVertex(mesh, topo, nh)];
+      const Eigen::Vector3d in = v - a, out = b - v;
+      // The outline turns at v unless it continues straight on.
+      // sin(turn angle) below 1e-5: straight up to the rounding of printed coordinates.
+      const bool straight =
+          in.dot(out) > 0 && in.cross(out).norm() <= 1e-5 * in.norm() * out.norm();
+      if (!straight) topo.is_corner[mesh.from(nh)] = true;
+      h = nh;
+    } while (h != first);
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<Model> ParseObjModel(const char* text, size_t len, const char* name) {
+  if (text == nullptr && len > 0) {
+    return Status::Error(StatusCode::kInvalidArgument, "OBJ text is null");
+  }
+  ObjMesh mesh;
+  SH_RETURN_IF_ERROR(ParseText(text, len, mesh));
+
+  Eigen::Vector3d lo = mesh.vertices[0], hi = mesh.vertices[0];
+  for (int i = 1; i < mesh.n_vertices; ++i) {
+    lo = lo.cwiseMin(mesh.vertices[i]);
+    hi = hi.cwiseMax(mesh.vertices[i]);
+  }
+  // Planarity and coplanarity tolerance relative to the model size (float-printed OBJ files).
+  const double tolerance_mm = 1e-5 * (hi - lo).norm() + 1e-9;
+
+  Topology topo;
+  SH_RETURN_IF_ERROR(BuildTopology(mesh, tolerance_mm, topo));
+  SH_RETURN_IF_ERROR(TraceOutlines(mesh, tolerance_mm, topo));
+
+  // Positive enclosed volume <=> outward normals (counter-clockwise winding from outside).
+  double volume6 = 0;
+  for (int f = 0; f < mesh.n_polygons; ++f) {
+    const Eigen::Vector3d& v0 = mesh.vertices[mesh.from(mesh.polygon_start[f])];
+    for (int h = mesh.polygon_start[f] + 1; h + 1 < mesh.polygon_start[f + 1]; ++h) {
+      volume6 += v0.dot(mesh.vertices[mesh.from(h)].cross(mesh.vertices[mesh.from(h + 1)]));
+    }
+  }
+  if (!(volume6 > 0)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "OBJ: faces are wound clockwise seen from outside (inward normals)");
+  }
+
+  Model model;
+  if (name != nullptr) std::strncpy(model.name, name, kMaxModelNameLength);
+  int n_corners = 0;
+  for (int v = 0; v < mesh.n_vertices; ++v) {
+    topo.corner_index[v] = -1;
+    if (!topo.is_corner[v]) continue;
+    if (n_corners >= kMaxModelCorners) {
+      return Status::Error(StatusCode::kResourceExhausted, "OBJ: more than %d corners",
+                           kMaxModelCorners);
+    }
+    topo.corner_index[v] = n_corners;
+    for (int k = 0; k < 3; ++k)
+      model.corners_mm[n_corners][k] = static_cast<float>(mesh.vertices[v][k]);
+    ++n_corners;
+  }
+  model.n_corners = static_cast<uint16_t>(n_corners);
+  model.n_faces = static_cast<uint16_t>(topo.n_groups);
+
+  for (int group = 0; group < topo.n_groups; ++group) {
+    ModelFace& face = model.faces[group];
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (int f = 0; f < mesh.n_polygons; ++f) {
+      if (topo.group_of[f] == group) n += topo.newell[f];
+    }
+    n.normalize();
+    const int first = topo.group_first_half_edge[group];
+    int h = first;
+    double offset_sum = 0;
+    do {
+      const int c = topo.corner_index[mesh.from(h)];
+      if (c >= 0) {
+        if (face.n_vertices >= kMaxFaceVertices) {
+          return Status::Error(StatusCode::kResourceExhausted,
+                               "OBJ: a face has more than %d corners", kMaxFaceVertices);
+        }
+        face.vertices[face.n_vertices++] = static_cast<uint8_t>(c);
+        offset_sum += n.dot(mesh.vertices[mesh.from(h)]);
+      }
+      h = topo.next_boundary[h];
+    } while (h != first);
+    if (face.n_vertices < 3) {
+      return Status::Error(StatusCode::kInvalidArgument, "OBJ: a face has fewer than 3 corners");
+    }
+    for (int k = 0; k < 3; ++k) face.normal[k] = static_cast<float>(n[k]);
+    face.offset_mm = static_cast<float>(offset_sum / face.n_vertices);
+  }
+
+  // Edges: outline pieces between consecutive corners, recorded once from the lower-numbered
+  // face, oriented as in face0's counter-clockwise outline.
+  int n_edges = 0;
+  for (int group = 0; group < topo.n_groups; ++group) {
+    const int first = topo.group_first_half_edge[group];
+    // Start the walk at a corner so every piece runs corner to corner.
+    int start = first;
+    while (topo.corner_index[mesh.from(start)] < 0) start = topo.next_boundary[start];
+    int h = start;
+    do {
+      const int a = topo.corner_index[mesh.from(h)];
+      const int other = topo.group_of[topo.polygon_of[topo.twin[h]]];
+      int g = h;
+      do {
+        if (topo.group_of[topo.polygon_of[topo.twin[g]]] != other) {
+          return Status::Error(StatusCode::kInternal,
+                               "OBJ: neighbouring face changes between two corners");
+        }
+        g = topo.next_boundary[g];
+      } while (topo.corner_index[mesh.from(g)] < 0);
+      const int b = topo.corner_index[mesh.from(g)];
+      if (group < other) {
+        if (n_edges >= kMaxModelEdges) {
+          return Status::Error(StatusCode::kResourceExhausted, "OBJ: more than %d edges",
+                               kMaxModelEdges);
+        }
+        ModelEdge& e = model.edges[n_edges++];
+        e.a = static_cast<uint8_t>(a);
+        e.b = static_cast<uint8_t>(b);
+        e.face0 = static_cast<uint8_t>(group);
+        e.face1 = static_cast<uint8_t>(other);
+      }
+      h = g;
+    } while (h != start);
+  }
+  model.n_edges = static_cast<uint16_t>(n_edges);
+  return model;
+}
+
+}  // namespace sh

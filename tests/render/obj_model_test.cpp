@@ -1,0 +1,220 @@
+#include "recog/model/obj_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <string>
+#include <utility>
+
+#include "tests/render/model_files.hpp"
+
+namespace sh {
+namespace {
+
+struct Expected {
+  const char* stem;
+  int corners;
+  int edges;
+};
+
+// P and L of the model table in the models README.
+constexpr Expected kReferenceModels[] = {{"cube", 8, 12},      {"hexagon", 12, 18},
+                                         {"wedge", 6, 9},      {"star", 20, 30},
+                                         {"pentagon", 10, 15}, {"trapezium", 8, 12}};
+
+// Checks the invariants every parsed model must satisfy: a closed polyhedron (Euler), every
+// corner on the plane of every face that lists it, outward normals, edges between two faces
+// that both list the edge's corners consecutively.
+void CheckConsistent(const Model& m) {
+  EXPECT_EQ(m.n_corners - m.n_edges + m.n_faces, 2) << m.name;
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  for (int i = 0; i < m.n_corners; ++i) centroid += m.corner(i);
+  centroid /= m.n_corners;
+  for (int f = 0; f < m.n_faces; ++f) {
+    const ModelFace& face = m.faces[f];
+    EXPECT_NEAR(m.face_normal(f).norm(), 1.0f, 1e-5f);
+    for (int k = 0; k < face.n_vertices; ++k) {
+      EXPECT_NEAR(m.face_normal(f).dot(m.corner(face.vertices[k])), face.offset_mm, 1e-3f);
+    }
+    // The models are star-shaped about their centroid: outward normals face away from it.
+    EXPECT_GT(face.offset_mm - m.face_normal(f).dot(centroid), 0.0f) << m.name << " face " << f;
+  }
+  std::set<std::pair<int, int>> seen;
+  for (int e = 0; e < m.n_edges; ++e) {
+    const ModelEdge& edge = m.edges[e];
+    EXPECT_TRUE(seen.insert({std::min(edge.a, edge.b), std::max(edge.a, edge.b)}).second);
+    EXPECT_NE(edge.face0, edge.face1);
+    for (int f : {edge.face0, edge.face1}) {
+      const ModelFace& face = m.faces[f];
+      bool found = false;
+      for (int k = 0; k < face.n_vertices; ++k) {
+        const int u = face.vertices[k], v = face.vertices[(k + 1) % face.n_vertices];
+        found |= (u == edge.a && v == edge.b) || (u == edge.b && v == edge.a);
+      }
+      EXPECT_TRUE(found) << m.name << " edge " << e << " not on face " << f;
+    }
+    // Faces meeting at an edge are not coplanar.
+    EXPECT_LT(m.face_normal(edge.face0).dot(m.face_normal(edge.face1)), 0.9999f);
+  }
+}
+
+TEST(ObjModel, ReferenceModelsHaveTheDocumentedCornerAndEdgeCounts) {
+  for (const Expected& expected : kReferenceModels) {
+    const Result<Model> model = testing::LoadModel(expected.stem);
+    ASSERT_TRUE(model.ok()) << expected.stem << ": " << model.status().message();
+    EXPECT_STREQ(model->name, expected.stem);
+    EXPECT_EQ(model->n_corners, expected.corners) << expected.stem;
+    EXPECT_EQ(model->n_edges, expected.edges) << expected.stem;
+    EXPECT_EQ(model->n_faces, expected.edges - expected.corners + 2) << expected.stem;
+    EXPECT_EQ(model->n_symmetries, 0);
+    CheckConsistent(*model);
+  }
+}
+
+TEST(ObjModel, StarTopAndBottomAreTenSidedFaces) {
+  const Result<Model> star = testing::LoadModel("star");
+  ASSERT_TRUE(star.ok()) << star.status().message();
+  int ten_gons = 0;
+  for (int f = 0; f < star->n_faces; ++f) ten_gons += star->faces[f].n_vertices == 10;
+  EXPECT_EQ(ten_gons, 2);
+}
+
+// The cube of models/cube.obj, each square split into two triangles along alternating
+// diagonals, with texture/normal index syntax and a midpoint vertex on one edge.
+constexpr char kTriangulatedCube[] = R"(# triangulated cube
+v -15 -15 -20
+v 15 -15 -20
+v 15 15 -20
+v -15 15 -20
+v -15 -15 20
+v 15 -15 20
+v 15 15 20
+v -15 15 20
+vn 0 0 1
+f 4/1/1 3/1/1 2/1/1
+f 4//1 2//1 1//1
+f 5 6 7
+f 5 7 8
+f 1 2 6
+f 1 6 5
+f 2 3 7
+f 2 7 6
+f 3 4 8
+f 3 8 7
+f 4 1 5
+f 4 5 8
+)";
+
+TEST(ObjModel, TriangulatedCubeMergesIntoTheSameCube) {
+  const Result<Model> tri = ParseObjModel(kTriangulatedCube, sizeof(kTriangulatedCube) - 1, "tri");
+  ASSERT_TRUE(tri.ok()) << tri.status().message();
+  const Result<Model> cube = testing::LoadModel("cube");
+  ASSERT_TRUE(cube.ok());
+  EXPECT_EQ(tri->n_corners, cube->n_corners);
+  EXPECT_EQ(tri->n_edges, cube->n_edges);
+  EXPECT_EQ(tri->n_faces, cube->n_faces);
+  for (int f = 0; f < tri->n_faces; ++f) EXPECT_EQ(tri->faces[f].n_vertices, 4);
+  CheckConsistent(*tri);
+}
+
+// A cube whose bottom face is a fan around an extra centre vertex and whose front face has an
+// extra vertex in the middle of its bottom edge: neither extra vertex is a corner.
+TEST(ObjModel, VerticesInsideFacesOrOnStraightEdgesAreNotCorners) {
+  constexpr char kText[] = R"(
+v -15 -15 -20
+v 15 -15 -20
+v 15 15 -20
+v -15 15 -20
+v -15 -15 20
+v 15 -15 20
+v 15 15 20
+v -15 15 20
+v 0 0 -20
+v 0 -15 -20
+f 4 3 9
+f 3 2 9
+f 2 10 9
+f 10 1 9
+f 1 4 9
+f 5 6 7 8
+f 1 10 2 6 5
+f 2 3 7 6
+f 3 4 8 7
+f 4 1 5 8
+)";
+  const Result<Model> m = ParseObjModel(kText, sizeof(kText) - 1, "fan");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_EQ(m->n_corners, 8);
+  EXPECT_EQ(m->n_edges, 12);
+  CheckConsistent(*m);
+}
+
+void ExpectError(const char* text, const char* fragment) {
+  const Result<Model> m = ParseObjModel(text, std::strlen(text), "bad");
+  ASSERT_FALSE(m.ok()) << "accepted: " << text;
+  EXPECT_NE(std::string(m.status().message()).find(fragment), std::string::npos)
+      << m.status().message();
+}
+
+constexpr char kTetra[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+
+TEST(ObjModel, RejectsBadInputWithClearMessages) {
+  ExpectError("", "no faces");
+  ExpectError(kTetra, "no faces");
+  ExpectError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "vertex 4");
+  ExpectError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", "vertex 0");
+  ExpectError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -9\n", "vertex -9");
+  ExpectError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", "malformed face");
+  ExpectError("v 0 0 nan\n", "non-finite");
+  ExpectError("v 0 0 1e999\n", "non-finite");
+  ExpectError("v 0 0 inf\n", "non-finite");
+  ExpectError("v 0 0\n", "3 coordinates");
+  ExpectError("v 0 0 1.2.3\n", "malformed vertex");
+  ExpectError("v 0 0 0\nv 1 0 0\nf 1 2\n", "fewer than 3");
+  // Open surface: a single triangle.
+  ExpectError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "one face only");
+  // Tetrahedron with one face wound the wrong way, then with all faces wound the wrong way.
+  ExpectError((std::string(kTetra) + "f 1 2 3\nf 1 2 4\nf 2 3 4\nf 1 4 3\n").c_str(),
+              "inconsistent winding");
+  ExpectError((std::string(kTetra) + "f 1 2 3\nf 1 4 2\nf 2 4 3\nf 1 3 4\n").c_str(), "clockwise");
+  // Two tetrahedra sharing an edge: three faces meet there.
+  ExpectError((std::string(kTetra) + "v 0 0 -1\nv 0 -1 0\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n"
+                                     "f 1 2 5\nf 1 6 2\nf 2 6 5\nf 1 5 6\n")
+                  .c_str(),
+              "non-manifold");
+  // A non-planar quadrilateral.
+  ExpectError("v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0\nf 1 2 3 4\n", "not planar");
+}
+
+TEST(ObjModel, RejectsModelsBeyondTheRecordCapacity) {
+  // A 40-sided prism has 80 corners and 120 edges.
+  std::string text;
+  const int n = 40;
+  for (int z : {0, 10}) {
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * M_PI * i / n;
+      text += "v " + std::to_string(30 * std::cos(a)) + " " + std::to_string(30 * std::sin(a)) +
+              " " + std::to_string(z) + "\n";
+    }
+  }
+  text += "f";
+  for (int i = n; i >= 1; --i) text += " " + std::to_string(i);
+  text += "\nf";
+  for (int i = 1; i <= n; ++i) text += " " + std::to_string(n + i);
+  text += "\n";
+  for (int i = 0; i < n; ++i) {
+    const int a = i + 1, b = (i + 1) % n + 1;
+    text += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(n + b) + " " +
+            std::to_string(n + a) + "\n";
+  }
+  const Result<Model> m = ParseObjModel(text.data(), text.size(), "prism40");
+  ASSERT_FALSE(m.ok());
+  EXPECT_EQ(m.status().code(), StatusCode::kResourceExhausted);
+  EXPECT_NE(std::string(m.status().message()).find("more than"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace sh
