@@ -5,13 +5,12 @@
 namespace sh {
 namespace {
 
-// Byte-at-a-time table, built at compile time so there is no initialisation order to worry about.
 constexpr std::array<uint32_t, 256> MakeTable() {
   std::array<uint32_t, 256> table{};
-  for (uint32_t n = 0; n < 256; ++n) {
-    uint32_t c = n;
+  for (uint32_t i = 0; i < 256; ++i) {
+    uint32_t c = i;
     for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-    table[n] = c;
+    table[i] = c;
   }
   return table;
 }
@@ -20,12 +19,11 @@ constexpr std::array<uint32_t, 256> kTable = MakeTable();
 
 }  // namespace
 
-uint32_t Crc32(const void* data, size_t size, uint32_t crc) {
+uint32_t Crc32(const void* data, size_t length, uint32_t crc) {
   const auto* bytes = static_cast<const uint8_t*>(data);
-  // The stored CRC is the complement of the register, so undo it to continue a running CRC.
-  uint32_t c = crc ^ 0xFFFFFFFFu;
-  for (size_t i = 0; i < size; ++i) c = kTable[(c ^ bytes[i]) & 0xFFu] ^ (c >> 8);
-  return c ^ 0xFFFFFFFFu;
+  crc = ~crc;
+  for (size_t i = 0; i < length; ++i) crc = kTable[(crc ^ bytes[i]) & 0xffu] ^ (crc >> 8);
+  return ~crc;
 }
 
 }  // namespace sh
