@@ -1,0 +1,70 @@
+// Stereo capture interface shared by the board backend (hal/linux/libcamera_camera) and the host
+// simulator backends (hal/sim/sim_camera, hal/sim/directory_camera).
+//
+// Memory: every backend allocates its frame buffers in Start(); Capture() hands out views into
+// those buffers and never allocates. A captured frame stays valid until the next Capture(), an
+// explicit Release() or Stop(), whichever comes first; after that the backend reuses the buffers.
+//
+// Threading: Start(), Stop(), Capture() and Release() are called from one consumer thread.
+// stats() may be called from any thread.
+#pragma once
+
+#include <cstdint>
+
+#include "recog/base/status.hpp"
+#include "recog/image/image.hpp"
+
+namespace sh::hal {
+
+// One synchronised left/right pair. Views are 8-bit grey (the luma plane for YUV sensors).
+struct StereoFrame {
+  ConstGrayView left;
+  ConstGrayView right;
+  // Sensor timestamps (start of exposure as reported by the driver, CLOCK_BOOTTIME/MONOTONIC on
+  // the board, synthetic in simulation), nanoseconds.
+  int64_t left_timestamp_ns = 0;
+  int64_t right_timestamp_ns = 0;
+  // Per-camera frame sequence numbers as counted by the driver; gaps reveal sensor-side drops.
+  uint32_t left_sequence = 0;
+  uint32_t right_sequence = 0;
+  // Number of pairs delivered before this one since Start(); gaps reveal pairs dropped because the
+  // consumer was slower than the cameras.
+  uint64_t pair_index = 0;
+};
+
+// Counters since the last Start(). All are cumulative; none is reset by Capture().
+struct CameraStats {
+  uint64_t frames_paired = 0;         // pairs formed (delivered or dropped for overflow)
+  uint64_t pairs_delivered = 0;       // pairs returned by Capture()
+  uint64_t left_unpaired_drops = 0;   // left frames with no right partner within tolerance
+  uint64_t right_unpaired_drops = 0;  // right frames with no left partner within tolerance
+  uint64_t left_overflow_drops = 0;   // left frames dropped because the left queue was full
+  uint64_t right_overflow_drops = 0;  // right frames dropped because the right queue was full
+  uint64_t pair_overflow_drops = 0;   // pairs dropped because the consumer fell behind
+  uint64_t timeouts = 0;              // Capture() calls that ran out of time
+  uint64_t errors = 0;  // failed or corrupt frames, out-of-order timestamps, backend faults
+};
+
+class StereoCamera {
+ public:
+  virtual ~StereoCamera() = default;
+
+  // Allocates and maps all buffers, starts streaming. Fails with a clear Status (e.g. kNotFound
+  // when fewer than two cameras exist). Calling Start() twice is kFailedPrecondition.
+  virtual Status Start() = 0;
+  // Stops streaming and returns all buffers; views handed out earlier become invalid. Safe to
+  // call when not started.
+  virtual Status Stop() = 0;
+  // Waits up to timeout_ms for the next synchronised pair. Releases the previously captured pair
+  // first. Errors: kDeadlineExceeded (no pair in time; the message says which side is silent),
+  // kUnavailable (camera stopped or disconnected), kFailedPrecondition (not started), and backend
+  // specific per-frame errors (e.g. kDataLoss for a corrupt recorded frame; the next call
+  // continues with the next frame).
+  virtual Status Capture(StereoFrame* out, int timeout_ms) = 0;
+  // Gives the buffers of the last captured pair back to the backend before the next Capture(),
+  // so the cameras have more buffers to fill while the consumer works on a copy.
+  virtual void Release() = 0;
+  virtual CameraStats stats() const = 0;
+};
+
+}  // namespace sh::hal
