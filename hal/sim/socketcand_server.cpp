@@ -1,0 +1,379 @@
+#include "hal/sim/socketcand_server.hpp"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cstring>
+
+namespace sh::hal {
+namespace {
+
+int64_t MonotonicMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1000 + ts.tv_nsec / 1000000;
+}
+
+// Messages are short; anything beyond this in a log line is cut.
+constexpr int kLoggedTextMax = 60;
+
+}  // namespace
+
+Status SocketcandServer::Start(SimCanBus* bus, const SocketcandServerConfig& config) {
+  if (running_.load()) {
+    return Status::Error(StatusCode::kFailedPrecondition, "socketcand server already running");
+  }
+  if (bus == nullptr || config.bind_address == nullptr || config.channel == nullptr) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "socketcand server needs a bus, a bind address and a channel name");
+  }
+  if (config.handshake_settle_ms < 0) {
+    return Status::Error(StatusCode::kInvalidArgument, "socketcand: negative settle time");
+  }
+  config_ = config;
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(config.port);
+  if (inet_pton(AF_INET, config.bind_address, &addr.sin_addr) != 1) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "socketcand: bind address '%s' is not an IPv4 address",
+                         config.bind_address);
+  }
+  if (endpoint_ == nullptr) {
+    SimCanEndpointConfig ep;
+    ep.name = config.channel;
+    ep.notify_fd = true;
+    Result<SimCanEndpoint*> added = bus->AddEndpoint(ep);
+    if (!added.ok()) return added.status();
+    endpoint_ = *added;
+  }
+  const int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+  if (fd < 0) {
+    return Status::Error(StatusCode::kUnavailable, "socketcand: socket: %s", std::strerror(errno));
+  }
+  const int on = 1;
+  setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &on, sizeof(on));
+  if (bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0 || listen(fd, 4) != 0) {
+    const int err = errno;
+    close(fd);
+    return Status::Error(StatusCode::kUnavailable, "socketcand: cannot listen on %s:%u: %s",
+                         config.bind_address, config.port, std::strerror(err));
+  }
+  socklen_t len = sizeof(addr);
+  getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+  port_ = ntohs(addr.sin_port);
+  wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  if (wake_fd_ < 0) {
+    close(fd);
+    return Status::Error(StatusCode::kUnavailable, "socketcand: eventfd: %s", std::strerror(errno));
+  }
+  listen_fd_ = fd;
+  stop_ = false;
+  running_ = true;
+  const int err = pthread_create(&thread_, nullptr, &SocketcandServer::ThreadMain, this);
+  if (err != 0) {
+    running_ = false;
+    close(listen_fd_);
+    close(wake_fd_);
+    listen_fd_ = wake_fd_ = -1;
+    return Status::Error(StatusCode::kUnavailable, "socketcand: cannot start thread: %s",
+                         std::strerror(err));
+  }
+  if (config_.log != nullptr) {
+    std::fprintf(config_.log, "socketcand: listening on %s:%u, bus '%s'\n", config.bind_address,
+                 port_, config.channel);
+  }
+  return Status::Ok();
+}
+
+void SocketcandServer::Stop() {
+  if (!running_.load()) return;
+  stop_ = true;
+  const uint64_t one = 1;
+  [[maybe_unused]] const ssize_t n = write(wake_fd_, &one, sizeof(one));
+  pthread_join(thread_, nullptr);
+  for (size_t i = 0; i < kSocketcandMaxClients; ++i) {
+    if (clients_[i].phase != Phase::kFree) DropClient(i, "server stopping");
+  }
+  close(listen_fd_);
+  close(wake_fd_);
+  listen_fd_ = wake_fd_ = -1;
+  running_ = false;
+}
+
+SocketcandStats SocketcandServer::stats() const {
+  SocketcandStats s;
+  s.clients_accepted = clients_accepted_.load();
+  s.clients_rejected = clients_rejected_.load();
+  s.frames_to_clients = frames_to_clients_.load();
+  s.frames_from_clients = frames_from_clients_.load();
+  s.frames_without_client = frames_without_client_.load();
+  s.frames_dropped_slow_client = frames_dropped_slow_.load();
+  s.malformed_messages = malformed_.load();
+  s.bus_send_errors = bus_send_errors_.load();
+  return s;
+}
+
+void* SocketcandServer::ThreadMain(void* self) {
+  static_cast<SocketcandServer*>(self)->Run();
+  return nullptr;
+}
+
+void SocketcandServer::Run() {
+  while (!stop_.load()) {
+    pollfd fds[3 + kSocketcandMaxClients];
+    size_t client_of[3 + kSocketcandMaxClients];
+    size_t n = 0;
+    fds[n++] = {wake_fd_, POLLIN, 0};
+    fds[n++] = {listen_fd_, POLLIN, 0};
+    fds[n++] = {endpoint_->notify_fd(), POLLIN, 0};
+    const int64_t now = MonotonicMs();
+    int timeout_ms = -1;
+    for (size_t i = 0; i < kSocketcandMaxClients; ++i) {
+      Client& c = clients_[i];
+      if (c.phase == Phase::kFree) continue;
+      short events = POLLIN;
+      if (c.out_len > 0) {
+        const int64_t settle_left = c.raw_since_ms + config_.handshake_settle_ms - now;
+        if (settle_left > 0) {
+          if (timeout_ms < 0 || settle_left < timeout_ms)
+            timeout_ms = static_cast<int>(settle_left);
+        } else {
+          events |= POLLOUT;
+        }
+      }
+      client_of[n] = i;
+      fds[n++] = {c.fd, events, 0};
+    }
+    const int ready = poll(fds, n, timeout_ms);
+    if (ready < 0) {
+      if (errno == EINTR) continue;
+      if (config_.log != nullptr) {
+        std::fprintf(config_.log, "socketcand: poll failed: %s\n", std::strerror(errno));
+      }
+      break;
+    }
+    if (fds[0].revents & POLLIN) continue;  // Stop() was called; the loop condition ends it
+    if (fds[1].revents & POLLIN) Accept();
+    if (fds[2].revents & POLLIN) DrainBus();
+    for (size_t k = 3; k < n; ++k) {
+      const size_t i = client_of[k];
+      if (clients_[i].phase == Phase::kFree) continue;
+      if (fds[k].revents & (POLLIN | POLLHUP | POLLERR)) ReadClient(i);
+    }
+    const int64_t flush_now = MonotonicMs();
+    for (size_t i = 0; i < kSocketcandMaxClients; ++i) {
+      if (clients_[i].phase != Phase::kFree && clients_[i].out_len > 0) FlushClient(i, flush_now);
+    }
+  }
+}
+
+void SocketcandServer::Accept() {
+  for (;;) {
+    const int fd = accept4(listen_fd_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    if (fd < 0) return;  // EAGAIN: no more pending connections
+    size_t slot = kSocketcandMaxClients;
+    for (size_t i = 0; i < kSocketcandMaxClients; ++i) {
+      if (clients_[i].phase == Phase::kFree) {
+        slot = i;
+        break;
+      }
+    }
+    if (slot == kSocketcandMaxClients) {
+      static constexpr char kBusy[] = "< error too many clients >";
+      [[maybe_unused]] const ssize_t w = send(fd, kBusy, sizeof(kBusy) - 1, MSG_NOSIGNAL);
+      close(fd);
+      clients_rejected_.fetch_add(1);
+      continue;
+    }
+    const int on = 1;
+    // Each handshake reply must leave in its own segment (see the header).
+    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &on, sizeof(on));
+    Client& c = clients_[slot];
+    c.fd = fd;
+    c.phase = Phase::kAwaitOpen;
+    c.in_len = 0;
+    c.out_len = 0;
+    c.raw_since_ms = 0;
+    clients_accepted_.fetch_add(1);
+    connected_.fetch_add(1);
+    if (config_.log != nullptr)
+      std::fprintf(config_.log, "socketcand: client %zu connected\n", slot);
+    SendNow(slot, "< hi >");
+  }
+}
+
+bool SocketcandServer::SendNow(size_t index, const char* text) {
+  Client& c = clients_[index];
+  const size_t len = std::strlen(text);
+  const ssize_t n = send(c.fd, text, len, MSG_NOSIGNAL | MSG_DONTWAIT);
+  if (n != static_cast<ssize_t>(len)) {
+    DropClient(index, "could not write a reply");
+    return false;
+  }
+  return true;
+}
+
+void SocketcandServer::DropClient(size_t index, const char* why) {
+  Client& c = clients_[index];
+  if (c.phase == Phase::kFree) return;
+  close(c.fd);
+  c.fd = -1;
+  c.phase = Phase::kFree;
+  c.in_len = 0;
+  c.out_len = 0;
+  connected_.fetch_sub(1);
+  if (config_.log != nullptr) {
+    std::fprintf(config_.log, "socketcand: client %zu disconnected (%s)\n", index, why);
+  }
+}
+
+void SocketcandServer::ReportMalformed(size_t index, const char* what, const char* text,
+                                       size_t length) {
+  malformed_.fetch_add(1);
+  if (config_.log == nullptr || logged_errors_ >= kSocketcandLoggedErrorsMax) return;
+  ++logged_errors_;
+  const int shown = static_cast<int>(length < kLoggedTextMax ? length : kLoggedTextMax);
+  std::fprintf(config_.log, "socketcand: client %zu: %s: '%.*s'%s\n", index, what, shown, text,
+               logged_errors_ == kSocketcandLoggedErrorsMax ? " (further errors not logged)" : "");
+}
+
+void SocketcandServer::ReadClient(size_t index) {
+  Client& c = clients_[index];
+  const ssize_t n = recv(c.fd, c.in + c.in_len, sizeof(c.in) - c.in_len, MSG_DONTWAIT);
+  if (n == 0) {
+    DropClient(index, "closed by peer");
+    return;
+  }
+  if (n < 0) {
+    if (errno == EAGAIN || errno == EINTR) return;
+    DropClient(index, std::strerror(errno));
+    return;
+  }
+  c.in_len += static_cast<size_t>(n);
+  for (;;) {
+    const SocketcandScan scan = ScanSocketcandMessage(c.in, c.in_len);
+    if (scan.skipped_garbage) {
+      ReportMalformed(index, "skipped text outside '< >'", c.in,
+                      scan.have_message ? scan.message_begin : scan.consumed);
+    }
+    if (scan.have_message) HandleMessage(index, c.in + scan.message_begin, scan.message_length);
+    if (c.phase == Phase::kFree) return;  // dropped while handling
+    if (scan.consumed > 0) {
+      std::memmove(c.in, c.in + scan.consumed, c.in_len - scan.consumed);
+      c.in_len -= scan.consumed;
+    }
+    if (!scan.have_message) break;
+  }
+}
+
+void SocketcandServer::HandleMessage(size_t index, const char* text, size_t length) {
+  Client& c = clients_[index];
+  SocketcandCommand cmd;
+  const Status parsed = ParseSocketcandCommand(text, length, &cmd);
+  if (!parsed.ok()) {
+    ReportMalformed(index, parsed.message(), text, length);
+    SendNow(index, "< error malformed command >");
+    return;
+  }
+  switch (cmd.kind) {
+    case SocketcandCommandKind::kEcho:
+      SendNow(index, "< echo >");
+      return;
+    case SocketcandCommandKind::kOpen:
+      if (c.phase != Phase::kAwaitOpen) break;
+      if (std::strcmp(cmd.argument, config_.channel) != 0) {
+        ReportMalformed(index, "open of an unknown bus", text, length);
+        SendNow(index, "< error unknown bus >");
+        return;
+      }
+      c.phase = Phase::kAwaitRawMode;
+      SendNow(index, "< ok >");
+      return;
+    case SocketcandCommandKind::kRawMode:
+      if (c.phase != Phase::kAwaitRawMode && c.phase != Phase::kRaw) break;
+      if (c.phase == Phase::kAwaitRawMode) {
+        c.phase = Phase::kRaw;
+        c.raw_since_ms = MonotonicMs();
+      }
+      SendNow(index, "< ok >");
+      return;
+    case SocketcandCommandKind::kSend: {
+      if (c.phase != Phase::kRaw) break;
+      CanFrame frame = cmd.frame;
+      frame.timestamp_us = CanNowUs();
+      const Status sent = endpoint_->Send(frame);
+      if (!sent.ok()) {
+        bus_send_errors_.fetch_add(1);
+        if (config_.log != nullptr && logged_errors_ < kSocketcandLoggedErrorsMax) {
+          ++logged_errors_;
+          std::fprintf(config_.log, "socketcand: client %zu: frame not sent: %s\n", index,
+                       sent.message());
+        }
+        return;
+      }
+      frames_from_clients_.fetch_add(1);
+      QueueToClients(frame, static_cast<int>(index));
+      return;
+    }
+    case SocketcandCommandKind::kOther:
+      break;
+  }
+  ReportMalformed(index, "command not valid in this state", text, length);
+  SendNow(index, "< error unexpected command >");
+}
+
+void SocketcandServer::DrainBus() {
+  uint64_t counter;
+  [[maybe_unused]] const ssize_t n = read(endpoint_->notify_fd(), &counter, sizeof(counter));
+  CanFrame frame;
+  for (;;) {
+    Result<bool> got = endpoint_->Receive(&frame, 0);
+    if (!got.ok() || !*got) return;
+    if (frame.error) continue;  // controller reports stay on the simulated device side
+    QueueToClients(frame, -1);
+  }
+}
+
+void SocketcandServer::QueueToClients(const CanFrame& frame, int except_index) {
+  char text[kSocketcandMessageMax];
+  size_t len = FormatSocketcandFrame(frame, text, sizeof(text) - 1);
+  if (len == 0) return;
+  text[len++] = ' ';  // separator, see the header
+  bool any = false;
+  for (size_t i = 0; i < kSocketcandMaxClients; ++i) {
+    Client& c = clients_[i];
+    if (c.phase != Phase::kRaw || static_cast<int>(i) == except_index) continue;
+    any = true;
+    if (c.out_len + len > sizeof(c.out)) {
+      frames_dropped_slow_.fetch_add(1);
+      continue;
+    }
+    std::memcpy(c.out + c.out_len, text, len);
+    c.out_len += len;
+    frames_to_clients_.fetch_add(1);
+  }
+  if (!any && except_index < 0) frames_without_client_.fetch_add(1);
+}
+
+void SocketcandServer::FlushClient(size_t index, int64_t now_ms) {
+  Client& c = clients_[index];
+  if (now_ms < c.raw_since_ms + config_.handshake_settle_ms) return;
+  const ssize_t n = send(c.fd, c.out, c.out_len, MSG_NOSIGNAL | MSG_DONTWAIT);
+  if (n < 0) {
+    if (errno == EAGAIN || errno == EINTR) return;
+    DropClient(index, std::strerror(errno));
+    return;
+  }
+  std::memmove(c.out, c.out + n, c.out_len - static_cast<size_t>(n));
+  c.out_len -= static_cast<size_t>(n);
+}
+
+}  // namespace sh::hal

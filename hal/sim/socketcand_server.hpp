@@ -1,0 +1,117 @@
+// socketcand server for the simulated CAN bus: lets CAN tools on the host (python-can's
+// "socketcand" interface, a PLC simulator) talk to the firmware running in simulation.
+//
+// Listens on a TCP address (127.0.0.1, port 0 = ephemeral) and joins the SimCanBus as one
+// endpoint: frames other endpoints send are forwarded to every client in raw mode; frames a
+// client sends ("< send ... >") go onto the bus and to the other raw-mode clients.
+//
+// Handshake as python-can 4.1 expects it: "< hi >" on connect, "< ok >" for "< open can0 >",
+// "< ok >" for "< rawmode >", each in its own write. python-can compares each handshake read
+// with the exact text, so frames are held back for handshake_settle_ms after the raw-mode
+// "< ok >" to keep them out of that read. Frames are separated by one space, which also keeps
+// python-can's receive buffer aligned when a segment ends inside a message.
+//
+// Bounded: kSocketcandMaxClients clients with fixed input/output buffers. A client that reads
+// too slowly loses frames (counted), malformed text is answered with "< error ... >", logged
+// and skipped. The server thread is created in Start() and joined in Stop().
+#pragma once
+
+#include <pthread.h>
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+
+#include "hal/sim/can_sim_bus.hpp"
+#include "hal/sim/socketcand_text.hpp"
+
+namespace sh::hal {
+
+inline constexpr size_t kSocketcandMaxClients = 4;
+inline constexpr size_t kSocketcandInBufferBytes = 1024;
+inline constexpr size_t kSocketcandOutBufferBytes = 32768;  // ~550 frames per slow client
+inline constexpr size_t kSocketcandLoggedErrorsMax = 50;    // later errors are only counted
+
+struct SocketcandServerConfig {
+  const char* bind_address = "127.0.0.1";
+  uint16_t port = 0;             // 0: the kernel picks a free port; read it with port()
+  const char* channel = "can0";  // the bus name clients must "open"
+  int handshake_settle_ms = 20;
+  FILE* log = stderr;  // connection events and malformed input; nullptr = silent
+};
+
+struct SocketcandStats {
+  uint64_t clients_accepted = 0;
+  uint64_t clients_rejected = 0;       // all slots busy
+  uint64_t frames_to_clients = 0;      // frame messages queued to clients
+  uint64_t frames_from_clients = 0;    // "send" commands put on the bus
+  uint64_t frames_without_client = 0;  // bus frames seen while no client was in raw mode
+  uint64_t frames_dropped_slow_client = 0;
+  uint64_t malformed_messages = 0;
+  uint64_t bus_send_errors = 0;  // client frames the bus refused (bus-off, queue full)
+};
+
+class SocketcandServer {
+ public:
+  SocketcandServer() = default;
+  ~SocketcandServer() { Stop(); }
+  SocketcandServer(const SocketcandServer&) = delete;
+  SocketcandServer& operator=(const SocketcandServer&) = delete;
+
+  // Binds, listens, joins `bus` (first call only; the endpoint is reused after Stop()) and
+  // starts the server thread. The strings in config must outlive the server.
+  Status Start(SimCanBus* bus, const SocketcandServerConfig& config);
+  // Closes all connections and joins the thread. Safe to call twice.
+  void Stop();
+
+  uint16_t port() const { return port_; }
+  bool running() const { return running_.load(); }
+  size_t connected_clients() const { return connected_.load(); }
+  SocketcandStats stats() const;
+  // The server's own endpoint on the bus (for fault injection in tests).
+  SimCanEndpoint* endpoint() const { return endpoint_; }
+
+ private:
+  enum class Phase : uint8_t { kFree, kAwaitOpen, kAwaitRawMode, kRaw };
+  struct Client {
+    int fd = -1;
+    Phase phase = Phase::kFree;
+    int64_t raw_since_ms = 0;
+    char in[kSocketcandInBufferBytes];
+    size_t in_len = 0;
+    char out[kSocketcandOutBufferBytes];
+    size_t out_len = 0;
+  };
+
+  static void* ThreadMain(void* self);
+  void Run();
+  void Accept();
+  void ReadClient(size_t index);
+  void HandleMessage(size_t index, const char* text, size_t length);
+  void DrainBus();
+  void QueueToClients(const CanFrame& frame, int except_index);
+  void FlushClient(size_t index, int64_t now_ms);
+  bool SendNow(size_t index, const char* text);
+  void DropClient(size_t index, const char* why);
+  void ReportMalformed(size_t index, const char* what, const char* text, size_t length);
+
+  SocketcandServerConfig config_;
+  SimCanEndpoint* endpoint_ = nullptr;
+  int listen_fd_ = -1;
+  int wake_fd_ = -1;
+  uint16_t port_ = 0;
+  pthread_t thread_{};
+  std::atomic<bool> running_{false};
+  std::atomic<bool> stop_{false};
+  std::atomic<size_t> connected_{0};
+  Client clients_[kSocketcandMaxClients];
+
+  // Written by the server thread, read by stats() from others.
+  std::atomic<uint64_t> clients_accepted_{0}, clients_rejected_{0}, frames_to_clients_{0},
+      frames_from_clients_{0}, frames_without_client_{0}, frames_dropped_slow_{0}, malformed_{0},
+      bus_send_errors_{0};
+  size_t logged_errors_ = 0;
+};
+
+}  // namespace sh::hal
