@@ -4,3 +4,10 @@ find_package(Threads REQUIRED)
 add_library(stereohash_hal_camera STATIC ${CMAKE_CURRENT_LIST_DIR}/stereo_pairing.cpp)
 target_link_libraries(stereohash_hal_camera PUBLIC stereohash_base Threads::Threads)
 
+add_library(stereohash_hal_camera_sim STATIC
+  ${CMAKE_CURRENT_LIST_DIR}/sim/sim_camera.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/sim/directory_camera.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/sim/directory_camera_pgm.cpp)
+target_link_libraries(stereohash_hal_camera_sim PUBLIC stereohash_hal_camera)
+
+# The board backend builds wherever libcamera's pkg-config file is found (native or aarch64).

@@ -1,0 +1,84 @@
+// Plays back recorded stereo pairs from a directory as a StereoCamera.
+//
+// Layouts (detected in this order):
+//   <dir>/left/<name>.pgm   with <dir>/right/<name>.pgm
+//   <dir>/left_<key>.pgm    with <dir>/right_<key>.pgm   ("left<key>"/"left-<key>" also accepted)
+// Pairs play in natural order of <name>/<key> (numbers compare by value: 2 before 10). Files are
+// binary 8-bit PGM (P5); other files are ignored. All frames must have the size of the first
+// pair; a left file without its right partner (or the reverse) makes Start() fail naming it.
+//
+// Timestamps are synthetic (first_timestamp_ns + n * frame_period_ns on both sides) and go
+// through the same pairing as live cameras. Per-frame problems (truncated or corrupt file,
+// left/right sizes differ, size differs from the recording) make that Capture() return a clear
+// Status and count an error; the next Capture() continues with the next pair. After the last
+// pair Capture() returns kOutOfRange ("end of recording") unless `loop` is set.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "hal/camera.hpp"
+#include "hal/sim/sim_camera.hpp"
+#include "hal/sim/sim_camera_source.hpp"
+
+namespace sh::hal {
+
+struct DirectoryCameraConfig {
+  std::string directory;
+  bool loop = false;
+  int64_t frame_period_ns = 33'333'333;
+  int64_t first_timestamp_ns = 1'000'000'000;
+  PairingConfig pairing;
+};
+
+// The FrameSource half, usable on its own (e.g. behind a SimCamera with fault injection).
+class DirectoryFrameSource final : public FrameSource {
+ public:
+  DirectoryFrameSource(std::string directory, bool loop);
+
+  // Scans the directory (allocates the file list) and sizes the frames from the first pair.
+  Status Open(int* width, int* height) override;
+  Status Render(uint64_t frame_index, GrayView left, GrayView right) override;
+
+  size_t frame_count() const { return pairs_.size(); }
+  // Path of the left file of pair i (for tools that print what they play).
+  const std::string& left_path(size_t i) const { return pairs_[i].left; }
+
+ private:
+  struct PathPair {
+    std::string key;
+    std::string left;
+    std::string right;
+  };
+  Status Scan();
+
+  std::string directory_;
+  bool loop_;
+  std::vector<PathPair> pairs_;
+  int width_ = 0;
+  int height_ = 0;
+};
+
+class DirectoryCamera final : public StereoCamera {
+ public:
+  explicit DirectoryCamera(const DirectoryCameraConfig& config);
+
+  Status Start() override { return camera_.Start(); }
+  Status Stop() override { return camera_.Stop(); }
+  Status Capture(StereoFrame* out, int timeout_ms) override {
+    return camera_.Capture(out, timeout_ms);
+  }
+  void Release() override { camera_.Release(); }
+  CameraStats stats() const override { return camera_.stats(); }
+
+  size_t frame_count() const { return source_.frame_count(); }
+
+ private:
+  static SimCameraConfig MakeSimConfig(const DirectoryCameraConfig& config);
+
+  DirectoryFrameSource source_;
+  SimCamera camera_;
+};
+
+}  // namespace sh::hal

@@ -1,0 +1,211 @@
+#include "hal/sim/sim_camera.hpp"
+
+#include <new>
+
+namespace sh::hal {
+namespace {
+
+constexpr StereoSide kSides[2] = {StereoSide::kLeft, StereoSide::kRight};
+int Index(StereoSide side) { return static_cast<int>(side); }
+
+}  // namespace
+
+SimCamera::SimCamera(FrameSource* source, const SimCameraConfig& config)
+    : source_(source), config_(config) {}
+
+SimCamera::~SimCamera() { (void)Stop(); }
+
+Status SimCamera::Start() {
+  if (started_) return Status::Error(StatusCode::kFailedPrecondition, "sim camera already started");
+  if (source_ == nullptr) {
+    return Status::Error(StatusCode::kInvalidArgument, "sim camera has no frame source");
+  }
+  if (config_.frame_period_ns <= 0) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "sim camera frame period must be positive (got %lld ns)",
+                         static_cast<long long>(config_.frame_period_ns));
+  }
+  if (config_.jitter_ns < 0) {
+    return Status::Error(StatusCode::kInvalidArgument, "sim camera jitter must not be negative");
+  }
+  SH_RETURN_IF_ERROR(pairer_.Configure(config_.pairing));
+  int width = 0;
+  int height = 0;
+  SH_RETURN_IF_ERROR(source_->Open(&width, &height));
+  if (width <= 0 || height <= 0 || width > kMaxImageWidth || height > kMaxImageHeight) {
+    return Status::Error(StatusCode::kOutOfRange, "frame source size %dx%d outside 1x1..%dx%d",
+                         width, height, kMaxImageWidth, kMaxImageHeight);
+  }
+  // All buffers in one block, allocated here and never again while streaming.
+  const size_t frame_bytes = static_cast<size_t>(width) * static_cast<size_t>(height);
+  const size_t total = frame_bytes * kSimBuffersPerSide * 2;
+  if (width != width_ || height != height_ || !memory_) {
+    memory_.reset(new (std::nothrow) uint8_t[total]);
+    if (!memory_) {
+      return Status::Error(StatusCode::kResourceExhausted,
+                           "sim camera could not allocate %zu bytes of frame buffers", total);
+    }
+  }
+  width_ = width;
+  height_ = height;
+  for (int s = 0; s < 2; ++s) {
+    SidePool& pool = pools_[s];
+    for (size_t i = 0; i < kSimBuffersPerSide; ++i) {
+      pool.buffers[i] =
+          memory_.get() + (static_cast<size_t>(s) * kSimBuffersPerSide + i) * frame_bytes;
+      pool.free_ids[i] = static_cast<uint32_t>(i);
+    }
+    pool.free_count = kSimBuffersPerSide;
+    delivered_[s] = 0;
+  }
+  RecycleList recycled;
+  pairer_.Reset(recycled);  // nothing queued yet: buffers were just handed to the pools
+  next_frame_ = 0;
+  jitter_state_ = config_.jitter_seed == 0 ? 1u : config_.jitter_seed;
+  end_of_stream_ = Status::Ok();
+  holding_ = false;
+  started_ = true;
+  return Status::Ok();
+}
+
+Status SimCamera::Stop() {
+  if (!started_) return Status::Ok();
+  pairer_.Close(Status::Error(StatusCode::kUnavailable, "sim camera stopped"));
+  RecycleList recycled;
+  pairer_.Drain(recycled);
+  GiveBack(recycled);
+  holding_ = false;
+  started_ = false;
+  return Status::Ok();
+}
+
+GrayView SimCamera::BufferView(StereoSide side, uint32_t buffer_id) const {
+  return GrayView{pools_[Index(side)].buffers[buffer_id], width_, height_, width_};
+}
+
+void SimCamera::GiveBack(StereoSide side, uint32_t buffer_id) {
+  SidePool& pool = pools_[Index(side)];
+  assert(pool.free_count < kSimBuffersPerSide);
+  pool.free_ids[pool.free_count++] = buffer_id;
+}
+
+void SimCamera::GiveBack(const Vector<RecycledFrame>& recycled) {
+  for (const RecycledFrame& r : recycled) GiveBack(r.side, r.frame.buffer_id);
+}
+
+bool SimCamera::SideStopped(StereoSide side) const {
+  const int64_t limit =
+      side == StereoSide::kLeft ? config_.left_stop_after : config_.right_stop_after;
+  return limit >= 0 && delivered_[Index(side)] >= static_cast<uint64_t>(limit);
+}
+
+int64_t SimCamera::Timestamp(StereoSide side, uint64_t frame_index) {
+  int64_t t_ns =
+      config_.first_timestamp_ns + static_cast<int64_t>(frame_index) * config_.frame_period_ns;
+  if (side == StereoSide::kRight) {
+    const int64_t elapsed_ns = t_ns - config_.first_timestamp_ns;
+    // ppb applied in two steps (us, then ppb/1000) so that hours of frames do not overflow.
+    t_ns += config_.right_offset_ns + (elapsed_ns / 1000) * config_.right_drift_ppb / 1'000'000;
+  }
+  if (config_.jitter_ns > 0) {
+    // xorshift32: cheap, deterministic per seed, good enough for timing noise.
+    jitter_state_ ^= jitter_state_ << 13;
+    jitter_state_ ^= jitter_state_ >> 17;
+    jitter_state_ ^= jitter_state_ << 5;
+    const uint64_t span = static_cast<uint64_t>(2 * config_.jitter_ns + 1);
+    t_ns += static_cast<int64_t>(jitter_state_ % span) - config_.jitter_ns;
+  }
+  return t_ns;
+}
+
+Status SimCamera::ProduceFrame() {
+  const uint64_t n = next_frame_++;
+  SidePool& lpool = pools_[0];
+  SidePool& rpool = pools_[1];
+  if (lpool.free_count == 0 || rpool.free_count == 0) {
+    pairer_.ReportError(StereoSide::kLeft);
+    return Status::Error(StatusCode::kInternal, "sim camera ran out of buffers at frame %llu",
+                         static_cast<unsigned long long>(n));
+  }
+  const uint32_t ids[2] = {lpool.free_ids[--lpool.free_count], rpool.free_ids[--rpool.free_count]};
+  // Timestamps are drawn for both sides of every frame, so dropping frames does not change the
+  // jitter sequence of the others.
+  const int64_t t_ns[2] = {Timestamp(StereoSide::kLeft, n), Timestamp(StereoSide::kRight, n)};
+  const Status rendered = source_->Render(n, BufferView(StereoSide::kLeft, ids[0]),
+                                          BufferView(StereoSide::kRight, ids[1]));
+  if (!rendered.ok()) {
+    GiveBack(StereoSide::kLeft, ids[0]);
+    GiveBack(StereoSide::kRight, ids[1]);
+    if (rendered.code() != StatusCode::kOutOfRange) pairer_.ReportError(StereoSide::kLeft);
+    return rendered;
+  }
+  RecycleList recycled;
+  for (StereoSide side : kSides) {
+    const int i = Index(side);
+    const uint32_t every =
+        side == StereoSide::kLeft ? config_.drop_left_every : config_.drop_right_every;
+    const bool dropped = every > 0 && (n + 1) % every == 0;
+    if (SideStopped(side) || dropped) {
+      GiveBack(side, ids[i]);
+      continue;
+    }
+    ++delivered_[i];
+    TimestampedFrame frame;
+    frame.view = BufferView(side, ids[i]);
+    frame.timestamp_ns = t_ns[i];
+    frame.sequence = static_cast<uint32_t>(n);
+    frame.buffer_id = ids[i];
+    pairer_.Push(side, frame, recycled);
+  }
+  GiveBack(recycled);
+  return Status::Ok();
+}
+
+Status SimCamera::Capture(StereoFrame* out, int timeout_ms) {
+  if (out == nullptr) return Status::Error(StatusCode::kInvalidArgument, "Capture needs an output");
+  if (!started_) return Status::Error(StatusCode::kFailedPrecondition, "sim camera not started");
+  if (timeout_ms < 0) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "capture timeout must not be negative (got %d ms)", timeout_ms);
+  }
+  Release();
+  FramePair pair;
+  bool have_pair = false;
+  for (int produced = 0;; ++produced) {
+    if (pairer_.TryTakePair(&pair)) {
+      have_pair = true;
+      break;
+    }
+    if (!end_of_stream_.ok()) return end_of_stream_;
+    const bool both_stopped = SideStopped(StereoSide::kLeft) && SideStopped(StereoSide::kRight);
+    if (produced == kSimFramesPerCapture || both_stopped) break;
+    const Status s = ProduceFrame();
+    if (s.code() == StatusCode::kOutOfRange) {
+      end_of_stream_ = s;  // pairs already queued are still delivered first
+    } else if (!s.ok()) {
+      return s;
+    }
+  }
+  if (!have_pair) SH_RETURN_IF_ERROR(pairer_.WaitPair(timeout_ms, &pair));
+  held_ = pair;
+  holding_ = true;
+  out->left = pair.left.view;
+  out->right = pair.right.view;
+  out->left_timestamp_ns = pair.left.timestamp_ns;
+  out->right_timestamp_ns = pair.right.timestamp_ns;
+  out->left_sequence = pair.left.sequence;
+  out->right_sequence = pair.right.sequence;
+  out->pair_index = pair.pair_index;
+  return Status::Ok();
+}
+
+void SimCamera::Release() {
+  if (!holding_) return;
+  GiveBack(StereoSide::kLeft, held_.left.buffer_id);
+  GiveBack(StereoSide::kRight, held_.right.buffer_id);
+  holding_ = false;
+}
+
+CameraStats SimCamera::stats() const { return pairer_.stats(); }
+
+}  // namespace sh::hal

@@ -1,0 +1,245 @@
+#include "hal/sim/directory_camera.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "hal/sim/directory_camera_pgm.hpp"
+
+namespace sh::hal {
+namespace {
+
+// A fresh temporary directory per test, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    char tmpl[] = "/tmp/stereohash_camera_dir_XXXXXX";
+    const char* made = mkdtemp(tmpl);
+    EXPECT_NE(made, nullptr);
+    path_ = made != nullptr ? made : "/nonexistent";
+  }
+  ~TempDir() {
+    const std::string cmd = "rm -rf '" + path_ + "'";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+  }
+  const std::string& path() const { return path_; }
+  std::string Sub(const std::string& name) const {
+    const std::string p = path_ + "/" + name;
+    mkdir(p.c_str(), 0755);
+    return p;
+  }
+
+ private:
+  std::string path_;
+};
+
+uint8_t Pixel(int value, int x, int y) { return static_cast<uint8_t>(value + 3 * x + 5 * y); }
+
+void WriteFile(const std::string& path, const std::string& bytes) {
+  FILE* f = std::fopen(path.c_str(), "wb");
+  ASSERT_NE(f, nullptr) << path;
+  ASSERT_EQ(std::fwrite(bytes.data(), 1, bytes.size(), f), bytes.size());
+  std::fclose(f);
+}
+
+std::string PgmBytes(int width, int height, int value, const char* comment = nullptr) {
+  std::string s = "P5\n";
+  if (comment != nullptr) s += std::string("# ") + comment + "\n";
+  s += std::to_string(width) + " " + std::to_string(height) + "\n255\n";
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) s.push_back(static_cast<char>(Pixel(value, x, y)));
+  }
+  return s;
+}
+
+void WritePgm(const std::string& path, int width, int height, int value) {
+  WriteFile(path, PgmBytes(width, height, value));
+}
+
+// The value a view was written with, checked over every pixel; -1 if it does not match.
+int ValueShown(const ConstGrayView& v) {
+  const int value = v.at(0, 0);
+  for (int y = 0; y < v.height; ++y) {
+    for (int x = 0; x < v.width; ++x) {
+      if (v.at(x, y) != Pixel(value, x, y)) return -1;
+    }
+  }
+  return value;
+}
+
+// Left frame k holds value 10 * k, right frame k holds 10 * k + 1.
+void WriteFlatRecording(const TempDir& dir, const std::vector<int>& keys, int w = 12, int h = 7) {
+  for (int k : keys) {
+    WritePgm(dir.path() + "/left_" + std::to_string(k) + ".pgm", w, h, 10 * k);
+    WritePgm(dir.path() + "/right_" + std::to_string(k) + ".pgm", w, h, 10 * k + 1);
+  }
+}
+
+DirectoryCameraConfig Config(const TempDir& dir, bool loop = false) {
+  DirectoryCameraConfig c;
+  c.directory = dir.path();
+  c.loop = loop;
+  return c;
+}
+
+TEST(CameraPgm, ParsesHeaderWithComments) {
+  const std::string bytes = PgmBytes(4, 3, 0, "recorded frame");
+  PgmHeader h;
+  ASSERT_TRUE(
+      ParsePgmHeader(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), &h).ok());
+  EXPECT_EQ(h.width, 4);
+  EXPECT_EQ(h.height, 3);
+  EXPECT_EQ(h.max_value, 255);
+  EXPECT_EQ(h.data_offset + 12, bytes.size());
+}
+
+TEST(CameraPgm, RefusesUnsupportedAndBrokenHeaders) {
+  auto parse = [](const std::string& s) {
+    PgmHeader h;
+    return ParsePgmHeader(reinterpret_cast<const uint8_t*>(s.data()), s.size(), &h);
+  };
+  EXPECT_EQ(parse("P2\n4 3\n255\n").code(), StatusCode::kUnimplemented);
+  EXPECT_EQ(parse("P5\n4 3\n65535\n").code(), StatusCode::kUnimplemented);
+  EXPECT_EQ(parse("P6\n4 3\n255\n").code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(parse("P5\n4 x\n255\n").code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(parse("P5\n0 3\n255\n").code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(parse("P5\n4 3\n").code(), StatusCode::kDataLoss);
+  EXPECT_EQ(parse("P").code(), StatusCode::kDataLoss);
+  EXPECT_EQ(parse("P5\n99999 3\n255\n").code(), StatusCode::kOutOfRange);
+  EXPECT_EQ(parse("P5\n12345678 3\n255\n").code(), StatusCode::kInvalidArgument);
+}
+
+TEST(CameraDirectory, MissingOrEmptyDirectoryIsNotFound) {
+  DirectoryCameraConfig c;
+  c.directory = "/nonexistent/stereohash/recording";
+  DirectoryCamera missing(c);
+  const Status s = missing.Start();
+  EXPECT_EQ(s.code(), StatusCode::kNotFound);
+  EXPECT_NE(std::strstr(s.message(), "does not exist"), nullptr) << s.message();
+  TempDir dir;
+  DirectoryCamera empty(Config(dir));
+  EXPECT_EQ(empty.Start().code(), StatusCode::kNotFound);
+}
+
+TEST(CameraDirectory, FlatLayoutPlaysInNaturalOrderWithSyntheticTimestamps) {
+  TempDir dir;
+  WriteFlatRecording(dir, {10, 2, 1});
+  WriteFile(dir.path() + "/notes.txt", "ignored");
+  DirectoryCameraConfig c = Config(dir);
+  c.frame_period_ns = 50'000'000;
+  DirectoryCamera cam(c);
+  ASSERT_TRUE(cam.Start().ok());
+  EXPECT_EQ(cam.frame_count(), 3u);
+  const int expected_keys[] = {1, 2, 10};
+  for (int i = 0; i < 3; ++i) {
+    StereoFrame f;
+    const Status s = cam.Capture(&f, 100);
+    ASSERT_TRUE(s.ok()) << s.message();
+    EXPECT_EQ(ValueShown(f.left), 10 * expected_keys[i]);
+    EXPECT_EQ(ValueShown(f.right), 10 * expected_keys[i] + 1);
+    EXPECT_EQ(f.left_timestamp_ns, c.first_timestamp_ns + i * c.frame_period_ns);
+    EXPECT_EQ(f.right_timestamp_ns, f.left_timestamp_ns);
+  }
+  StereoFrame f;
+  const Status end = cam.Capture(&f, 100);
+  EXPECT_EQ(end.code(), StatusCode::kOutOfRange);
+  EXPECT_NE(std::strstr(end.message(), "end of recording"), nullptr) << end.message();
+  EXPECT_EQ(cam.stats().errors, 0u);
+}
+
+TEST(CameraDirectory, SubfolderLayoutAndLooping) {
+  TempDir dir;
+  const std::string l = dir.Sub("left");
+  const std::string r = dir.Sub("right");
+  for (int k = 0; k < 2; ++k) {
+    WritePgm(l + "/frame" + std::to_string(k) + ".pgm", 5, 4, 10 * k);
+    WritePgm(r + "/frame" + std::to_string(k) + ".pgm", 5, 4, 10 * k + 1);
+  }
+  DirectoryCamera cam(Config(dir, /*loop=*/true));
+  ASSERT_TRUE(cam.Start().ok());
+  int64_t last_t = -1;
+  for (int i = 0; i < 5; ++i) {
+    StereoFrame f;
+    ASSERT_TRUE(cam.Capture(&f, 100).ok());
+    EXPECT_EQ(ValueShown(f.left), 10 * (i % 2));
+    EXPECT_EQ(ValueShown(f.right), 10 * (i % 2) + 1);
+    EXPECT_GT(f.left_timestamp_ns, last_t) << "timestamps keep growing across loops";
+    last_t = f.left_timestamp_ns;
+  }
+}
+
+TEST(CameraDirectory, MissingPartnerFailsStartNamingTheFile) {
+  TempDir dir;
+  WriteFlatRecording(dir, {1, 2});
+  WritePgm(dir.path() + "/left_3.pgm", 12, 7, 0);
+  DirectoryCamera cam(Config(dir));
+  const Status s = cam.Start();
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::strstr(s.message(), "left_3.pgm has no right partner"), nullptr) << s.message();
+}
+
+TEST(CameraDirectory, DifferentLeftRightSizesAreAnError) {
+  TempDir dir;
+  WritePgm(dir.path() + "/left_1.pgm", 12, 7, 0);
+  WritePgm(dir.path() + "/right_1.pgm", 6, 7, 0);
+  DirectoryCamera cam(Config(dir));
+  const Status s = cam.Start();
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::strstr(s.message(), "left and right must match"), nullptr) << s.message();
+}
+
+TEST(CameraDirectory, BadFramesMidRecordingAreReportedCountedAndSkipped) {
+  TempDir dir;
+  WriteFlatRecording(dir, {1, 2, 3, 4, 5});
+  // Frame 2: pixels cut short. Frame 3: garbage header. Frame 4: sizes differ left/right.
+  const std::string full = PgmBytes(12, 7, 20);
+  WriteFile(dir.path() + "/left_2.pgm", full.substr(0, full.size() - 10));
+  WriteFile(dir.path() + "/right_3.pgm", "JUNK");
+  WritePgm(dir.path() + "/right_4.pgm", 6, 7, 41);
+  DirectoryCamera cam(Config(dir));
+  ASSERT_TRUE(cam.Start().ok());
+  StereoFrame f;
+  ASSERT_TRUE(cam.Capture(&f, 100).ok());
+  EXPECT_EQ(ValueShown(f.left), 10);
+
+  Status s = cam.Capture(&f, 100);
+  EXPECT_EQ(s.code(), StatusCode::kDataLoss);
+  EXPECT_NE(std::strstr(s.message(), "left_2.pgm is truncated"), nullptr) << s.message();
+
+  s = cam.Capture(&f, 100);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::strstr(s.message(), "right_3.pgm"), nullptr) << s.message();
+
+  s = cam.Capture(&f, 100);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::strstr(s.message(), "left and right must match"), nullptr) << s.message();
+
+  ASSERT_TRUE(cam.Capture(&f, 100).ok());
+  EXPECT_EQ(ValueShown(f.left), 50);
+  EXPECT_EQ(cam.stats().errors, 3u);
+  EXPECT_EQ(cam.Capture(&f, 100).code(), StatusCode::kOutOfRange);
+}
+
+TEST(CameraDirectory, FrameWithDifferentSizeThanRecordingIsAnError) {
+  TempDir dir;
+  WriteFlatRecording(dir, {1});
+  WritePgm(dir.path() + "/left_2.pgm", 8, 8, 20);
+  WritePgm(dir.path() + "/right_2.pgm", 8, 8, 21);
+  DirectoryCamera cam(Config(dir));
+  ASSERT_TRUE(cam.Start().ok());
+  StereoFrame f;
+  ASSERT_TRUE(cam.Capture(&f, 100).ok());
+  const Status s = cam.Capture(&f, 100);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::strstr(s.message(), "expected 12x7"), nullptr) << s.message();
+}
+
+}  // namespace
+}  // namespace sh::hal
