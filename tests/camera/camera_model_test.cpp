@@ -1,0 +1,75 @@
+#include "recog/camera/camera_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <random>
+
+namespace sh {
+namespace {
+
+// The lens of OpenCV's sample stereo pairs (strong barrel distortion, k3 > 0).
+CameraIntrinsics SampleLens() {
+  CameraIntrinsics c;
+  c.width = 640;
+  c.height = 480;
+  c.fx = c.fy = 535.9;
+  c.cx = 342.3;
+  c.cy = 235.6;
+  c.k1 = -0.266;
+  c.k2 = -0.0386;
+  c.p1 = 0.00178;
+  c.p2 = -0.00028;
+  c.k3 = 0.238;
+  return c;
+}
+
+TEST(CameraModel, UndistortInvertsDistortOverTheWholeImage) {
+  const CameraIntrinsics cam = SampleLens();
+  double worst_px = 0.0;
+  for (int y = 0; y <= cam.height; y += 8) {
+    for (int x = 0; x <= cam.width; x += 8) {
+      const Eigen::Vector2d pixel(x, y);
+      const Eigen::Vector3d ray = PixelRay(cam, pixel);
+      Eigen::Vector2d back;
+      ASSERT_TRUE(ProjectToPixel(cam, ray * 500.0, &back));
+      worst_px = std::max(worst_px, (back - pixel).norm());
+    }
+  }
+  EXPECT_LT(worst_px, 1e-6);
+}
+
+TEST(CameraModel, ProjectionOfRayPointsIsThePixel) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  CameraIntrinsics cam = SampleLens();
+  for (int i = 0; i < 200; ++i) {
+    cam.k1 = -0.3 + 0.6 * u(rng);
+    cam.k2 = -0.05 + 0.1 * u(rng);
+    cam.k3 = 0.0;
+    const Eigen::Vector2d pixel(u(rng) * cam.width, u(rng) * cam.height);
+    const Eigen::Vector3d ray = PixelRay(cam, pixel);
+    EXPECT_NEAR(ray.norm(), 1.0, 1e-12);
+    Eigen::Vector2d back;
+    ASSERT_TRUE(ProjectToPixel(cam, ray * (100.0 + 1000.0 * u(rng)), &back));
+    EXPECT_LT((back - pixel).norm(), 1e-6) << "k1 " << cam.k1 << " k2 " << cam.k2;
+  }
+}
+
+TEST(CameraModel, PointsBehindTheCameraDoNotProject) {
+  const CameraIntrinsics cam = SampleLens();
+  Eigen::Vector2d pixel;
+  EXPECT_FALSE(ProjectToPixel(cam, Eigen::Vector3d(0, 0, -100), &pixel));
+  EXPECT_FALSE(ProjectToPixel(cam, Eigen::Vector3d(10, 0, 0), &pixel));
+}
+
+TEST(CameraModel, RightCentreMapsToRightOrigin) {
+  StereoCalibration calib;
+  calib.right_R_left = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 1, 0.1).normalized()).matrix();
+  calib.right_t_left_mm = Eigen::Vector3d(-120, 3, -7);
+  const Eigen::Vector3d c = RightCentreInLeft(calib);
+  EXPECT_LT((calib.right_R_left * c + calib.right_t_left_mm).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace sh
