@@ -17,17 +17,29 @@ namespace detail {
 template <int Bits, bool Signed>
 struct FixedStorage;
 template <>
-struct FixedStorage<8, true> { using type = int8_t; };
+struct FixedStorage<8, true> {
+  using type = int8_t;
+};
 template <>
-struct FixedStorage<16, true> { using type = int16_t; };
+struct FixedStorage<16, true> {
+  using type = int16_t;
+};
 template <>
-struct FixedStorage<32, true> { using type = int32_t; };
+struct FixedStorage<32, true> {
+  using type = int32_t;
+};
 template <>
-struct FixedStorage<8, false> { using type = uint8_t; };
+struct FixedStorage<8, false> {
+  using type = uint8_t;
+};
 template <>
-struct FixedStorage<16, false> { using type = uint16_t; };
+struct FixedStorage<16, false> {
+  using type = uint16_t;
+};
 template <>
-struct FixedStorage<32, false> { using type = uint32_t; };
+struct FixedStorage<32, false> {
+  using type = uint32_t;
+};
 
 constexpr int RoundBits(int bits) { return bits <= 8 ? 8 : bits <= 16 ? 16 : 32; }
 }  // namespace detail
@@ -81,8 +93,8 @@ template <int I, int F>
 using UQ = FixedPoint<I, F, false>;
 
 // The formats used across stereohash; each names what it holds.
-using QCoordMm = Q<10, 6>;     // millimetres, +-512 mm, 1/64 mm resolution (table coordinates)
-using QUnit = Q<2, 14>;        // unit-vector components and rotations, [-2, 2), 2^-14
-using UQVote = UQ<0, 16>;      // a single Gaussian vote in [0, 1), 2^-16
+using QCoordMm = Q<10, 6>;  // millimetres, +-512 mm, 1/64 mm resolution (table coordinates)
+using QUnit = Q<2, 14>;     // unit-vector components and rotations, [-2, 2), 2^-14
+using UQVote = UQ<0, 16>;   // a single Gaussian vote in [0, 1), 2^-16
 
 }  // namespace sh

@@ -15,16 +15,16 @@ namespace sh {
 
 enum class StatusCode : uint8_t {
   kOk = 0,
-  kInvalidArgument,   // malformed input: bad file contents, out-of-range command
-  kOutOfRange,        // value outside the supported range
-  kDataLoss,          // truncated or corrupted data (CRC mismatch, short read)
-  kNotFound,          // missing file, model or device
-  kResourceExhausted, // a compile-time capacity was reached
-  kUnavailable,       // device or peer not available (camera stopped, bus off)
-  kDeadlineExceeded,  // time budget or timeout ran out
-  kFailedPrecondition,// called in the wrong state
-  kUnimplemented,     // not supported in this build or on this kernel
-  kInternal,          // invariant broken in a way we could still report
+  kInvalidArgument,     // malformed input: bad file contents, out-of-range command
+  kOutOfRange,          // value outside the supported range
+  kDataLoss,            // truncated or corrupted data (CRC mismatch, short read)
+  kNotFound,            // missing file, model or device
+  kResourceExhausted,   // a compile-time capacity was reached
+  kUnavailable,         // device or peer not available (camera stopped, bus off)
+  kDeadlineExceeded,    // time budget or timeout ran out
+  kFailedPrecondition,  // called in the wrong state
+  kUnimplemented,       // not supported in this build or on this kernel
+  kInternal,            // invariant broken in a way we could still report
 };
 
 const char* StatusCodeName(StatusCode code);
@@ -71,8 +71,8 @@ class [[nodiscard]] Result {
 }  // namespace sh
 
 // Propagate a non-ok Status to the caller.
-#define SH_RETURN_IF_ERROR(expr)         \
-  do {                                   \
-    ::sh::Status sh_status_ = (expr);    \
+#define SH_RETURN_IF_ERROR(expr)             \
+  do {                                       \
+    ::sh::Status sh_status_ = (expr);        \
     if (!sh_status_.ok()) return sh_status_; \
   } while (0)

@@ -1,0 +1,508 @@
+#include "recog/hashing/recognizer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace sh {
+namespace {
+
+inline bool TestBit(const uint8_t* bits, uint16_t i) { return (bits[i >> 3] >> (i & 7)) & 1u; }
+inline void SetBit(uint8_t* bits, uint16_t i) { bits[i >> 3] |= uint8_t(1u << (i & 7)); }
+
+// Decoding of table values (table_format.hpp): Q10.6 mm and Q2.14 unit components.
+constexpr float kMmPerRaw = 1.0f / 64.0f;
+constexpr float kUnitPerRaw = 1.0f / 16384.0f;
+
+RigidTransform BasisTransform(const BasisRecord& r) {
+  RigidTransform T;
+  T.R = Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(r.basis_T_model);
+  T.t_mm = {r.basis_T_model[9], r.basis_T_model[10], r.basis_T_model[11]};
+  return T;
+}
+
+// Bin index range [lo, hi] of a grid covering [v - r, v + r] on one axis; false if disjoint.
+inline bool BinRange(const GridGeometry& g, int axis, float v, float r, int* lo, int* hi) {
+  const float inv = 1.0f / g.bin_mm;
+  const float a = (v - r - g.min_mm[axis]) * inv, b = (v + r - g.min_mm[axis]) * inv;
+  if (b < 0.0f || a >= float(g.dims[axis])) return false;
+  *lo = std::max(0, int(a));
+  *hi = std::min(int(g.dims[axis]) - 1, int(b));
+  return true;
+}
+
+uint32_t NextRandom(uint32_t& state) {  // xorshift32: deterministic on every platform
+  state ^= state << 13;
+  state ^= state >> 17;
+  state ^= state << 5;
+  return state;
+}
+
+}  // namespace
+
+bool SceneSupportVerifier::Verify(const Model& model, const Vector<RecognizedObject>& accepted,
+                                  RecognizedObject& candidate) {
+  const int features = model.n_corners + model.n_edges;
+  const float fraction =
+      float(candidate.matched_points + candidate.matched_lines) / float(features);
+  candidate.verify_score[0] = candidate.verify_score[1] = fraction;
+  return fraction >= min_fraction_;
+}
+
+Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) {
+  if (!(config.sigma_point_mm > 0.0f) || !(config.sigma_line_mm > 0.0f))
+    return Status::Error(StatusCode::kInvalidArgument, "vote widths must be positive");
+  if (!(config.vote_threshold >= 0.0f && config.vote_threshold <= 2.0f))
+    return Status::Error(StatusCode::kInvalidArgument, "vote threshold %g outside [0, 2]",
+                         double(config.vote_threshold));
+  if (config.hypotheses_per_basis < 1 || config.hypotheses_per_basis > int(kMaxHypothesesPerBasis))
+    return Status::Error(StatusCode::kInvalidArgument, "hypotheses per basis must be 1..%zu",
+                         kMaxHypothesesPerBasis);
+  table_ = table;
+  config_ = config;
+  inv_sigma2_point_ = 1.0f / (config.sigma_point_mm * config.sigma_point_mm);
+  inv_sigma2_line_ = 1.0f / (config.sigma_line_mm * config.sigma_line_mm);
+  std::memset(point_vote_, 0, sizeof(point_vote_));
+  std::memset(line_vote_, 0, sizeof(line_vote_));
+  std::memset(basis_point_sum_, 0, sizeof(basis_point_sum_));
+  std::memset(basis_line_sum_, 0, sizeof(basis_line_sum_));
+  std::memset(basis_touched_, 0, sizeof(basis_touched_));
+  return Status::Ok();
+}
+
+void Recognizer::PrepareScene(const Scene& scene) {
+  scene_ = &scene;
+  const int np = int(scene.points.size()), nl = int(scene.lines.size());
+  for (int i = 0; i < np; ++i) point_active_[i] = scene.points[i].p_mm.allFinite();
+  Eigen::Vector3f* positions = grid_scratch_;
+  for (int i = 0; i < np; ++i) positions[i] = scene.points[i].p_mm;
+  point_grid_.Build(positions, np, 5.0f);
+  for (int i = 0; i < nl; ++i) {
+    const SceneLine& l = scene.lines[i];
+    const float length = l.length_mm();
+    line_active_[i] = l.a_mm.allFinite() && l.b_mm.allFinite() && length > 1.0f;
+    line_dir_[i] =
+        line_active_[i] ? Eigen::Vector3f((l.b_mm - l.a_mm) / length) : Eigen::Vector3f::UnitX();
+    positions[2 * i] = l.a_mm;
+    positions[2 * i + 1] = l.b_mm;
+  }
+  endpoint_grid_.Build(positions, 2 * nl, 5.0f);
+  std::memset(used_left_point_, 0, sizeof(used_left_point_));
+  std::memset(used_right_point_, 0, sizeof(used_right_point_));
+  std::memset(used_left_line_, 0, sizeof(used_left_line_));
+  std::memset(used_right_line_, 0, sizeof(used_right_line_));
+  GenerateCandidates();
+}
+
+bool Recognizer::IsJunction(const Eigen::Vector3f& p) const {
+  bool found = false;
+  endpoint_grid_.ForEachNear(p, config_.connect_tolerance_mm, [&](int) { found = true; });
+  return found;
+}
+
+// True if some scene line runs from an end of `line` to the point p (an object edge joining the
+// basis line to the basis point: the typical corner-edge-corner pattern of a polyhedron).
+bool Recognizer::Connected(int line, const Eigen::Vector3f& p) const {
+  const float tol = config_.connect_tolerance_mm;
+  bool found = false;
+  const SceneLine& l = scene_->lines[line];
+  for (const Eigen::Vector3f& end : {l.a_mm, l.b_mm}) {
+    endpoint_grid_.ForEachNear(end, tol, [&](int item) {
+      const int other = item / 2;
+      if (other == line || found) return;
+      const SceneLine& m = scene_->lines[other];
+      const Eigen::Vector3f& far = (item & 1) ? m.a_mm : m.b_mm;
+      found = (far - p).squaredNorm() <= tol * tol;
+    });
+  }
+  return found;
+}
+
+void Recognizer::GenerateCandidates() {
+  candidate_count_ = 0;
+  all_candidates_generated_ = false;
+  if (config_.order == BasisOrder::kQuality) {
+    AppendCandidates(true);
+    // Best first; stable so that equal scores keep scene order (deterministic).
+    uint32_t* order = order_scratch_;
+    SceneBasis* sorted = sorted_scratch_;
+    for (uint32_t i = 0; i < candidate_count_; ++i) order[i] = i;
+    std::stable_sort(order, order + candidate_count_, [this](uint32_t a, uint32_t b) {
+      return candidate_score_[a] > candidate_score_[b];
+    });
+    for (uint32_t i = 0; i < candidate_count_; ++i) sorted[i] = candidates_[order[i]];
+    std::copy(sorted, sorted + candidate_count_, candidates_);
+  } else {
+    AppendCandidates(false);
+    all_candidates_generated_ = true;
+    if (config_.order == BasisOrder::kRandom) {
+      uint32_t state = config_.random_seed ? config_.random_seed : 1u;
+      for (uint32_t i = candidate_count_; i > 1; --i)
+        std::swap(candidates_[i - 1], candidates_[NextRandom(state) % i]);
+    }
+  }
+}
+
+void Recognizer::AppendCandidates(bool connected_only) {
+  const Scene& s = *scene_;
+  const HashFunction hf = table_.hash_function();
+  const BasisLimits limits = table_.limits();
+  const int np = int(s.points.size()), nl = int(s.lines.size());
+  auto add = [this](uint16_t a, uint16_t b, uint16_t c, float score) {
+    if (candidate_count_ >= kMaxSceneBases) return false;
+    candidates_[candidate_count_] = SceneBasis{{a, b, c}};
+    candidate_score_[candidate_count_++] = score;
+    return true;
+  };
+  if (UsesLinePoint(hf)) {
+    for (int i = 0; i < nl; ++i) {
+      if (!line_active_[i]) continue;
+      const Line3 line{s.lines[i].a_mm, line_dir_[i]};
+      const float length = s.lines[i].length_mm();
+      for (int j = 0; j < np; ++j) {
+        if (!point_active_[j]) continue;
+        const float d = PointLineDistance(line, s.points[j].p_mm);
+        if (d < limits.min_point_line_mm || d > limits.max_point_line_mm) continue;
+        const bool connected = Connected(i, s.points[j].p_mm);
+        if (connected != connected_only) continue;
+        const float score = std::min(length, 60.0f) + (IsJunction(s.points[j].p_mm) ? 30.0f : 0.0f);
+        if (!add(uint16_t(i), uint16_t(j), 0, score)) return;
+      }
+    }
+  } else if (hf == HashFunction::kTwoLines) {
+    const float cos_limit = std::cos(limits.min_line_angle_deg * float(M_PI) / 180.0f);
+    const float tol2 = config_.connect_tolerance_mm * config_.connect_tolerance_mm;
+    for (int i = 0; i < nl; ++i) {
+      if (!line_active_[i]) continue;
+      for (int j = 0; j < nl; ++j) {
+        if (j == i || !line_active_[j]) continue;
+        if (std::fabs(line_dir_[i].dot(line_dir_[j])) > cos_limit) continue;
+        const SceneLine &a = s.lines[i], &b = s.lines[j];
+        const bool connected =
+            std::min({(a.a_mm - b.a_mm).squaredNorm(), (a.a_mm - b.b_mm).squaredNorm(),
+                      (a.b_mm - b.a_mm).squaredNorm(), (a.b_mm - b.b_mm).squaredNorm()}) <= tol2;
+        if (connected != connected_only) continue;
+        RigidTransform unused;
+        if (!TwoLineFrame({a.a_mm, line_dir_[i]}, {b.a_mm, line_dir_[j]}, limits, &unused))
+          continue;
+        const float score = std::min(a.length_mm(), 60.0f) + std::min(b.length_mm(), 60.0f);
+        if (!add(uint16_t(i), uint16_t(j), 0, score)) return;
+      }
+    }
+  } else {
+    const float max_side = limits.max_point_spacing_mm;
+    for (int i = 0; i < np; ++i) {
+      if (!point_active_[i]) continue;
+      const Eigen::Vector3f& pi = s.points[i].p_mm;
+      const bool junction_i = IsJunction(pi);
+      if (connected_only && !junction_i) continue;
+      bool full = false;
+      point_grid_.ForEachNear(pi, max_side, [&](int j) {
+        if (full || j == i || !point_active_[j]) return;
+        const Eigen::Vector3f& pj = s.points[j].p_mm;
+        point_grid_.ForEachNear(pi, max_side, [&](int k) {
+          if (full || k == i || k == j || !point_active_[k]) return;
+          const Eigen::Vector3f& pk = s.points[k].p_mm;
+          const bool connected = junction_i && IsJunction(pj) && IsJunction(pk);
+          if (connected != connected_only) return;
+          RigidTransform unused;
+          if (!ThreePointFrame(table_.hash_function(), pi, pj, pk, limits, &unused)) return;
+          const float score = (pj - pi).norm() + (pk - pi).norm();
+          full = !add(uint16_t(i), uint16_t(j), uint16_t(k), score);
+        });
+      });
+      if (full) return;
+    }
+  }
+}
+
+bool Recognizer::SceneBasisFrame(const SceneBasis& b, RigidTransform* basis_T_cam,
+                                 Eigen::Vector3f* shape_point) const {
+  const Scene& s = *scene_;
+  const HashFunction hf = table_.hash_function();
+  const BasisLimits limits = table_.limits();
+  if (UsesThreePoints(hf)) {
+    const Eigen::Vector3f &p0 = s.points[b.f[0]].p_mm, &p1 = s.points[b.f[1]].p_mm,
+                          &p2 = s.points[b.f[2]].p_mm;
+    if (!ThreePointFrame(hf, p0, p1, p2, limits, basis_T_cam)) return false;
+    *shape_point = TriangleShapePoint(p0, p1, p2);
+    return true;
+  }
+  if (hf == HashFunction::kTwoLines)
+    return TwoLineFrame({s.lines[b.f[0]].a_mm, line_dir_[b.f[0]]},
+                        {s.lines[b.f[1]].a_mm, line_dir_[b.f[1]]}, limits, basis_T_cam);
+  return LinePointFrame(hf, {s.lines[b.f[0]].a_mm, line_dir_[b.f[0]]}, s.points[b.f[1]].p_mm,
+                        limits, basis_T_cam);
+}
+
+void Recognizer::VotePoint(const Eigen::Vector3f& q) {
+  const GridGeometry& g = table_.point_grid();
+  const float r = 2.0f * config_.sigma_point_mm;  // votes beyond 2 sigma are cut (vote_lut.hpp)
+  int lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    if (!BinRange(g, a, q[a], r, &lo[a], &hi[a])) return;
+  }
+  const PointEntry* base = table_.point_entries();
+  const uint32_t* offsets = table_.point_bin_offsets();
+  for (int z = lo[2]; z <= hi[2]; ++z) {
+    for (int y = lo[1]; y <= hi[1]; ++y) {
+      const uint32_t row = (uint32_t(z) * g.dims[1] + uint32_t(y)) * g.dims[0];
+      // Bins of one row are contiguous in the entry array: one range covers x = lo..hi.
+      const uint32_t begin = offsets[row + lo[0]], end = offsets[row + hi[0] + 1];
+      for (uint32_t e = begin; e < end; ++e) {
+        const PointEntry& p = base[e];
+        const float dx = float(p.x) * kMmPerRaw - q.x();
+        const float dy = float(p.y) * kMmPerRaw - q.y();
+        const float dz = float(p.z) * kMmPerRaw - q.z();
+        const uint16_t v = votes_lut_.Vote(dx * dx + dy * dy + dz * dz, inv_sigma2_point_);
+        if (v > point_vote_[e]) {
+          if (point_vote_[e] == 0) touched_points_[n_touched_points_++] = e;
+          point_vote_[e] = v;
+        }
+      }
+    }
+  }
+}
+
+void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v) {
+  const GridGeometry& g = table_.line_grid();
+  const float r = config_.line_neighbourhood_factor * 2.0f * config_.sigma_line_mm;
+  int lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    if (!BinRange(g, a, s[a], r, &lo[a], &hi[a])) return;
+  }
+  const LineEntry* base = table_.line_entries();
+  const uint32_t* offsets = table_.line_bin_offsets();
+  for (int z = lo[2]; z <= hi[2]; ++z) {
+    for (int y = lo[1]; y <= hi[1]; ++y) {
+      const uint32_t row = (uint32_t(z) * g.dims[1] + uint32_t(y)) * g.dims[0];
+      const uint32_t begin = offsets[row + lo[0]], end = offsets[row + hi[0] + 1];
+      for (uint32_t e = begin; e < end; ++e) {
+        const LineEntry& l = base[e];
+        const Eigen::Vector3f c(float(l.cx) * kMmPerRaw, float(l.cy) * kMmPerRaw,
+                                float(l.cz) * kMmPerRaw);
+        const Eigen::Vector3f u(float(l.vx) * kUnitPerRaw, float(l.vy) * kUnitPerRaw,
+                                float(l.vz) * kUnitPerRaw);
+        const float length = float(l.length) * kMmPerRaw;
+        const uint16_t vote =
+            votes_lut_.Vote(SegmentLineDistance2(c, u, length, s, v), inv_sigma2_line_);
+        if (vote > line_vote_[e]) {
+          if (line_vote_[e] == 0) touched_lines_[n_touched_lines_++] = e;
+          line_vote_[e] = vote;
+        }
+      }
+    }
+  }
+}
+
+int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out) {
+  out.clear();
+  RigidTransform basis_T_cam;
+  Eigen::Vector3f shape_point;
+  if (!SceneBasisFrame(b, &basis_T_cam, &shape_point)) return 0;
+  const Scene& s = *scene_;
+  const HashFunction hf = table_.hash_function();
+  const bool three_points = UsesThreePoints(hf), line_point = UsesLinePoint(hf);
+
+  n_touched_points_ = n_touched_lines_ = 0;
+  for (size_t j = 0; j < s.points.size(); ++j) {
+    if (!point_active_[j]) continue;
+    if (three_points && (j == b.f[0] || j == b.f[1] || j == b.f[2])) continue;
+    if (line_point && j == b.f[1]) continue;
+    VotePoint(basis_T_cam * s.points[j].p_mm);
+  }
+  if (three_points) VotePoint(shape_point);
+  for (size_t j = 0; j < s.lines.size(); ++j) {
+    if (!line_active_[j]) continue;
+    if (line_point && j == b.f[0]) continue;
+    const Eigen::Vector3f a = basis_T_cam * s.lines[j].a_mm;
+    const Eigen::Vector3f v = basis_T_cam.Rotate(line_dir_[j]);
+    VoteLine(SupportVector(a, v), v);
+  }
+
+  // Sum the best vote of every touched entry into its model basis, resetting as we go.
+  n_touched_bases_ = 0;
+  const PointEntry* points = table_.point_entries();
+  const LineEntry* lines = table_.line_entries();
+  auto touch = [this](uint16_t basis) {
+    if (!basis_touched_[basis]) {
+      basis_touched_[basis] = 1;
+      touched_bases_[n_touched_bases_++] = basis;
+    }
+  };
+  for (uint32_t i = 0; i < n_touched_points_; ++i) {
+    const uint32_t e = touched_points_[i];
+    basis_point_sum_[points[e].basis] += point_vote_[e];
+    touch(points[e].basis);
+    point_vote_[e] = 0;
+  }
+  for (uint32_t i = 0; i < n_touched_lines_; ++i) {
+    const uint32_t e = touched_lines_[i];
+    basis_line_sum_[lines[e].basis] += line_vote_[e];
+    touch(lines[e].basis);
+    line_vote_[e] = 0;
+  }
+
+  // Keep the best hypotheses_per_basis model bases at or above the threshold.
+  const int k_max = config_.hypotheses_per_basis;
+  float best_vote[kMaxHypothesesPerBasis];
+  uint16_t best_basis[kMaxHypothesesPerBasis];
+  int n_best = 0;
+  for (uint32_t i = 0; i < n_touched_bases_; ++i) {
+    const uint16_t bi = touched_bases_[i];
+    const BasisRecord& r = table_.basis(bi);
+    // Sums are UQ0.16 votes: divide by 65535 for the vote value, by the entry counts to normalise.
+    const float vote =
+        (r.n_point_entries ? float(basis_point_sum_[bi]) / (65535.0f * r.n_point_entries) : 0.0f) +
+        (r.n_line_entries ? float(basis_line_sum_[bi]) / (65535.0f * r.n_line_entries) : 0.0f);
+    basis_point_sum_[bi] = basis_line_sum_[bi] = 0;
+    basis_touched_[bi] = 0;
+    if (vote < config_.vote_threshold || !((config_.model_mask >> r.model) & 1u)) continue;
+    int pos = n_best < k_max ? n_best++ : k_max;
+    if (pos == k_max && vote <= best_vote[k_max - 1]) continue;
+    if (pos == k_max) pos = k_max - 1;
+    while (pos > 0 && best_vote[pos - 1] < vote) {
+      best_vote[pos] = best_vote[pos - 1];
+      best_basis[pos] = best_basis[pos - 1];
+      --pos;
+    }
+    best_vote[pos] = vote;
+    best_basis[pos] = bi;
+  }
+  const RigidTransform cam_T_basis = basis_T_cam.Inverse();
+  for (int i = 0; i < n_best; ++i) {
+    const BasisRecord& r = table_.basis(best_basis[i]);
+    Hypothesis h;
+    h.model = r.model;
+    h.model_basis = best_basis[i];
+    h.scene_basis = b;
+    h.vote = best_vote[i];
+    h.cam_T_model = cam_T_basis * BasisTransform(r);
+    if (!out.push_back(h)) break;
+  }
+  return int(out.size());
+}
+
+int Recognizer::ActiveFeatureCount() const {
+  int active = 0;
+  for (size_t j = 0; j < scene_->points.size(); ++j) active += point_active_[j];
+  for (size_t j = 0; j < scene_->lines.size(); ++j) active += line_active_[j];
+  return active;
+}
+
+bool Recognizer::BasisActive(const SceneBasis& b) const {
+  const HashFunction hf = table_.hash_function();
+  if (UsesThreePoints(hf))
+    return point_active_[b.f[0]] && point_active_[b.f[1]] && point_active_[b.f[2]];
+  if (hf == HashFunction::kTwoLines) return line_active_[b.f[0]] && line_active_[b.f[1]];
+  return line_active_[b.f[0]] && point_active_[b.f[1]];
+}
+
+void Recognizer::RemoveObjectFeatures(const Model& model, const Correspondences& c) {
+  const Scene& s = *scene_;
+  auto mark = [](uint8_t* bits, uint16_t id) {
+    if (id != kNoFeature2d) SetBit(bits, id);
+  };
+  for (int i = 0; i < model.n_corners; ++i) {
+    const int j = c.point_of_corner[i];
+    if (j < 0) continue;
+    point_active_[j] = 0;
+    mark(used_left_point_, s.points[j].source.left);
+    mark(used_right_point_, s.points[j].source.right);
+  }
+  for (int e = 0; e < model.n_edges; ++e) {
+    const int j = c.line_of_edge[e];
+    if (j < 0) continue;
+    line_active_[j] = 0;
+    mark(used_left_line_, s.lines[j].source.left);
+    mark(used_right_line_, s.lines[j].source.right);
+  }
+  auto shares = [](const uint8_t* left, const uint8_t* right, const FeatureSource& src) {
+    return (src.left != kNoFeature2d && TestBit(left, src.left)) ||
+           (src.right != kNoFeature2d && TestBit(right, src.right));
+  };
+  for (size_t j = 0; j < s.points.size(); ++j) {
+    if (point_active_[j] && shares(used_left_point_, used_right_point_, s.points[j].source))
+      point_active_[j] = 0;
+  }
+  for (size_t j = 0; j < s.lines.size(); ++j) {
+    if (line_active_[j] && shares(used_left_line_, used_right_line_, s.lines[j].source))
+      line_active_[j] = 0;
+  }
+}
+
+bool Recognizer::TooCloseToAccepted(const RigidTransform& cam_T_model,
+                                    const Vector<RecognizedObject>& objects) const {
+  const float d2 = config_.min_object_separation_mm * config_.min_object_separation_mm;
+  for (const RecognizedObject& o : objects) {
+    if ((o.cam_T_model.t_mm - cam_T_model.t_mm).squaredNorm() < d2) return true;
+  }
+  return false;
+}
+
+Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, const Budget& budget,
+                             Vector<RecognizedObject>& objects, RecognitionStats* stats_out) {
+  RecognitionStats stats;
+  objects.clear();
+  PrepareScene(scene);
+  uint32_t cursor = 0;
+  Vector<Hypothesis, kMaxHypothesesPerBasis> hypotheses;
+  RefineInput refine_in;
+  refine_in.scene = &scene;
+  refine_in.point_active = point_active_;
+  refine_in.line_active = line_active_;
+  refine_in.point_grid = &point_grid_;
+  refine_in.sigma_point_mm = config_.sigma_point_mm;
+  refine_in.sigma_line_mm = config_.sigma_line_mm;
+  for (;;) {
+    if (stats.scene_bases_tried >= budget.max_scene_bases ||
+        (budget.deadline_ns != 0 && budget.now_ns != nullptr &&
+         budget.now_ns() >= budget.deadline_ns)) {
+      stats.budget_exhausted = true;
+      break;
+    }
+    if (cursor == candidate_count_) {
+      if (all_candidates_generated_) break;
+      // Connected bases are used up: continue with all remaining ones.
+      candidate_count_ = 0;
+      cursor = 0;
+      AppendCandidates(false);
+      all_candidates_generated_ = true;
+      if (candidate_count_ == 0) break;
+    }
+    const SceneBasis basis = candidates_[cursor++];
+    if (!BasisActive(basis)) continue;
+    if (ActiveFeatureCount() < config_.min_active_features) break;
+
+    ++stats.scene_bases_tried;
+    stats.hypotheses += VoteForBasis(basis, hypotheses);
+    for (const Hypothesis& h : hypotheses) {
+      refine_in.model = &table_.model(h.model);
+      const RefineResult refined = RefinePose(refine_in, h.cam_T_model, config_.refine);
+      if (TooCloseToAccepted(refined.cam_T_model, objects)) continue;
+      RecognizedObject candidate;
+      candidate.model = h.model;
+      candidate.cam_T_model = refined.cam_T_model;
+      candidate.vote = h.vote;
+      candidate.fit_rms_mm = refined.rms_mm;
+      candidate.matched_points = uint16_t(refined.matches.matched_points);
+      candidate.matched_lines = uint16_t(refined.matches.matched_lines);
+      ++stats.verifications;
+      if (!verifier.Verify(*refine_in.model, objects, candidate)) continue;
+      for (const RecognizedObject& o : objects) candidate.instance += o.model == candidate.model;
+      if (!objects.push_back(candidate)) {
+        stats.objects_full = true;
+        break;
+      }
+      ++stats.accepted;
+      RemoveObjectFeatures(*refine_in.model, refined.matches);
+      break;
+    }
+    if (stats.objects_full) break;
+  }
+  stats.scene_bases_available = candidate_count_;
+  if (stats_out) *stats_out = stats;
+  return Status::Ok();
+}
+
+}  // namespace sh

@@ -1,0 +1,185 @@
+// Recognition by 3-D geometric hashing (thesis ch. 2, 4, 5), statically allocated.
+//
+// For a scene basis, every other scene feature is expressed in the basis frame and looked up in
+// the hash arrays; each model entry near it receives a Gaussian vote (at most one, the best, per
+// scene basis). Model bases whose normalised vote (point part / point entries + line part / line
+// entries, in [0, 2]) reaches the threshold become hypotheses; each is refined with all
+// supporting features and handed to a verifier. An accepted object's features, and every 3-D
+// feature sharing a 2-D feature with them, leave the scene; the search continues with the next
+// untried scene basis until the budget, the scene bases or the features run out.
+//
+// Beyond the thesis: scene bases tried for one object are never tried again for the next, the
+// order of scene bases is a policy, and the search honours a budget (scene bases or a deadline)
+// and returns what it has verified so far when the budget runs out.
+#pragma once
+
+#include <cstdint>
+
+#include "recog/base/status.hpp"
+#include "recog/base/vector.hpp"
+#include "recog/geometry/rigid_transform.hpp"
+#include "recog/hashing/basis.hpp"
+#include "recog/hashing/pose_refine.hpp"
+#include "recog/hashing/scene_grid.hpp"
+#include "recog/hashing/vote_lut.hpp"
+#include "recog/scene/scene.hpp"
+#include "tables/table_view.hpp"
+
+namespace sh {
+
+// Capacities (compile-time; see docs/architecture.md).
+inline constexpr size_t kMaxObjects = 32;            // recognised objects per scene
+inline constexpr size_t kMaxSceneBases = 32768;      // candidate scene bases held at once
+inline constexpr size_t kMaxHypothesesPerBasis = 8;  // model bases tried per scene basis
+
+enum class BasisOrder : uint8_t {
+  kFileOrder,  // features in the order stereo produced them
+  kRandom,     // seeded shuffle
+  kQuality,    // bases whose features are connected by scene edges first, long lines first
+};
+
+struct RecognizerConfig {
+  float sigma_point_mm = 3.0f;             // vote width for points
+  float sigma_line_mm = 3.0f;              // vote width for lines
+  float vote_threshold = 0.2f;             // normalised vote needed for a hypothesis (thesis: 0.2)
+  float line_neighbourhood_factor = 3.5f;  // appendix B: support vectors differ up to 3.5 x
+  int hypotheses_per_basis = 3;            // best model bases refined per scene basis
+  BasisOrder order = BasisOrder::kQuality;
+  uint32_t random_seed = 1;
+  uint32_t model_mask = 0xffffffffu;       // bit m enables model m (the active model set)
+  int min_active_features = 6;             // stop when fewer scene features remain
+  float min_object_separation_mm = 15.0f;  // two objects cannot share a centre this close
+  float connect_tolerance_mm = 4.0f;       // end points this close count as one junction
+  RefineConfig refine;
+};
+
+// A scene basis by scene feature indices: (p0, p1, p2), (line, line) or (line, point).
+struct SceneBasis {
+  uint16_t f[3] = {0, 0, 0};
+};
+
+struct Hypothesis {
+  uint16_t model = 0;
+  uint32_t model_basis = 0;
+  SceneBasis scene_basis;
+  float vote = 0.0f;  // normalised, [0, 2]
+  RigidTransform cam_T_model;
+};
+
+struct RecognizedObject {
+  uint16_t model = 0;
+  uint16_t instance = 0;  // counts objects of the same model in this scene
+  RigidTransform cam_T_model;
+  float vote = 0.0f;
+  float fit_rms_mm = 0.0f;
+  uint16_t matched_points = 0;
+  uint16_t matched_lines = 0;
+  float verify_score[2] = {0.0f, 0.0f};  // verifier's scores (e.g. left, right image)
+};
+
+// Decides whether a refined hypothesis is a real object. The stereo pipeline verifies against
+// edge pixels; recognition of 3-D scenes alone uses SceneSupportVerifier.
+class HypothesisVerifier {
+ public:
+  virtual ~HypothesisVerifier() = default;
+  // `accepted` holds the objects accepted so far in this scene (for occlusion reasoning).
+  virtual bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
+                      RecognizedObject& candidate) = 0;
+};
+
+// Accepts when enough of the model's corners and edges found scene features after refinement.
+class SceneSupportVerifier : public HypothesisVerifier {
+ public:
+  explicit SceneSupportVerifier(float min_fraction = 0.5f) : min_fraction_(min_fraction) {}
+  bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
+              RecognizedObject& candidate) override;
+
+ private:
+  float min_fraction_;
+};
+
+struct Budget {
+  uint32_t max_scene_bases = 0xffffffffu;
+  int64_t deadline_ns = 0;        // 0: no deadline
+  int64_t (*now_ns)() = nullptr;  // clock for the deadline (monotonic)
+};
+
+struct RecognitionStats {
+  uint32_t scene_bases_tried = 0;
+  uint32_t scene_bases_available = 0;  // candidates generated (capped at kMaxSceneBases)
+  uint32_t hypotheses = 0;
+  uint32_t verifications = 0;
+  uint32_t accepted = 0;
+  bool budget_exhausted = false;
+  bool objects_full = false;
+};
+
+class Recognizer {
+ public:
+  Status Init(const TableView& table, const RecognizerConfig& config);
+  const RecognizerConfig& config() const { return config_; }
+  const TableView& table() const { return table_; }
+
+  // Recognises objects in `scene`; `objects` is cleared first. No heap allocation.
+  Status Recognize(const Scene& scene, HypothesisVerifier& verifier, const Budget& budget,
+                   Vector<RecognizedObject>& objects, RecognitionStats* stats = nullptr);
+
+  // One voting round for one scene basis against the current scene (after PrepareScene):
+  // fills `out` with the best hypotheses above the threshold. For tests and benchmarks.
+  void PrepareScene(const Scene& scene);
+  int VoteForBasis(const SceneBasis& basis, Vector<Hypothesis>& out);
+  // Scene bases in the configured order (generated by PrepareScene).
+  uint32_t CandidateCount() const { return candidate_count_; }
+  const SceneBasis& Candidate(uint32_t i) const { return candidates_[i]; }
+
+ private:
+  bool SceneBasisFrame(const SceneBasis& b, RigidTransform* basis_T_cam,
+                       Eigen::Vector3f* shape_point) const;
+  void GenerateCandidates();
+  void AppendCandidates(bool connected_only);
+  bool Connected(int line, const Eigen::Vector3f& p) const;
+  bool IsJunction(const Eigen::Vector3f& p) const;
+  void VotePoint(const Eigen::Vector3f& q);
+  void VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v);
+  void RemoveObjectFeatures(const Model& model, const Correspondences& c);
+  int ActiveFeatureCount() const;
+  bool BasisActive(const SceneBasis& b) const;
+  bool TooCloseToAccepted(const RigidTransform& cam_T_model,
+                          const Vector<RecognizedObject>& objects) const;
+
+  TableView table_;
+  RecognizerConfig config_;
+  VoteTable votes_lut_;
+  float inv_sigma2_point_ = 0, inv_sigma2_line_ = 0;
+  const Scene* scene_ = nullptr;
+
+  // Per scene.
+  uint8_t point_active_[kMaxScenePoints];
+  uint8_t line_active_[kMaxSceneLines];
+  Eigen::Vector3f line_dir_[kMaxSceneLines];
+  SceneGrid point_grid_;
+  SceneGrid endpoint_grid_;  // item 2i, 2i+1: end points a, b of line i
+  Eigen::Vector3f grid_scratch_[2 * kMaxSceneLines];
+  uint32_t order_scratch_[kMaxSceneBases];
+  SceneBasis sorted_scratch_[kMaxSceneBases];
+  SceneBasis candidates_[kMaxSceneBases];
+  float candidate_score_[kMaxSceneBases];
+  uint32_t candidate_count_ = 0;
+  bool all_candidates_generated_ = false;
+  uint8_t used_left_point_[8192], used_right_point_[8192];  // 2-D feature ids, bit per id
+  uint8_t used_left_line_[8192], used_right_line_[8192];
+
+  // Per scene basis.
+  uint16_t point_vote_[kMaxTablePointEntries];
+  uint16_t line_vote_[kMaxTableLineEntries];
+  uint32_t touched_points_[kMaxTablePointEntries];
+  uint32_t touched_lines_[kMaxTableLineEntries];
+  uint32_t n_touched_points_ = 0, n_touched_lines_ = 0;
+  uint32_t basis_point_sum_[kMaxTableBases];
+  uint32_t basis_line_sum_[kMaxTableBases];
+  uint16_t touched_bases_[kMaxTableBases];
+  uint8_t basis_touched_[kMaxTableBases];
+  uint32_t n_touched_bases_ = 0;
+};
+
+}  // namespace sh

@@ -1,0 +1,115 @@
+// The hash table blob: one hash function's hash arrays and the models they were built from,
+// laid out to be used in place (memory-mapped, or linked into the binary as read-only data).
+//
+// Layout (all little-endian, every section starts at a multiple of kSectionAlignment bytes):
+//
+//   TableHeader                       fixed size, at offset 0
+//   Model[n_models]                   model directory (recog/model/model.hpp)
+//   BasisRecord[n_bases]              one per stored model basis (frame)
+//   uint32 point_bin_offsets[n_point_bins + 1]
+//   PointEntry[n_point_entries]       grouped by bin: bin i holds [offsets[i], offsets[i+1])
+//   uint32 line_bin_offsets[n_line_bins + 1]
+//   LineEntry[n_line_entries]         grouped by the bin of the line's support vector
+//
+// The CRC-32 covers every byte after the header. See docs/tables.md.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+#include "recog/base/fixed_point.hpp"
+#include "recog/model/model.hpp"
+
+namespace sh {
+
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "blobs are read in place: little-endian");
+
+inline constexpr char kTableMagic[8] = {'S', 'H', 'T', 'A', 'B', 'L', 'E', '\0'};
+inline constexpr uint16_t kTableFormatVersion = 1;
+inline constexpr size_t kSectionAlignment = 64;
+
+// Capacities the recogniser's scratch memory is sized for; the loader refuses larger tables.
+inline constexpr uint32_t kMaxTableModels = 16;
+inline constexpr uint32_t kMaxTableBases = 8192;
+inline constexpr uint32_t kMaxTablePointEntries = 65536;
+inline constexpr uint32_t kMaxTableLineEntries = 65536;
+inline constexpr uint32_t kMaxTableBins = 262144;
+
+// A uniform grid of cubic bins over a box.
+struct GridGeometry {
+  float min_mm[3];  // corner of bin (0, 0, 0)
+  float bin_mm;     // edge length of a bin
+  uint16_t dims[3];
+  uint16_t reserved;
+  uint32_t bin_count() const { return uint32_t{dims[0]} * dims[1] * dims[2]; }
+};
+static_assert(sizeof(GridGeometry) == 24);
+
+struct SectionRef {
+  uint64_t offset;  // from the start of the blob
+  uint64_t size;    // bytes
+};
+
+struct TableHeader {
+  char magic[8];
+  uint16_t format_version;
+  uint8_t hash_function;  // 1..5 (HashFunction)
+  uint8_t reserved0;
+  uint32_t header_size;    // sizeof(TableHeader)
+  uint64_t total_size;     // whole blob in bytes
+  uint32_t payload_crc32;  // CRC-32 of bytes [header_size, total_size)
+  uint32_t n_models;
+  uint32_t n_bases;
+  uint32_t n_point_entries;
+  uint32_t n_line_entries;
+  uint32_t max_point_bin_entries;  // largest bin, for information and scratch sizing
+  uint32_t max_line_bin_entries;
+  uint32_t reserved1;
+  GridGeometry point_grid;
+  GridGeometry line_grid;
+  // Limits the model bases were built with; scene bases use the same.
+  float min_point_line_mm, max_point_line_mm;
+  float min_line_angle_deg, max_line_distance_mm;
+  float min_point_spacing_mm, max_point_spacing_mm, min_triangle_height_mm;
+  float reserved2;
+  SectionRef models, bases, point_bins, point_entries, line_bins, line_entries;
+  uint8_t reserved3[24];  // zero; pads the header to 256 bytes
+};
+static_assert(sizeof(TableHeader) == 256, "header layout is part of the format");
+static_assert(std::is_standard_layout_v<TableHeader>);
+
+// One stored model basis (frame).
+struct BasisRecord {
+  uint16_t model;            // index into the model directory
+  uint8_t features[3];       // corner/edge indices defining the basis (by hash function)
+  uint8_t signs;             // bit 0: first line reversed, bit 1: second line reversed
+  uint16_t n_point_entries;  // entries this basis stored, for vote normalisation
+  uint16_t n_line_entries;
+  uint16_t reserved;
+  float basis_T_model[12];  // row-major R (9) then t_mm (3)
+};
+static_assert(sizeof(BasisRecord) == 60);
+
+// A model point in a basis frame. Coordinates Q10.6 millimetres (raw = round(mm * 64)).
+struct PointEntry {
+  QCoordMm::Raw x, y, z;
+  uint16_t basis;
+};
+static_assert(sizeof(PointEntry) == 8);
+
+// A model edge in a basis frame: segment centre (Q10.6 mm), unit direction (Q2.14) and length
+// (Q10.6 mm, unsigned range used). Binned by the support vector of its infinite line.
+struct LineEntry {
+  QCoordMm::Raw cx, cy, cz;
+  QUnit::Raw vx, vy, vz;
+  uint16_t length;  // Q10.6 mm as unsigned: raw = round(mm * 64), up to 1023 mm
+  uint16_t basis;
+};
+static_assert(sizeof(LineEntry) == 16);
+
+inline constexpr size_t AlignSection(size_t n) {
+  return (n + kSectionAlignment - 1) / kSectionAlignment * kSectionAlignment;
+}
+
+}  // namespace sh

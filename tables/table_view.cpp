@@ -1,0 +1,190 @@
+#include "tables/table_view.hpp"
+
+#include <cmath>
+#include <cstring>
+
+#include "recog/base/crc32.hpp"
+
+namespace sh {
+namespace {
+
+Status Corrupt(const char* what) {
+  return Status::Error(StatusCode::kDataLoss, "table blob corrupt: %s", what);
+}
+
+Status CheckSection(const SectionRef& s, size_t count, size_t element_size, uint64_t total,
+                    const char* name) {
+  if (s.offset % kSectionAlignment != 0)
+    return Status::Error(StatusCode::kDataLoss, "table blob corrupt: %s section misaligned", name);
+  if (s.offset > total || s.size > total - s.offset)
+    return Status::Error(StatusCode::kDataLoss,
+                         "table blob truncated: %s section ends past the blob", name);
+  if (s.size != count * element_size)
+    return Status::Error(StatusCode::kDataLoss,
+                         "table blob corrupt: %s section has %llu bytes, expected %zu", name,
+                         static_cast<unsigned long long>(s.size), count * element_size);
+  return Status::Ok();
+}
+
+Status CheckGrid(const GridGeometry& g, const char* name) {
+  const bool finite = std::isfinite(g.min_mm[0]) && std::isfinite(g.min_mm[1]) &&
+                      std::isfinite(g.min_mm[2]) && std::isfinite(g.bin_mm);
+  if (!finite || !(g.bin_mm > 0.0f) || g.dims[0] == 0 || g.dims[1] == 0 || g.dims[2] == 0 ||
+      g.bin_count() > kMaxTableBins)
+    return Status::Error(StatusCode::kDataLoss, "table blob corrupt: bad %s grid geometry", name);
+  return Status::Ok();
+}
+
+Status CheckBins(const uint32_t* offsets, uint32_t bins, uint32_t entries, const char* name) {
+  if (offsets[0] != 0 || offsets[bins] != entries)
+    return Status::Error(StatusCode::kDataLoss,
+                         "table blob corrupt: %s bin offsets do not cover the entries", name);
+  for (uint32_t i = 0; i < bins; ++i) {
+    if (offsets[i + 1] < offsets[i])
+      return Status::Error(StatusCode::kDataLoss,
+                           "table blob corrupt: %s bin offsets decrease at bin %u", name, i);
+  }
+  return Status::Ok();
+}
+
+Status CheckModel(const Model& m, uint32_t index) {
+  if (m.name[kMaxModelNameLength] != '\0' || m.name[0] == '\0')
+    return Status::Error(StatusCode::kDataLoss, "table blob corrupt: model %u has no valid name",
+                         index);
+  if (m.n_corners < 3 || m.n_corners > kMaxModelCorners || m.n_edges > kMaxModelEdges ||
+      m.n_faces > kMaxModelFaces || m.n_symmetries == 0 || m.n_symmetries > kMaxModelSymmetries)
+    return Status::Error(StatusCode::kDataLoss,
+                         "table blob corrupt: model '%s' counts out of range", m.name);
+  for (int i = 0; i < m.n_corners; ++i) {
+    for (float c : m.corners_mm[i]) {
+      if (!std::isfinite(c))
+        return Status::Error(StatusCode::kDataLoss,
+                             "table blob corrupt: model '%s' has a non-finite corner", m.name);
+    }
+  }
+  for (int i = 0; i < m.n_edges; ++i) {
+    const ModelEdge& e = m.edges[i];
+    if (e.a >= m.n_corners || e.b >= m.n_corners || e.face0 >= m.n_faces || e.face1 >= m.n_faces)
+      return Status::Error(StatusCode::kDataLoss,
+                           "table blob corrupt: model '%s' edge %d indexes out of range", m.name,
+                           i);
+  }
+  for (int f = 0; f < m.n_faces; ++f) {
+    const ModelFace& face = m.faces[f];
+    if (face.n_vertices < 3 || face.n_vertices > kMaxFaceVertices)
+      return Status::Error(StatusCode::kDataLoss,
+                           "table blob corrupt: model '%s' face %d has %u vertices", m.name, f,
+                           face.n_vertices);
+    for (int k = 0; k < face.n_vertices; ++k) {
+      if (face.vertices[k] >= m.n_corners)
+        return Status::Error(StatusCode::kDataLoss,
+                             "table blob corrupt: model '%s' face %d indexes out of range", m.name,
+                             f);
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<TableView> TableView::Open(const void* blob, size_t size) {
+  if (blob == nullptr) return Status::Error(StatusCode::kInvalidArgument, "table blob: no data");
+  if (reinterpret_cast<uintptr_t>(blob) % 8 != 0)
+    return Status::Error(StatusCode::kInvalidArgument, "table blob: memory not 8-byte aligned");
+  if (size < sizeof(TableHeader))
+    return Status::Error(StatusCode::kDataLoss,
+                         "table blob truncated: %zu bytes, the header alone needs %zu", size,
+                         sizeof(TableHeader));
+  const auto* bytes = static_cast<const uint8_t*>(blob);
+  const auto* h = reinterpret_cast<const TableHeader*>(bytes);
+  if (std::memcmp(h->magic, kTableMagic, sizeof(kTableMagic)) != 0)
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "not a stereohash table blob (bad magic number)");
+  if (h->format_version != kTableFormatVersion)
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "table blob format version %u, this build reads version %u",
+                         h->format_version, kTableFormatVersion);
+  if (h->header_size != sizeof(TableHeader)) return Corrupt("header size field");
+  if (h->total_size != size)
+    return Status::Error(StatusCode::kDataLoss,
+                         "table blob truncated or padded: header says %llu bytes, got %zu",
+                         static_cast<unsigned long long>(h->total_size), size);
+  if (!IsValidHashFunction(h->hash_function)) return Corrupt("hash function not in 1..5");
+  const uint32_t crc = Crc32(bytes + sizeof(TableHeader), size - sizeof(TableHeader));
+  if (crc != h->payload_crc32)
+    return Status::Error(StatusCode::kDataLoss,
+                         "table blob corrupt: payload CRC-32 %08x, header says %08x", crc,
+                         h->payload_crc32);
+  if (h->n_models == 0 || h->n_models > kMaxTableModels)
+    return Status::Error(StatusCode::kOutOfRange, "table blob has %u models (1..%u supported)",
+                         h->n_models, kMaxTableModels);
+  if (h->n_bases > kMaxTableBases || h->n_point_entries > kMaxTablePointEntries ||
+      h->n_line_entries > kMaxTableLineEntries)
+    return Status::Error(StatusCode::kOutOfRange,
+                         "table blob larger than this build supports (%u bases, %u point and %u "
+                         "line entries; limits %u, %u, %u)",
+                         h->n_bases, h->n_point_entries, h->n_line_entries, kMaxTableBases,
+                         kMaxTablePointEntries, kMaxTableLineEntries);
+  SH_RETURN_IF_ERROR(CheckGrid(h->point_grid, "point"));
+  SH_RETURN_IF_ERROR(CheckGrid(h->line_grid, "line"));
+  const uint32_t point_bins = h->point_grid.bin_count(), line_bins = h->line_grid.bin_count();
+  const uint64_t total = h->total_size;
+  SH_RETURN_IF_ERROR(CheckSection(h->models, h->n_models, sizeof(Model), total, "model"));
+  SH_RETURN_IF_ERROR(CheckSection(h->bases, h->n_bases, sizeof(BasisRecord), total, "basis"));
+  SH_RETURN_IF_ERROR(
+      CheckSection(h->point_bins, point_bins + 1, sizeof(uint32_t), total, "point bin"));
+  SH_RETURN_IF_ERROR(
+      CheckSection(h->point_entries, h->n_point_entries, sizeof(PointEntry), total, "point entry"));
+  SH_RETURN_IF_ERROR(
+      CheckSection(h->line_bins, line_bins + 1, sizeof(uint32_t), total, "line bin"));
+  SH_RETURN_IF_ERROR(
+      CheckSection(h->line_entries, h->n_line_entries, sizeof(LineEntry), total, "line entry"));
+
+  TableView view;
+  view.header_ = h;
+  view.models_ = reinterpret_cast<const Model*>(bytes + h->models.offset);
+  view.bases_ = reinterpret_cast<const BasisRecord*>(bytes + h->bases.offset);
+  view.point_bins_ = reinterpret_cast<const uint32_t*>(bytes + h->point_bins.offset);
+  view.point_entries_ = reinterpret_cast<const PointEntry*>(bytes + h->point_entries.offset);
+  view.line_bins_ = reinterpret_cast<const uint32_t*>(bytes + h->line_bins.offset);
+  view.line_entries_ = reinterpret_cast<const LineEntry*>(bytes + h->line_entries.offset);
+
+  for (uint32_t i = 0; i < h->n_models; ++i) SH_RETURN_IF_ERROR(CheckModel(view.models_[i], i));
+  for (uint32_t i = 0; i < h->n_bases; ++i) {
+    const BasisRecord& b = view.bases_[i];
+    if (b.model >= h->n_models) return Corrupt("basis refers to a missing model");
+    for (float f : b.basis_T_model) {
+      if (!std::isfinite(f)) return Corrupt("basis transform not finite");
+    }
+  }
+  SH_RETURN_IF_ERROR(CheckBins(view.point_bins_, point_bins, h->n_point_entries, "point"));
+  SH_RETURN_IF_ERROR(CheckBins(view.line_bins_, line_bins, h->n_line_entries, "line"));
+  for (uint32_t i = 0; i < h->n_point_entries; ++i) {
+    if (view.point_entries_[i].basis >= h->n_bases) return Corrupt("point entry basis index");
+  }
+  for (uint32_t i = 0; i < h->n_line_entries; ++i) {
+    if (view.line_entries_[i].basis >= h->n_bases) return Corrupt("line entry basis index");
+  }
+  return view;
+}
+
+BasisLimits TableView::limits() const {
+  BasisLimits l;
+  l.min_point_line_mm = header_->min_point_line_mm;
+  l.max_point_line_mm = header_->max_point_line_mm;
+  l.min_line_angle_deg = header_->min_line_angle_deg;
+  l.max_line_distance_mm = header_->max_line_distance_mm;
+  l.min_point_spacing_mm = header_->min_point_spacing_mm;
+  l.max_point_spacing_mm = header_->max_point_spacing_mm;
+  l.min_triangle_height_mm = header_->min_triangle_height_mm;
+  return l;
+}
+
+int TableView::FindModel(const char* name) const {
+  for (uint32_t i = 0; i < header_->n_models; ++i) {
+    if (std::strncmp(models_[i].name, name, kMaxModelNameLength + 1) == 0) return int(i);
+  }
+  return -1;
+}
+
+}  // namespace sh

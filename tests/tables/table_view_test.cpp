@@ -1,0 +1,104 @@
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+
+#include "tables/model_files.hpp"
+#include "tables/table_builder.hpp"
+#include "tables/table_view.hpp"
+
+namespace sh {
+namespace {
+
+// 64-byte aligned copy, as mmap and the linked-in blob provide.
+struct AlignedBlob {
+  explicit AlignedBlob(const std::vector<uint8_t>& bytes) : size(bytes.size()) {
+    storage.resize(bytes.size() + 64);
+    data = storage.data() + (64 - reinterpret_cast<uintptr_t>(storage.data()) % 64) % 64;
+    std::memcpy(data, bytes.data(), bytes.size());
+  }
+  std::vector<uint8_t> storage;
+  uint8_t* data;
+  size_t size;
+};
+
+std::vector<uint8_t> BuildReferenceBlob(HashFunction hf = HashFunction::kLinePointMidway) {
+  std::vector<Model> models;
+  EXPECT_TRUE(LoadReferenceModels("models", &models).ok());
+  TableBuildOptions options;
+  options.hash_function = hf;
+  auto blob = BuildTableBlob(models, options);
+  EXPECT_TRUE(blob.ok());
+  return *blob;
+}
+
+TEST(TableView, OpensWhatTheBuilderWrote) {
+  AlignedBlob blob(BuildReferenceBlob());
+  auto view = TableView::Open(blob.data, blob.size);
+  ASSERT_TRUE(view.ok()) << view.status().message();
+  EXPECT_EQ(view->hash_function(), HashFunction::kLinePointMidway);
+  EXPECT_EQ(view->model_count(), 6u);
+  EXPECT_EQ(view->point_entry_count(), 3136u);
+  EXPECT_EQ(view->line_entry_count(), 4832u);
+  EXPECT_EQ(view->FindModel("star"), 3);
+  EXPECT_EQ(view->model(3).n_symmetries, 10);
+  // Every entry sits in the bin its coordinates fall into.
+  const GridGeometry& g = view->point_grid();
+  for (uint32_t bin = 0; bin < g.bin_count(); ++bin) {
+    for (const PointEntry& e : view->point_bin(bin)) {
+      const float coords[3] = {e.x / 64.0f, e.y / 64.0f, e.z / 64.0f};
+      uint32_t idx[3];
+      for (int a = 0; a < 3; ++a) idx[a] = uint32_t((coords[a] - g.min_mm[a]) / g.bin_mm);
+      EXPECT_EQ((idx[2] * g.dims[1] + idx[1]) * g.dims[0] + idx[0], bin);
+    }
+  }
+  // Entry counts per basis add up to the stored normalisers.
+  std::vector<uint32_t> points(view->basis_count()), lines(view->basis_count());
+  for (uint32_t i = 0; i < view->point_entry_count(); ++i) ++points[view->point_entries()[i].basis];
+  for (uint32_t i = 0; i < view->line_entry_count(); ++i) ++lines[view->line_entries()[i].basis];
+  for (uint32_t b = 0; b < view->basis_count(); ++b) {
+    EXPECT_EQ(points[b], view->basis(b).n_point_entries);
+    EXPECT_EQ(lines[b], view->basis(b).n_line_entries);
+  }
+}
+
+std::string OpenError(std::vector<uint8_t> bytes, size_t size) {
+  AlignedBlob blob(bytes);
+  auto view = TableView::Open(blob.data, size);
+  return view.ok() ? std::string("opened") : std::string(view.status().message());
+}
+
+TEST(TableView, RefusesTruncatedBlobs) {
+  const std::vector<uint8_t> bytes = BuildReferenceBlob();
+  EXPECT_NE(OpenError(bytes, 100).find("truncated"), std::string::npos);
+  EXPECT_NE(OpenError(bytes, bytes.size() - 1).find("truncated"), std::string::npos);
+}
+
+TEST(TableView, RefusesCorruptedPayload) {
+  std::vector<uint8_t> bytes = BuildReferenceBlob();
+  bytes[bytes.size() / 2] ^= 0x40;
+  EXPECT_NE(OpenError(bytes, bytes.size()).find("CRC-32"), std::string::npos);
+}
+
+TEST(TableView, RefusesWrongMagicAndVersion) {
+  std::vector<uint8_t> bytes = BuildReferenceBlob();
+  std::vector<uint8_t> wrong_magic = bytes;
+  wrong_magic[0] = 'X';
+  EXPECT_NE(OpenError(wrong_magic, bytes.size()).find("magic"), std::string::npos);
+  std::vector<uint8_t> wrong_version = bytes;
+  reinterpret_cast<TableHeader*>(wrong_version.data())->format_version = 99;
+  EXPECT_NE(OpenError(wrong_version, bytes.size()).find("version 99"), std::string::npos);
+}
+
+TEST(TableView, RefusesMisalignedMemory) {
+  const std::vector<uint8_t> bytes = BuildReferenceBlob();
+  std::vector<uint8_t> storage(bytes.size() + 16);
+  uint8_t* aligned = storage.data() + (8 - reinterpret_cast<uintptr_t>(storage.data()) % 8) % 8;
+  std::memcpy(aligned + 4, bytes.data(), bytes.size());
+  auto view = TableView::Open(aligned + 4, bytes.size());
+  ASSERT_FALSE(view.ok());
+  EXPECT_NE(std::string(view.status().message()).find("aligned"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace sh
