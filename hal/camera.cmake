@@ -11,3 +11,10 @@ add_library(stereohash_hal_camera_sim STATIC
 target_link_libraries(stereohash_hal_camera_sim PUBLIC stereohash_hal_camera)
 
 # The board backend builds wherever libcamera's pkg-config file is found (native or aarch64).
+if(LIBCAMERA_FOUND)
+  add_library(stereohash_hal_camera_libcamera STATIC
+    ${CMAKE_CURRENT_LIST_DIR}/linux/libcamera_camera.cpp
+    ${CMAKE_CURRENT_LIST_DIR}/linux/libcamera_adapter.cpp)
+  target_link_libraries(stereohash_hal_camera_libcamera
+                        PUBLIC stereohash_hal_camera PRIVATE PkgConfig::LIBCAMERA)
+endif()

@@ -1,0 +1,445 @@
+#include "hal/linux/libcamera_camera.hpp"
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <vector>
+
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <libcamera/camera.h>
+#include <libcamera/camera_manager.h>
+#include <libcamera/formats.h>
+#include <libcamera/framebuffer_allocator.h>
+#include <libcamera/request.h>
+#include <libcamera/stream.h>
+
+#include "hal/linux/libcamera_adapter.hpp"
+
+namespace sh::hal {
+
+namespace lc = libcamera;
+
+namespace {
+
+// Preference order of formats whose first plane is 8-bit grey (see the header).
+const lc::PixelFormat kGreyFormats[] = {lc::formats::R8, lc::formats::NV12, lc::formats::YUV420};
+
+lc::StreamRole ToStreamRole(LibcameraRole role) {
+  switch (role) {
+    case LibcameraRole::kViewfinder:
+      return lc::StreamRole::Viewfinder;
+    case LibcameraRole::kRaw:
+      return lc::StreamRole::Raw;
+    case LibcameraRole::kVideoRecording:
+      break;
+  }
+  return lc::StreamRole::VideoRecording;
+}
+
+struct Mapping {
+  void* base = MAP_FAILED;
+  size_t length = 0;
+};
+
+}  // namespace
+
+struct LibcameraStereoCamera::Impl {
+  // One camera of the pair and everything it owns while started.
+  struct Side {
+    Impl* owner = nullptr;
+    StereoSide side = StereoSide::kLeft;
+    std::shared_ptr<lc::Camera> camera;
+    bool acquired = false;
+    bool configured = false;
+    bool started = false;
+    std::unique_ptr<lc::CameraConfiguration> config;
+    lc::Stream* stream = nullptr;
+    std::unique_ptr<lc::FrameBufferAllocator> allocator;
+    std::vector<std::unique_ptr<lc::Request>> requests;
+    Mapping mappings[kMaxLibcameraBuffers];
+    ConstGrayView views[kMaxLibcameraBuffers];
+    unsigned buffer_count = 0;
+
+    const char* name() const { return StereoSideName(side); }
+    void OnRequestCompleted(lc::Request* request) { owner->OnRequestCompleted(*this, request); }
+    void OnDisconnected() { owner->OnDisconnected(*this); }
+  };
+
+  explicit Impl(const LibcameraStereoConfig& c) : config(c) {
+    sides[0].owner = this;
+    sides[0].side = StereoSide::kLeft;
+    sides[1].owner = this;
+    sides[1].side = StereoSide::kRight;
+  }
+
+  Status Start();
+  void Teardown();
+  Status SelectCameras();
+  Status Configure();
+  Status ConfigureLeft();
+  Status MapBuffers(Side& s);
+  Status StartStreaming();
+  void Requeue(StereoSide side, uint32_t buffer_id);
+  void RequeueAll(const Vector<RecycledFrame>& recycled);
+  void OnRequestCompleted(Side& s, lc::Request* request);
+  void OnDisconnected(Side& s);
+
+  LibcameraStereoConfig config;
+  std::unique_ptr<lc::CameraManager> manager;
+  bool manager_started = false;
+  Side sides[2];
+  StereoPairer pairer;
+  std::atomic<bool> running{false};
+  bool holding = false;
+  FramePair held;
+  LibcameraStreamInfo info;
+  int cameras_found = 0;
+};
+
+Status LibcameraStereoCamera::Impl::Start() {
+  SH_RETURN_IF_ERROR(pairer.Configure(config.pairing));
+  manager = std::make_unique<lc::CameraManager>();
+  const int ret = manager->start();
+  if (ret != 0) {
+    return Status::Error(StatusCode::kUnavailable, "libcamera %s CameraManager::start failed: %s",
+                         libcamera_adapter::LibraryVersion().c_str(), std::strerror(-ret));
+  }
+  manager_started = true;
+  SH_RETURN_IF_ERROR(SelectCameras());
+  SH_RETURN_IF_ERROR(Configure());
+  for (Side& s : sides) SH_RETURN_IF_ERROR(MapBuffers(s));
+  return StartStreaming();
+}
+
+Status LibcameraStereoCamera::Impl::SelectCameras() {
+  const std::vector<std::shared_ptr<lc::Camera>> cameras = manager->cameras();
+  cameras_found = static_cast<int>(cameras.size());
+  if (cameras.size() < 2) {
+    return Status::Error(StatusCode::kNotFound, "libcamera found %zu cameras, need 2",
+                         cameras.size());
+  }
+  const std::string* ids[2] = {&config.left_id, &config.right_id};
+  const int indices[2] = {config.left_index, config.right_index};
+  for (int i = 0; i < 2; ++i) {
+    Side& s = sides[i];
+    if (!ids[i]->empty()) {
+      s.camera = manager->get(*ids[i]);
+      if (!s.camera) {
+        return Status::Error(StatusCode::kNotFound, "no %s camera with id '%s' (%zu cameras)",
+                             s.name(), ids[i]->c_str(), cameras.size());
+      }
+    } else {
+      if (indices[i] < 0 || static_cast<size_t>(indices[i]) >= cameras.size()) {
+        return Status::Error(StatusCode::kNotFound, "%s camera index %d outside 0..%zu", s.name(),
+                             indices[i], cameras.size() - 1);
+      }
+      s.camera = cameras[static_cast<size_t>(indices[i])];
+    }
+  }
+  if (sides[0].camera == sides[1].camera) {
+    return Status::Error(StatusCode::kInvalidArgument, "left and right select the same camera %s",
+                         sides[0].camera->id().c_str());
+  }
+  for (Side& s : sides) {
+    const int ret = s.camera->acquire();
+    if (ret != 0) {
+      return Status::Error(StatusCode::kUnavailable, "%s camera %s cannot be acquired: %s",
+                           s.name(), s.camera->id().c_str(), std::strerror(-ret));
+    }
+    s.acquired = true;
+  }
+  info.left_id = sides[0].camera->id();
+  info.right_id = sides[1].camera->id();
+  return Status::Ok();
+}
+
+// Tries the grey formats in order on the left camera; the first one that validates without being
+// replaced wins. Size adjustments by the camera are accepted (reported in stream_info()).
+Status LibcameraStereoCamera::Impl::ConfigureLeft() {
+  Side& s = sides[0];
+  for (const lc::PixelFormat& format : kGreyFormats) {
+    std::unique_ptr<lc::CameraConfiguration> c =
+        libcamera_adapter::GenerateConfiguration(*s.camera, ToStreamRole(config.role));
+    if (!c || c->size() != 1) continue;
+    lc::StreamConfiguration& sc = c->at(0);
+    sc.pixelFormat = format;
+    sc.size = lc::Size(static_cast<unsigned>(config.width), static_cast<unsigned>(config.height));
+    sc.bufferCount = kLibcameraBufferCount;
+    if (c->validate() == lc::CameraConfiguration::Invalid) continue;
+    if (sc.pixelFormat != format) continue;
+    s.config = std::move(c);
+    return Status::Ok();
+  }
+  return Status::Error(StatusCode::kFailedPrecondition,
+                       "%s camera %s offers none of R8, NV12, YUV420 for this role", s.name(),
+                       s.camera->id().c_str());
+}
+
+Status LibcameraStereoCamera::Impl::Configure() {
+  if (config.width <= 0 || config.height <= 0) {
+    return Status::Error(StatusCode::kInvalidArgument, "requested size %dx%d is empty",
+                         config.width, config.height);
+  }
+  SH_RETURN_IF_ERROR(ConfigureLeft());
+  const lc::StreamConfiguration left_sc = sides[0].config->at(0);
+
+  // The right camera must produce exactly what the left one settled on: stereo matching assumes
+  // identical geometry and timing.
+  Side& r = sides[1];
+  r.config = libcamera_adapter::GenerateConfiguration(*r.camera, ToStreamRole(config.role));
+  if (!r.config || r.config->size() != 1) {
+    return Status::Error(StatusCode::kFailedPrecondition,
+                         "right camera %s cannot generate a configuration for this role",
+                         r.camera->id().c_str());
+  }
+  lc::StreamConfiguration& rsc = r.config->at(0);
+  rsc.pixelFormat = left_sc.pixelFormat;
+  rsc.size = left_sc.size;
+  rsc.bufferCount = left_sc.bufferCount;
+  const lc::CameraConfiguration::Status rv = r.config->validate();
+  if (rv == lc::CameraConfiguration::Invalid || rsc.pixelFormat != left_sc.pixelFormat ||
+      rsc.size != left_sc.size) {
+    return Status::Error(StatusCode::kFailedPrecondition,
+                         "right camera cannot match left configuration %s %ux%u (offers %s %ux%u)",
+                         left_sc.pixelFormat.toString().c_str(), left_sc.size.width,
+                         left_sc.size.height, rsc.pixelFormat.toString().c_str(), rsc.size.width,
+                         rsc.size.height);
+  }
+  if (left_sc.size.width > static_cast<unsigned>(kMaxImageWidth) ||
+      left_sc.size.height > static_cast<unsigned>(kMaxImageHeight)) {
+    return Status::Error(StatusCode::kOutOfRange, "camera size %ux%u exceeds %dx%d",
+                         left_sc.size.width, left_sc.size.height, kMaxImageWidth, kMaxImageHeight);
+  }
+  for (Side& s : sides) {
+    const int ret = s.camera->configure(s.config.get());
+    if (ret != 0) {
+      return Status::Error(StatusCode::kUnavailable, "%s camera configure failed: %s", s.name(),
+                           std::strerror(-ret));
+    }
+    s.configured = true;
+    s.stream = s.config->at(0).stream();
+  }
+  info.pixel_format = left_sc.pixelFormat.toString();
+  info.width = static_cast<int>(left_sc.size.width);
+  info.height = static_cast<int>(left_sc.size.height);
+  info.stride = static_cast<int>(left_sc.stride);
+  return Status::Ok();
+}
+
+// Allocates the buffers, maps the grey plane of each once, and builds one request per buffer
+// (cookie = buffer index) that is reused for the whole session.
+Status LibcameraStereoCamera::Impl::MapBuffers(Side& s) {
+  s.allocator = std::make_unique<lc::FrameBufferAllocator>(s.camera);
+  const int allocated = s.allocator->allocate(s.stream);
+  if (allocated <= 0) {
+    return Status::Error(StatusCode::kInternal, "%s camera buffer allocation failed: %s", s.name(),
+                         std::strerror(allocated < 0 ? -allocated : ENOMEM));
+  }
+  const std::vector<std::unique_ptr<lc::FrameBuffer>>& buffers = s.allocator->buffers(s.stream);
+  const lc::StreamConfiguration& sc = s.config->at(0);
+  const int width = static_cast<int>(sc.size.width);
+  const int height = static_cast<int>(sc.size.height);
+  const size_t stride = sc.stride != 0 ? sc.stride : sc.size.width;
+  s.buffer_count = static_cast<unsigned>(
+      buffers.size() < kMaxLibcameraBuffers ? buffers.size() : kMaxLibcameraBuffers);
+  info.buffers_per_camera = s.buffer_count;
+  for (unsigned i = 0; i < s.buffer_count; ++i) {
+    lc::FrameBuffer* buffer = buffers[i].get();
+    if (buffer->planes().empty()) {
+      return Status::Error(StatusCode::kInternal, "%s buffer %u has no planes", s.name(), i);
+    }
+    const lc::FrameBuffer::Plane& y = buffer->planes()[0];
+    const size_t needed = stride * static_cast<size_t>(height);
+    if (y.length < needed) {
+      return Status::Error(StatusCode::kInternal, "%s buffer %u grey plane has %u bytes, need %zu",
+                           s.name(), i, y.length, needed);
+    }
+    // Map from offset 0 so the mmap offset stays page aligned; the plane starts at y.offset.
+    const size_t length = static_cast<size_t>(y.offset) + y.length;
+    void* base = mmap(nullptr, length, PROT_READ, MAP_SHARED, libcamera_adapter::PlaneFd(y), 0);
+    if (base == MAP_FAILED) {
+      return Status::Error(StatusCode::kInternal, "%s buffer %u mmap failed: %s", s.name(), i,
+                           std::strerror(errno));
+    }
+    s.mappings[i] = Mapping{base, length};
+    s.views[i] = ConstGrayView{static_cast<const uint8_t*>(base) + y.offset, width, height,
+                               static_cast<int>(stride)};
+
+    std::unique_ptr<lc::Request> request = s.camera->createRequest(i);
+    if (!request) {
+      return Status::Error(StatusCode::kInternal, "%s camera createRequest failed", s.name());
+    }
+    const int ret = request->addBuffer(s.stream, buffer);
+    if (ret != 0) {
+      return Status::Error(StatusCode::kInternal, "%s request addBuffer failed: %s", s.name(),
+                           std::strerror(-ret));
+    }
+    s.requests.push_back(std::move(request));
+  }
+  return Status::Ok();
+}
+
+Status LibcameraStereoCamera::Impl::StartStreaming() {
+  RecycleList recycled;
+  pairer.Reset(recycled);
+  holding = false;
+  for (Side& s : sides) {
+    s.camera->requestCompleted.connect(&s, &Side::OnRequestCompleted);
+    s.camera->disconnected.connect(&s, &Side::OnDisconnected);
+  }
+  running = true;
+  for (Side& s : sides) {
+    const int ret = s.camera->start();
+    if (ret != 0) {
+      return Status::Error(StatusCode::kUnavailable, "%s camera %s start failed: %s", s.name(),
+                           s.camera->id().c_str(), std::strerror(-ret));
+    }
+    s.started = true;
+  }
+  for (Side& s : sides) {
+    for (std::unique_ptr<lc::Request>& request : s.requests) {
+      const int ret = s.camera->queueRequest(request.get());
+      if (ret != 0) {
+        return Status::Error(StatusCode::kUnavailable, "%s camera queueRequest failed: %s",
+                             s.name(), std::strerror(-ret));
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+void LibcameraStereoCamera::Impl::Requeue(StereoSide side, uint32_t buffer_id) {
+  Side& s = sides[static_cast<int>(side)];
+  if (!running || buffer_id >= s.requests.size()) return;
+  lc::Request* request = s.requests[buffer_id].get();
+  libcamera_adapter::ReuseRequest(request);
+  // queueRequest is thread-safe in libcamera; it fails only while stopping or disconnected.
+  if (s.camera->queueRequest(request) != 0 && running) pairer.ReportError(side);
+}
+
+void LibcameraStereoCamera::Impl::RequeueAll(const Vector<RecycledFrame>& recycled) {
+  for (const RecycledFrame& r : recycled) Requeue(r.side, r.frame.buffer_id);
+}
+
+// Runs on libcamera's thread.
+void LibcameraStereoCamera::Impl::OnRequestCompleted(Side& s, lc::Request* request) {
+  if (libcamera_adapter::RequestWasCancelled(*request) || !running) return;
+  const uint32_t id = static_cast<uint32_t>(request->cookie());
+  const lc::FrameBuffer* buffer = request->findBuffer(s.stream);
+  int64_t t_ns = 0;
+  if (buffer == nullptr || id >= s.buffer_count || !libcamera_adapter::BufferCompletedOk(*buffer) ||
+      !libcamera_adapter::SensorTimestampNs(*request, *buffer, &t_ns)) {
+    pairer.ReportError(s.side);
+    Requeue(s.side, id);
+    return;
+  }
+  TimestampedFrame frame;
+  frame.view = s.views[id];
+  frame.timestamp_ns = t_ns;
+  frame.sequence = buffer->metadata().sequence;
+  frame.buffer_id = id;
+  RecycleList recycled;
+  pairer.Push(s.side, frame, recycled);
+  RequeueAll(recycled);
+}
+
+void LibcameraStereoCamera::Impl::OnDisconnected(Side& s) {
+  pairer.Close(Status::Error(StatusCode::kUnavailable, "%s camera %s disconnected", s.name(),
+                             s.camera->id().c_str()));
+}
+
+// Undoes whatever part of Start() succeeded, in reverse order. Safe to call repeatedly.
+void LibcameraStereoCamera::Impl::Teardown() {
+  running = false;
+  pairer.Close(Status::Error(StatusCode::kUnavailable, "stereo camera stopped"));
+  for (Side& s : sides) {
+    // stop() returns once every queued request has completed (cancelled ones included), so no
+    // completion handler runs after this loop.
+    if (s.started) s.camera->stop();
+    s.started = false;
+  }
+  RecycleList recycled;
+  pairer.Drain(recycled);  // buffers go back with the allocator below, nothing to requeue
+  holding = false;
+  for (Side& s : sides) {
+    if (s.camera) {
+      s.camera->requestCompleted.disconnect(&s);
+      s.camera->disconnected.disconnect(&s);
+    }
+    s.requests.clear();
+    for (unsigned i = 0; i < kMaxLibcameraBuffers; ++i) {
+      if (s.mappings[i].base != MAP_FAILED) munmap(s.mappings[i].base, s.mappings[i].length);
+      s.mappings[i] = Mapping{};
+      s.views[i] = ConstGrayView{};
+    }
+    s.buffer_count = 0;
+    if (s.allocator && s.stream != nullptr) s.allocator->free(s.stream);
+    s.allocator.reset();
+    s.stream = nullptr;
+    s.config.reset();
+    s.configured = false;
+    if (s.acquired) s.camera->release();
+    s.acquired = false;
+    s.camera.reset();
+  }
+  if (manager_started) manager->stop();
+  manager_started = false;
+  manager.reset();
+}
+
+LibcameraStereoCamera::LibcameraStereoCamera(const LibcameraStereoConfig& config)
+    : impl_(std::make_unique<Impl>(config)) {}
+
+LibcameraStereoCamera::~LibcameraStereoCamera() { (void)Stop(); }
+
+Status LibcameraStereoCamera::Start() {
+  if (impl_->manager) {
+    return Status::Error(StatusCode::kFailedPrecondition,
+                         "libcamera stereo camera already started");
+  }
+  const Status s = impl_->Start();
+  if (!s.ok()) impl_->Teardown();
+  return s;
+}
+
+Status LibcameraStereoCamera::Stop() {
+  if (impl_->manager) impl_->Teardown();
+  return Status::Ok();
+}
+
+Status LibcameraStereoCamera::Capture(StereoFrame* out, int timeout_ms) {
+  if (out == nullptr) return Status::Error(StatusCode::kInvalidArgument, "Capture needs an output");
+  if (!impl_->running) {
+    return Status::Error(StatusCode::kFailedPrecondition, "libcamera stereo camera not started");
+  }
+  Release();
+  FramePair pair;
+  SH_RETURN_IF_ERROR(impl_->pairer.WaitPair(timeout_ms, &pair));
+  impl_->held = pair;
+  impl_->holding = true;
+  out->left = pair.left.view;
+  out->right = pair.right.view;
+  out->left_timestamp_ns = pair.left.timestamp_ns;
+  out->right_timestamp_ns = pair.right.timestamp_ns;
+  out->left_sequence = pair.left.sequence;
+  out->right_sequence = pair.right.sequence;
+  out->pair_index = pair.pair_index;
+  return Status::Ok();
+}
+
+void LibcameraStereoCamera::Release() {
+  if (!impl_->holding) return;
+  impl_->Requeue(StereoSide::kLeft, impl_->held.left.buffer_id);
+  impl_->Requeue(StereoSide::kRight, impl_->held.right.buffer_id);
+  impl_->holding = false;
+}
+
+CameraStats LibcameraStereoCamera::stats() const { return impl_->pairer.stats(); }
+
+const LibcameraStreamInfo& LibcameraStereoCamera::stream_info() const { return impl_->info; }
+
+int LibcameraStereoCamera::cameras_found() const { return impl_->cameras_found; }
+
+}  // namespace sh::hal

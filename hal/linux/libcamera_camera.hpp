@@ -1,0 +1,87 @@
+// Board stereo camera: two libcamera cameras streaming freely, paired by sensor timestamp.
+//
+// Start() opens one CameraManager, picks the two cameras, gives both the same configuration,
+// allocates the buffers with FrameBufferAllocator, maps the grey (luma) plane of every buffer once
+// and queues one request per buffer. Completed requests go to the StereoPairer from libcamera's
+// thread; frames that cannot be paired are requeued at once, paired frames when the consumer
+// releases them (next Capture() or Release()). This code allocates nothing after Start();
+// libcamera itself may allocate while handling requests.
+//
+// Pixel format: the first of R8 (8-bit grey sensors), NV12, YUV420 that the camera accepts for the
+// requested role without changing it; for the YUV formats only the Y plane is used. Both cameras
+// must accept exactly the format and size the left one ended up with, otherwise Start() fails.
+//
+// This header does not include libcamera: the firmware links the library without its headers.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "hal/camera.hpp"
+#include "hal/stereo_pairing.hpp"
+
+namespace sh::hal {
+
+// Buffers per camera: everything the pairer can hold (side queue, pair queue, the consumer's
+// pair) plus two for the sensor to fill. libcamera may adjust it; at most kMaxLibcameraBuffers.
+inline constexpr unsigned kLibcameraBufferCount = kStereoQueueDepth + kStereoPairDepth + 3;
+inline constexpr unsigned kMaxLibcameraBuffers = 16;
+
+enum class LibcameraRole : uint8_t {
+  kVideoRecording,  // ISP output, continuous streaming: usual choice
+  kViewfinder,
+  kRaw,  // sensor output without ISP: only 8-bit grey sensors (R8) qualify
+};
+
+struct LibcameraStereoConfig {
+  // Camera selection: ids as printed by `cam --list` (Camera::id()) take precedence; when empty,
+  // indices into CameraManager::cameras() (libcamera sorts them by id's discovery order).
+  std::string left_id;
+  std::string right_id;
+  int left_index = 0;
+  int right_index = 1;
+  int width = 1280;
+  int height = 800;
+  LibcameraRole role = LibcameraRole::kVideoRecording;
+  PairingConfig pairing;
+};
+
+// What Start() settled on, for logs and calibration checks.
+struct LibcameraStreamInfo {
+  std::string left_id;
+  std::string right_id;
+  std::string pixel_format;  // e.g. "R8", "NV12"
+  int width = 0;
+  int height = 0;
+  int stride = 0;  // bytes per row of the grey plane
+  unsigned buffers_per_camera = 0;
+};
+
+class LibcameraStereoCamera final : public StereoCamera {
+ public:
+  explicit LibcameraStereoCamera(const LibcameraStereoConfig& config);
+  ~LibcameraStereoCamera() override;
+  LibcameraStereoCamera(const LibcameraStereoCamera&) = delete;
+  LibcameraStereoCamera& operator=(const LibcameraStereoCamera&) = delete;
+
+  // kNotFound "libcamera found N cameras, need 2" or an unknown id; kUnavailable when a camera is
+  // in use or fails to start; kFailedPrecondition when the two cameras cannot share one
+  // configuration; kInternal for allocation or mapping failures.
+  Status Start() override;
+  Status Stop() override;
+  Status Capture(StereoFrame* out, int timeout_ms) override;
+  void Release() override;
+  CameraStats stats() const override;
+
+  // Valid after a successful Start().
+  const LibcameraStreamInfo& stream_info() const;
+  // Number of cameras libcamera reported at the last Start() (0 on a machine without any).
+  int cameras_found() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace sh::hal
