@@ -1,0 +1,56 @@
+// Canny edge detection: Gaussian-derivative gradient at sigma, non-maximum suppression across the
+// edge, hysteresis between a low and a high gradient-magnitude threshold. The result is an
+// EdgeMapView (edge flag 255 / 0 and the gradient orientation, see edge_map.hpp) over
+// caller-owned EdgeBuffers.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "recog/base/status.hpp"
+#include "recog/image/edge_map.hpp"
+#include "recog/image/gaussian.hpp"
+#include "recog/image/image.hpp"
+
+namespace sh {
+
+struct CannyConfig {
+  float sigma_px = 1.0f;  // Gaussian scale of the gradient
+  // Gradient magnitude thresholds in grey levels per pixel. A step of contrast C blurred at
+  // sigma has a peak gradient of C / (sqrt(2 pi) sigma), e.g. 20 for C = 50 at sigma 1.
+  float low_threshold = 4.0f;
+  float high_threshold = 10.0f;
+};
+
+// Output and work memory of one edge map, for images up to kMaxImageWidth x kMaxImageHeight:
+// 2 bytes of output and 4 bytes of hysteresis stack per pixel (7.5 MiB). Keep in static storage.
+struct EdgeBuffers {
+  uint8_t edge[kMaxImagePixels];
+  uint8_t orientation[kMaxImagePixels];
+  uint32_t stack[kMaxImagePixels];  // hysteresis work list; each pixel is pushed at most once
+  EdgeMapView view(int width, int height) {
+    return {{edge, width, height, width}, {orientation, width, height, width}};
+  }
+};
+
+inline constexpr uint8_t kEdgePixel = 255;
+
+struct CannyStats {
+  size_t edge_pixels = 0;
+  size_t nms_candidates = 0;  // pixels left by non-maximum suppression above the low threshold
+};
+
+Status ValidateCannyConfig(const CannyConfig& config);
+
+// Detects edges; on success `edges` views `buffers` with the image's size. Uses planes of
+// `scratch`. Pixels on the one-pixel image border are never edges (no gradient neighbours).
+Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, FilterScratch& scratch,
+                   EdgeBuffers& buffers, EdgeMapView& edges, CannyStats* stats = nullptr);
+
+// Gradient direction (atan2(gy, gx), any range) to the 256-step orientation of edge_map.hpp.
+uint8_t QuantizeOrientation(float gradient_angle_rad);
+
+// Orientation step back to the gradient angle in [0, pi).
+float OrientationToAngleRad(uint8_t orientation);
+
+}  // namespace sh

@@ -1,0 +1,174 @@
+#include "recog/image/gaussian.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sh {
+
+int GaussianRadiusFor(float sigma_px) {
+  const int r = static_cast<int>(std::ceil(3.0f * sigma_px - 1e-4f));
+  return std::clamp(r, 1, kMaxGaussianRadius);
+}
+
+Status MakeGaussianKernel(float sigma_px, int order, GaussianKernel& kernel) {
+  if (!(sigma_px >= kMinGaussianSigmaPx && sigma_px <= kMaxGaussianSigmaPx)) {
+    return Status::Error(StatusCode::kOutOfRange, "Gaussian sigma %.3f px outside [%.2f, %.2f]",
+                         static_cast<double>(sigma_px), static_cast<double>(kMinGaussianSigmaPx),
+                         static_cast<double>(kMaxGaussianSigmaPx));
+  }
+  if (order < 0 || order > 2) {
+    return Status::Error(StatusCode::kInvalidArgument, "Gaussian derivative order %d not in 0..2",
+                         order);
+  }
+  kernel = GaussianKernel{};
+  kernel.order = order;
+  kernel.sigma_px = sigma_px;
+  kernel.radius = GaussianRadiusFor(sigma_px);
+  const int r = kernel.radius;
+  // Work in double: the renormalisation sums are differences of similar numbers for order 2.
+  double g[kMaxGaussianRadius + 1];
+  double g_sum = 0.0;
+  const double s2 = double{sigma_px} * sigma_px;
+  for (int k = 0; k <= r; ++k) {
+    g[k] = std::exp(-0.5 * k * k / s2);
+    g_sum += (k == 0 ? 1.0 : 2.0) * g[k];
+  }
+  for (int k = 0; k <= r; ++k) g[k] /= g_sum;  // order-0 taps, summing to 1 over -r..r
+  double h[kMaxGaussianRadius + 1];
+  if (order == 0) {
+    for (int k = 0; k <= r; ++k) h[k] = g[k];
+  } else if (order == 1) {
+    // Antisymmetric: response to the ramp x is sum_k k h[k] over -r..r = 2 sum_{k>0} k h[k].
+    double moment = 0.0;
+    for (int k = 0; k <= r; ++k) {
+      h[k] = k * g[k];
+      moment += 2.0 * k * h[k];
+    }
+    for (int k = 0; k <= r; ++k) h[k] /= moment;
+  } else {
+    double sum = 0.0;
+    for (int k = 0; k <= r; ++k) {
+      h[k] = (k * k / s2 - 1.0) * g[k];
+      sum += (k == 0 ? 1.0 : 2.0) * h[k];
+    }
+    // Remove the DC response (truncation leaves some), then scale so x^2/2 maps to 1.
+    double moment = 0.0;
+    for (int k = 0; k <= r; ++k) {
+      h[k] -= sum * g[k];
+      moment += (k == 0 ? 0.0 : 2.0) * 0.5 * k * k * h[k];
+    }
+    for (int k = 0; k <= r; ++k) h[k] /= moment;
+  }
+  for (int k = 0; k <= r; ++k) kernel.taps[k] = static_cast<float>(h[k]);
+  return Status::Ok();
+}
+
+Status ValidateGrayImage(const ConstGrayView& image, const char* what) {
+  if (image.data == nullptr || image.width <= 0 || image.height <= 0) {
+    return Status::Error(StatusCode::kInvalidArgument, "%s: empty image (%dx%d, data %s)", what,
+                         image.width, image.height, image.data ? "set" : "null");
+  }
+  if (image.stride < image.width) {
+    return Status::Error(StatusCode::kInvalidArgument, "%s: stride %d smaller than width %d", what,
+                         image.stride, image.width);
+  }
+  if (image.width > kMaxImageWidth || image.height > kMaxImageHeight) {
+    return Status::Error(StatusCode::kOutOfRange, "%s: image %dx%d larger than the supported %dx%d",
+                         what, image.width, image.height, kMaxImageWidth, kMaxImageHeight);
+  }
+  return Status::Ok();
+}
+
+namespace {
+
+// Applies one kernel to a padded row: pad[i] is source column i - pad_radius.
+void ConvolvePaddedRow(const float* pad, int pad_radius, int width, const GaussianKernel& k,
+                       float* out) {
+  const float* center = pad + pad_radius;
+  const float t0 = k.taps[0];
+  for (int x = 0; x < width; ++x) out[x] = t0 * center[x];
+  if (k.order == 1) {
+    for (int j = 1; j <= k.radius; ++j) {
+      const float t = k.taps[j];
+      const float* plus = center + j;
+      const float* minus = center - j;
+      for (int x = 0; x < width; ++x) out[x] += t * (plus[x] - minus[x]);
+    }
+  } else {
+    for (int j = 1; j <= k.radius; ++j) {
+      const float t = k.taps[j];
+      const float* plus = center + j;
+      const float* minus = center - j;
+      for (int x = 0; x < width; ++x) out[x] += t * (plus[x] + minus[x]);
+    }
+  }
+}
+
+}  // namespace
+
+void FilterRows(const ConstGrayView& image, const GaussianKernel* k0, ImageView<float> out0,
+                const GaussianKernel* k1, ImageView<float> out1, const GaussianKernel* k2,
+                ImageView<float> out2) {
+  int pad_radius = 0;
+  for (const GaussianKernel* k : {k0, k1, k2}) {
+    if (k != nullptr) pad_radius = std::max(pad_radius, k->radius);
+  }
+  // Row with replicated borders; on the stack, bounded by the compile-time maxima.
+  float pad[kMaxImageWidth + 2 * kMaxGaussianRadius];
+  const int w = image.width;
+  for (int y = 0; y < image.height; ++y) {
+    const uint8_t* src = image.row(y);
+    for (int i = 0; i < pad_radius; ++i) pad[i] = src[0];
+    for (int x = 0; x < w; ++x) pad[pad_radius + x] = src[x];
+    for (int i = 0; i < pad_radius; ++i) pad[pad_radius + w + i] = src[w - 1];
+    if (k0 != nullptr) ConvolvePaddedRow(pad, pad_radius, w, *k0, out0.row(y));
+    if (k1 != nullptr) ConvolvePaddedRow(pad, pad_radius, w, *k1, out1.row(y));
+    if (k2 != nullptr) ConvolvePaddedRow(pad, pad_radius, w, *k2, out2.row(y));
+  }
+}
+
+void ClampedRowPointers(const ImageView<const float>& in, int y, int radius, const float** rows) {
+  for (int k = -radius; k <= radius; ++k) {
+    rows[k + radius] = in.row(std::clamp(y + k, 0, in.height - 1));
+  }
+}
+
+void FilterColumns(const ImageView<const float>& in, const GaussianKernel& kernel,
+                   ImageView<float> out) {
+  const int r = kernel.radius;
+  const float* rows[2 * kMaxGaussianRadius + 1];
+  const int w = in.width;
+  const float sign = kernel.order == 1 ? -1.0f : 1.0f;
+  for (int y = 0; y < in.height; ++y) {
+    ClampedRowPointers(in, y, r, rows);
+    float* dst = out.row(y);
+    const float* c = rows[r];
+    const float t0 = kernel.taps[0];
+    for (int x = 0; x < w; ++x) dst[x] = t0 * c[x];
+    for (int j = 1; j <= r; ++j) {
+      const float t = kernel.taps[j];
+      const float* plus = rows[r + j];
+      const float* minus = rows[r - j];
+      for (int x = 0; x < w; ++x) dst[x] += t * (plus[x] + sign * minus[x]);
+    }
+  }
+}
+
+Status GaussianFilter2d(const ConstGrayView& image, float sigma_px, int order_x, int order_y,
+                        FloatPlane& scratch, ImageView<float> out) {
+  SH_RETURN_IF_ERROR(ValidateGrayImage(image, "GaussianFilter2d"));
+  if (out.data == nullptr || out.width != image.width || out.height != image.height) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "GaussianFilter2d: output %dx%d does not match image %dx%d", out.width,
+                         out.height, image.width, image.height);
+  }
+  GaussianKernel kx, ky;
+  SH_RETURN_IF_ERROR(MakeGaussianKernel(sigma_px, order_x, kx));
+  SH_RETURN_IF_ERROR(MakeGaussianKernel(sigma_px, order_y, ky));
+  ImageView<float> tmp = scratch.view(image.width, image.height);
+  FilterRows(image, &kx, tmp, nullptr, {}, nullptr, {});
+  FilterColumns(tmp, ky, out);
+  return Status::Ok();
+}
+
+}  // namespace sh

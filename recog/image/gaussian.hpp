@@ -1,0 +1,80 @@
+// Separable Gaussian and Gaussian-derivative filtering of grey images.
+//
+// Filters are sampled Gaussians (and their first/second derivatives) truncated at ~3 sigma and
+// applied as correlations `out(x) = sum_k in(x + k) * tap[k]`, so a first-derivative filter
+// estimates d/dx (positive for intensity increasing towards +x). Borders replicate the edge
+// pixel. Arithmetic is float: the per-pixel cost is dominated by the taps, and float keeps the
+// inner loops simple enough for the compiler to vectorise (SSE/NEON) without intrinsics.
+#pragma once
+
+#include <cstdint>
+
+#include "recog/base/status.hpp"
+#include "recog/image/image.hpp"
+
+namespace sh {
+
+// Largest kernel radius, in pixels. A radius of ceil(3 sigma) keeps > 99.7 % of the Gaussian's
+// mass; 24 px covers sigma up to 8 px (the largest corner scale used in practice).
+inline constexpr int kMaxGaussianRadius = 24;
+inline constexpr float kMaxGaussianSigmaPx = kMaxGaussianRadius / 3.0f;
+inline constexpr float kMinGaussianSigmaPx = 0.3f;
+
+// One symmetric (order 0, 2) or antisymmetric (order 1) 1-D kernel. Only taps[0..radius] are
+// stored; tap[-k] = tap[k] for even order and -tap[k] for odd order.
+struct GaussianKernel {
+  int order = 0;
+  int radius = 0;
+  float sigma_px = 0.0f;
+  float taps[kMaxGaussianRadius + 1] = {};
+};
+
+// Radius used for a given sigma: ceil(3 sigma), at least 1.
+int GaussianRadiusFor(float sigma_px);
+
+// Builds the sampled kernel of the given derivative order (0, 1 or 2). The sampled taps are
+// renormalised so that the discrete filter is exact on polynomials: order 0 sums to 1, order 1
+// maps the ramp x to 1, order 2 maps a constant to 0 and x^2 / 2 to 1. Fails for sigma outside
+// [kMinGaussianSigmaPx, kMaxGaussianSigmaPx] or an unsupported order.
+Status MakeGaussianKernel(float sigma_px, int order, GaussianKernel& kernel);
+
+// A float image plane over caller-owned storage of kMaxImagePixels floats; rows are packed
+// (stride == width) so the planes of one frame stay contiguous in cache.
+struct FloatPlane {
+  float data[kMaxImagePixels];
+  ImageView<float> view(int width, int height) { return {data, width, height, width}; }
+  ImageView<const float> view(int width, int height) const { return {data, width, height, width}; }
+};
+
+// Float planes shared by the detectors of one frame (corners use all four, Canny three). Sized
+// for the largest image: 4 * kMaxImagePixels floats (20 MiB); keep one per concurrent frame, in
+// static storage.
+struct FilterScratch {
+  static constexpr int kPlanes = 4;
+  FloatPlane planes[kPlanes];
+};
+
+// Checks that a grey image is non-empty, consistent, and no larger than the static buffers.
+Status ValidateGrayImage(const ConstGrayView& image, const char* what);
+
+// Row (x-direction) pass: convolves each row of `image` with up to three kernels at once, so the
+// source row is read once. Outputs may be null to skip a kernel. Output views must have the image
+// size.
+void FilterRows(const ConstGrayView& image, const GaussianKernel* k0, ImageView<float> out0,
+                const GaussianKernel* k1, ImageView<float> out1, const GaussianKernel* k2,
+                ImageView<float> out2);
+
+// Pointers to rows y - radius .. y + radius of `in` (rows[k + radius] is row y + k), with rows
+// outside the image replaced by the nearest border row. `rows` holds 2 * radius + 1 entries.
+void ClampedRowPointers(const ImageView<const float>& in, int y, int radius, const float** rows);
+
+// Column (y-direction) pass of one float plane with one kernel.
+void FilterColumns(const ImageView<const float>& in, const GaussianKernel& kernel,
+                   ImageView<float> out);
+
+// Convenience for tests and tools: out = (kx along x) then (ky along y) of the image. Uses
+// `scratch` for the intermediate plane.
+Status GaussianFilter2d(const ConstGrayView& image, float sigma_px, int order_x, int order_y,
+                        FloatPlane& scratch, ImageView<float> out);
+
+}  // namespace sh

@@ -1,0 +1,475 @@
+#include "recog/image/hough.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sh {
+
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+// Votes are fixed point: a pixel exactly on a bin centre adds kVoteOne there. The rho position
+// is quantised to 1/kSubBins bin to index the precomputed kernel weights (error <= 1/32 px,
+// well inside the kernel width, and removed by the least-squares refinement).
+constexpr int kVoteOne = 256;
+constexpr int kSubBins = 16;
+constexpr int kMaxTaps = 2 * kMaxVoteHalfWidthPx;
+
+struct Tables {
+  float sin_t[kHoughThetaBins];
+  float cos_t[kHoughThetaBins];
+  int16_t weight[kSubBins][kMaxTaps];  // bin (base - taps/2 + 1 + k) for sub-position s
+  int taps = 0;                        // 2 * ceil(half width)
+  int window = 0;                      // theta half-window in bins
+};
+
+void BuildTables(const HoughConfig& config, Tables& tb) {
+  for (int t = 0; t < kHoughThetaBins; ++t) {
+    tb.sin_t[t] = std::sin(t * kHoughThetaStepRad);
+    tb.cos_t[t] = std::cos(t * kHoughThetaStepRad);
+  }
+  const float hw = config.vote_half_width_px;
+  const int half = static_cast<int>(std::ceil(hw));
+  tb.taps = 2 * half;
+  for (int s = 0; s < kSubBins; ++s) {
+    for (int k = 0; k < kMaxTaps; ++k) {
+      // Distance of bin (base - half + 1 + k) from the vote position base + s / kSubBins.
+      const float d = static_cast<float>(k - half + 1) - static_cast<float>(s) / kSubBins;
+      const float w = std::fabs(d) < hw ? std::cos(kPi * d / (2.0f * hw)) : 0.0f;
+      tb.weight[s][k] = k < tb.taps ? static_cast<int16_t>(std::lround(w * kVoteOne)) : 0;
+    }
+  }
+  tb.window =
+      static_cast<int>(std::lround(config.angle_window_deg * kPi / 180.0f / kHoughThetaStepRad));
+}
+
+int WrapTheta(int t) {
+  t %= kHoughThetaBins;
+  return t < 0 ? t + kHoughThetaBins : t;
+}
+
+// Theta bin of the line through a pixel whose gradient has the given edge-map orientation: the
+// normal (sin theta, cos theta) is parallel to the gradient (cos phi, sin phi), so
+// theta = pi/2 - phi (mod pi). In bins: 180 - orientation * 360 / 256.
+int16_t CentreThetaBin(uint8_t orientation) {
+  const int t = static_cast<int>(
+      std::lround(kHoughThetaBins / 2.0 - orientation * (kHoughThetaBins / 256.0)));
+  return static_cast<int16_t>(WrapTheta(t));
+}
+
+// Adds (sign +1) or removes (sign -1) all votes of one pixel. Removal repeats the same float
+// arithmetic, so it subtracts exactly what was added.
+template <int kSign, bool kMarkDirty>
+void CastVotes(HoughWorkspace& ws, const Tables& tb, const HoughEdgePoint& p) {
+  const float x = p.x, y = p.y;
+  const int half = tb.taps / 2;
+  for (int j = -tb.window; j <= tb.window; ++j) {
+    const int t = WrapTheta(p.tc + j);
+    const float pos = x * tb.sin_t[t] + y * tb.cos_t[t] + static_cast<float>(kHoughRhoOffset);
+    const int q = static_cast<int>(pos * kSubBins + 0.5f);  // pos > 0: truncation is floor
+    const int base = q / kSubBins;
+    const int16_t* w = tb.weight[q % kSubBins];
+    int32_t* row = ws.acc[t] + base - half + 1;
+    for (int k = 0; k < tb.taps; ++k) row[k] += kSign * w[k];
+    if (kMarkDirty) {
+      ws.row_dirty[t] = 1;
+      ws.block_dirty[t][(base - half + 1) / HoughWorkspace::kBlock] = 1;
+      ws.block_dirty[t][(base + half) / HoughWorkspace::kBlock] = 1;
+    }
+  }
+}
+
+void UpdateMaxima(HoughWorkspace& ws) {
+  for (int t = 0; t < kHoughThetaBins; ++t) {
+    if (!ws.row_dirty[t]) continue;
+    ws.row_dirty[t] = 0;
+    int32_t best = INT32_MIN;
+    int16_t best_arg = 0;
+    for (int b = 0; b < HoughWorkspace::kBlocks; ++b) {
+      if (ws.block_dirty[t][b]) {
+        ws.block_dirty[t][b] = 0;
+        const int32_t* cell = ws.acc[t] + b * HoughWorkspace::kBlock;
+        int32_t m = cell[0];
+        int arg = 0;
+        for (int i = 1; i < HoughWorkspace::kBlock; ++i) {
+          if (cell[i] > m) {
+            m = cell[i];
+            arg = i;
+          }
+        }
+        ws.block_max[t][b] = m;
+        ws.block_arg[t][b] = static_cast<int16_t>(b * HoughWorkspace::kBlock + arg);
+      }
+      if (ws.block_max[t][b] > best) {
+        best = ws.block_max[t][b];
+        best_arg = ws.block_arg[t][b];
+      }
+    }
+    ws.row_max[t] = best;
+    ws.row_arg[t] = best_arg;
+  }
+}
+
+// Accumulator value with theta wrapping: theta - pi has the opposite rho.
+float AccAt(const HoughWorkspace& ws, int t, int r) {
+  if (t < 0 || t >= kHoughThetaBins) {
+    t = WrapTheta(t);
+    r = 2 * kHoughRhoOffset - r;  // bin of -rho
+  }
+  if (r < 0 || r >= kHoughRhoBins) return 0.0f;
+  return static_cast<float>(ws.acc[t][r]);
+}
+
+// Quadratic least-squares fit over the 3x3 neighbourhood (Niblack & Petkovic); returns false if
+// the fit has no maximum within max_shift bins.
+bool InterpolatePeak(const HoughWorkspace& ws, int t, int r, float max_shift, float& dt,
+                     float& dr) {
+  float f[3][3];
+  for (int i = -1; i <= 1; ++i) {
+    for (int j = -1; j <= 1; ++j) f[i + 1][j + 1] = AccAt(ws, t + i, r + j);
+  }
+  float bt = 0, br = 0, ctt = 0, crr = 0, ctr = 0;
+  for (int i = -1; i <= 1; ++i) {
+    for (int j = -1; j <= 1; ++j) {
+      const float v = f[i + 1][j + 1];
+      bt += i * v / 6.0f;
+      br += j * v / 6.0f;
+      ctt += (i * i - 2.0f / 3.0f) * v / 2.0f;
+      crr += (j * j - 2.0f / 3.0f) * v / 2.0f;
+      ctr += i * j * v / 4.0f;
+    }
+  }
+  // Stationary point of c + bt t + br r + ctt t^2 + crr r^2 + ctr t r.
+  const float a = 2.0f * ctt, b = ctr, d = 2.0f * crr;
+  const float det = a * d - b * b;
+  if (!(a < 0.0f && det > 0.0f)) return false;
+  dt = -(d * bt - b * br) / det;
+  dr = -(a * br - b * bt) / det;
+  return std::fabs(dt) <= max_shift && std::fabs(dr) <= max_shift;
+}
+
+void NormaliseLine(float& theta, float& rho) {
+  while (theta < 0.0f) {
+    theta += kPi;
+    rho = -rho;
+  }
+  while (theta >= kPi) {
+    theta -= kPi;
+    rho = -rho;
+  }
+}
+
+// Total least squares over the given points; returns false for fewer than two distinct points.
+bool FitLine(const HoughWorkspace& ws, const uint32_t* idx, size_t n, float& theta, float& rho) {
+  if (n < 2) return false;
+  double sx = 0, sy = 0;
+  for (size_t i = 0; i < n; ++i) {
+    sx += ws.points[idx[i]].x;
+    sy += ws.points[idx[i]].y;
+  }
+  const double mx = sx / n, my = sy / n;
+  double cxx = 0, cxy = 0, cyy = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double dx = ws.points[idx[i]].x - mx, dy = ws.points[idx[i]].y - my;
+    cxx += dx * dx;
+    cxy += dx * dy;
+    cyy += dy * dy;
+  }
+  if (cxx + cyy <= 0.0) return false;
+  // Direction of largest spread; the normal is perpendicular to it.
+  const double phi = 0.5 * std::atan2(2.0 * cxy, cxx - cyy);
+  const double nx = -std::sin(phi), ny = std::cos(phi);  // normal = (sin theta, cos theta)
+  double th = std::atan2(nx, ny);
+  double rh = nx * mx + ny * my;
+  float t = static_cast<float>(th), r = static_cast<float>(rh);
+  NormaliseLine(t, r);
+  theta = t;
+  rho = r;
+  return true;
+}
+
+void FillLineGeometry(float theta, float rho, Line2D& line) {
+  line.theta_rad = theta;
+  line.rho_px = rho;
+  const float s = std::sin(theta), c = std::cos(theta);
+  line.dir_x = c;
+  line.dir_y = -s;
+  line.point_x_px = rho * s;
+  line.point_y_px = rho * c;
+}
+
+// Segments of the line covered by the given pixels within support_distance_px.
+void ComputeSupport(HoughWorkspace& ws, const HoughConfig& config, const uint32_t* idx, size_t n,
+                    Line2D& line) {
+  constexpr int kOffset = HoughWorkspace::kSupportBins / 2;
+  int lo_bin = HoughWorkspace::kSupportBins, hi_bin = -1;
+  for (size_t i = 0; i < n; ++i) {
+    const HoughEdgePoint& p = ws.points[idx[i]];
+    if (std::fabs(line.DistancePx(p.x, p.y)) > config.support_distance_px) continue;
+    const float t = (p.x - line.point_x_px) * line.dir_x + (p.y - line.point_y_px) * line.dir_y;
+    const int b =
+        std::clamp(static_cast<int>(std::floor(t)) + kOffset, 0, HoughWorkspace::kSupportBins - 1);
+    if (b < lo_bin || b > hi_bin) {
+      // Newly touched range: initialise the bins between the old and new extent lazily.
+      const int from = hi_bin < 0 ? b : std::min(b, lo_bin);
+      const int to = hi_bin < 0 ? b : std::max(b, hi_bin);
+      for (int k = from; k <= to; ++k) {
+        if (k < lo_bin || k > hi_bin) {
+          ws.support_lo[k] = INFINITY;
+          ws.support_hi[k] = -INFINITY;
+        }
+      }
+      lo_bin = from;
+      hi_bin = to;
+    }
+    ws.support_lo[b] = std::min(ws.support_lo[b], t);
+    ws.support_hi[b] = std::max(ws.support_hi[b], t);
+  }
+  line.segments.clear();
+  line.support_length_px = 0.0f;
+  if (hi_bin < 0) return;
+  // Runs of pixels with gaps of at most max_gap_px; each pixel covers +-0.5 px along the line.
+  size_t run_count = 0;
+  bool open = false;
+  HoughWorkspace::Run cur{0, 0};
+  for (int k = lo_bin; k <= hi_bin; ++k) {
+    if (!(ws.support_lo[k] <= ws.support_hi[k])) continue;
+    if (open && ws.support_lo[k] - cur.t1 <= config.max_gap_px + 1.0f) {
+      cur.t1 = ws.support_hi[k];
+    } else {
+      if (open) ws.runs[run_count++] = cur;
+      cur = {ws.support_lo[k], ws.support_hi[k]};
+      open = true;
+    }
+  }
+  if (open) ws.runs[run_count++] = cur;
+  size_t kept = 0;
+  for (size_t i = 0; i < run_count; ++i) {
+    HoughWorkspace::Run r = ws.runs[i];
+    r.t0 -= 0.5f;
+    r.t1 += 0.5f;
+    if (r.t1 - r.t0 < config.min_segment_px) continue;
+    line.support_length_px += r.t1 - r.t0;
+    ws.runs[kept++] = r;
+  }
+  if (kept > kMaxSegmentsPerLine) {
+    // Keep the longest, then restore the order along the line.
+    std::nth_element(ws.runs, ws.runs + kMaxSegmentsPerLine - 1, ws.runs + kept,
+                     [](const HoughWorkspace::Run& a, const HoughWorkspace::Run& b) {
+                       return a.t1 - a.t0 > b.t1 - b.t0;
+                     });
+    kept = kMaxSegmentsPerLine;
+    std::sort(
+        ws.runs, ws.runs + kept,
+        [](const HoughWorkspace::Run& a, const HoughWorkspace::Run& b) { return a.t0 < b.t0; });
+  }
+  for (size_t i = 0; i < kept; ++i) {
+    const HoughWorkspace::Run& r = ws.runs[i];
+    Segment2D s;
+    s.x0 = line.point_x_px + r.t0 * line.dir_x;
+    s.y0 = line.point_y_px + r.t0 * line.dir_y;
+    s.x1 = line.point_x_px + r.t1 * line.dir_x;
+    s.y1 = line.point_y_px + r.t1 * line.dir_y;
+    (void)line.segments.push_back(s);  // kept <= capacity
+  }
+}
+
+// Gathers the pixel list from the edge map, sorted by theta window centre (counting sort).
+void GatherPoints(const ConstEdgeMapView& edges, HoughWorkspace& ws, size_t& dropped) {
+  int32_t count[kHoughThetaBins] = {};
+  size_t total = 0;
+  dropped = 0;
+  const int w = edges.edge.width, h = edges.edge.height;
+  for (int y = 0; y < h; ++y) {
+    const uint8_t* e = edges.edge.row(y);
+    const uint8_t* o = edges.orientation.row(y);
+    for (int x = 0; x < w; ++x) {
+      if (e[x] == 0) continue;
+      if (total == kMaxHoughEdgePixels) {
+        ++dropped;
+        continue;
+      }
+      ++total;
+      ++count[CentreThetaBin(o[x])];
+    }
+  }
+  ws.theta_start[0] = 0;
+  for (int t = 0; t < kHoughThetaBins; ++t) ws.theta_start[t + 1] = ws.theta_start[t] + count[t];
+  int32_t fill[kHoughThetaBins];
+  std::copy(ws.theta_start, ws.theta_start + kHoughThetaBins, fill);
+  size_t taken = 0;
+  for (int y = 0; y < h && taken < total; ++y) {
+    const uint8_t* e = edges.edge.row(y);
+    const uint8_t* o = edges.orientation.row(y);
+    for (int x = 0; x < w && taken < total; ++x) {
+      if (e[x] == 0) continue;
+      const int16_t tc = CentreThetaBin(o[x]);
+      HoughEdgePoint& p = ws.points[fill[tc]++];
+      p.x = static_cast<int16_t>(x);
+      p.y = static_cast<int16_t>(y);
+      p.tc = tc;
+      p.line = -1;
+      ++taken;
+    }
+  }
+  ws.point_count = total;
+}
+
+// Unassigned pixels within collect_distance_px of the line whose theta window holds bin t.
+size_t CollectPoints(HoughWorkspace& ws, const Tables& tb, int t, float theta, float rho,
+                     float distance) {
+  const float s = std::sin(theta), c = std::cos(theta);
+  size_t n = 0;
+  for (int j = -tb.window; j <= tb.window; ++j) {
+    const int tc = WrapTheta(t + j);
+    for (int32_t i = ws.theta_start[tc]; i < ws.theta_start[tc + 1]; ++i) {
+      const HoughEdgePoint& p = ws.points[i];
+      if (p.line != -1) continue;
+      if (std::fabs(p.x * s + p.y * c - rho) <= distance)
+        ws.collected[n++] = static_cast<uint32_t>(i);
+    }
+  }
+  return n;
+}
+
+}  // namespace
+
+Status ValidateHoughConfig(const HoughConfig& config) {
+  if (!(config.angle_window_deg >= 0.0f && config.angle_window_deg <= 45.0f)) {
+    return Status::Error(StatusCode::kOutOfRange, "Hough angle window %g deg outside [0, 45]",
+                         static_cast<double>(config.angle_window_deg));
+  }
+  if (!(config.vote_half_width_px >= 0.5f &&
+        config.vote_half_width_px <= static_cast<float>(kMaxVoteHalfWidthPx))) {
+    return Status::Error(StatusCode::kOutOfRange, "Hough vote half width %g px outside [0.5, %d]",
+                         static_cast<double>(config.vote_half_width_px), kMaxVoteHalfWidthPx);
+  }
+  if (!(config.min_votes >= 1.0f) || config.min_edge_pixels < 2 || config.max_peaks < 1) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "Hough needs min_votes >= 1, min_edge_pixels >= 2, max_peaks >= 1");
+  }
+  if (!(config.collect_distance_px > 0.0f) || !(config.support_distance_px > 0.0f) ||
+      !(config.max_gap_px >= 0.0f) || !(config.min_segment_px >= 0.0f) ||
+      !(config.max_refine_shift_bins >= 0.0f)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "Hough distances must be positive (collect %g, support %g px)",
+                         static_cast<double>(config.collect_distance_px),
+                         static_cast<double>(config.support_distance_px));
+  }
+  return Status::Ok();
+}
+
+Status DetectLines(const ConstEdgeMapView& edges, const HoughConfig& config, HoughWorkspace& ws,
+                   Vector<Line2D>& lines, HoughStats* stats) {
+  lines.clear();
+  HoughStats st;
+  if (stats != nullptr) *stats = st;
+  const ImageView<const uint8_t>& e = edges.edge;
+  const ImageView<const uint8_t>& o = edges.orientation;
+  if (e.data == nullptr || o.data == nullptr || e.width <= 0 || e.height <= 0) {
+    return Status::Error(StatusCode::kInvalidArgument, "DetectLines: empty edge map (%dx%d)",
+                         e.width, e.height);
+  }
+  if (o.width != e.width || o.height != e.height || e.stride < e.width || o.stride < o.width) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "DetectLines: edge %dx%d and orientation %dx%d planes do not match",
+                         e.width, e.height, o.width, o.height);
+  }
+  if (e.width > kMaxImageWidth || e.height > kMaxImageHeight) {
+    return Status::Error(StatusCode::kOutOfRange, "DetectLines: edge map %dx%d larger than %dx%d",
+                         e.width, e.height, kMaxImageWidth, kMaxImageHeight);
+  }
+  SH_RETURN_IF_ERROR(ValidateHoughConfig(config));
+  Tables tb;
+  BuildTables(config, tb);
+
+  GatherPoints(edges, ws, st.edge_pixels_dropped);
+  st.edge_pixels = ws.point_count;
+  // Only the rho range this image can reach needs clearing and searching, but clearing the whole
+  // accumulator keeps the block bookkeeping simple; memset speed makes it cheap.
+  std::fill(&ws.acc[0][0], &ws.acc[0][0] + sizeof(ws.acc) / sizeof(int32_t), 0);
+  for (size_t i = 0; i < ws.point_count; ++i) CastVotes<+1, false>(ws, tb, ws.points[i]);
+  std::fill(&ws.block_dirty[0][0], &ws.block_dirty[0][0] + sizeof(ws.block_dirty), uint8_t{1});
+  std::fill(ws.row_dirty, ws.row_dirty + kHoughThetaBins, uint8_t{1});
+
+  const int32_t min_acc = static_cast<int32_t>(std::ceil(config.min_votes * kVoteOne));
+  while (true) {
+    if (st.peaks_examined >= static_cast<size_t>(config.max_peaks) || lines.full()) {
+      st.stopped_by_capacity = true;
+      break;
+    }
+    UpdateMaxima(ws);
+    int best_t = 0;
+    for (int t = 1; t < kHoughThetaBins; ++t) {
+      if (ws.row_max[t] > ws.row_max[best_t]) best_t = t;
+    }
+    const int32_t peak = ws.row_max[best_t];
+    if (peak < min_acc) break;
+    ++st.peaks_examined;
+    const int best_r = ws.row_arg[best_t];
+    float dt = 0.0f, dr = 0.0f;
+    if (InterpolatePeak(ws, best_t, best_r, config.max_refine_shift_bins, dt, dr)) {
+      ++st.peaks_refined;
+    } else {
+      dt = dr = 0.0f;
+    }
+    float theta = (best_t + dt) * kHoughThetaStepRad;
+    float rho = static_cast<float>(best_r - kHoughRhoOffset) + dr;
+    NormaliseLine(theta, rho);
+    size_t n = CollectPoints(ws, tb, best_t, theta, rho, config.collect_distance_px);
+    if (n == 0) {
+      // Cannot happen while every vote comes from an unassigned pixel within the kernel width,
+      // but guarantees progress: retire the cell.
+      ws.acc[best_t][best_r] = 0;
+      ws.row_dirty[best_t] = 1;
+      ws.block_dirty[best_t][best_r / HoughWorkspace::kBlock] = 1;
+      ++st.lines_rejected;
+      continue;
+    }
+    for (size_t i = 0; i < n; ++i) CastVotes<-1, true>(ws, tb, ws.points[ws.collected[i]]);
+
+    Line2D line;
+    line.votes = static_cast<float>(peak) / kVoteOne;
+    // Least-squares refinement: all collected pixels, then those within the support distance of
+    // that fit (drops the pixels of a neighbouring edge that the 2 px band picked up).
+    float fit_theta = theta, fit_rho = rho;
+    if (FitLine(ws, ws.collected, n, fit_theta, fit_rho)) {
+      FillLineGeometry(fit_theta, fit_rho, line);
+      // Partition so that close pixels come first; the rest stay assigned to this line.
+      size_t close = 0;
+      for (size_t i = 0; i < n; ++i) {
+        const HoughEdgePoint& p = ws.points[ws.collected[i]];
+        if (std::fabs(line.DistancePx(p.x, p.y)) <= config.support_distance_px) {
+          std::swap(ws.collected[i], ws.collected[close++]);
+        }
+      }
+      float t2 = fit_theta, r2 = fit_rho;
+      if (close >= 2 && FitLine(ws, ws.collected, close, t2, r2)) {
+        fit_theta = t2;
+        fit_rho = r2;
+      }
+    }
+    FillLineGeometry(fit_theta, fit_rho, line);
+    ComputeSupport(ws, config, ws.collected, n, line);
+    size_t supporting = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const HoughEdgePoint& p = ws.points[ws.collected[i]];
+      supporting += std::fabs(line.DistancePx(p.x, p.y)) <= config.support_distance_px ? 1 : 0;
+    }
+    const bool accept =
+        supporting >= static_cast<size_t>(config.min_edge_pixels) && !line.segments.empty();
+    const int16_t owner = accept ? static_cast<int16_t>(lines.size()) : int16_t{-2};
+    for (size_t i = 0; i < n; ++i) ws.points[ws.collected[i]].line = owner;
+    st.edge_pixels_assigned += n;
+    if (!accept) {
+      ++st.lines_rejected;
+      continue;
+    }
+    line.edge_pixels = static_cast<int>(n);
+    (void)lines.push_back(line);  // not full: checked at the top of the loop
+  }
+  if (stats != nullptr) *stats = st;
+  return Status::Ok();
+}
+
+}  // namespace sh
