@@ -6,9 +6,9 @@ target_link_libraries(stereohash_hal_camera PUBLIC stereohash_base Threads::Thre
 
 add_library(stereohash_hal_camera_sim STATIC
   ${CMAKE_CURRENT_LIST_DIR}/sim/sim_camera.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/sim/directory_camera.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/sim/directory_camera_pgm.cpp)
-target_link_libraries(stereohash_hal_camera_sim PUBLIC stereohash_hal_camera)
+  ${CMAKE_CURRENT_LIST_DIR}/sim/directory_camera.cpp)
+# stereohash_image_files (PNG/PGM decoding) is defined in hal/render.cmake.
+target_link_libraries(stereohash_hal_camera_sim PUBLIC stereohash_hal_camera stereohash_image_files)
 
 # The board backend builds wherever libcamera's pkg-config file is found (native or aarch64).
 if(LIBCAMERA_FOUND)

@@ -4,12 +4,15 @@
 #include <cerrno>
 #include <cstring>
 #include <map>
+#include <new>
 #include <utility>
 
 #include <dirent.h>
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
-#include "hal/sim/directory_camera_pgm.hpp"
+#include "hal/sim/image_files.hpp"
 
 namespace sh::hal {
 namespace {
@@ -18,6 +21,13 @@ bool IsDirectory(const std::string& path) {
   struct stat st;
   return stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
+
+const char* BaseName(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  return path.c_str() + (slash == std::string::npos ? 0 : slash + 1);
+}
+
+const char* SideName(int side) { return side == 0 ? "left" : "right"; }
 
 bool EndsWith(const std::string& s, const char* suffix) {
   const size_t n = std::strlen(suffix);
@@ -55,8 +65,8 @@ bool NaturalLess(const std::string& a, const std::string& b) {
   return a.size() - i < b.size() - j;
 }
 
-// Names of regular entries of `dir` ending in `extension`; errors name the directory.
-Status ListFiles(const std::string& dir, const char* extension, std::vector<std::string>* names) {
+// Names of the image files (.png, .pgm) in `dir`; errors name the directory.
+Status ListFiles(const std::string& dir, std::vector<std::string>* names) {
   DIR* d = opendir(dir.c_str());
   if (d == nullptr) {
     const int err = errno;
@@ -65,7 +75,7 @@ Status ListFiles(const std::string& dir, const char* extension, std::vector<std:
   }
   while (const dirent* e = readdir(d)) {
     const std::string name = e->d_name;
-    if (name[0] == '.' || !EndsWith(name, extension)) continue;
+    if (name[0] == '.' || !(EndsWith(name, ".png") || EndsWith(name, ".pgm"))) continue;
     names->push_back(name);
   }
   closedir(d);
@@ -78,7 +88,7 @@ bool StripPrefix(const std::string& name, const char* prefix, std::string* key) 
   if (name.compare(0, n, prefix) != 0) return false;
   size_t start = n;
   if (start < name.size() && (name[start] == '_' || name[start] == '-')) ++start;
-  *key = name.substr(start, name.size() - start - 4);  // without ".pgm"
+  *key = name.substr(start, name.size() - start - 4);  // without ".png" / ".pgm"
   return !key->empty() || name.size() > n + 4;
 }
 
@@ -99,14 +109,14 @@ Status DirectoryFrameSource::Scan() {
   const std::string right_dir = directory_ + "/right";
   if (IsDirectory(left_dir) && IsDirectory(right_dir)) {
     std::vector<std::string> names;
-    SH_RETURN_IF_ERROR(ListFiles(left_dir, ".pgm", &names));
+    SH_RETURN_IF_ERROR(ListFiles(left_dir, &names));
     for (const std::string& n : names) left_by_key[n] = left_dir + "/" + n;
     names.clear();
-    SH_RETURN_IF_ERROR(ListFiles(right_dir, ".pgm", &names));
+    SH_RETURN_IF_ERROR(ListFiles(right_dir, &names));
     for (const std::string& n : names) right_by_key[n] = right_dir + "/" + n;
   } else {
     std::vector<std::string> names;
-    SH_RETURN_IF_ERROR(ListFiles(directory_, ".pgm", &names));
+    SH_RETURN_IF_ERROR(ListFiles(directory_, &names));
     for (const std::string& n : names) {
       std::string key;
       if (StripPrefix(n, "left", &key)) {
@@ -119,21 +129,21 @@ Status DirectoryFrameSource::Scan() {
   for (const auto& [key, path] : left_by_key) {
     if (right_by_key.count(key) == 0) {
       return Status::Error(StatusCode::kInvalidArgument, "recording: %s has no right partner",
-                           PathBaseName(path.c_str()));
+                           BaseName(path));
     }
   }
   for (const auto& [key, path] : right_by_key) {
     const auto left = left_by_key.find(key);
     if (left == left_by_key.end()) {
       return Status::Error(StatusCode::kInvalidArgument, "recording: %s has no left partner",
-                           PathBaseName(path.c_str()));
+                           BaseName(path));
     }
     pairs_.push_back(PathPair{key, left->second, path});
   }
   if (pairs_.empty()) {
     return Status::Error(StatusCode::kNotFound,
-                         "no left/right .pgm pairs in %s (left_N.pgm + right_N.pgm or left/ + "
-                         "right/ folders)",
+                         "no left/right image pairs in %s (left_N.png + right_N.png or left/ + "
+                         "right/ folders; .png or .pgm)",
                          directory_.c_str());
   }
   std::sort(pairs_.begin(), pairs_.end(),
@@ -141,21 +151,90 @@ Status DirectoryFrameSource::Scan() {
   return Status::Ok();
 }
 
+Status DirectoryFrameSource::AllocateBuffers() {
+  size_t largest = 1;
+  for (const PathPair& p : pairs_) {
+    for (const std::string* path : {&p.left, &p.right}) {
+      struct stat st;
+      if (stat(path->c_str(), &st) != 0) {
+        return Status::Error(StatusCode::kNotFound, "recording: cannot stat %s: %s",
+                             BaseName(*path), std::strerror(errno));
+      }
+      const size_t bytes = static_cast<size_t>(st.st_size);
+      if (bytes > kMaxImageFileBytes) {
+        return Status::Error(StatusCode::kOutOfRange, "recording: %s has %zu bytes, limit %zu",
+                             BaseName(*path), bytes, kMaxImageFileBytes);
+      }
+      largest = std::max(largest, bytes);
+    }
+  }
+  file_buffer_.reset(new (std::nothrow) uint8_t[largest]);
+  file_capacity_ = largest;
+  for (auto& d : decode_) d.reset(new (std::nothrow) uint8_t[kMaxImagePixels]);
+  if (!file_buffer_ || !decode_[0] || !decode_[1]) {
+    return Status::Error(StatusCode::kResourceExhausted,
+                         "recording: cannot allocate %zu bytes of playback buffers",
+                         largest + 2 * kMaxImagePixels);
+  }
+  return Status::Ok();
+}
+
+Status DirectoryFrameSource::Decode(int side, const std::string& path, Decoded* out) {
+  const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    return Status::Error(errno == ENOENT ? StatusCode::kNotFound : StatusCode::kUnavailable,
+                         "%s %s: %s", SideName(side), BaseName(path), std::strerror(errno));
+  }
+  // One byte more than the buffer holds reveals a file that grew since Start().
+  size_t size = 0;
+  for (;;) {
+    uint8_t extra;
+    uint8_t* dst = size < file_capacity_ ? file_buffer_.get() + size : &extra;
+    const size_t want = size < file_capacity_ ? file_capacity_ - size : 1;
+    const ssize_t n = read(fd, dst, want);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const int err = errno;
+      close(fd);
+      return Status::Error(StatusCode::kDataLoss, "%s %s: %s", SideName(side), BaseName(path),
+                           std::strerror(err));
+    }
+    if (n == 0) break;
+    if (size >= file_capacity_) {
+      close(fd);
+      return Status::Error(StatusCode::kOutOfRange, "%s %s grew beyond %zu bytes since Start()",
+                           SideName(side), BaseName(path), file_capacity_);
+    }
+    size += static_cast<size_t>(n);
+  }
+  close(fd);
+  const Result<ImageInfo> info = DecodeImage(file_buffer_.get(), size, PixelFormat::kGray8,
+                                             decode_[side].get(), kMaxImagePixels);
+  if (!info.ok()) {
+    return Status::Error(info.status().code(), "%s %s: %s", SideName(side), BaseName(path),
+                         info.status().message());
+  }
+  out->width = info->width;
+  out->height = info->height;
+  return Status::Ok();
+}
+
 Status DirectoryFrameSource::Open(int* width, int* height) {
   SH_RETURN_IF_ERROR(Scan());
-  // The first pair whose headers both read sets the size; a broken first file then shows up as a
-  // per-frame error at playback instead of refusing the whole recording.
+  SH_RETURN_IF_ERROR(AllocateBuffers());
+  // The first pair that decodes sets the size; a broken first file then shows up as a per-frame
+  // error at playback instead of refusing the whole recording.
   Status first_error;
   for (const PathPair& p : pairs_) {
-    PgmHeader l;
-    PgmHeader r;
-    Status s = ReadPgmHeader(p.left.c_str(), &l);
-    if (s.ok()) s = ReadPgmHeader(p.right.c_str(), &r);
+    Decoded l;
+    Decoded r;
+    Status s = Decode(0, p.left, &l);
+    if (s.ok()) s = Decode(1, p.right, &r);
     if (s.ok() && (l.width != r.width || l.height != r.height)) {
       return Status::Error(StatusCode::kInvalidArgument,
                            "recording: %s is %dx%d but %s is %dx%d; left and right must match",
-                           PathBaseName(p.left.c_str()), l.width, l.height,
-                           PathBaseName(p.right.c_str()), r.width, r.height);
+                           BaseName(p.left), l.width, l.height, BaseName(p.right), r.width,
+                           r.height);
     }
     if (s.ok()) {
       width_ = *width = l.width;
@@ -169,7 +248,7 @@ Status DirectoryFrameSource::Open(int* width, int* height) {
 }
 
 Status DirectoryFrameSource::Render(uint64_t frame_index, GrayView left, GrayView right) {
-  if (pairs_.empty()) {
+  if (pairs_.empty() || !file_buffer_) {
     return Status::Error(StatusCode::kFailedPrecondition, "recording not opened");
   }
   if (!loop_ && frame_index >= pairs_.size()) {
@@ -177,23 +256,26 @@ Status DirectoryFrameSource::Render(uint64_t frame_index, GrayView left, GrayVie
                          pairs_.size());
   }
   const PathPair& p = pairs_[frame_index % pairs_.size()];
-  PgmHeader l;
-  PgmHeader r;
-  // Errors are prefixed with the side: in the left/ right/ layout both files share a name.
-  Status s = ReadPgmHeader(p.left.c_str(), &l);
-  if (!s.ok()) return Status::Error(s.code(), "left %s", s.message());
-  s = ReadPgmHeader(p.right.c_str(), &r);
-  if (!s.ok()) return Status::Error(s.code(), "right %s", s.message());
-  if (l.width != r.width || l.height != r.height) {
+  Decoded d[2];
+  SH_RETURN_IF_ERROR(Decode(0, p.left, &d[0]));
+  SH_RETURN_IF_ERROR(Decode(1, p.right, &d[1]));
+  if (d[0].width != d[1].width || d[0].height != d[1].height) {
     return Status::Error(StatusCode::kInvalidArgument,
-                         "%s is %dx%d but %s is %dx%d; left and right must match",
-                         PathBaseName(p.left.c_str()), l.width, l.height,
-                         PathBaseName(p.right.c_str()), r.width, r.height);
+                         "%s is %dx%d but %s is %dx%d; left and right must match", BaseName(p.left),
+                         d[0].width, d[0].height, BaseName(p.right), d[1].width, d[1].height);
   }
-  s = ReadPgmInto(p.left.c_str(), left);
-  if (!s.ok()) return Status::Error(s.code(), "left %s", s.message());
-  s = ReadPgmInto(p.right.c_str(), right);
-  if (!s.ok()) return Status::Error(s.code(), "right %s", s.message());
+  if (d[0].width != width_ || d[0].height != height_) {
+    return Status::Error(StatusCode::kInvalidArgument, "%s is %dx%d, expected %dx%d",
+                         BaseName(p.left), d[0].width, d[0].height, width_, height_);
+  }
+  // Decoded rows are packed; the camera's buffers may have a larger stride.
+  const GrayView views[2] = {left, right};
+  for (int side = 0; side < 2; ++side) {
+    for (int y = 0; y < height_; ++y) {
+      std::memcpy(views[side].row(y), decode_[side].get() + static_cast<size_t>(y) * width_,
+                  static_cast<size_t>(width_));
+    }
+  }
   return Status::Ok();
 }
 

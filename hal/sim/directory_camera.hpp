@@ -1,11 +1,15 @@
 // Plays back recorded stereo pairs from a directory as a StereoCamera.
 //
 // Layouts (detected in this order):
-//   <dir>/left/<name>.pgm   with <dir>/right/<name>.pgm
-//   <dir>/left_<key>.pgm    with <dir>/right_<key>.pgm   ("left<key>"/"left-<key>" also accepted)
+//   <dir>/left/<name>.png   with <dir>/right/<name>.png
+//   <dir>/left_<key>.png    with <dir>/right_<key>.png   ("left<key>"/"left-<key>" also accepted)
 // Pairs play in natural order of <name>/<key> (numbers compare by value: 2 before 10). Files are
-// binary 8-bit PGM (P5); other files are ignored. All frames must have the size of the first
-// pair; a left file without its right partner (or the reverse) makes Start() fail naming it.
+// PNG or binary PGM (.png/.pgm, decoded by hal/sim/image_files; colour is converted to grey);
+// other files are ignored. All frames must have the size of the first readable pair; a left file
+// without its right partner (or the reverse) makes Start() fail naming it.
+//
+// Memory: Start() allocates one file buffer (the largest file's size) and one decode buffer per
+// side; playback reads and decodes into them without further allocation.
 //
 // Timestamps are synthetic (first_timestamp_ns + n * frame_period_ns on both sides) and go
 // through the same pairing as live cameras. Per-frame problems (truncated or corrupt file,
@@ -15,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -37,7 +42,8 @@ class DirectoryFrameSource final : public FrameSource {
  public:
   DirectoryFrameSource(std::string directory, bool loop);
 
-  // Scans the directory (allocates the file list) and sizes the frames from the first pair.
+  // Scans the directory, allocates the file list and buffers, sizes the frames from the first
+  // readable pair.
   Status Open(int* width, int* height) override;
   Status Render(uint64_t frame_index, GrayView left, GrayView right) override;
 
@@ -51,11 +57,21 @@ class DirectoryFrameSource final : public FrameSource {
     std::string left;
     std::string right;
   };
+  struct Decoded {
+    int width = 0;
+    int height = 0;
+  };
   Status Scan();
+  Status AllocateBuffers();
+  // Reads `path` into the file buffer and decodes it as grey into decode_[side].
+  Status Decode(int side, const std::string& path, Decoded* out);
 
   std::string directory_;
   bool loop_;
   std::vector<PathPair> pairs_;
+  std::unique_ptr<uint8_t[]> file_buffer_;
+  size_t file_capacity_ = 0;
+  std::unique_ptr<uint8_t[]> decode_[2];  // kMaxImagePixels each
   int width_ = 0;
   int height_ = 0;
 };
