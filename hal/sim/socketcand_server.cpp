@@ -224,6 +224,7 @@ bool SocketcandServer::SendNow(size_t index, const char* text) {
 void SocketcandServer::DropClient(size_t index, const char* why) {
   Client& c = clients_[index];
   if (c.phase == Phase::kFree) return;
+  if (c.phase == Phase::kRaw) raw_mode_.fetch_sub(1);
   close(c.fd);
   c.fd = -1;
   c.phase = Phase::kFree;
@@ -302,6 +303,7 @@ void SocketcandServer::HandleMessage(size_t index, const char* text, size_t leng
       if (c.phase == Phase::kAwaitRawMode) {
         c.phase = Phase::kRaw;
         c.raw_since_ms = MonotonicMs();
+        raw_mode_.fetch_add(1);
       }
       SendNow(index, "< ok >");
       return;
@@ -343,10 +345,11 @@ void SocketcandServer::DrainBus() {
 }
 
 void SocketcandServer::QueueToClients(const CanFrame& frame, int except_index) {
-  char text[kSocketcandMessageMax];
-  size_t len = FormatSocketcandFrame(frame, text, sizeof(text) - 1);
-  if (len == 0) return;
-  text[len++] = ' ';  // separator, see the header
+  char text[kSocketcandMessageMax + 1];
+  text[0] = ' ';  // separator, see the header
+  const size_t formatted = FormatSocketcandFrame(frame, text + 1, sizeof(text) - 1);
+  if (formatted == 0) return;
+  const size_t len = formatted + 1;
   bool any = false;
   for (size_t i = 0; i < kSocketcandMaxClients; ++i) {
     Client& c = clients_[i];

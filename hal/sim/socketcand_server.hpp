@@ -8,8 +8,9 @@
 // Handshake as python-can 4.1 expects it: "< hi >" on connect, "< ok >" for "< open can0 >",
 // "< ok >" for "< rawmode >", each in its own write. python-can compares each handshake read
 // with the exact text, so frames are held back for handshake_settle_ms after the raw-mode
-// "< ok >" to keep them out of that read. Frames are separated by one space, which also keeps
-// python-can's receive buffer aligned when a segment ends inside a message.
+// "< ok >" to keep them out of that read. Each frame is preceded by one space: python-can 4.1
+// drops one character after the last complete message it parsed, and without the space that
+// character is the '<' of a message cut by a TCP segment boundary, which loses the message.
 //
 // Bounded: kSocketcandMaxClients clients with fixed input/output buffers. A client that reads
 // too slowly loses frames (counted), malformed text is answered with "< error ... >", logged
@@ -68,6 +69,8 @@ class SocketcandServer {
   uint16_t port() const { return port_; }
   bool running() const { return running_.load(); }
   size_t connected_clients() const { return connected_.load(); }
+  // Clients past the handshake that receive bus frames.
+  size_t raw_mode_clients() const { return raw_mode_.load(); }
   SocketcandStats stats() const;
   // The server's own endpoint on the bus (for fault injection in tests).
   SimCanEndpoint* endpoint() const { return endpoint_; }
@@ -105,6 +108,7 @@ class SocketcandServer {
   std::atomic<bool> running_{false};
   std::atomic<bool> stop_{false};
   std::atomic<size_t> connected_{0};
+  std::atomic<size_t> raw_mode_{0};
   Client clients_[kSocketcandMaxClients];
 
   // Written by the server thread, read by stats() from others.

@@ -1,0 +1,14 @@
+# CAN HAL and PLC protocol tests.
+stereohash_add_test(can_hal_test
+  SOURCES ${CMAKE_CURRENT_LIST_DIR}/can_log_test.cpp ${CMAKE_CURRENT_LIST_DIR}/can_sim_bus_test.cpp
+          ${CMAKE_CURRENT_LIST_DIR}/socketcand_test.cpp
+  LIBS stereohash_hal_can_sim)
+stereohash_add_test(socketcan_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/socketcan_test.cpp
+  LIBS stereohash_hal_socketcan)
+stereohash_add_test(can_protocol_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/can_protocol_test.cpp
+  LIBS stereohash_can_protocol)
+
+# Stand-in device for the Python end-to-end test: sim bus + socketcand server + protocol.
+add_executable(can_sim_demo ${CMAKE_CURRENT_LIST_DIR}/can_sim_demo.cpp)
+target_link_libraries(can_sim_demo PRIVATE stereohash_hal_can_sim stereohash_can_protocol
+                      stereohash_warnings)
