@@ -403,6 +403,24 @@ CommandAck MakeCommandAck(const CanFrame& command_frame, const Status& status) {
 
 // ----------------------------------------------------------------------------- results
 
+ObjectPose MakeObjectPose(const RigidTransform& cam_T_model, uint8_t model_id, uint8_t instance,
+                          double score) {
+  ObjectPose pose;
+  pose.model_id = model_id;
+  pose.instance = instance;
+  pose.score = score;
+  // Double precision for the conversion: the float matrix is only approximately orthonormal and
+  // Eigen's quaternion-from-matrix is well conditioned for every rotation.
+  const Eigen::Quaterniond q(cam_T_model.R.cast<double>());
+  const Eigen::Quaterniond n = q.normalized();
+  pose.cam_q_model[0] = n.w();
+  pose.cam_q_model[1] = n.x();
+  pose.cam_q_model[2] = n.y();
+  pose.cam_q_model[3] = n.z();
+  for (int i = 0; i < 3; ++i) pose.cam_t_model_mm[i] = cam_T_model.t_mm[i];
+  return pose;
+}
+
 uint8_t Crc8(const uint8_t* data, size_t length, uint8_t crc) {
   for (size_t i = 0; i < length; ++i) {
     crc ^= data[i];

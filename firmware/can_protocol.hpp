@@ -24,6 +24,7 @@
 #include "hal/can.hpp"
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
+#include "recog/geometry/rigid_transform.hpp"
 
 namespace sh::protocol {
 
@@ -158,6 +159,11 @@ struct ObjectPose {
   double cam_t_model_mm[3] = {0, 0, 0};  // model origin in the camera frame, mm
   double cam_q_model[4] = {1, 0, 0, 0};  // rotation model -> camera, unit quaternion w,x,y,z
 };
+
+// Pose record from the recognition output: rotation matrix -> unit quaternion,
+// translation copied in millimetres. Range checks happen in EncodeResultSet.
+ObjectPose MakeObjectPose(const RigidTransform& cam_T_model, uint8_t model_id, uint8_t instance,
+                          double score);
 
 struct ResultSet {
   uint16_t sequence = 0;    // increments per set, wraps

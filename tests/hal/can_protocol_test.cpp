@@ -330,3 +330,33 @@ TEST(CanProtocolTest, BootUpHeartbeatAndNmt) {
 
 }  // namespace
 }  // namespace sh::protocol
+
+namespace sh::protocol {
+namespace {
+
+TEST(CanProtocolTest, PoseFromRigidTransformRotatesLikeTheMatrix) {
+  RigidTransform cam_T_model;
+  cam_T_model.R = (Eigen::AngleAxisf(2.5f, Eigen::Vector3f(1, -2, 0.5f).normalized()) *
+                   Eigen::AngleAxisf(-0.7f, Eigen::Vector3f::UnitZ()))
+                      .toRotationMatrix();
+  cam_T_model.t_mm = Eigen::Vector3f(12.5f, -300.25f, 950.0f);
+  const ObjectPose pose = MakeObjectPose(cam_T_model, 3, 1, 0.75);
+  const Eigen::Quaterniond q(pose.cam_q_model[0], pose.cam_q_model[1], pose.cam_q_model[2],
+                             pose.cam_q_model[3]);
+  const Eigen::Vector3d p_model(40, -5, 17);
+  const Eigen::Vector3d by_quaternion =
+      q * p_model +
+      Eigen::Vector3d(pose.cam_t_model_mm[0], pose.cam_t_model_mm[1], pose.cam_t_model_mm[2]);
+  const Eigen::Vector3d by_matrix = (cam_T_model * p_model.cast<float>()).cast<double>();
+  EXPECT_LT((by_quaternion - by_matrix).norm(), 1e-3);
+  EXPECT_NEAR(q.norm(), 1.0, 1e-9);
+  // The encoder accepts it as is.
+  ResultSet set;
+  set.object_count = 1;
+  set.objects[0] = pose;
+  Vector<CanFrame, kMaxResultFrames> frames;
+  EXPECT_TRUE(EncodeResultSet(set, 1, frames).ok());
+}
+
+}  // namespace
+}  // namespace sh::protocol
