@@ -6,6 +6,8 @@ namespace sh {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
+// Axis search reach for max_distance_px = 32 at 45 degrees, the largest the config allows.
+constexpr int kMaxSearchOffset = 46;
 
 // Unit gradient direction of each edge-map orientation code (256 steps per 180 degrees,
 // recog/image/edge_map.hpp), so the per-pixel test is a dot product instead of an atan2.
@@ -25,6 +27,25 @@ const OrientationTable& Orientations() {
     return t;
   }();
   return table;
+}
+
+// A point's distorted pixel and its squared normalised radius (x/z)^2 + (y/z)^2.
+struct Projected {
+  bool valid = false;  // in front of the camera
+  double radius2 = 0;
+  Eigen::Vector2f pixel{0, 0};
+};
+
+Projected Project(const CameraIntrinsics& cam, const Eigen::Vector3f& x_cam) {
+  Projected out;
+  if (!(x_cam.z() > 0.0f)) return out;
+  const double x = double{x_cam.x()} / x_cam.z(), y = double{x_cam.y()} / x_cam.z();
+  const Eigen::Vector2d d = Distort(cam, {x, y});
+  out.valid = true;
+  out.radius2 = x * x + y * y;
+  out.pixel = {static_cast<float>(cam.fx * d.x() + cam.cx),
+               static_cast<float>(cam.fy * d.y() + cam.cy)};
+  return out;
 }
 
 }  // namespace
@@ -98,7 +119,6 @@ Result<ImageScore> ScoreVisibleEdges(const ViewCamera& camera, const VisibleEdge
   const CameraIntrinsics& cam = camera.intrinsics;
   SH_RETURN_IF_ERROR(CheckEdgeMap(cam, edges));
   const double max_r2 = MaxImageRadius2(cam);
-  const int max_offset = static_cast<int>(config.max_distance_px);
   const int w = cam.width, h = cam.height;
 
   const OrientationTable& table = Orientations();
@@ -108,28 +128,43 @@ Result<ImageScore> ScoreVisibleEdges(const ViewCamera& camera, const VisibleEdge
   ImageScore score;
   for (int k = 0; k < visible.n_edges; ++k) {
     const VisibleEdge& ve = visible.edges[k];
-    const float ahead = 0.25f / ve.n_samples;  // a quarter sample: the local edge direction
     for (int r = 0; r < ve.n_runs; ++r) {
-      for (int i = ve.runs[r].first; i < ve.runs[r].end; ++i) {
-        const float s = SampleImageFraction(i, ve.n_samples);
-        Eigen::Vector2f p, q;
-        if (!ProjectInView(cam, max_r2, PointAtImageFraction(ve, s), &p)) continue;
-        const int px = static_cast<int>(std::floor(p.x() + 0.5f));
-        const int py = static_cast<int>(std::floor(p.y() + 0.5f));
+      // Each sample's pixel comes from the previous iteration's look-ahead, which also gives
+      // the local edge direction (distortion bends edges) at no extra projection.
+      const int first = ve.runs[r].first;
+      Projected here =
+          Project(cam, PointAtImageFraction(ve, SampleImageFraction(first, ve.n_samples)));
+      for (int i = first; i < ve.runs[r].end; ++i) {
+        // The next sample, or the edge's end half a step beyond the last one.
+        const float s_next = std::min(1.0f, SampleImageFraction(i + 1, ve.n_samples));
+        const Projected next = Project(cam, PointAtImageFraction(ve, s_next));
+        const Projected p = here;
+        here = next;
+        if (!p.valid || !(p.radius2 <= max_r2)) continue;  // outside the image's field
+        const int px = static_cast<int>(std::floor(p.pixel.x() + 0.5f));
+        const int py = static_cast<int>(std::floor(p.pixel.y() + 0.5f));
         if (px < 0 || py < 0 || px >= w || py >= h) continue;
         ++score.samples;
-        // Local direction from a point a quarter sample further on (distortion bends edges).
-        if (!ProjectInView(cam, 4.0 * max_r2, PointAtImageFraction(ve, s + ahead), &q)) continue;
-        Eigen::Vector2f dir = q - p;
+        // A neighbour far outside the field may be folded back by the distortion polynomial.
+        if (!next.valid || !(next.radius2 <= 4.0 * max_r2)) continue;
+        Eigen::Vector2f dir = next.pixel - p.pixel;
         const float len = dir.norm();
         if (!(len > 1e-6f)) continue;  // edge seen end-on: nothing to compare with
         dir /= len;
-        const Eigen::Vector2f normal(-dir.y(), dir.x());
+        // Search along the image axis closest to the edge's normal: a thin 8-connected edge
+        // line has a pixel in every column (or row) it crosses, which a walk along an oblique
+        // normal could step over. An axis offset k is k * |normal component| away from the
+        // edge's line, so the reach is scaled to keep max_distance_px perpendicular.
+        const bool vertical = std::fabs(dir.x()) >= std::fabs(dir.y());
+        const float across = vertical ? std::fabs(dir.x()) : std::fabs(dir.y());  // |normal|
+        const int reach =
+            std::min(kMaxSearchOffset, static_cast<int>(config.max_distance_px / across + 1e-4f));
+        const int ax = vertical ? 0 : 1, ay = vertical ? 1 : 0;
         // Nearest offsets first: 0, +1, -1, +2, -2, ...
-        for (int step = 0; step <= 2 * max_offset; ++step) {
+        for (int step = 0; step <= 2 * reach; ++step) {
           const int offset = (step + 1) / 2 * ((step & 1) ? 1 : -1);
-          const int qx = static_cast<int>(std::floor(p.x() + offset * normal.x() + 0.5f));
-          const int qy = static_cast<int>(std::floor(p.y() + offset * normal.y() + 0.5f));
+          const int qx = px + offset * ax;
+          const int qy = py + offset * ay;
           if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
           if (edges.edge.row(qy)[qx] == 0) continue;
           const uint8_t o = edges.orientation.row(qy)[qx];

@@ -17,7 +17,9 @@
 namespace sh {
 
 struct VerifyConfig {
-  // A sample is confirmed by an edge pixel at most this far along the projected edge's normal.
+  // A sample is confirmed by an edge pixel at most this far from it across the projected edge
+  // (searched along the image axis closest to the edge's normal, so that thin oblique edge lines
+  // cannot be stepped over).
   float max_distance_px = 4.0f;
   // ... whose gradient direction is within this angle of that normal (modulo 180 degrees).
   float max_angle_deg = 10.0f;

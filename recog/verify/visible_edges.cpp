@@ -7,6 +7,7 @@ namespace {
 
 static_assert(kMaxModelFaces <= 32, "front-face sets are 32-bit masks");
 static_assert(kMaxSamplesPerEdge <= 0xffff, "sample indices are uint16_t");
+static_assert(kMaxOccluders <= 32, "relevant occluders are a 32-bit mask");
 
 // Faces whose outward side contains the point c (model frame): the faces c can see.
 uint32_t FrontFaceMask(const Model& m, const Eigen::Vector3d& c) {
@@ -67,6 +68,29 @@ bool RayBlocked(const Model& m, uint32_t mask, const Eigen::Vector3d& c, const E
   return false;
 }
 
+// Extent of something as seen from the camera: the box of its rays in normalised image
+// coordinates (x/z, y/z) and its nearest depth. A face can hide part of an edge only if their
+// boxes overlap and the face comes nearer than the edge's far end (along one ray, nearer means
+// smaller z).
+struct RayBox {
+  float x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY, z0 = INFINITY;
+  void Add(const Eigen::Vector3f& p_cam) {
+    const float x = p_cam.x() / p_cam.z(), y = p_cam.y() / p_cam.z();
+    x0 = std::min(x0, x);
+    y0 = std::min(y0, y);
+    x1 = std::max(x1, x);
+    y1 = std::max(y1, y);
+    z0 = std::min(z0, p_cam.z());
+  }
+  // Everything: for things reaching behind the camera plane, where the box means nothing.
+  static RayBox All() { return {-INFINITY, -INFINITY, INFINITY, INFINITY, -INFINITY}; }
+  bool MayHide(const RayBox& edge, float edge_far_z) const {
+    constexpr float kMargin = 1e-4f;  // about 0.1 px at f = 1000 px
+    return x0 <= edge.x1 + kMargin && edge.x0 <= x1 + kMargin && y0 <= edge.y1 + kMargin &&
+           edge.y0 <= y1 + kMargin && z0 < edge_far_z;
+  }
+};
+
 // An accepted object as seen from the camera being processed.
 struct Occluder {
   const Model* model = nullptr;
@@ -75,6 +99,7 @@ struct Occluder {
   uint32_t front_mask = 0;
   Eigen::Vector3d centre_cam;  // bounding sphere, camera frame
   double radius2 = 0;
+  RayBox box;
 };
 
 // Squared distance from point s to the segment 0..x.
@@ -84,8 +109,10 @@ double SegmentDistance2(const Eigen::Vector3d& x, const Eigen::Vector3d& s) {
   return (u * x - s).squaredNorm();
 }
 
-bool BlockedByOccluders(const Occluder* occ, size_t n, const Eigen::Vector3d& x_cam) {
+bool BlockedByOccluders(const Occluder* occ, size_t n, uint32_t relevant,
+                        const Eigen::Vector3d& x_cam) {
   for (size_t i = 0; i < n; ++i) {
+    if (!(relevant & (1u << i))) continue;
     if (SegmentDistance2(x_cam, occ[i].centre_cam) > occ[i].radius2) continue;
     const Eigen::Vector3d x_occ = occ[i].occ_R_cam * x_cam + occ[i].occ_t_cam;
     if (RayBlocked(*occ[i].model, occ[i].front_mask, occ[i].occ_t_cam, x_occ)) return true;
@@ -214,12 +241,28 @@ Status ComputeVisibleEdges(const ViewCamera& camera, const PosedModel& object,
     occ[i].centre_cam = cam_T_occ.R.cast<double>() * centre_model + cam_T_occ.t_mm.cast<double>();
     const double radius = std::sqrt(r2) + kOcclusionToleranceMm;
     occ[i].radius2 = radius * radius;
+    for (int k = 0; k < om->n_corners; ++k) {
+      const Eigen::Vector3f p = cam_T_occ * om->corner(k);
+      if (!(p.z() > 0.0f)) {
+        occ[i].box = RayBox::All();
+        break;
+      }
+      occ[i].box.Add(p);
+    }
   }
 
   const RigidTransform cam_T_model = camera.cam_T_left * object.cam_T_model;
   const Eigen::Vector3d centre_model = cam_T_model.Inverse().t_mm.cast<double>();
   const uint32_t front = FrontFaceMask(m, centre_model);
   const CameraIntrinsics& cam = camera.intrinsics;
+  // Ray boxes of the front faces (all corners are in front of the camera, checked above).
+  RayBox face_box[kMaxModelFaces];
+  for (int f = 0; f < m.n_faces; ++f) {
+    if (!(front & (1u << f))) continue;
+    for (int k = 0; k < m.faces[f].n_vertices; ++k) {
+      face_box[f].Add(cam_T_model * m.corner(m.faces[f].vertices[k]));
+    }
+  }
 
   *out = VisibleEdgeSet{};
   for (int e = 0; e < m.n_edges; ++e) {
@@ -245,7 +288,20 @@ Status ComputeVisibleEdges(const ViewCamera& camera, const PosedModel& object,
 
     // Self-occlusion is tested in the model frame against front faces other than the edge's own
     // (the sample lies on those, exactly at the ray's end).
-    const uint32_t self_mask = front & ~adjacent;
+    RayBox edge_box;
+    edge_box.Add(ve.a_cam_mm);
+    edge_box.Add(ve.b_cam_mm);
+    const float edge_far_z = std::max(ve.a_cam_mm.z(), ve.b_cam_mm.z());
+    uint32_t self_mask = 0;
+    for (int f = 0; f < m.n_faces; ++f) {
+      if ((front & ~adjacent & (1u << f)) && face_box[f].MayHide(edge_box, edge_far_z)) {
+        self_mask |= 1u << f;
+      }
+    }
+    uint32_t relevant_occluders = 0;
+    for (size_t i = 0; i < n_occluders; ++i) {
+      if (occ[i].box.MayHide(edge_box, edge_far_z)) relevant_occluders |= 1u << i;
+    }
     const Eigen::Vector3d a_m = m.corner(edge.a).cast<double>();
     const Eigen::Vector3d ab_m = m.corner(edge.b).cast<double>() - a_m;
     const double az = ve.a_cam_mm.z(), bz = ve.b_cam_mm.z();
@@ -254,10 +310,10 @@ Status ComputeVisibleEdges(const ViewCamera& camera, const PosedModel& object,
       const double s = (i + 0.5) / n;
       const double t = s * az / ((1.0 - s) * bz + s * az);
       bool visible = !(self_mask && RayBlocked(m, self_mask, centre_model, a_m + t * ab_m));
-      if (visible && n_occluders > 0) {
+      if (visible && relevant_occluders != 0) {
         const Eigen::Vector3d x_cam =
             ve.a_cam_mm.cast<double>() + t * (ve.b_cam_mm - ve.a_cam_mm).cast<double>();
-        visible = !BlockedByOccluders(occ, n_occluders, x_cam);
+        visible = !BlockedByOccluders(occ, n_occluders, relevant_occluders, x_cam);
       }
       if (!visible) {
         run = Run::kNone;
