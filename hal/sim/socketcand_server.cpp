@@ -188,9 +188,9 @@ void SocketcandServer::Accept() {
     }
     if (slot == kSocketcandMaxClients) {
       static constexpr char kBusy[] = "< error too many clients >";
+      clients_rejected_.fetch_add(1);  // counted before the client can see the refusal
       [[maybe_unused]] const ssize_t w = send(fd, kBusy, sizeof(kBusy) - 1, MSG_NOSIGNAL);
       close(fd);
-      clients_rejected_.fetch_add(1);
       continue;
     }
     const int on = 1;
@@ -311,8 +311,12 @@ void SocketcandServer::HandleMessage(size_t index, const char* text, size_t leng
       if (c.phase != Phase::kRaw) break;
       CanFrame frame = cmd.frame;
       frame.timestamp_us = CanNowUs();
+      // Counted before the frame becomes visible on the bus, so a reader never sees the frame
+      // without the count.
+      frames_from_clients_.fetch_add(1);
       const Status sent = endpoint_->Send(frame);
       if (!sent.ok()) {
+        frames_from_clients_.fetch_sub(1);
         bus_send_errors_.fetch_add(1);
         if (config_.log != nullptr && logged_errors_ < kSocketcandLoggedErrorsMax) {
           ++logged_errors_;
@@ -321,7 +325,6 @@ void SocketcandServer::HandleMessage(size_t index, const char* text, size_t leng
         }
         return;
       }
-      frames_from_clients_.fetch_add(1);
       QueueToClients(frame, static_cast<int>(index));
       return;
     }
