@@ -12,3 +12,9 @@ stereohash_add_test(can_protocol_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/can_prot
 add_executable(can_sim_demo ${CMAKE_CURRENT_LIST_DIR}/can_sim_demo.cpp)
 target_link_libraries(can_sim_demo PRIVATE stereohash_hal_can_sim stereohash_can_protocol
                       stereohash_warnings)
+
+if(benchmark_FOUND)
+  add_executable(can_bench ${CMAKE_CURRENT_LIST_DIR}/can_bench.cpp)
+  target_link_libraries(can_bench PRIVATE stereohash_can_protocol stereohash_hal_can_sim
+                        benchmark::benchmark stereohash_warnings)
+endif()
