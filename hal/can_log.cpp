@@ -164,7 +164,7 @@ void CandumpLogger::Log(const CanFrame& frame) {
   char line[kCandumpLineMax];
   const size_t n = FormatCandumpLine(frame, bus_->name(), line, sizeof(line));
   if (n == 0 || std::fwrite(line, 1, n, out_) != n) {
-    ++write_errors_;
+    write_errors_.fetch_add(1);
     return;
   }
   if (flush_each_line_) std::fflush(out_);

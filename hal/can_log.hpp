@@ -5,6 +5,7 @@
 // with can-utils' canplayer and load in python-can (can.CanutilsLogReader).
 #pragma once
 
+#include <atomic>
 #include <cstdio>
 
 #include "hal/can.hpp"
@@ -39,7 +40,7 @@ class CandumpLogger final : public CanBus {
   const char* name() const override { return bus_->name(); }
 
   // Lines that could not be written (short write on the log file).
-  uint64_t write_errors() const { return write_errors_; }
+  uint64_t write_errors() const { return write_errors_.load(); }
 
  private:
   void Log(const CanFrame& frame);
@@ -47,7 +48,7 @@ class CandumpLogger final : public CanBus {
   CanBus* bus_;
   FILE* out_;
   bool flush_each_line_;
-  uint64_t write_errors_ = 0;
+  std::atomic<uint64_t> write_errors_{0};  // Send() and Receive() may run on two threads
 };
 
 }  // namespace sh::hal
