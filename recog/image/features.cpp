@@ -5,7 +5,8 @@ namespace sh {
 FeatureConfig FeatureConfig::DarkBackground() {
   FeatureConfig c;
   c.corners.sigma_px = 6.0f;
-  c.corners.threshold = 0.02f;
+  // About a right-angle corner of contrast 55; obtuse corners respond less.
+  c.corners.threshold = 0.01f;
   c.corners.nms_radius_px = 6;
   c.canny.sigma_px = 1.0f;
   c.canny.low_threshold = 4.0f;
@@ -16,7 +17,8 @@ FeatureConfig FeatureConfig::DarkBackground() {
 FeatureConfig FeatureConfig::LightBackground() {
   FeatureConfig c;
   c.corners.sigma_px = 2.0f;
-  c.corners.threshold = 0.02f;
+  // Objects differ less from a light background: about a right-angle corner of contrast 40.
+  c.corners.threshold = 0.004f;
   c.corners.nms_radius_px = 3;
   c.canny.sigma_px = 2.0f;
   // The peak gradient of a step halves when sigma doubles.

@@ -198,25 +198,28 @@ void FillLineGeometry(float theta, float rho, Line2D& line) {
   line.point_y_px = rho * c;
 }
 
-// Segments of the line covered by the given pixels within support_distance_px.
-void ComputeSupport(HoughWorkspace& ws, const HoughConfig& config, const uint32_t* idx, size_t n,
-                    Line2D& line) {
+// Runs of the given pixels (those within max_dist of the line) along the line: 1 px bins of
+// the position t along the direction, merged across gaps of at most max_gap_px. Returns the
+// number of runs in ws.runs, ordered along the line.
+size_t BuildRuns(HoughWorkspace& ws, const Line2D& line, const uint32_t* idx, size_t n,
+                 float max_dist, float max_gap_px) {
   constexpr int kOffset = HoughWorkspace::kSupportBins / 2;
   int lo_bin = HoughWorkspace::kSupportBins, hi_bin = -1;
   for (size_t i = 0; i < n; ++i) {
     const HoughEdgePoint& p = ws.points[idx[i]];
-    if (std::fabs(line.DistancePx(p.x, p.y)) > config.support_distance_px) continue;
+    if (std::fabs(line.DistancePx(p.x, p.y)) > max_dist) continue;
     const float t = (p.x - line.point_x_px) * line.dir_x + (p.y - line.point_y_px) * line.dir_y;
     const int b =
         std::clamp(static_cast<int>(std::floor(t)) + kOffset, 0, HoughWorkspace::kSupportBins - 1);
     if (b < lo_bin || b > hi_bin) {
-      // Newly touched range: initialise the bins between the old and new extent lazily.
+      // Newly touched range: initialise the bins outside the old extent.
       const int from = hi_bin < 0 ? b : std::min(b, lo_bin);
       const int to = hi_bin < 0 ? b : std::max(b, hi_bin);
       for (int k = from; k <= to; ++k) {
-        if (k < lo_bin || k > hi_bin) {
+        if (hi_bin < 0 || k < lo_bin || k > hi_bin) {
           ws.support_lo[k] = INFINITY;
           ws.support_hi[k] = -INFINITY;
+          ws.support_count[k] = 0;
         }
       }
       lo_bin = from;
@@ -224,25 +227,37 @@ void ComputeSupport(HoughWorkspace& ws, const HoughConfig& config, const uint32_
     }
     ws.support_lo[b] = std::min(ws.support_lo[b], t);
     ws.support_hi[b] = std::max(ws.support_hi[b], t);
+    ++ws.support_count[b];
   }
-  line.segments.clear();
-  line.support_length_px = 0.0f;
-  if (hi_bin < 0) return;
-  // Runs of pixels with gaps of at most max_gap_px; each pixel covers +-0.5 px along the line.
   size_t run_count = 0;
   bool open = false;
-  HoughWorkspace::Run cur{0, 0};
+  HoughWorkspace::Run cur{};
   for (int k = lo_bin; k <= hi_bin; ++k) {
-    if (!(ws.support_lo[k] <= ws.support_hi[k])) continue;
-    if (open && ws.support_lo[k] - cur.t1 <= config.max_gap_px + 1.0f) {
+    if (ws.support_count[k] == 0) continue;
+    // Gap = missing length between the pixel extents (each pixel covers +-0.5 px).
+    if (open && ws.support_lo[k] - cur.t1 - 1.0f <= max_gap_px) {
       cur.t1 = ws.support_hi[k];
+      cur.count += ws.support_count[k];
     } else {
       if (open) ws.runs[run_count++] = cur;
-      cur = {ws.support_lo[k], ws.support_hi[k]};
+      cur = HoughWorkspace::Run{};
+      cur.t0 = ws.support_lo[k];
+      cur.t1 = ws.support_hi[k];
+      cur.count = ws.support_count[k];
       open = true;
     }
   }
   if (open) ws.runs[run_count++] = cur;
+  return run_count;
+}
+
+// Segments of the line covered by the given pixels within support_distance_px.
+void ComputeSupport(HoughWorkspace& ws, const HoughConfig& config, const uint32_t* idx, size_t n,
+                    Line2D& line) {
+  const size_t run_count =
+      BuildRuns(ws, line, idx, n, config.support_distance_px, config.max_gap_px);
+  line.segments.clear();
+  line.support_length_px = 0.0f;
   size_t kept = 0;
   for (size_t i = 0; i < run_count; ++i) {
     HoughWorkspace::Run r = ws.runs[i];
@@ -272,6 +287,113 @@ void ComputeSupport(HoughWorkspace& ws, const HoughConfig& config, const uint32_
     s.y1 = line.point_y_px + r.t1 * line.dir_y;
     (void)line.segments.push_back(s);  // kept <= capacity
   }
+}
+
+// Pixels of idx[0..n) within max_dist of the line, into ws.subset; returns their count.
+size_t SelectNear(HoughWorkspace& ws, const Line2D& line, const uint32_t* idx, size_t n,
+                  float max_dist) {
+  size_t m = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const HoughEdgePoint& p = ws.points[idx[i]];
+    if (std::fabs(line.DistancePx(p.x, p.y)) <= max_dist) ws.subset[m++] = idx[i];
+  }
+  return m;
+}
+
+// Least-squares line of the collected pixels, robust to a peak that bridges nearly collinear
+// edges: fit all, take the run with most pixels along that fit as the seed, fit it, then refit
+// with the pixels within support_distance_px (twice). theta/rho are updated when a fit succeeds.
+void RobustFit(HoughWorkspace& ws, const HoughConfig& config, size_t n, float& theta, float& rho) {
+  float t = theta, r = rho;
+  if (!FitLine(ws, ws.collected, n, t, r)) return;
+  Line2D line;
+  FillLineGeometry(t, r, line);
+  const size_t run_count =
+      BuildRuns(ws, line, ws.collected, n, config.collect_distance_px, config.max_gap_px);
+  if (run_count > 1) {
+    size_t best = 0;
+    for (size_t i = 1; i < run_count; ++i) {
+      if (ws.runs[i].count > ws.runs[best].count) best = i;
+    }
+    const HoughWorkspace::Run seed = ws.runs[best];
+    size_t m = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const HoughEdgePoint& p = ws.points[ws.collected[i]];
+      const float pt = (p.x - line.point_x_px) * line.dir_x + (p.y - line.point_y_px) * line.dir_y;
+      if (pt >= seed.t0 && pt <= seed.t1) ws.subset[m++] = ws.collected[i];
+    }
+    float t2 = t, r2 = r;
+    if (FitLine(ws, ws.subset, m, t2, r2)) {
+      t = t2;
+      r = r2;
+      FillLineGeometry(t, r, line);
+    }
+  }
+  for (int iter = 0; iter < 2; ++iter) {
+    const size_t m = SelectNear(ws, line, ws.collected, n, config.support_distance_px);
+    float t2 = t, r2 = r;
+    if (!FitLine(ws, ws.subset, m, t2, r2)) break;
+    t = t2;
+    r = r2;
+    FillLineGeometry(t, r, line);
+  }
+  theta = t;
+  rho = r;
+}
+
+// Drops from ws.collected[0..n) the runs whose own direction deviates from the line by more than
+// max_run_angle_deg (edges crossing at a shallow angle). Returns the new count; keeps everything
+// if that would leave nothing.
+size_t ReleaseCrossingRuns(HoughWorkspace& ws, const HoughConfig& config, const Line2D& line,
+                           size_t n) {
+  const size_t run_count =
+      BuildRuns(ws, line, ws.collected, n, config.collect_distance_px, config.max_gap_px);
+  if (run_count < 2) return n;
+  auto run_of = [&](float t) {
+    // Runs are ordered along the line; the last run starting at or before t holds it.
+    size_t lo = 0, hi = run_count;
+    while (hi - lo > 1) {
+      const size_t mid = (lo + hi) / 2;
+      (ws.runs[mid].t0 <= t ? lo : hi) = mid;
+    }
+    return lo;
+  };
+  for (size_t i = 0; i < n; ++i) {
+    const HoughEdgePoint& p = ws.points[ws.collected[i]];
+    const float dx = p.x - line.point_x_px, dy = p.y - line.point_y_px;
+    HoughWorkspace::Run& r = ws.runs[run_of(dx * line.dir_x + dy * line.dir_y)];
+    r.sx += dx;
+    r.sy += dy;
+    r.sxx += dx * dx;
+    r.sxy += dx * dy;
+    r.syy += dy * dy;
+  }
+  const float max_angle = config.max_run_angle_deg * kPi / 180.0f;
+  const float line_angle = std::atan2(line.dir_y, line.dir_x);
+  bool any_kept = false;
+  for (size_t k = 0; k < run_count; ++k) {
+    HoughWorkspace::Run& r = ws.runs[k];
+    r.keep = true;
+    if (r.count < 6) {
+      any_kept = true;
+      continue;
+    }
+    const float c = static_cast<float>(r.count);
+    const float cxx = r.sxx - r.sx * r.sx / c, cxy = r.sxy - r.sx * r.sy / c;
+    const float cyy = r.syy - r.sy * r.sy / c;
+    const float run_angle = 0.5f * std::atan2(2.0f * cxy, cxx - cyy);
+    float diff = std::fabs(std::remainder(run_angle - line_angle, kPi));
+    r.keep = diff <= max_angle;
+    any_kept = any_kept || r.keep;
+  }
+  if (!any_kept) return n;
+  size_t m = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const HoughEdgePoint& p = ws.points[ws.collected[i]];
+    const float t = (p.x - line.point_x_px) * line.dir_x + (p.y - line.point_y_px) * line.dir_y;
+    if (ws.runs[run_of(t)].keep) ws.collected[m++] = ws.collected[i];
+  }
+  return m;
 }
 
 // Gathers the pixel list from the edge map, sorted by theta window centre (counting sort).
@@ -350,7 +472,7 @@ Status ValidateHoughConfig(const HoughConfig& config) {
   }
   if (!(config.collect_distance_px > 0.0f) || !(config.support_distance_px > 0.0f) ||
       !(config.max_gap_px >= 0.0f) || !(config.min_segment_px >= 0.0f) ||
-      !(config.max_refine_shift_bins >= 0.0f)) {
+      !(config.max_refine_shift_bins >= 0.0f) || !(config.max_run_angle_deg > 0.0f)) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "Hough distances must be positive (collect %g, support %g px)",
                          static_cast<double>(config.collect_distance_px),
@@ -426,36 +548,30 @@ Status DetectLines(const ConstEdgeMapView& edges, const HoughConfig& config, Hou
       ++st.lines_rejected;
       continue;
     }
+    // Fit, then take the line's pixels afresh around the fitted line (in its own theta window):
+    // pixels of a different edge that the peak's band picked up stay for their own line.
+    float fit_theta = theta, fit_rho = rho;
+    RobustFit(ws, config, n, fit_theta, fit_rho);
+    const int fit_t = WrapTheta(static_cast<int>(std::lround(fit_theta / kHoughThetaStepRad)));
+    size_t m = CollectPoints(ws, tb, fit_t, fit_theta, fit_rho, config.collect_distance_px);
+    if (m == 0) m = CollectPoints(ws, tb, best_t, theta, rho, config.collect_distance_px);
+    {
+      Line2D fitted;
+      FillLineGeometry(fit_theta, fit_rho, fitted);
+      m = ReleaseCrossingRuns(ws, config, fitted, m);
+    }
+    n = m;
     for (size_t i = 0; i < n; ++i) CastVotes<-1, true>(ws, tb, ws.points[ws.collected[i]]);
 
     Line2D line;
     line.votes = static_cast<float>(peak) / kVoteOne;
-    // Least-squares refinement: all collected pixels, then those within the support distance of
-    // that fit (drops the pixels of a neighbouring edge that the 2 px band picked up).
-    float fit_theta = theta, fit_rho = rho;
-    if (FitLine(ws, ws.collected, n, fit_theta, fit_rho)) {
-      FillLineGeometry(fit_theta, fit_rho, line);
-      // Partition so that close pixels come first; the rest stay assigned to this line.
-      size_t close = 0;
-      for (size_t i = 0; i < n; ++i) {
-        const HoughEdgePoint& p = ws.points[ws.collected[i]];
-        if (std::fabs(line.DistancePx(p.x, p.y)) <= config.support_distance_px) {
-          std::swap(ws.collected[i], ws.collected[close++]);
-        }
-      }
-      float t2 = fit_theta, r2 = fit_rho;
-      if (close >= 2 && FitLine(ws, ws.collected, close, t2, r2)) {
-        fit_theta = t2;
-        fit_rho = r2;
-      }
-    }
     FillLineGeometry(fit_theta, fit_rho, line);
+    // Final fit on the pixels within the support distance of the assigned set.
+    const size_t close = SelectNear(ws, line, ws.collected, n, config.support_distance_px);
+    if (FitLine(ws, ws.subset, close, fit_theta, fit_rho))
+      FillLineGeometry(fit_theta, fit_rho, line);
     ComputeSupport(ws, config, ws.collected, n, line);
-    size_t supporting = 0;
-    for (size_t i = 0; i < n; ++i) {
-      const HoughEdgePoint& p = ws.points[ws.collected[i]];
-      supporting += std::fabs(line.DistancePx(p.x, p.y)) <= config.support_distance_px ? 1 : 0;
-    }
+    const size_t supporting = SelectNear(ws, line, ws.collected, n, config.support_distance_px);
     const bool accept =
         supporting >= static_cast<size_t>(config.min_edge_pixels) && !line.segments.empty();
     const int16_t owner = accept ? static_cast<int16_t>(lines.size()) : int16_t{-2};

@@ -9,8 +9,11 @@
 //    supports at most one line;
 //  - the peak is refined by a quadratic fit to its 3x3 neighbourhood (Niblack & Petkovic), kept
 //    at the cell centre when the fit is not a maximum or moves more than max_refine_shift_bins;
-//  - the line is then fitted to its pixels by total least squares (twice: all pixels, then those
-//    within support_distance_px), which gives sub-pixel accuracy;
+//  - the line is then fitted to its pixels by total least squares, which gives sub-pixel
+//    accuracy. The fit starts from the longest run of pixels along the line and is iterated with
+//    the pixels within support_distance_px, so that a peak that bridges two nearly collinear
+//    edges (a few px apart) settles on one of them; the pixels assigned to the line are then
+//    collected again around the fitted line;
 //  - its support is the set of segments of the line covered by its pixels within
 //    support_distance_px, with gaps up to max_gap_px merged and segments shorter than
 //    min_segment_px dropped.
@@ -81,6 +84,10 @@ struct HoughConfig {
   float support_distance_px = 1.0f;
   float max_gap_px = 3.0f;
   float min_segment_px = 5.0f;
+  // A run of collected pixels along the line (gaps <= max_gap_px) whose own direction differs
+  // from the line by more than this belongs to an edge crossing the line at a shallow angle; it
+  // is left for that edge instead of being assigned here. Runs of fewer than 6 pixels are kept.
+  float max_run_angle_deg = 3.0f;
   int min_edge_pixels = 15;  // lines with fewer assigned pixels within support are dropped
   int max_peaks = 4 * static_cast<int>(kMaxLines2d);  // bound on extraction iterations
 };
@@ -121,11 +128,16 @@ struct HoughWorkspace {
   HoughEdgePoint points[kMaxHoughEdgePixels];
   size_t point_count = 0;
   uint32_t collected[kMaxHoughEdgePixels];
+  uint32_t subset[kMaxHoughEdgePixels];  // pixels of the current least-squares fit
   // Support: per 1 px bin along the line, the extreme positions of its pixels.
   float support_lo[kSupportBins];
   float support_hi[kSupportBins];
+  int32_t support_count[kSupportBins];
   struct Run {
-    float t0, t1;
+    float t0, t1;                 // extreme pixel positions along the line
+    int32_t count;                // pixels in the run
+    float sx, sy, sxx, sxy, syy;  // moments of the run's pixels about the line's point
+    bool keep;
   };
   Run runs[kSupportBins / 2 + 1];
 };

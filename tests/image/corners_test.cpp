@@ -1,0 +1,210 @@
+#include "recog/image/corners.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "tests/image/synthetic_image.hpp"
+
+namespace sh {
+namespace {
+
+using test::Point2;
+using test::Polygon;
+
+std::vector<Polygon> SmallScene(double intensity) {
+  return {
+      {{{40.3, 50.6}, {150.2, 38.1}, {170.7, 140.4}, {55.8, 160.9}}, intensity},  // quadrilateral
+      {{{215.4, 60.2}, {300.6, 95.7}, {230.9, 190.3}}, intensity},                // triangle
+  };
+}
+
+struct Scene {
+  std::vector<uint8_t> pixels;
+  ConstGrayView view;
+  std::vector<Point2> vertices;
+};
+
+Scene MakeScene(double background, double object, double noise, uint32_t seed) {
+  Scene s;
+  test::SyntheticImage synth(340, 230, background);
+  for (const Polygon& p : SmallScene(object)) {
+    synth.Fill(p);
+    s.vertices.insert(s.vertices.end(), p.vertices.begin(), p.vertices.end());
+  }
+  synth.Blur(0.7);
+  synth.AddNoise(noise, seed);
+  s.view = synth.ToGray(s.pixels);
+  return s;
+}
+
+double NearestCorner(const Vector<Corner2D>& corners, Point2 p) {
+  double best = 1e9;
+  for (const Corner2D& c : corners) best = std::min(best, std::hypot(c.x_px - p.x, c.y_px - p.y));
+  return best;
+}
+
+double NearestVertex(const std::vector<Point2>& vertices, const Corner2D& c) {
+  double best = 1e9;
+  for (const Point2& v : vertices) best = std::min(best, std::hypot(c.x_px - v.x, c.y_px - v.y));
+  return best;
+}
+
+class CornerScaleTest : public ::testing::TestWithParam<float> {};
+
+TEST_P(CornerScaleTest, FindsEveryVertexAndNothingElse) {
+  auto scratch = std::make_unique<FilterScratch>();
+  for (bool dark_background : {true, false}) {
+    const Scene s = dark_background ? MakeScene(30, 200, 2.0, 1) : MakeScene(190, 90, 2.0, 2);
+    CornerConfig config;
+    config.sigma_px = GetParam();
+    config.nms_radius_px = std::max(3, int(config.sigma_px));
+    Vector<Corner2D, kMaxCorners2d> corners;
+    CornerStats stats;
+    ASSERT_TRUE(DetectCorners(s.view, config, *scratch, corners, &stats).ok());
+    double worst = 0;
+    for (const Point2& v : s.vertices) {
+      const double d = NearestCorner(corners, v);
+      worst = std::max(worst, d);
+      EXPECT_LT(d, 1.0) << "vertex (" << v.x << ", " << v.y << ") sigma_c " << config.sigma_px;
+    }
+    std::printf("sigma_c %.0f %s background: %zu corners, worst vertex error %.2f px\n",
+                double(config.sigma_px), dark_background ? "dark" : "light", corners.size(), worst);
+    // Nothing on the straight edges or in the flat regions.
+    for (const Corner2D& c : corners) {
+      EXPECT_LT(NearestVertex(s.vertices, c), 2.0)
+          << "spurious corner at (" << c.x_px << ", " << c.y_px << ") strength " << c.strength;
+    }
+    for (size_t i = 1; i < corners.size(); ++i) {
+      EXPECT_GE(corners[i - 1].strength, corners[i].strength);
+    }
+    EXPECT_EQ(stats.maxima_dropped, 0u);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scales, CornerScaleTest, ::testing::Values(1.5f, 2.0f, 4.0f, 6.0f));
+
+TEST(Corners, WithoutVertexRefinementTheMaximumLiesInsideTheCorner) {
+  // The curvature maximum of a blurred corner sits inside the wedge; the refinement removes that.
+  auto scratch = std::make_unique<FilterScratch>();
+  const Scene s = MakeScene(30, 200, 1.0, 3);
+  CornerConfig config;
+  config.sigma_px = 4.0f;
+  config.nms_radius_px = 4;
+  Vector<Corner2D, kMaxCorners2d> raw, refined;
+  config.refine_to_vertex = false;
+  ASSERT_TRUE(DetectCorners(s.view, config, *scratch, raw).ok());
+  config.refine_to_vertex = true;
+  ASSERT_TRUE(DetectCorners(s.view, config, *scratch, refined).ok());
+  double raw_sum = 0, refined_sum = 0;
+  for (const Point2& v : s.vertices) {
+    raw_sum += NearestCorner(raw, v);
+    refined_sum += NearestCorner(refined, v);
+  }
+  EXPECT_GT(raw_sum / s.vertices.size(), 1.0);
+  EXPECT_LT(refined_sum, raw_sum);
+}
+
+TEST(Corners, StrengthScalesWithContrastCubed) {
+  auto scratch = std::make_unique<FilterScratch>();
+  CornerConfig config;
+  config.refine_to_vertex = false;
+  float strength[2];
+  for (int i = 0; i < 2; ++i) {
+    test::SyntheticImage synth(120, 120, 20);
+    synth.Fill({{{60, 60}, {200, 60}, {200, 200}, {60, 200}}, 20.0 + (i + 1) * 100.0});
+    std::vector<uint8_t> px;
+    Vector<Corner2D, kMaxCorners2d> corners;
+    ASSERT_TRUE(DetectCorners(synth.ToGray(px), config, *scratch, corners).ok());
+    ASSERT_EQ(corners.size(), 1u);
+    strength[i] = corners[0].strength;
+  }
+  EXPECT_NEAR(strength[1] / strength[0], 8.0, 0.2);
+  // An ideal right-angle corner of contrast 200 is (200/255)^3 of the unit response; the
+  // sampled, pixel-aligned corner is close to the continuous one.
+  EXPECT_NEAR(strength[1], std::pow(200.0 / 255.0, 3), 0.1);
+}
+
+TEST(Corners, RelativeThresholdKeepsOnlyTheStrongest) {
+  auto scratch = std::make_unique<FilterScratch>();
+  const Scene s = MakeScene(30, 200, 2.0, 4);
+  CornerConfig config;
+  config.threshold = 0.0f;
+  config.relative_threshold = 0.9f;
+  Vector<Corner2D, kMaxCorners2d> corners;
+  CornerStats stats;
+  ASSERT_TRUE(DetectCorners(s.view, config, *scratch, corners, &stats).ok());
+  ASSERT_FALSE(corners.empty());
+  EXPECT_FLOAT_EQ(stats.threshold_used, 0.9f * stats.max_strength);
+  for (const Corner2D& c : corners) EXPECT_GT(c.strength, stats.threshold_used);
+}
+
+TEST(Corners, NoiseFillsTheOutputWithTheStrongestMaxima) {
+  auto scratch = std::make_unique<FilterScratch>();
+  test::SyntheticImage synth(kMaxImageWidth, kMaxImageHeight, 0);
+  synth.FillUniformNoise(5);
+  std::vector<uint8_t> px;
+  const ConstGrayView img = synth.ToGray(px);
+  CornerConfig config;
+  config.sigma_px = 1.0f;
+  config.threshold = 0.0f;
+  config.nms_radius_px = 1;
+  Vector<Corner2D, kMaxCorners2d> corners;
+  CornerStats stats;
+  ASSERT_TRUE(DetectCorners(img, config, *scratch, corners, &stats).ok());
+  ASSERT_EQ(corners.size(), kMaxCorners2d);
+  EXPECT_GT(stats.maxima_found, kMaxCorners2d);
+  EXPECT_EQ(stats.maxima_dropped, stats.maxima_found - kMaxCorners2d);
+  for (size_t i = 1; i < corners.size(); ++i) {
+    EXPECT_GE(corners[i - 1].strength, corners[i].strength);
+  }
+  for (const Corner2D& c : corners) {
+    EXPECT_TRUE(c.x_px >= 0 && c.x_px <= img.width - 1 && c.y_px >= 0 && c.y_px <= img.height - 1);
+  }
+  // Same input, same output.
+  Vector<Corner2D, kMaxCorners2d> again;
+  ASSERT_TRUE(DetectCorners(img, config, *scratch, again).ok());
+  ASSERT_EQ(again.size(), corners.size());
+  for (size_t i = 0; i < corners.size(); ++i) {
+    EXPECT_EQ(again[i].x_px, corners[i].x_px);
+    EXPECT_EQ(again[i].strength, corners[i].strength);
+  }
+  // A smaller output keeps the strongest: its weakest is at least the full list's k-th.
+  Vector<Corner2D, 16> few;
+  ASSERT_TRUE(DetectCorners(img, config, *scratch, few).ok());
+  ASSERT_EQ(few.size(), 16u);
+  for (size_t i = 0; i < few.size(); ++i) EXPECT_EQ(few[i].strength, corners[i].strength);
+}
+
+TEST(Corners, DegenerateImagesAndConfigs) {
+  auto scratch = std::make_unique<FilterScratch>();
+  Vector<Corner2D, kMaxCorners2d> corners;
+  std::vector<uint8_t> px(kMaxImageWidth * 4, 128);
+  CornerConfig config;
+  // Flat images of any shape: no corners.
+  for (auto [w, h] : {std::pair{1, 1}, {2, 2}, {1, 300}, {300, 1}, {kMaxImageWidth, 4}}) {
+    ASSERT_TRUE(DetectCorners(ConstGrayView{px.data(), w, h, w}, config, *scratch, corners).ok());
+    EXPECT_TRUE(corners.empty()) << w << "x" << h;
+  }
+  EXPECT_EQ(DetectCorners(ConstGrayView{}, config, *scratch, corners).code(),
+            StatusCode::kInvalidArgument);
+  const Status big = DetectCorners(ConstGrayView{px.data(), 10, kMaxImageHeight + 1, 10}, config,
+                                   *scratch, corners);
+  EXPECT_EQ(big.code(), StatusCode::kOutOfRange);
+  EXPECT_NE(std::string(big.message()).find("larger"), std::string::npos) << big.message();
+  config.sigma_px = 20.0f;
+  EXPECT_EQ(DetectCorners(ConstGrayView{px.data(), 4, 4, 4}, config, *scratch, corners).code(),
+            StatusCode::kOutOfRange);
+  config = CornerConfig{};
+  config.nms_radius_px = 0;
+  EXPECT_FALSE(DetectCorners(ConstGrayView{px.data(), 4, 4, 4}, config, *scratch, corners).ok());
+  config = CornerConfig{};
+  config.threshold = NAN;
+  EXPECT_FALSE(DetectCorners(ConstGrayView{px.data(), 4, 4, 4}, config, *scratch, corners).ok());
+}
+
+}  // namespace
+}  // namespace sh

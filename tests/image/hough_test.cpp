@@ -1,0 +1,322 @@
+#include "recog/image/hough.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "recog/image/canny.hpp"
+#include "tests/image/synthetic_image.hpp"
+
+namespace sh {
+namespace {
+
+using test::Point2;
+using test::Polygon;
+
+struct Side {
+  Point2 a, b;
+  double length() const { return std::hypot(b.x - a.x, b.y - a.y); }
+};
+
+struct Workspaces {
+  std::unique_ptr<FilterScratch> scratch = std::make_unique<FilterScratch>();
+  std::unique_ptr<EdgeBuffers> edges = std::make_unique<EdgeBuffers>();
+  std::unique_ptr<HoughWorkspace> hough = std::make_unique<HoughWorkspace>();
+};
+
+ConstEdgeMapView AsConst(const EdgeMapView& e) { return {e.edge, e.orientation}; }
+
+double AngleDiffDeg(double a, double b) {
+  double d = std::fmod(std::fabs(a - b), M_PI);
+  return std::min(d, M_PI - d) * 180 / M_PI;
+}
+
+// Index of the line matching a side best (smallest angle error + midpoint distance), or -1.
+int MatchSide(const Vector<Line2D>& lines, const Side& s, double& angle_err, double& dist_err) {
+  int best = -1;
+  double best_score = 1e9;
+  const double side_theta = std::atan2(s.b.y - s.a.y, s.b.x - s.a.x);
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const Line2D& l = lines[i];
+    const double ang = AngleDiffDeg(std::atan2(l.dir_y, l.dir_x), side_theta);
+    const double da = std::fabs(l.DistancePx(float(s.a.x), float(s.a.y)));
+    const double db = std::fabs(l.DistancePx(float(s.b.x), float(s.b.y)));
+    const double score = ang + std::max(da, db);
+    if (score < best_score) {
+      best_score = score;
+      best = int(i);
+      angle_err = ang;
+      dist_err =
+          std::fabs(l.DistancePx(float(0.5 * (s.a.x + s.b.x)), float(0.5 * (s.a.y + s.b.y))));
+    }
+  }
+  return best;
+}
+
+class HoughSceneTest : public ::testing::TestWithParam<std::pair<int, int>> {};
+
+TEST_P(HoughSceneTest, FindsEverySideOnceWithSubpixelAccuracy) {
+  const auto [w, h] = GetParam();
+  const std::vector<Polygon> polys = test::TestScene(w, h, 190.0);
+  test::SyntheticImage synth(w, h, 40.0);
+  for (const Polygon& p : polys) synth.Fill(p);
+  synth.Blur(0.7);
+  synth.AddNoise(2.0, 21);
+  std::vector<uint8_t> px;
+  const ConstGrayView img = synth.ToGray(px);
+  std::vector<Side> sides;
+  for (const Polygon& p : polys) {
+    for (size_t i = 0; i < p.vertices.size(); ++i) {
+      sides.push_back({p.vertices[i], p.vertices[(i + 1) % p.vertices.size()]});
+    }
+  }
+  Workspaces ws;
+  EdgeMapView edges;
+  CannyConfig canny;
+  ASSERT_TRUE(DetectEdges(img, canny, *ws.scratch, *ws.edges, edges).ok());
+  HoughConfig config;
+  Vector<Line2D, kMaxLines2d> lines;
+  HoughStats stats;
+  ASSERT_TRUE(DetectLines(AsConst(edges), config, *ws.hough, lines, &stats).ok());
+  std::printf("%dx%d: %zu edge pixels, %zu lines, %zu peaks, %zu rejected\n", w, h,
+              stats.edge_pixels, lines.size(), stats.peaks_examined, stats.lines_rejected);
+  EXPECT_EQ(lines.size(), sides.size());
+  std::vector<int> matched_by(lines.size(), 0);
+  double worst_angle = 0, worst_dist = 0;
+  for (const Side& s : sides) {
+    double angle_err = 0, dist_err = 0;
+    const int li = MatchSide(lines, s, angle_err, dist_err);
+    ASSERT_GE(li, 0);
+    ++matched_by[li];
+    worst_angle = std::max(worst_angle, angle_err);
+    worst_dist = std::max(worst_dist, dist_err);
+    EXPECT_LT(angle_err, 0.5) << "side (" << s.a.x << "," << s.a.y << ")-(" << s.b.x << "," << s.b.y
+                              << ")";
+    EXPECT_LT(dist_err, 0.5);
+    // The segments cover the side: inside [a, b] up to the corner rounding of Canny, and not
+    // beyond its ends.
+    const Line2D& l = lines[size_t(li)];
+    const double ux = (s.b.x - s.a.x) / s.length(), uy = (s.b.y - s.a.y) / s.length();
+    double covered = 0;
+    for (const Segment2D& seg : l.segments) {
+      double t0 = (seg.x0 - s.a.x) * ux + (seg.y0 - s.a.y) * uy;
+      double t1 = (seg.x1 - s.a.x) * ux + (seg.y1 - s.a.y) * uy;
+      if (t0 > t1) std::swap(t0, t1);
+      EXPECT_GT(t0, -2.0);
+      EXPECT_LT(t1, s.length() + 2.0);
+      covered += std::min(t1, s.length()) - std::max(t0, 0.0);
+    }
+    EXPECT_GT(covered, s.length() - 8.0) << "side length " << s.length();
+    if (covered < s.length() - 8.0) {
+      for (const Segment2D& seg : l.segments) {
+        std::printf("    seg (%.1f,%.1f)-(%.1f,%.1f) of side (%.1f,%.1f)-(%.1f,%.1f)\n", seg.x0,
+                    seg.y0, seg.x1, seg.y1, s.a.x, s.a.y, s.b.x, s.b.y);
+      }
+    }
+    EXPECT_NEAR(l.support_length_px, covered, 2.0 * l.segments.size() + 1.0);
+  }
+  for (size_t i = 0; i < lines.size(); ++i) EXPECT_EQ(matched_by[i], 1) << "line " << i;
+  std::printf("  worst angle error %.3f deg, worst distance error %.3f px\n", worst_angle,
+              worst_dist);
+}
+
+INSTANTIATE_TEST_SUITE_P(Sizes, HoughSceneTest,
+                         ::testing::Values(std::pair{756, 581}, std::pair{1280, 1024}));
+
+TEST(Hough, EachEdgePixelSupportsAtMostOneLine) {
+  // Crossing lines: the pixels at the crossings must go to one line only.
+  const int w = 300, h = 300;
+  test::SyntheticImage synth(w, h, 30.0);
+  synth.Fill({{{40, 40}, {260, 60}, {250, 70}, {35, 50}}, 200});      // thin bar
+  synth.Fill({{{140, 10}, {150, 12}, {130, 290}, {120, 288}}, 200});  // crossing bar
+  synth.Fill({{{20, 200}, {280, 120}, {285, 135}, {25, 215}}, 200});  // another
+  std::vector<uint8_t> px;
+  const ConstGrayView img = synth.ToGray(px);
+  Workspaces ws;
+  EdgeMapView edges;
+  ASSERT_TRUE(DetectEdges(img, CannyConfig{}, *ws.scratch, *ws.edges, edges).ok());
+  Vector<Line2D, kMaxLines2d> lines;
+  HoughStats stats;
+  ASSERT_TRUE(DetectLines(AsConst(edges), HoughConfig{}, *ws.hough, lines, &stats).ok());
+  ASSERT_GE(lines.size(), 6u);
+  std::vector<int> owned(lines.size(), 0);
+  size_t assigned = 0;
+  for (size_t i = 0; i < ws.hough->point_count; ++i) {
+    const HoughEdgePoint& p = ws.hough->points[i];
+    ASSERT_TRUE(edges.edge.at(p.x, p.y));
+    if (p.line >= 0) {
+      ASSERT_LT(size_t(p.line), lines.size());
+      ++owned[size_t(p.line)];
+    }
+    assigned += p.line != -1 ? 1 : 0;
+  }
+  EXPECT_EQ(assigned, stats.edge_pixels_assigned);
+  size_t total = 0;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    EXPECT_EQ(owned[i], lines[i].edge_pixels) << "line " << i;
+    total += size_t(lines[i].edge_pixels);
+  }
+  EXPECT_LE(total, stats.edge_pixels);
+  // Every edge pixel appears once in the transform.
+  size_t edge_count = 0;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) edge_count += edges.edge.at(x, y) ? 1 : 0;
+  }
+  EXPECT_EQ(stats.edge_pixels, edge_count);
+}
+
+TEST(Hough, LineGeometryIsConsistent) {
+  const int w = 200, h = 150;
+  test::SyntheticImage synth(w, h, 30.0);
+  synth.Fill({{{30.2, 20.7}, {170.4, 40.1}, {150.9, 130.3}, {20.5, 110.6}}, 210});
+  std::vector<uint8_t> px;
+  Workspaces ws;
+  EdgeMapView edges;
+  ASSERT_TRUE(DetectEdges(synth.ToGray(px), CannyConfig{}, *ws.scratch, *ws.edges, edges).ok());
+  Vector<Line2D, kMaxLines2d> lines;
+  ASSERT_TRUE(DetectLines(AsConst(edges), HoughConfig{}, *ws.hough, lines).ok());
+  ASSERT_EQ(lines.size(), 4u);
+  for (const Line2D& l : lines) {
+    EXPECT_GE(l.theta_rad, 0.0f);
+    EXPECT_LT(l.theta_rad, float(M_PI));
+    EXPECT_NEAR(std::hypot(l.dir_x, l.dir_y), 1.0, 1e-5);
+    EXPECT_NEAR(l.DistancePx(l.point_x_px, l.point_y_px), 0.0, 1e-3);
+    EXPECT_NEAR(l.DistancePx(l.point_x_px + 50 * l.dir_x, l.point_y_px + 50 * l.dir_y), 0.0, 1e-3);
+    float sum = 0;
+    for (const Segment2D& s : l.segments) {
+      EXPECT_NEAR(l.DistancePx(s.x0, s.y0), 0.0, 1e-3);
+      EXPECT_NEAR(l.DistancePx(s.x1, s.y1), 0.0, 1e-3);
+      // Ordered along the direction.
+      EXPECT_GT((s.x1 - s.x0) * l.dir_x + (s.y1 - s.y0) * l.dir_y, 0.0f);
+      sum += s.length_px();
+    }
+    EXPECT_NEAR(sum, l.support_length_px, 1e-2);
+    EXPECT_GE(l.votes, HoughConfig{}.min_votes);
+    EXPECT_GE(l.edge_pixels, HoughConfig{}.min_edge_pixels);
+  }
+  for (size_t i = 1; i < lines.size(); ++i) EXPECT_GE(lines[i - 1].votes, lines[i].votes);
+}
+
+TEST(Hough, DashedLineGivesSeparateSegmentsAndGapsMerge) {
+  const int w = 260, h = 80;
+  std::vector<uint8_t> edge(w * h, 0), orient(w * h, 0);
+  // Horizontal line y = 40 with dashes of 20 px separated by 10 px gaps; gradient along y.
+  for (int x = 10; x < 250; ++x) {
+    if ((x - 10) % 30 < 20) {
+      edge[40 * w + x] = kEdgePixel;
+      orient[40 * w + x] = 128;
+    }
+  }
+  ConstEdgeMapView em{{edge.data(), w, h, w}, {orient.data(), w, h, w}};
+  auto hough = std::make_unique<HoughWorkspace>();
+  Vector<Line2D, kMaxLines2d> lines;
+  HoughConfig config;
+  ASSERT_TRUE(DetectLines(em, config, *hough, lines).ok());
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_EQ(lines[0].segments.size(), 8u);
+  EXPECT_NEAR(lines[0].support_length_px, 8 * 20.0f, 0.01f);
+  EXPECT_NEAR(std::fabs(lines[0].DistancePx(100, 40)), 0.0f, 1e-3f);
+  config.max_gap_px = 12.0f;
+  ASSERT_TRUE(DetectLines(em, config, *hough, lines).ok());
+  ASSERT_EQ(lines.size(), 1u);
+  ASSERT_EQ(lines[0].segments.size(), 1u);
+  EXPECT_NEAR(lines[0].segments[0].length_px(), 230.0f, 0.01f);
+  // More dashes than a line holds: the longest kMaxSegmentsPerLine are kept.
+  std::fill(edge.begin(), edge.end(), 0);
+  for (int x = 2; x < 258; ++x) {
+    const bool long_dash = x < 130;
+    const bool on = long_dash ? (x - 2) % 12 < 8 : (x >= 132 && (x - 132) % 8 < 6);
+    if (on) {
+      edge[40 * w + x] = kEdgePixel;
+      orient[40 * w + x] = 128;
+    }
+  }
+  config = HoughConfig{};
+  config.max_gap_px = 1.0f;
+  ASSERT_TRUE(DetectLines(em, config, *hough, lines).ok());
+  ASSERT_EQ(lines.size(), 1u);
+  ASSERT_EQ(lines[0].segments.size(), kMaxSegmentsPerLine);
+  // 11 dashes of 8 px on the left, 16 of 6 px on the right: all long ones and 5 short ones.
+  int long_count = 0;
+  for (const Segment2D& s : lines[0].segments) {
+    const bool is_long = std::fabs(s.length_px() - 8.0f) < 0.01f;
+    EXPECT_TRUE(is_long || std::fabs(s.length_px() - 6.0f) < 0.01f) << s.length_px();
+    long_count += is_long ? 1 : 0;
+  }
+  EXPECT_EQ(long_count, 11);
+  for (size_t i = 1; i < lines[0].segments.size(); ++i) {
+    const Segment2D& a = lines[0].segments[i - 1];
+    const Segment2D& b = lines[0].segments[i];
+    EXPECT_GT((b.x0 - a.x1) * lines[0].dir_x + (b.y0 - a.y1) * lines[0].dir_y, 0.0f);
+  }
+}
+
+TEST(Hough, PathologicalEdgeMapsFillBuffersWithDefinedResults) {
+  // Every pixel an edge with random orientation: more pixels than the transform takes.
+  const int w = kMaxImageWidth, h = kMaxImageHeight;
+  std::vector<uint8_t> edge(size_t(w) * h, kEdgePixel), orient(size_t(w) * h);
+  std::mt19937 rng(3);
+  for (uint8_t& o : orient) o = uint8_t(rng());
+  ConstEdgeMapView em{{edge.data(), w, h, w}, {orient.data(), w, h, w}};
+  auto hough = std::make_unique<HoughWorkspace>();
+  Vector<Line2D, kMaxLines2d> lines;
+  HoughStats stats;
+  HoughConfig config;
+  config.max_peaks = 600;  // keeps the test short; the bound itself is what is tested
+  ASSERT_TRUE(DetectLines(em, config, *hough, lines, &stats).ok());
+  EXPECT_EQ(stats.edge_pixels, kMaxHoughEdgePixels);
+  EXPECT_EQ(stats.edge_pixels_dropped, size_t(w) * h - kMaxHoughEdgePixels);
+  EXPECT_TRUE(stats.stopped_by_capacity);
+  EXPECT_LE(lines.size(), kMaxLines2d);
+  EXPECT_LE(stats.peaks_examined, size_t(config.max_peaks));
+  for (const Line2D& l : lines) EXPECT_LE(l.segments.size(), kMaxSegmentsPerLine);
+  // A grid of more than kMaxLines2d strong lines (4 px apart, beyond the 2 px collection band)
+  // fills the line output exactly.
+  std::fill(edge.begin(), edge.end(), 0);
+  for (int y = 2; y < h - 2; y += 4) {
+    for (int x = 0; x < w; ++x) {
+      edge[size_t(y) * w + x] = kEdgePixel;
+      orient[size_t(y) * w + x] = 128;
+    }
+  }
+  for (int x = 2; x < w - 2; x += 4) {
+    for (int y = 0; y < h; ++y) {
+      if (edge[size_t(y) * w + x]) continue;
+      edge[size_t(y) * w + x] = kEdgePixel;
+      orient[size_t(y) * w + x] = 0;
+    }
+  }
+  ASSERT_TRUE(DetectLines(em, HoughConfig{}, *hough, lines, &stats).ok());
+  EXPECT_EQ(lines.size(), kMaxLines2d);
+  EXPECT_TRUE(stats.stopped_by_capacity);
+}
+
+TEST(Hough, EmptyAndBadInput) {
+  auto hough = std::make_unique<HoughWorkspace>();
+  Vector<Line2D, kMaxLines2d> lines;
+  std::vector<uint8_t> zero(64, 0);
+  ConstEdgeMapView em{{zero.data(), 8, 8, 8}, {zero.data(), 8, 8, 8}};
+  ASSERT_TRUE(DetectLines(em, HoughConfig{}, *hough, lines).ok());
+  EXPECT_TRUE(lines.empty());
+  EXPECT_EQ(DetectLines(ConstEdgeMapView{}, HoughConfig{}, *hough, lines).code(),
+            StatusCode::kInvalidArgument);
+  ConstEdgeMapView mismatched{{zero.data(), 8, 8, 8}, {zero.data(), 4, 8, 4}};
+  EXPECT_EQ(DetectLines(mismatched, HoughConfig{}, *hough, lines).code(),
+            StatusCode::kInvalidArgument);
+  ConstEdgeMapView big{{zero.data(), kMaxImageWidth + 1, 1, kMaxImageWidth + 1},
+                       {zero.data(), kMaxImageWidth + 1, 1, kMaxImageWidth + 1}};
+  EXPECT_EQ(DetectLines(big, HoughConfig{}, *hough, lines).code(), StatusCode::kOutOfRange);
+  HoughConfig bad;
+  bad.vote_half_width_px = 9.0f;
+  EXPECT_EQ(DetectLines(em, bad, *hough, lines).code(), StatusCode::kOutOfRange);
+  bad = HoughConfig{};
+  bad.collect_distance_px = 0.0f;
+  EXPECT_EQ(DetectLines(em, bad, *hough, lines).code(), StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace sh
