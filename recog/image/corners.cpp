@@ -77,6 +77,24 @@ void ResponseRow(const float* const* r0, const float* const* r1, const float* co
   }
 }
 
+// Response row from the smoothed image by central differences (rows y - 1, y, y + 1; borders
+// replicated).
+void DifferenceResponseRow(const float* __restrict up, const float* __restrict mid,
+                           const float* __restrict down, int width, float scale,
+                           float* __restrict out) {
+  auto response = [&](int xm, int x, int xp) {
+    const float ix = 0.5f * (mid[xp] - mid[xm]);
+    const float iy = 0.5f * (down[x] - up[x]);
+    const float ixx = mid[xp] - 2.0f * mid[x] + mid[xm];
+    const float iyy = down[x] - 2.0f * mid[x] + up[x];
+    const float ixy = 0.25f * (down[xp] - down[xm] - up[xp] + up[xm]);
+    return std::fabs(iy * iy * ixx - 2.0f * ix * iy * ixy + ix * ix * iyy) * scale;
+  };
+  for (int x = 1; x < width - 1; ++x) out[x] = response(x - 1, x, x + 1);
+  out[0] = response(0, 0, std::min(1, width - 1));
+  if (width > 1) out[width - 1] = response(width - 2, width - 1, width - 1);
+}
+
 bool IsLocalMax(const ImageView<const float>& resp, int x, int y, int radius) {
   const float v = resp.row(y)[x];
   const int y0 = std::max(0, y - radius), y1 = std::min(resp.height - 1, y + radius);
@@ -248,33 +266,49 @@ Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, Fil
   if (stats != nullptr) *stats = CornerStats{};
   SH_RETURN_IF_ERROR(ValidateGrayImage(image, "DetectCorners"));
   SH_RETURN_IF_ERROR(ValidateCornerConfig(config));
-  GaussianKernel g0, g1, g2;
-  SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 0, g0));
-  SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 1, g1));
-  SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 2, g2));
-  const int w = image.width, h = image.height, r = g0.radius;
-  ImageView<float> p0 = scratch.planes[0].view(w, h);
-  ImageView<float> p1 = scratch.planes[1].view(w, h);
-  ImageView<float> p2 = scratch.planes[2].view(w, h);
+  const int w = image.width, h = image.height;
   ImageView<float> resp = scratch.planes[3].view(w, h);
-  FilterRows(image, &g0, p0, &g1, p1, &g2, p2);
-
   // Normalisation: derivatives of total order 4 scale as sigma^-4 and N as contrast^3.
   const double s2 = double{config.sigma_px} * config.sigma_px;
   const float scale = static_cast<float>(s2 * s2 / (255.0 * 255.0 * 255.0 * kIdealCornerResponse));
-  const float* rows0[2 * kMaxGaussianRadius + 1];
-  const float* rows1[2 * kMaxGaussianRadius + 1];
-  const float* rows2[2 * kMaxGaussianRadius + 1];
-  float ix[kMaxImageWidth], iy[kMaxImageWidth], ixx[kMaxImageWidth], ixy[kMaxImageWidth],
-      iyy[kMaxImageWidth];
   float max_strength = 0.0f;
-  for (int y = 0; y < h; ++y) {
-    ClampedRowPointers(p0, y, r, rows0);
-    ClampedRowPointers(p1, y, r, rows1);
-    ClampedRowPointers(p2, y, r, rows2);
-    float* out = resp.row(y);
-    ResponseRow(rows0, rows1, rows2, r, g0, g1, g2, w, scale, out, ix, iy, ixx, ixy, iyy);
-    for (int x = 0; x < w; ++x) max_strength = std::max(max_strength, out[x]);
+  const float smooth_sigma = std::sqrt(std::max(0.0f, config.sigma_px * config.sigma_px - 0.25f));
+  if (!config.exact_derivatives && smooth_sigma >= kMinGaussianSigmaPx) {
+    GaussianKernel g0;
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(smooth_sigma, 0, g0));
+    ImageView<float> rows = scratch.planes[0].view(w, h);
+    ImageView<float> smooth = scratch.planes[1].view(w, h);
+    FilterRows(image, &g0, rows, nullptr, {}, nullptr, {});
+    FilterColumns(rows, g0, smooth);
+    for (int y = 0; y < h; ++y) {
+      float* out = resp.row(y);
+      DifferenceResponseRow(smooth.row(std::max(0, y - 1)), smooth.row(y),
+                            smooth.row(std::min(h - 1, y + 1)), w, scale, out);
+      for (int x = 0; x < w; ++x) max_strength = std::max(max_strength, out[x]);
+    }
+  } else {
+    GaussianKernel g0, g1, g2;
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 0, g0));
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 1, g1));
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 2, g2));
+    const int r = g0.radius;
+    ImageView<float> p0 = scratch.planes[0].view(w, h);
+    ImageView<float> p1 = scratch.planes[1].view(w, h);
+    ImageView<float> p2 = scratch.planes[2].view(w, h);
+    FilterRows(image, &g0, p0, &g1, p1, &g2, p2);
+    const float* rows0[2 * kMaxGaussianRadius + 1];
+    const float* rows1[2 * kMaxGaussianRadius + 1];
+    const float* rows2[2 * kMaxGaussianRadius + 1];
+    float ix[kMaxImageWidth], iy[kMaxImageWidth], ixx[kMaxImageWidth], ixy[kMaxImageWidth],
+        iyy[kMaxImageWidth];
+    for (int y = 0; y < h; ++y) {
+      ClampedRowPointers(p0, y, r, rows0);
+      ClampedRowPointers(p1, y, r, rows1);
+      ClampedRowPointers(p2, y, r, rows2);
+      float* out = resp.row(y);
+      ResponseRow(rows0, rows1, rows2, r, g0, g1, g2, w, scale, out, ix, iy, ixx, ixy, iyy);
+      for (int x = 0; x < w; ++x) max_strength = std::max(max_strength, out[x]);
+    }
   }
   const float threshold = std::max(config.threshold, config.relative_threshold * max_strength);
 

@@ -79,13 +79,14 @@ void CastVotes(HoughWorkspace& ws, const Tables& tb, const HoughEdgePoint& p) {
   }
 }
 
-void UpdateMaxima(HoughWorkspace& ws) {
+// Only blocks [block_lo, block_hi] can hold votes for the current image size.
+void UpdateMaxima(HoughWorkspace& ws, int block_lo, int block_hi) {
   for (int t = 0; t < kHoughThetaBins; ++t) {
     if (!ws.row_dirty[t]) continue;
     ws.row_dirty[t] = 0;
     int32_t best = INT32_MIN;
     int16_t best_arg = 0;
-    for (int b = 0; b < HoughWorkspace::kBlocks; ++b) {
+    for (int b = block_lo; b <= block_hi; ++b) {
       if (ws.block_dirty[t][b]) {
         ws.block_dirty[t][b] = 0;
         const int32_t* cell = ws.acc[t] + b * HoughWorkspace::kBlock;
@@ -116,7 +117,7 @@ float AccAt(const HoughWorkspace& ws, int t, int r) {
     t = WrapTheta(t);
     r = 2 * kHoughRhoOffset - r;  // bin of -rho
   }
-  if (r < 0 || r >= kHoughRhoBins) return 0.0f;
+  if (r < ws.acc_lo || r >= ws.acc_hi) return 0.0f;
   return static_cast<float>(ws.acc[t][r]);
 }
 
@@ -509,7 +510,17 @@ Status DetectLines(const ConstEdgeMapView& edges, const HoughConfig& config, Hou
   st.edge_pixels = ws.point_count;
   // Only the rho range this image can reach needs clearing and searching, but clearing the whole
   // accumulator keeps the block bookkeeping simple; memset speed makes it cheap.
-  std::fill(&ws.acc[0][0], &ws.acc[0][0] + sizeof(ws.acc) / sizeof(int32_t), 0);
+  // Votes of this image land in rho bins kHoughRhoOffset + [-(height - 1), diagonal], widened
+  // by the kernel; only those blocks are cleared and searched.
+  const int diagonal = static_cast<int>(std::ceil(std::hypot(e.width, e.height)));
+  const int block_lo = (kHoughRhoOffset - e.height - kMaxVoteHalfWidthPx) / HoughWorkspace::kBlock;
+  const int block_hi = (kHoughRhoOffset + diagonal + kMaxVoteHalfWidthPx) / HoughWorkspace::kBlock;
+  ws.acc_lo = block_lo * HoughWorkspace::kBlock;
+  ws.acc_hi = (block_hi + 1) * HoughWorkspace::kBlock;
+  for (int t = 0; t < kHoughThetaBins; ++t) {
+    std::fill(ws.acc[t] + block_lo * HoughWorkspace::kBlock,
+              ws.acc[t] + (block_hi + 1) * HoughWorkspace::kBlock, 0);
+  }
   for (size_t i = 0; i < ws.point_count; ++i) CastVotes<+1, false>(ws, tb, ws.points[i]);
   std::fill(&ws.block_dirty[0][0], &ws.block_dirty[0][0] + sizeof(ws.block_dirty), uint8_t{1});
   std::fill(ws.row_dirty, ws.row_dirty + kHoughThetaBins, uint8_t{1});
@@ -520,7 +531,7 @@ Status DetectLines(const ConstEdgeMapView& edges, const HoughConfig& config, Hou
       st.stopped_by_capacity = true;
       break;
     }
-    UpdateMaxima(ws);
+    UpdateMaxima(ws, block_lo, block_hi);
     int best_t = 0;
     for (int t = 1; t < kHoughThetaBins; ++t) {
       if (ws.row_max[t] > ws.row_max[best_t]) best_t = t;

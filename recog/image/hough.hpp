@@ -118,6 +118,7 @@ struct HoughWorkspace {
   static constexpr int kSupportBins = 2 * kHoughMaxDiagonalPx + 8;
 
   int32_t acc[kHoughThetaBins][kBlocks * kBlock];
+  int32_t acc_lo = 0, acc_hi = 0;  // rho bins [acc_lo, acc_hi) cleared for the current image
   int32_t block_max[kHoughThetaBins][kBlocks];
   int16_t block_arg[kHoughThetaBins][kBlocks];
   uint8_t block_dirty[kHoughThetaBins][kBlocks];
