@@ -259,7 +259,7 @@ Status SloppyStereo::PrepareLines(const StereoLine2D* lines, size_t count, bool 
         const double t = (ends[e] - p0).dot(dir);
         t_min = std::min(t_min, t);
         t_max = std::max(t_max, t);
-        out.ray_left[2 * k + e] = left_R_cam * PixelRay(cam, ends[e]);
+        out.ray_left[2 * k + e] = (left_R_cam * PixelRay(cam, ends[e])).cast<float>();
       }
     }
     out.segment_count = line.segment_count;
@@ -328,8 +328,10 @@ Status SloppyStereo::MatchLines(const StereoLine2D* left, size_t left_count,
         const PreparedLine& p = *sides[side];
         for (uint8_t k = 0; k < p.segment_count; ++k) {
           double s0 = 0.0, s1 = 0.0;
-          if (!RayLineParameter(line, origins[side], p.ray_left[2 * k], &s0) ||
-              !RayLineParameter(line, origins[side], p.ray_left[2 * k + 1], &s1)) {
+          if (!RayLineParameter(line, origins[side], p.ray_left[2 * k].cast<double>().normalized(),
+                                &s0) ||
+              !RayLineParameter(line, origins[side],
+                                p.ray_left[2 * k + 1].cast<double>().normalized(), &s1)) {
             continue;
           }
           const double lo = std::max(std::min(s0, s1), v0);

@@ -10,11 +10,12 @@ namespace sh {
 
 // Most features per image accepted by one stereo call. FeatureSource stores 16-bit indices, and
 // the matcher's static workspace is sized by these.
+// They equal the detectors' capacities (kMaxCorners2d, kMaxLines2d, kMaxSegmentsPerLine in
+// recog/image), checked by static_assert in image_adapters.hpp.
 inline constexpr size_t kMaxStereoCorners = 1024;
-inline constexpr size_t kMaxStereoLines = 256;
-// Edge-supported segments kept per line; a detector reporting more must merge or drop the
-// shortest ones.
-inline constexpr size_t kMaxStereoLineSegments = 8;
+inline constexpr size_t kMaxStereoLines = 512;
+// Edge-supported segments kept per line; a detector reporting more must drop the shortest.
+inline constexpr size_t kMaxStereoLineSegments = 16;
 
 // A corner in distorted pixel coordinates (as detected, not rectified).
 struct StereoPoint2D {
