@@ -3,7 +3,8 @@
 // edge pixel near it whose gradient is perpendicular to the projected edge. The hypothesis is
 // accepted when a large enough fraction of the samples is confirmed in both images.
 //
-// No heap: two VisibleEdgeSet (about 3 KB each) live on the stack.
+// No heap: one VisibleEdgeSet (2.9 KB) at a time and the occluder table of ComputeVisibleEdges
+// (about 2.5 KB for kMaxOccluders) live on the stack.
 #pragma once
 
 #include <cstddef>
