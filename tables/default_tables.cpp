@@ -12,4 +12,8 @@ size_t DefaultTableBlobSize() {
   return size_t(stereohash_default_table_blob_end - stereohash_default_table_blob);
 }
 
+Result<TableView> OpenDefaultTable() {
+  return TableView::Open(DefaultTableBlob(), DefaultTableBlobSize());
+}
+
 }  // namespace sh

@@ -46,8 +46,4 @@ Status MappedTable::Open(const char* path) {
   return Status::Ok();
 }
 
-Result<TableView> OpenDefaultTable() {
-  return TableView::Open(DefaultTableBlob(), DefaultTableBlobSize());
-}
-
 }  // namespace sh

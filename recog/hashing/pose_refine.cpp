@@ -63,7 +63,6 @@ void SelectCorrespondences(const RefineInput& in, const RigidTransform& cam_T_mo
     for (size_t j = 0; j < in.scene->lines.size(); ++j) {
       if (!in.line_active[j]) continue;
       const SceneLine& l = in.scene->lines[j];
-      // Cheap reject: the segment centre must be near the infinite line.
       const Eigen::Vector3f v = l.direction();
       const float d2 = SegmentLineDistance2(centre, dir, g.length, l.a_mm, v);
       if (d2 < best_d2) best_d2 = d2, best = int(j);
@@ -90,6 +89,10 @@ RefineResult RefinePose(const RefineInput& in, const RigidTransform& initial,
     // Fewer than three constraints cannot fix 6 parameters: keep the pose.
     if (c.matched_points + 2 * c.matched_lines < 3) break;
     for (int it = 0; it < config.iterations; ++it) {
+      // Rotations are parametrised about the object's own origin (t): x' = exp(w)(x - t) + t + d.
+      // About the camera origin, half a metre away, rotation and translation would be nearly
+      // collinear and the normal equations badly conditioned.
+      const Eigen::Vector3f centre = T.t_mm;
       Eigen::Matrix<float, 6, 6> H = Eigen::Matrix<float, 6, 6>::Zero();
       Eigen::Matrix<float, 6, 1> g = Eigen::Matrix<float, 6, 1>::Zero();
       cost = 0.0f;
@@ -98,7 +101,7 @@ RefineResult RefinePose(const RefineInput& in, const RigidTransform& initial,
         if (c.point_of_corner[i] < 0) continue;
         const Eigen::Vector3f x = T * m.corner(i);
         Eigen::Matrix<float, 3, 6> J;
-        J.leftCols<3>() = -Skew(x);
+        J.leftCols<3>() = -Skew(x - centre);
         J.rightCols<3>().setIdentity();
         const Eigen::Vector3f r = x - in.scene->points[c.point_of_corner[i]].p_mm;
         Accumulate<3>(J, r, w_point, H, g, cost);
@@ -113,7 +116,7 @@ RefineResult RefinePose(const RefineInput& in, const RigidTransform& initial,
         const Eigen::Vector3f x0 = T * eg.centre, u = T.Rotate(eg.dir);
         const float k = eg.length * 0.28867513f;  // L / sqrt(12)
         Eigen::Matrix<float, 6, 6> J;
-        J.topLeftCorner<3, 3>() = -P * Skew(x0);
+        J.topLeftCorner<3, 3>() = -P * Skew(x0 - centre);
         J.topRightCorner<3, 3>() = P;
         J.bottomLeftCorner<3, 3>() = -k * Skew(v) * Skew(u);
         J.bottomRightCorner<3, 3>().setZero();
@@ -123,9 +126,9 @@ RefineResult RefinePose(const RefineInput& in, const RigidTransform& initial,
         Accumulate<6>(J, r, w_line, H, g, cost);
         ++residual_count;
       }
-      // Small Levenberg damping keeps under-constrained directions (e.g. all edges parallel)
-      // from running away.
-      H.diagonal().array() += 1e-6f * (H.trace() / 6.0f + 1e-3f);
+      // A trace of Levenberg damping keeps under-constrained directions (e.g. all edges
+      // parallel) from running away without slowing the well-constrained ones.
+      H.diagonal().array() += 1e-7f * H.trace() + 1e-9f;
       const Eigen::Matrix<float, 6, 1> xi = -H.ldlt().solve(g);
       if (!xi.allFinite()) break;
       const Eigen::Vector3f w = xi.head<3>();
@@ -134,7 +137,7 @@ RefineResult RefinePose(const RefineInput& in, const RigidTransform& initial,
                                      ? Eigen::AngleAxisf(angle, w / angle).toRotationMatrix()
                                      : Eigen::Matrix3f::Identity();
       T.R = dR * T.R;
-      T.t_mm = dR * T.t_mm + xi.tail<3>();
+      T.t_mm = centre + xi.tail<3>();
       if (angle < 1e-6f && xi.tail<3>().norm() < 1e-4f) break;
     }
     Orthonormalize(T);

@@ -60,6 +60,20 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
                          kMaxHypothesesPerBasis);
   table_ = table;
   config_ = config;
+  // Reach of the model entries from their basis origins (plus the vote support), for the
+  // neighbourhood of a scene basis.
+  float point_reach = 0.0f, line_reach = 0.0f;
+  for (uint32_t i = 0; i < table.point_entry_count(); ++i) {
+    const PointEntry& e = table.point_entries()[i];
+    point_reach = std::max(point_reach, Eigen::Vector3f(e.x, e.y, e.z).norm() * kMmPerRaw);
+  }
+  for (uint32_t i = 0; i < table.line_entry_count(); ++i) {
+    const LineEntry& e = table.line_entries()[i];
+    line_reach = std::max(line_reach, Eigen::Vector3f(e.cx, e.cy, e.cz).norm() * kMmPerRaw +
+                                          0.5f * float(e.length) * kMmPerRaw);
+  }
+  point_reach_mm_ = point_reach + 2.0f * config.sigma_point_mm;
+  line_reach_mm_ = line_reach + 2.0f * config.sigma_line_mm;
   inv_sigma2_point_ = 1.0f / (config.sigma_point_mm * config.sigma_point_mm);
   inv_sigma2_line_ = 1.0f / (config.sigma_line_mm * config.sigma_line_mm);
   std::memset(point_vote_, 0, sizeof(point_vote_));
@@ -123,12 +137,15 @@ void Recognizer::GenerateCandidates() {
   all_candidates_generated_ = false;
   if (config_.order == BasisOrder::kQuality) {
     AppendCandidates(true);
-    // Best first; stable so that equal scores keep scene order (deterministic).
+    // Best first; equal scores keep scene order (deterministic). std::sort with the index as
+    // tie-break, not std::stable_sort, which may allocate a temporary buffer.
     uint32_t* order = order_scratch_;
     SceneBasis* sorted = sorted_scratch_;
     for (uint32_t i = 0; i < candidate_count_; ++i) order[i] = i;
-    std::stable_sort(order, order + candidate_count_, [this](uint32_t a, uint32_t b) {
-      return candidate_score_[a] > candidate_score_[b];
+    std::sort(order, order + candidate_count_, [this](uint32_t a, uint32_t b) {
+      if (candidate_score_[a] != candidate_score_[b])
+        return candidate_score_[a] > candidate_score_[b];
+      return a < b;
     });
     for (uint32_t i = 0; i < candidate_count_; ++i) sorted[i] = candidates_[order[i]];
     std::copy(sorted, sorted + candidate_count_, candidates_);
@@ -273,17 +290,22 @@ void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v) {
   }
   const LineEntry* base = table_.line_entries();
   const uint32_t* offsets = table_.line_bin_offsets();
+  const float angle_cut = 12.0f * float(kVoteCutoff) / inv_sigma2_line_;
   for (int z = lo[2]; z <= hi[2]; ++z) {
     for (int y = lo[1]; y <= hi[1]; ++y) {
       const uint32_t row = (uint32_t(z) * g.dims[1] + uint32_t(y)) * g.dims[0];
       const uint32_t begin = offsets[row + lo[0]], end = offsets[row + hi[0] + 1];
       for (uint32_t e = begin; e < end; ++e) {
         const LineEntry& l = base[e];
-        const Eigen::Vector3f c(float(l.cx) * kMmPerRaw, float(l.cy) * kMmPerRaw,
-                                float(l.cz) * kMmPerRaw);
         const Eigen::Vector3f u(float(l.vx) * kUnitPerRaw, float(l.vy) * kUnitPerRaw,
                                 float(l.vz) * kUnitPerRaw);
         const float length = float(l.length) * kMmPerRaw;
+        // The angle term of eq. 4.4 alone, L^2/12 (1 - cos^2), rules most entries out: a
+        // vote needs it below the cut-off d^2 < kVoteCutoff sigma^2.
+        const float cos_angle = v.dot(u);
+        if (length * length * (1.0f - cos_angle * cos_angle) >= angle_cut) continue;
+        const Eigen::Vector3f c(float(l.cx) * kMmPerRaw, float(l.cy) * kMmPerRaw,
+                                float(l.cz) * kMmPerRaw);
         const uint16_t vote =
             votes_lut_.Vote(SegmentLineDistance2(c, u, length, s, v), inv_sigma2_line_);
         if (vote > line_vote_[e]) {
@@ -295,8 +317,9 @@ void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v) {
   }
 }
 
-int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out) {
+int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out, float* best_per_model) {
   out.clear();
+  if (best_per_model != nullptr) std::fill(best_per_model, best_per_model + kMaxTableModels, 0.0f);
   RigidTransform basis_T_cam;
   Eigen::Vector3f shape_point;
   if (!SceneBasisFrame(b, &basis_T_cam, &shape_point)) return 0;
@@ -305,17 +328,26 @@ int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out) {
   const bool three_points = UsesThreePoints(hf), line_point = UsesLinePoint(hf);
 
   n_touched_points_ = n_touched_lines_ = 0;
-  for (size_t j = 0; j < s.points.size(); ++j) {
-    if (!point_active_[j]) continue;
-    if (three_points && (j == b.f[0] || j == b.f[1] || j == b.f[2])) continue;
-    if (line_point && j == b.f[1]) continue;
+  // Only features near the basis origin can match a model feature: every model entry lies
+  // within reach_mm of its basis origin. Scene lines vote only if their supported segment
+  // comes that close; their infinite extension elsewhere is not evidence for this object.
+  const Eigen::Vector3f origin = basis_T_cam.Inverse().t_mm;
+  point_grid_.ForEachNear(origin, point_reach_mm_, [&](int j) {
+    if (!point_active_[j]) return;
+    if (three_points && (j == b.f[0] || j == b.f[1] || j == b.f[2])) return;
+    if (line_point && j == b.f[1]) return;
     VotePoint(basis_T_cam * s.points[j].p_mm);
-  }
+  });
   if (three_points) VotePoint(shape_point);
+  const float line_reach2 = line_reach_mm_ * line_reach_mm_;
   for (size_t j = 0; j < s.lines.size(); ++j) {
     if (!line_active_[j]) continue;
     if (line_point && j == b.f[0]) continue;
-    const Eigen::Vector3f a = basis_T_cam * s.lines[j].a_mm;
+    const SceneLine& l = s.lines[j];
+    const Eigen::Vector3f ao = origin - l.a_mm;
+    const float t = std::clamp(ao.dot(line_dir_[j]), 0.0f, l.length_mm());
+    if ((ao - t * line_dir_[j]).squaredNorm() > line_reach2) continue;
+    const Eigen::Vector3f a = basis_T_cam * l.a_mm;
     const Eigen::Vector3f v = basis_T_cam.Rotate(line_dir_[j]);
     VoteLine(SupportVector(a, v), v);
   }
@@ -357,6 +389,8 @@ int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out) {
         (r.n_line_entries ? float(basis_line_sum_[bi]) / (65535.0f * r.n_line_entries) : 0.0f);
     basis_point_sum_[bi] = basis_line_sum_[bi] = 0;
     basis_touched_[bi] = 0;
+    if (best_per_model != nullptr)
+      best_per_model[r.model] = std::max(best_per_model[r.model], vote);
     if (vote < config_.vote_threshold || !((config_.model_mask >> r.model) & 1u)) continue;
     int pos = n_best < k_max ? n_best++ : k_max;
     if (pos == k_max && vote <= best_vote[k_max - 1]) continue;
@@ -446,6 +480,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
   objects.clear();
   PrepareScene(scene);
   uint32_t cursor = 0;
+  uint32_t fruitless = 0;
   Vector<Hypothesis, kMaxHypothesesPerBasis> hypotheses;
   RefineInput refine_in;
   refine_in.scene = &scene;
@@ -473,9 +508,11 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     const SceneBasis basis = candidates_[cursor++];
     if (!BasisActive(basis)) continue;
     if (ActiveFeatureCount() < config_.min_active_features) break;
+    if (fruitless >= config_.max_fruitless_bases) break;
 
     ++stats.scene_bases_tried;
     stats.hypotheses += VoteForBasis(basis, hypotheses);
+    ++fruitless;
     for (const Hypothesis& h : hypotheses) {
       refine_in.model = &table_.model(h.model);
       const RefineResult refined = RefinePose(refine_in, h.cam_T_model, config_.refine);
@@ -485,8 +522,13 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
       candidate.cam_T_model = refined.cam_T_model;
       candidate.vote = h.vote;
       candidate.fit_rms_mm = refined.rms_mm;
-      candidate.matched_points = uint16_t(refined.matches.matched_points);
-      candidate.matched_lines = uint16_t(refined.matches.matched_lines);
+      // The verifier counts support within a tighter gate than refinement used: clutter near a
+      // wrong pose easily falls within 2 sigma, rarely within 1.
+      Correspondences tight;
+      SelectCorrespondences(refine_in, refined.cam_T_model,
+                            config_.support_gate_sigmas * config_.sigma_point_mm, &tight);
+      candidate.matched_points = uint16_t(tight.matched_points);
+      candidate.matched_lines = uint16_t(tight.matched_lines);
       ++stats.verifications;
       if (!verifier.Verify(*refine_in.model, objects, candidate)) continue;
       for (const RecognizedObject& o : objects) candidate.instance += o.model == candidate.model;
@@ -495,6 +537,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
         break;
       }
       ++stats.accepted;
+      fruitless = 0;
       RemoveObjectFeatures(*refine_in.model, refined.matches);
       break;
     }

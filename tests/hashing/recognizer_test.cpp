@@ -1,0 +1,187 @@
+#include "recog/hashing/recognizer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "tests/hashing/fixtures.hpp"
+
+namespace sh {
+namespace {
+
+using testing_support::BuildTable;
+using testing_support::MakeRecognizer;
+using testing_support::ModelsOf;
+using testing_support::Poses;
+
+class RecognizerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    auto view = OpenDefaultTable();
+    ASSERT_TRUE(view.ok());
+    view_ = *view;
+    models_ = ModelsOf(view_);
+    synthetic_ = std::make_unique<SyntheticScene>();
+  }
+  TableView view_;
+  std::vector<Model> models_;
+  std::unique_ptr<SyntheticScene> synthetic_;
+  Vector<RecognizedObject, kMaxObjects> objects_;
+};
+
+TEST_F(RecognizerTest, FindsEachModelAloneWithoutNoiseExactly) {
+  auto recognizer = MakeRecognizer(view_);
+  SyntheticSceneParams p;
+  p.min_objects = p.max_objects = 1;
+  p.noise_min_mm = p.noise_max_mm = 0.0f;
+  p.missing_min = p.missing_max = 0.0f;
+  p.total_features = 0;
+  for (int m = 0; m < int(models_.size()); ++m) {
+    p.model_mask = 1u << m;
+    GenerateSyntheticScene(models_, p, 100 + m, synthetic_.get());
+    SceneSupportVerifier verifier;
+    ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, verifier, Budget{}, objects_).ok());
+    ASSERT_EQ(objects_.size(), 1u) << models_[m].name;
+    EXPECT_EQ(objects_[0].model, m);
+    const MatchCounts c = MatchToTruth(models_, synthetic_->truth, Poses(objects_), 0.05f, 0.05f);
+    EXPECT_EQ(c.correct, 1) << models_[m].name;
+  }
+}
+
+TEST_F(RecognizerTest, RecognisesClutteredMultiObjectScenes) {
+  auto recognizer = MakeRecognizer(view_);
+  SyntheticSceneParams p;
+  p.total_features = 400;
+  int correct = 0, truth = 0, false_alarms = 0;
+  for (uint64_t seed = 1; seed <= 20; ++seed) {
+    GenerateSyntheticScene(models_, p, seed, synthetic_.get());
+    SceneSupportVerifier verifier;
+    ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, verifier, Budget{}, objects_).ok());
+    const MatchCounts c = MatchToTruth(models_, synthetic_->truth, Poses(objects_));
+    correct += c.correct;
+    false_alarms += c.false_alarms;
+    truth += int(synthetic_->truth.size());
+  }
+  std::printf("hf5, 20 scenes x 400 features: %d of %d correct, %d false alarms\n", correct, truth,
+              false_alarms);
+  EXPECT_GE(correct, truth * 9 / 10);
+  EXPECT_LE(false_alarms, truth / 20);
+}
+
+TEST_F(RecognizerTest, EveryHashFunctionRecognisesObjects) {
+  SyntheticSceneParams p;
+  p.min_objects = 2;
+  p.max_objects = 3;
+  p.total_features = 150;
+  for (int hf = 1; hf <= 5; ++hf) {
+    auto table = BuildTable(static_cast<HashFunction>(hf));
+    auto recognizer = MakeRecognizer(table->view);
+    int correct = 0, truth = 0;
+    for (uint64_t seed = 1; seed <= 5; ++seed) {
+      GenerateSyntheticScene(models_, p, seed, synthetic_.get());
+      SceneSupportVerifier verifier;
+      ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, verifier, Budget{}, objects_).ok());
+      correct += MatchToTruth(models_, synthetic_->truth, Poses(objects_)).correct;
+      truth += int(synthetic_->truth.size());
+    }
+    std::printf("hf%d: %d of %d correct\n", hf, correct, truth);
+    EXPECT_GE(correct, truth * 3 / 4) << "hash function " << hf;
+  }
+}
+
+TEST_F(RecognizerTest, StopsWhenTheBudgetRunsOut) {
+  auto recognizer = MakeRecognizer(view_);
+  SyntheticSceneParams p;
+  p.total_features = 600;
+  GenerateSyntheticScene(models_, p, 7, synthetic_.get());
+  SceneSupportVerifier verifier;
+  Budget budget;
+  budget.max_scene_bases = 1;
+  RecognitionStats stats;
+  ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, verifier, budget, objects_, &stats).ok());
+  EXPECT_EQ(stats.scene_bases_tried, 1u);
+  EXPECT_TRUE(stats.budget_exhausted);
+  EXPECT_LE(objects_.size(), 1u);
+
+  // A deadline already in the past: nothing is tried, nothing is returned.
+  budget.max_scene_bases = 1000;
+  budget.deadline_ns = 1;
+  budget.now_ns = [] { return int64_t{2}; };
+  ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, verifier, budget, objects_, &stats).ok());
+  EXPECT_EQ(stats.scene_bases_tried, 0u);
+  EXPECT_TRUE(stats.budget_exhausted);
+  EXPECT_TRUE(objects_.empty());
+}
+
+TEST_F(RecognizerTest, HonoursTheModelMask) {
+  RecognizerConfig config;
+  config.model_mask = ~(1u << 0);  // everything but the cube
+  auto recognizer = MakeRecognizer(view_, config);
+  SyntheticSceneParams p;
+  p.min_objects = p.max_objects = 1;
+  p.model_mask = 1u << 0;
+  p.total_features = 100;
+  GenerateSyntheticScene(models_, p, 3, synthetic_.get());
+  SceneSupportVerifier verifier;
+  ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, verifier, Budget{}, objects_).ok());
+  for (const RecognizedObject& o : objects_) EXPECT_NE(o.model, 0);
+}
+
+// A verifier that rejects everything: nothing is reported, and the search tries every basis.
+class RejectAll : public HypothesisVerifier {
+ public:
+  bool Verify(const Model&, const Vector<RecognizedObject>&, RecognizedObject&) override {
+    ++calls;
+    return false;
+  }
+  int calls = 0;
+};
+
+TEST_F(RecognizerTest, ReportsOnlyVerifiedObjects) {
+  auto recognizer = MakeRecognizer(view_);
+  SyntheticSceneParams p;
+  p.min_objects = p.max_objects = 2;
+  p.total_features = 100;
+  GenerateSyntheticScene(models_, p, 11, synthetic_.get());
+  RejectAll verifier;
+  RecognitionStats stats;
+  ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, verifier, Budget{}, objects_, &stats).ok());
+  EXPECT_TRUE(objects_.empty());
+  EXPECT_GT(verifier.calls, 0);
+  EXPECT_EQ(stats.verifications, uint32_t(verifier.calls));
+  EXPECT_FALSE(stats.budget_exhausted);
+}
+
+// Removing an object takes every 3-D feature that shares a 2-D feature with it.
+TEST_F(RecognizerTest, RemovesFeaturesSharingTwoDimensionalSources) {
+  auto recognizer = MakeRecognizer(view_);
+  SyntheticSceneParams p;
+  p.min_objects = p.max_objects = 1;
+  p.noise_min_mm = p.noise_max_mm = 0.2f;
+  p.missing_min = p.missing_max = 0.0f;
+  p.total_features = 0;
+  GenerateSyntheticScene(models_, p, 5, synthetic_.get());
+  Scene& scene = synthetic_->scene;
+  // A second copy of the object shifted by 80 mm, every feature sharing its left source with
+  // the original: stereo ambiguity, not a second object.
+  const size_t np = scene.points.size(), nl = scene.lines.size();
+  for (size_t i = 0; i < np; ++i) {
+    ScenePoint q = scene.points[i];
+    q.p_mm += Eigen::Vector3f(80, 0, 0);
+    q.source.right = uint16_t(1000 + i);
+    ASSERT_TRUE(scene.points.push_back(q));
+  }
+  for (size_t i = 0; i < nl; ++i) {
+    SceneLine l = scene.lines[i];
+    l.a_mm += Eigen::Vector3f(80, 0, 0);
+    l.b_mm += Eigen::Vector3f(80, 0, 0);
+    l.source.right = uint16_t(1000 + i);
+    ASSERT_TRUE(scene.lines.push_back(l));
+  }
+  SceneSupportVerifier verifier;
+  ASSERT_TRUE(recognizer->Recognize(scene, verifier, Budget{}, objects_).ok());
+  EXPECT_EQ(objects_.size(), 1u);
+}
+
+}  // namespace
+}  // namespace sh
