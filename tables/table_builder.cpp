@@ -34,7 +34,7 @@ struct BuiltBasis {
   std::vector<StoredLine> lines;
 };
 
-Line3 EdgeLine(const Model& m, int e, bool reversed) {
+BasisLine3 EdgeLine(const Model& m, int e, bool reversed) {
   const Eigen::Vector3f a = m.corner(m.edges[e].a), b = m.corner(m.edges[e].b);
   Eigen::Vector3f d = (b - a).normalized();
   if (reversed) d = -d;

@@ -43,7 +43,7 @@ Eigen::Vector3f TriangleShapePoint(const Eigen::Vector3f& p0, const Eigen::Vecto
   return {a, x2, (d02 - x2 * x).norm()};
 }
 
-bool TwoLineFrame(const Line3& l0, const Line3& l1, const BasisLimits& limits,
+bool TwoLineFrame(const BasisLine3& l0, const BasisLine3& l1, const BasisLimits& limits,
                   RigidTransform* basis_T_world) {
   const Eigen::Vector3f& u = l0.direction;
   const Eigen::Vector3f& v = l1.direction;
@@ -62,12 +62,12 @@ bool TwoLineFrame(const Line3& l0, const Line3& l1, const BasisLimits& limits,
   return true;
 }
 
-float PointLineDistance(const Line3& line, const Eigen::Vector3f& point) {
+float PointLineDistance(const BasisLine3& line, const Eigen::Vector3f& point) {
   const Eigen::Vector3f w = point - line.point;
   return (w - w.dot(line.direction) * line.direction).norm();
 }
 
-bool LinePointFrame(HashFunction hf, const Line3& line, const Eigen::Vector3f& point,
+bool LinePointFrame(HashFunction hf, const BasisLine3& line, const Eigen::Vector3f& point,
                     const BasisLimits& limits, RigidTransform* basis_T_world) {
   const Eigen::Vector3f w = point - line.point;
   const Eigen::Vector3f foot = line.point + w.dot(line.direction) * line.direction;

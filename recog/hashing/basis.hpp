@@ -37,7 +37,7 @@ inline bool UsesLinePoint(HashFunction hf) {
 
 // An infinite line through `point` with unit `direction`; the sign of direction matters for
 // frames (it picks one of the frames a line basis allows).
-struct Line3 {
+struct BasisLine3 {
   Eigen::Vector3f point;
   Eigen::Vector3f direction;
 };
@@ -65,15 +65,15 @@ Eigen::Vector3f TriangleShapePoint(const Eigen::Vector3f& p0, const Eigen::Vecto
                                    const Eigen::Vector3f& p2);
 
 // Frame of two lines (hash fn 3): x along l0, xy-plane spanned by both directions.
-bool TwoLineFrame(const Line3& l0, const Line3& l1, const BasisLimits& limits,
+bool TwoLineFrame(const BasisLine3& l0, const BasisLine3& l1, const BasisLimits& limits,
                   RigidTransform* basis_T_world);
 
 // Frame of a line and a point off it (hash fns 4, 5): x along the line, y towards the point.
-bool LinePointFrame(HashFunction hf, const Line3& line, const Eigen::Vector3f& point,
+bool LinePointFrame(HashFunction hf, const BasisLine3& line, const Eigen::Vector3f& point,
                     const BasisLimits& limits, RigidTransform* basis_T_world);
 
 // Distance from a point to an infinite line.
-float PointLineDistance(const Line3& line, const Eigen::Vector3f& point);
+float PointLineDistance(const BasisLine3& line, const Eigen::Vector3f& point);
 
 // Support vector of a line: its point closest to the origin.
 inline Eigen::Vector3f SupportVector(const Eigen::Vector3f& point,

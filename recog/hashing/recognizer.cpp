@@ -174,7 +174,7 @@ void Recognizer::AppendCandidates(bool connected_only) {
   if (UsesLinePoint(hf)) {
     for (int i = 0; i < nl; ++i) {
       if (!line_active_[i]) continue;
-      const Line3 line{s.lines[i].a_mm, line_dir_[i]};
+      const BasisLine3 line{s.lines[i].a_mm, line_dir_[i]};
       const float length = s.lines[i].length_mm();
       for (int j = 0; j < np; ++j) {
         if (!point_active_[j]) continue;

@@ -66,10 +66,11 @@ TEST(Basis, LineFramesMoveWithTheLines) {
   int checked = 0;
   for (int i = 0; i < 300; ++i) {
     const RigidTransform T = RandomTransform(rng);
-    const Line3 l0{RandomPoint(rng), RandomPoint(rng).normalized()};
-    const Line3 l1{RandomPoint(rng), RandomPoint(rng).normalized()};
+    const BasisLine3 l0{RandomPoint(rng), RandomPoint(rng).normalized()};
+    const BasisLine3 l1{RandomPoint(rng), RandomPoint(rng).normalized()};
     const Eigen::Vector3f p = RandomPoint(rng) * 2.0f;
-    const Line3 m0{T * l0.point, T.Rotate(l0.direction)}, m1{T * l1.point, T.Rotate(l1.direction)};
+    const BasisLine3 m0{T * l0.point, T.Rotate(l0.direction)},
+        m1{T * l1.point, T.Rotate(l1.direction)};
     RigidTransform f, g;
     if (TwoLineFrame(l0, l1, limits, &f)) {
       ASSERT_TRUE(TwoLineFrame(m0, m1, limits, &g));
@@ -98,8 +99,8 @@ TEST(Basis, RejectsDegenerateBases) {
   RigidTransform f;
   const Eigen::Vector3f a(0, 0, 0), b(30, 0, 0), c(60, 0.5f, 0);
   EXPECT_FALSE(ThreePointFrame(HashFunction::kThreePointsFirst, a, b, c, limits, &f));  // collinear
-  const Line3 x{{0, 0, 0}, {1, 0, 0}};
-  const Line3 nearly_parallel{{0, 10, 0}, Eigen::Vector3f(1, 0.3f, 0).normalized()};
+  const BasisLine3 x{{0, 0, 0}, {1, 0, 0}};
+  const BasisLine3 nearly_parallel{{0, 10, 0}, Eigen::Vector3f(1, 0.3f, 0).normalized()};
   EXPECT_FALSE(TwoLineFrame(x, nearly_parallel, limits, &f));  // 16.7 degrees < 37
   EXPECT_FALSE(LinePointFrame(HashFunction::kLinePointMidway, x, {5, 10, 0}, limits, &f));  // 10 mm
   EXPECT_FALSE(LinePointFrame(HashFunction::kLinePointMidway, x, {5, 80, 0}, limits, &f));  // 80 mm
