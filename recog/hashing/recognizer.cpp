@@ -42,11 +42,14 @@ uint32_t NextRandom(uint32_t& state) {  // xorshift32: deterministic on every pl
 
 bool SceneSupportVerifier::Verify(const Model& model, const Vector<RecognizedObject>& accepted,
                                   RecognizedObject& candidate) {
-  const int features = model.n_corners + model.n_edges;
-  const float fraction =
-      float(candidate.matched_points + candidate.matched_lines) / float(features);
-  candidate.verify_score[0] = candidate.verify_score[1] = fraction;
-  return fraction >= min_fraction_;
+  // Points and lines are scored separately: a pose held by lines alone (or points alone) is
+  // under-determined in ways clutter can satisfy.
+  const float points = float(candidate.matched_points) / float(model.n_corners);
+  const float lines = float(candidate.matched_lines) / float(model.n_edges);
+  candidate.verify_score[0] = points;
+  candidate.verify_score[1] = lines;
+  return 0.5f * (points + lines) >= min_fraction_ && candidate.matched_points >= 3 &&
+         candidate.matched_lines >= 3;
 }
 
 Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) {
@@ -101,6 +104,8 @@ void Recognizer::PrepareScene(const Scene& scene) {
     positions[2 * i + 1] = l.b_mm;
   }
   endpoint_grid_.Build(positions, 2 * nl, 5.0f);
+  FindIncidentLines();
+  FindLineEndJoins();
   std::memset(used_left_point_, 0, sizeof(used_left_point_));
   std::memset(used_right_point_, 0, sizeof(used_right_point_));
   std::memset(used_left_line_, 0, sizeof(used_left_line_));
@@ -108,28 +113,79 @@ void Recognizer::PrepareScene(const Scene& scene) {
   GenerateCandidates();
 }
 
-bool Recognizer::IsJunction(const Eigen::Vector3f& p) const {
-  bool found = false;
-  endpoint_grid_.ForEachNear(p, config_.connect_tolerance_mm, [&](int) { found = true; });
-  return found;
-}
-
-// True if some scene line runs from an end of `line` to the point p (an object edge joining the
-// basis line to the basis point: the typical corner-edge-corner pattern of a polyhedron).
-bool Recognizer::Connected(int line, const Eigen::Vector3f& p) const {
+// A corner of a polyhedron is where edges end: a scene point is a junction when some scene
+// line passes within connect_tolerance_mm of it and one of that line's supported ends lies
+// within junction_reach_mm (edges are rarely detected right up to the corner).
+void Recognizer::FindIncidentLines() {
+  const Scene& s = *scene_;
   const float tol = config_.connect_tolerance_mm;
-  bool found = false;
-  const SceneLine& l = scene_->lines[line];
-  for (const Eigen::Vector3f& end : {l.a_mm, l.b_mm}) {
-    endpoint_grid_.ForEachNear(end, tol, [&](int item) {
-      const int other = item / 2;
-      if (other == line || found) return;
-      const SceneLine& m = scene_->lines[other];
-      const Eigen::Vector3f& far = (item & 1) ? m.a_mm : m.b_mm;
-      found = (far - p).squaredNorm() <= tol * tol;
+  for (size_t j = 0; j < s.points.size(); ++j) {
+    incident_count_[j] = 0;
+    if (!point_active_[j]) continue;
+    const Eigen::Vector3f& p = s.points[j].p_mm;
+    endpoint_grid_.ForEachNear(p, config_.junction_reach_mm, [&](int item) {
+      const int m = item / 2;
+      if (incident_count_[j] == kMaxIncidentLines || !line_active_[m]) return;
+      for (int k = 0; k < incident_count_[j]; ++k) {
+        if (incident_[j][k] == m) return;
+      }
+      if (PointLineDistance({s.lines[m].a_mm, line_dir_[m]}, p) > tol) return;
+      incident_[j][incident_count_[j]++] = int16_t(m);
     });
   }
-  return found;
+}
+
+bool Recognizer::IsJunction(int point) const { return incident_count_[point] > 0; }
+
+// True if the infinite lines meet (closest approach within 1.5 connect tolerances); `t_first`
+// receives the meeting point's parameter along the first line.
+bool Recognizer::LinesMeet(int first, int second, float* t_first) const {
+  const Scene& s = *scene_;
+  const Eigen::Vector3f &u = line_dir_[first], &v = line_dir_[second];
+  const Eigen::Vector3f w = s.lines[first].a_mm - s.lines[second].a_mm;
+  const float b = u.dot(v), d = u.dot(w), e = v.dot(w);
+  const float denom = 1.0f - b * b;
+  if (denom < 0.05f) return false;  // nearly parallel: no corner
+  const float t0 = (b * e - d) / denom, t1 = (e - b * d) / denom;
+  const Eigen::Vector3f gap = (s.lines[first].a_mm + t0 * u) - (s.lines[second].a_mm + t1 * v);
+  const float tol = 1.5f * config_.connect_tolerance_mm;
+  *t_first = t0;
+  return gap.squaredNorm() <= tol * tol;
+}
+
+// How many of a line's two ends are corners where another line ends too.
+void Recognizer::FindLineEndJoins() {
+  const Scene& s = *scene_;
+  const float reach = config_.junction_reach_mm;
+  for (size_t i = 0; i < s.lines.size(); ++i) {
+    line_end_joins_[i] = 0;
+    if (!line_active_[i]) continue;
+    const float length = s.lines[i].length_mm();
+    for (int end = 0; end < 2; ++end) {
+      bool joined = false;
+      endpoint_grid_.ForEachNear(end ? s.lines[i].b_mm : s.lines[i].a_mm, reach, [&](int item) {
+        const int m = item / 2;
+        float t = 0.0f;
+        if (joined || m == int(i) || !line_active_[m] || !LinesMeet(int(i), m, &t)) return;
+        joined = end ? std::fabs(t - length) <= reach : std::fabs(t) <= reach;
+      });
+      line_end_joins_[i] += joined;
+    }
+  }
+}
+
+// True if an edge runs from the basis line to the point: a line incident to the point meets
+// the basis line near the basis line's supported segment (corner-edge-corner, the typical
+// pattern of a polyhedron's outline).
+bool Recognizer::Connected(int line, int point) const {
+  const float reach = config_.junction_reach_mm;
+  const float length = scene_->lines[line].length_mm();
+  for (int k = 0; k < incident_count_[point]; ++k) {
+    const int m = incident_[point][k];
+    float t = 0.0f;
+    if (m != line && LinesMeet(line, m, &t) && t >= -reach && t <= length + reach) return true;
+  }
+  return false;
 }
 
 void Recognizer::GenerateCandidates() {
@@ -180,9 +236,15 @@ void Recognizer::AppendCandidates(bool connected_only) {
         if (!point_active_[j]) continue;
         const float d = PointLineDistance(line, s.points[j].p_mm);
         if (d < limits.min_point_line_mm || d > limits.max_point_line_mm) continue;
-        const bool connected = Connected(i, s.points[j].p_mm);
-        if (connected != connected_only) continue;
-        const float score = std::min(length, 60.0f) + (IsJunction(s.points[j].p_mm) ? 30.0f : 0.0f);
+        // First pass: bases with structural evidence (a connecting edge, or at least a
+        // corner-like point); second pass: the rest.
+        const bool junction = IsJunction(j);
+        if (junction != connected_only) continue;
+        // Object edges end in corners at both ends, object corners join two or three edges,
+        // and an edge joins the basis line to the basis point; clutter rarely has all three.
+        const float score = (Connected(i, j) ? 40.0f : 0.0f) +
+                            15.0f * float(std::min<int>(incident_count_[j], 3)) +
+                            20.0f * float(line_end_joins_[i]) + std::min(length, 60.0f) / 6.0f;
         if (!add(uint16_t(i), uint16_t(j), 0, score)) return;
       }
     }
@@ -211,7 +273,7 @@ void Recognizer::AppendCandidates(bool connected_only) {
     for (int i = 0; i < np; ++i) {
       if (!point_active_[i]) continue;
       const Eigen::Vector3f& pi = s.points[i].p_mm;
-      const bool junction_i = IsJunction(pi);
+      const bool junction_i = IsJunction(i);
       if (connected_only && !junction_i) continue;
       bool full = false;
       point_grid_.ForEachNear(pi, max_side, [&](int j) {
@@ -220,11 +282,21 @@ void Recognizer::AppendCandidates(bool connected_only) {
         point_grid_.ForEachNear(pi, max_side, [&](int k) {
           if (full || k == i || k == j || !point_active_[k]) return;
           const Eigen::Vector3f& pk = s.points[k].p_mm;
-          const bool connected = junction_i && IsJunction(pj) && IsJunction(pk);
+          const bool connected = junction_i && IsJunction(j) && IsJunction(k);
           if (connected != connected_only) return;
           RigidTransform unused;
           if (!ThreePointFrame(table_.hash_function(), pi, pj, pk, limits, &unused)) return;
-          const float score = (pj - pi).norm() + (pk - pi).norm();
+          // Corners joined by edges first: a line incident to both ends of a side.
+          auto joined = [this](int a, int b) {
+            for (int x = 0; x < incident_count_[a]; ++x)
+              for (int y = 0; y < incident_count_[b]; ++y)
+                if (incident_[a][x] == incident_[b][y]) return 1;
+            return 0;
+          };
+          const float score =
+              40.0f * float(joined(i, j) + joined(i, k) + joined(j, k)) +
+              5.0f * float(incident_count_[i] + incident_count_[j] + incident_count_[k]) +
+              0.01f * ((pj - pi).norm() + (pk - pi).norm());
           full = !add(uint16_t(i), uint16_t(j), uint16_t(k), score);
         });
       });
@@ -513,8 +585,14 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     ++stats.scene_bases_tried;
     stats.hypotheses += VoteForBasis(basis, hypotheses);
     ++fruitless;
+    // Every hypothesis of this basis is refined and verified; the best supported one wins
+    // (a partial view can fit a wrong model or a wrong orientation as well as the right one).
+    RecognizedObject best;
+    Correspondences best_matches;
+    float best_support = -1.0f;
     for (const Hypothesis& h : hypotheses) {
-      refine_in.model = &table_.model(h.model);
+      const Model& model = table_.model(h.model);
+      refine_in.model = &model;
       const RefineResult refined = RefinePose(refine_in, h.cam_T_model, config_.refine);
       if (TooCloseToAccepted(refined.cam_T_model, objects)) continue;
       RecognizedObject candidate;
@@ -530,16 +608,23 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
       candidate.matched_points = uint16_t(tight.matched_points);
       candidate.matched_lines = uint16_t(tight.matched_lines);
       ++stats.verifications;
-      if (!verifier.Verify(*refine_in.model, objects, candidate)) continue;
-      for (const RecognizedObject& o : objects) candidate.instance += o.model == candidate.model;
-      if (!objects.push_back(candidate)) {
+      if (!verifier.Verify(model, objects, candidate)) continue;
+      const float support = candidate.verify_score[0] + candidate.verify_score[1];
+      if (support > best_support) {
+        best_support = support;
+        best = candidate;
+        best_matches = refined.matches;
+      }
+    }
+    if (best_support >= 0.0f) {
+      for (const RecognizedObject& o : objects) best.instance += o.model == best.model;
+      if (!objects.push_back(best)) {
         stats.objects_full = true;
         break;
       }
       ++stats.accepted;
       fruitless = 0;
-      RemoveObjectFeatures(*refine_in.model, refined.matches);
-      break;
+      RemoveObjectFeatures(table_.model(best.model), best_matches);
     }
     if (stats.objects_full) break;
   }

@@ -52,7 +52,8 @@ struct RecognizerConfig {
   // find objects come early in quality order and the rest of the list only costs time.
   uint32_t max_fruitless_bases = 60;
   float min_object_separation_mm = 15.0f;  // two objects cannot share a centre this close
-  float connect_tolerance_mm = 4.0f;       // end points this close count as one junction
+  float connect_tolerance_mm = 2.5f;       // a line this close to a point or line meets it
+  float junction_reach_mm = 12.0f;         // an edge's detected end lies this close to its corner
   float support_gate_sigmas = 1.0f;        // gate for the matched counts handed to the verifier
   RefineConfig refine;
 };
@@ -91,7 +92,9 @@ class HypothesisVerifier {
                       RecognizedObject& candidate) = 0;
 };
 
-// Accepts when enough of the model's corners and edges found scene features after refinement.
+// Accepts when enough of the model's corners and edges found scene features after refinement
+// (mean of the corner and edge fractions at least min_fraction, and at least three of each).
+// Scores: {corner fraction, edge fraction}.
 class SceneSupportVerifier : public HypothesisVerifier {
  public:
   explicit SceneSupportVerifier(float min_fraction = 0.5f) : min_fraction_(min_fraction) {}
@@ -144,8 +147,11 @@ class Recognizer {
                        Eigen::Vector3f* shape_point) const;
   void GenerateCandidates();
   void AppendCandidates(bool connected_only);
-  bool Connected(int line, const Eigen::Vector3f& p) const;
-  bool IsJunction(const Eigen::Vector3f& p) const;
+  void FindIncidentLines();
+  void FindLineEndJoins();
+  bool LinesMeet(int first, int second, float* t_first) const;
+  bool Connected(int line, int point) const;
+  bool IsJunction(int point) const;
   void VotePoint(const Eigen::Vector3f& q);
   void VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v);
   void RemoveObjectFeatures(const Model& model, const Correspondences& c);
@@ -167,6 +173,10 @@ class Recognizer {
   Eigen::Vector3f line_dir_[kMaxSceneLines];
   SceneGrid point_grid_;
   SceneGrid endpoint_grid_;  // item 2i, 2i+1: end points a, b of line i
+  static constexpr int kMaxIncidentLines = 4;
+  int16_t incident_[kMaxScenePoints][kMaxIncidentLines];  // lines ending at each point
+  uint8_t incident_count_[kMaxScenePoints];
+  uint8_t line_end_joins_[kMaxSceneLines];  // 0..2 ends where another line ends too
   Eigen::Vector3f grid_scratch_[2 * kMaxSceneLines];
   uint32_t order_scratch_[kMaxSceneBases];
   SceneBasis sorted_scratch_[kMaxSceneBases];
