@@ -1,0 +1,81 @@
+#include "firmware/data_source.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "recog/camera/calibration_yaml.hpp"
+
+namespace sh::fw {
+
+FileDataSource::FileDataSource(const char* tables_path, const char* calibration_path,
+                               const StereoCalibration* fallback_calibration)
+    : tables_path_(tables_path),
+      calibration_path_(calibration_path),
+      fallback_(fallback_calibration) {}
+
+Result<TableView> FileDataSource::LoadTable() {
+  const bool builtin = std::strcmp(tables_path_, "builtin") == 0;
+  const void* blob = nullptr;
+  size_t size = 0;
+  if (builtin) {
+    blob = DefaultTableBlob();
+    size = DefaultTableBlobSize();
+  } else {
+    mapped_.Close();
+    SH_RETURN_IF_ERROR(mapped_.Open(tables_path_));
+    if (!corrupt_tables_) {
+      table_ = mapped_.view();
+      return table_;
+    }
+    blob = &mapped_.view().header();
+    size = mapped_.size();
+  }
+  if (corrupt_tables_) {
+    // A damaged copy: one flipped byte in the middle of the payload.
+    corrupt_copy_.reset(new uint64_t[(size + 7) / 8]);
+    std::memcpy(corrupt_copy_.get(), blob, size);
+    reinterpret_cast<uint8_t*>(corrupt_copy_.get())[size / 2] ^= 0x5A;
+    blob = corrupt_copy_.get();
+  }
+  Result<TableView> view = TableView::Open(blob, size);
+  if (!view.ok()) {
+    return Status::Error(view.status().code(), "%s tables: %s", builtin ? "built-in" : tables_path_,
+                         view.status().message());
+  }
+  table_ = *view;
+  return table_;
+}
+
+Result<StereoCalibration> FileDataSource::LoadCalibration() {
+  if (missing_calibration_) {
+    return Status::Error(StatusCode::kNotFound, "calibration missing (injected)");
+  }
+  if (calibration_path_[0] == '\0') {
+    if (fallback_ == nullptr) {
+      return Status::Error(StatusCode::kNotFound, "no calibration file configured");
+    }
+    return *fallback_;
+  }
+  static char text[kMaxCalibrationYamlBytes];
+  std::FILE* f = std::fopen(calibration_path_, "rb");
+  if (f == nullptr) {
+    return Status::Error(StatusCode::kNotFound, "cannot open calibration %s: %s", calibration_path_,
+                         std::strerror(errno));
+  }
+  const size_t n = std::fread(text, 1, sizeof(text), f);
+  const bool more = std::fgetc(f) != EOF;
+  std::fclose(f);
+  if (more) {
+    return Status::Error(StatusCode::kOutOfRange, "calibration %s is larger than %zu bytes",
+                         calibration_path_, kMaxCalibrationYamlBytes);
+  }
+  Result<StereoCalibration> calib = ParseCalibrationYaml(text, n);
+  if (!calib.ok()) {
+    return Status::Error(calib.status().code(), "%s: %s", calibration_path_,
+                         calib.status().message());
+  }
+  return calib;
+}
+
+}  // namespace sh::fw

@@ -1,0 +1,43 @@
+// The firmware's data: model tables (linked in or a mapped file) and the stereo calibration
+// (YAML file, or the simulator rig). Reloaded when a data fault is cleared, so a file fixed on
+// the board is picked up without a restart.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "firmware/firmware_core.hpp"
+#include "tables/table_file.hpp"
+
+namespace sh::fw {
+
+class FileDataSource final : public DataSource {
+ public:
+  // tables_path: "builtin" or a table blob file. calibration_path: a YAML file, or "" to use
+  // *fallback_calibration (the simulator rig; nullptr = none, which is a missing calibration).
+  FileDataSource(const char* tables_path, const char* calibration_path,
+                 const StereoCalibration* fallback_calibration);
+
+  Result<TableView> LoadTable() override;
+  Result<StereoCalibration> LoadCalibration() override;
+
+  // Fault injection (simulator and tests): the next loads see a copy of the tables with one
+  // payload byte flipped, or no calibration.
+  void InjectCorruptTables(bool corrupt) { corrupt_tables_ = corrupt; }
+  void InjectMissingCalibration(bool missing) { missing_calibration_ = missing; }
+
+  // The last table loaded successfully (valid while this object lives).
+  const TableView& table() const { return table_; }
+
+ private:
+  const char* tables_path_;
+  const char* calibration_path_;
+  const StereoCalibration* fallback_;
+  bool corrupt_tables_ = false;
+  bool missing_calibration_ = false;
+  MappedTable mapped_;
+  std::unique_ptr<uint64_t[]> corrupt_copy_;  // 8-byte aligned as TableView requires
+  TableView table_;
+};
+
+}  // namespace sh::fw

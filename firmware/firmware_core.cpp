@@ -1,0 +1,667 @@
+#include "firmware/firmware_core.hpp"
+
+#include <time.h>
+
+#include <chrono>
+#include <cstdarg>
+#include <cstdio>
+
+#include "firmware/realtime.hpp"
+
+namespace sh::fw {
+
+using namespace sh::protocol;
+
+int64_t MonotonicNs() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+namespace {
+
+void Log(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+void Log(const char* fmt, ...) {
+  // stderr is unbuffered: no allocation, one write per message (journald adds the time).
+  char line[320];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(line, sizeof(line), fmt, args);
+  va_end(args);
+  std::fprintf(stderr, "stereohash-fw: %s\n", line);
+}
+
+void SleepNs(int64_t ns) {
+  if (ns <= 0) return;
+  timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
+  nanosleep(&ts, nullptr);
+}
+
+uint32_t Saturate(uint64_t v, uint32_t max) { return v > max ? max : static_cast<uint32_t>(v); }
+
+}  // namespace
+
+Status FirmwareCore::Start(const CoreConfig& config, const CoreDevices& devices) {
+  if (threads_started_) {
+    return Status::Error(StatusCode::kFailedPrecondition, "firmware core already started");
+  }
+  if (devices.can == nullptr || devices.camera == nullptr || devices.recognition == nullptr ||
+      devices.data == nullptr) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "firmware core needs a CAN bus, a camera, a recognition and data");
+  }
+  SH_RETURN_IF_ERROR(CheckNodeId(config.node_id));
+  if (config.heartbeat_ms < 10 || config.capture_timeout_ms <= 0) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "heartbeat period %u ms or capture timeout %d ms out of range",
+                         config.heartbeat_ms, config.capture_timeout_ms);
+  }
+  config_ = config;
+  dev_ = devices;
+  node_ = config.node_id;
+  budget_ms_ = config.budget_ms;
+  free_run_dhz_ = config.free_run_dhz;
+  stop_ = false;
+  stopping_ = false;
+  queue_count_ = 0;
+  clear_requested_ = false;
+  faults_ = 0;
+
+  // Boot-up first (CiA 301): the PLC learns the node exists before any EMCY of the checks.
+  const Result<CanFrame> boot = EncodeBootUp(node_);
+  if (boot.ok()) (void)SendFrame(*boot);
+  nmt_ = NmtState::kOperational;  // self-starting node
+
+  LoadData();
+  const Status camera = dev_.camera->Start();
+  if (!camera.ok()) {
+    Log("camera start failed: %s", camera.message());
+    RaiseFault(kFaultCamera, static_cast<uint16_t>(EmcyCode::kSensor),
+               kSensorStartFailed | static_cast<uint32_t>(camera.code()) << 16);
+  } else {
+    camera_started_ = true;
+  }
+  booted_ = true;
+  UpdateState();
+
+  worker_alive_ns_ = MonotonicNs();
+  worker_ = std::thread([this] { WorkerLoop(); });
+  can_rx_ = std::thread([this] { CanRxLoop(); });
+  gpio_ = std::thread([this] { GpioLoop(); });
+  heartbeat_ = std::thread([this] { HeartbeatLoop(); });
+  threads_started_ = true;
+  if (config_.sched_fifo_priority > 0) {
+    const Status fifo = SetFifoPriority(worker_, config_.sched_fifo_priority);
+    if (!fifo.ok()) Log("%s; running with normal scheduling", fifo.message());
+  }
+  return Status::Ok();
+}
+
+void FirmwareCore::Stop() {
+  if (!threads_started_) return;
+  stopping_ = true;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  cv_.notify_all();
+  worker_.join();
+  can_rx_.join();
+  gpio_.join();
+  heartbeat_.join();
+  threads_started_ = false;
+  if (camera_started_) {
+    (void)dev_.camera->Stop();
+    camera_started_ = false;
+  }
+}
+
+CoreCounters FirmwareCore::counters() const {
+  std::lock_guard<std::mutex> lock(const_cast<std::mutex&>(counters_mutex_));
+  return counters_;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Boot checks
+
+void FirmwareCore::LoadData() {
+  faults_ &= ~(kFaultTables | kFaultCalibration | kFaultRecognition);
+  const Result<TableView> table = dev_.data->LoadTable();
+  if (!table.ok()) {
+    Log("model tables: %s", table.status().message());
+    RaiseFault(kFaultTables, static_cast<uint16_t>(EmcyCode::kDataSet), kDetailTables);
+  }
+  const Result<StereoCalibration> calib = dev_.data->LoadCalibration();
+  if (!calib.ok()) {
+    Log("calibration: %s", calib.status().message());
+    RaiseFault(kFaultCalibration, static_cast<uint16_t>(EmcyCode::kDataSet), kDetailCalibration);
+  }
+  if (!table.ok() || !calib.ok()) return;
+
+  model_count_ = table->model_count();
+  const uint32_t loaded = model_count_ >= 32 ? 0xFFFFFFFFu : (1u << model_count_) - 1;
+  uint32_t mask = config_.model_mask & loaded;
+  if (mask == 0) mask = loaded;
+  const Status init = dev_.recognition->Init(*calib, *table, mask);
+  if (!init.ok()) {
+    Log("recognition init: %s", init.message());
+    RaiseFault(kFaultRecognition, static_cast<uint16_t>(EmcyCode::kSoftware),
+               kDetailRecognitionInit);
+    return;
+  }
+  model_mask_ = mask;
+  applied_mask_ = mask;
+  Log("loaded %zu models, model mask 0x%x", model_count_, mask);
+}
+
+// ---------------------------------------------------------------------------------------------
+// State
+
+void FirmwareCore::UpdateState() {
+  FirmwareState s = FirmwareState::kInit;
+  if (faults_.load() != 0) {
+    s = FirmwareState::kFault;
+  } else if (busy_.load()) {
+    s = FirmwareState::kBusy;
+  } else if (booted_.load()) {
+    s = FirmwareState::kReady;
+  }
+  SetState(s);
+}
+
+void FirmwareCore::SetState(FirmwareState s) {
+  const FirmwareState old = state_.exchange(s);
+  if (old == s) return;
+  SetOutputs();
+  if (dev_.observer != nullptr) dev_.observer->OnStateChange(s);
+}
+
+void FirmwareCore::SetOutputs() {
+  if (dev_.gpio == nullptr) return;
+  const FirmwareState s = state_.load();
+  const bool operational = nmt_.load() == NmtState::kOperational;
+  (void)dev_.gpio->SetOutput(hal::GpioOutput::kReady, s == FirmwareState::kReady && operational);
+  (void)dev_.gpio->SetOutput(hal::GpioOutput::kBusy, s == FirmwareState::kBusy);
+}
+
+void FirmwareCore::RaiseFault(uint32_t bit, uint16_t code, uint32_t detail) {
+  faults_ |= bit;
+  UpdateState();
+  SendEmcy(code, detail);
+}
+
+// ---------------------------------------------------------------------------------------------
+// CAN output
+
+Status FirmwareCore::SendFrame(const CanFrame& frame) {
+  std::lock_guard<std::mutex> lock(send_mutex_);
+  const Status s = dev_.can->Send(frame);
+  if (!s.ok()) {
+    {
+      std::lock_guard<std::mutex> c(counters_mutex_);
+      ++counters_.send_errors;
+    }
+    // The EMCYs of these two follow from the heartbeat thread: the bus cannot take them now.
+    if (s.code() == StatusCode::kUnavailable) {
+      faults_ |= kFaultCanBusOff;
+    } else if (s.code() == StatusCode::kResourceExhausted) {
+      faults_ |= kFaultCanTxDropped;
+    }
+  }
+  return s;
+}
+
+void FirmwareCore::SendEmcy(uint16_t code, uint32_t detail) {
+  Emcy e;
+  e.error_code = code;
+  e.error_register = ErrorRegisterFor(code);
+  e.state = state_.load();
+  e.detail = detail;
+  const Result<CanFrame> frame = EncodeEmcy(e, node_);
+  if (frame.ok()) (void)SendFrame(*frame);
+  {
+    std::lock_guard<std::mutex> c(counters_mutex_);
+    ++counters_.emcy_sent;
+  }
+  if (dev_.observer != nullptr) dev_.observer->OnEmcy(e);
+}
+
+void FirmwareCore::SendAck(const CanFrame& command, const Status& status, uint32_t value,
+                           bool use_value) {
+  CommandAck ack = MakeCommandAck(command, status);
+  if (use_value) ack.value = value;
+  const Result<CanFrame> frame = EncodeCommandAck(ack, node_);
+  if (frame.ok()) (void)SendFrame(*frame);
+  if (!status.ok()) {
+    const Emcy e = MakeCommandRejectedEmcy(command, status, state_.load());
+    SendEmcy(e.error_code, e.detail);
+    std::lock_guard<std::mutex> c(counters_mutex_);
+    ++counters_.triggers_rejected;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Triggers
+
+bool FirmwareCore::QueueTrigger(uint16_t request_id, int64_t trigger_ns) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (queue_count_ == kTriggerQueueDepth) {
+      std::lock_guard<std::mutex> c(counters_mutex_);
+      ++counters_.triggers_dropped;
+      return false;
+    }
+    queue_[(queue_head_ + queue_count_) % kTriggerQueueDepth] = {request_id, trigger_ns};
+    ++queue_count_;
+  }
+  {
+    std::lock_guard<std::mutex> c(counters_mutex_);
+    ++counters_.triggers_accepted;
+  }
+  cv_.notify_all();
+  return true;
+}
+
+void FirmwareCore::WorkerLoop() {
+  PrefaultStack();
+  int64_t next_free_run_ns = 0;
+  uint16_t last_rate = 0;
+  while (true) {
+    Trigger trigger;
+    bool have_trigger = false;
+    bool clear = false;
+    CanFrame clear_frame;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      const uint16_t rate = free_run_dhz_.load();
+      const int64_t now = MonotonicNs();
+      if (rate != last_rate) {
+        last_rate = rate;
+        next_free_run_ns = rate ? now + 10'000'000'000ll / rate : 0;
+      }
+      // Wake at least every 100 ms so the heartbeat thread can see the loop is alive.
+      int64_t wait_ns = 100'000'000;
+      if (next_free_run_ns != 0 && next_free_run_ns - now < wait_ns) {
+        wait_ns = next_free_run_ns - now;
+      }
+      if (queue_count_ == 0 && !clear_requested_ && !stop_ && wait_ns > 0) {
+        cv_.wait_for(lock, std::chrono::nanoseconds(wait_ns));
+      }
+      worker_alive_ns_ = MonotonicNs();
+      if (stop_) break;
+      if (clear_requested_) {
+        clear = true;
+        clear_requested_ = false;
+        clear_frame = clear_frame_;
+      } else if (queue_count_ > 0) {
+        trigger = queue_[queue_head_];
+        queue_head_ = (queue_head_ + 1) % kTriggerQueueDepth;
+        --queue_count_;
+        have_trigger = true;
+      } else if (next_free_run_ns != 0 && MonotonicNs() >= next_free_run_ns) {
+        const int64_t period = 10'000'000'000ll / last_rate;
+        trigger = {0, next_free_run_ns};
+        // A recognition longer than the period skips ticks instead of bursting afterwards.
+        next_free_run_ns += period;
+        if (next_free_run_ns < MonotonicNs()) next_free_run_ns = MonotonicNs() + period;
+        const FirmwareState s = state_.load();
+        have_trigger = s == FirmwareState::kReady && nmt_.load() == NmtState::kOperational;
+      }
+    }
+    if (clear) ClearFault(clear_frame);
+    if (have_trigger) RunTrigger(trigger);
+    worker_alive_ns_ = MonotonicNs();
+  }
+}
+
+void FirmwareCore::RunTrigger(const Trigger& trigger) {
+  static ResultSet set;  // worker thread only; 5 KiB kept off the stack
+  set = ResultSet();
+  set.request_id = trigger.request_id;
+
+  if (faults_.load() != 0) {
+    // Accepted before the fault: answer with an empty set so the PLC is not left waiting.
+    set.status =
+        (faults_.load() & kFaultCamera) ? ResultStatus::kImageError : ResultStatus::kInternalError;
+    PublishResult(&set, nullptr);
+    return;
+  }
+  busy_ = true;
+  UpdateState();
+
+  const hal::CameraStats before = dev_.camera->stats();
+  hal::StereoFrame frame;
+  if (dev_.gpio != nullptr) (void)dev_.gpio->SetOutput(hal::GpioOutput::kStrobe, true);
+  const int64_t strobe_on = MonotonicNs();
+  const Status captured = dev_.camera->Capture(&frame, config_.capture_timeout_ms);
+  if (dev_.gpio != nullptr) {
+    SleepNs(int64_t{config_.strobe_min_us} * 1000 - (MonotonicNs() - strobe_on));
+    (void)dev_.gpio->SetOutput(hal::GpioOutput::kStrobe, false);
+  }
+  const hal::CameraStats after = dev_.camera->stats();
+
+  if (!captured.ok()) {
+    {
+      std::lock_guard<std::mutex> c(counters_mutex_);
+      ++counters_.capture_errors;
+    }
+    Log("capture: %s", captured.message());
+    set.status = ResultStatus::kImageError;
+    set.processing_time_us =
+        Saturate(static_cast<uint64_t>(MonotonicNs() - trigger.trigger_ns) / 1000, 0xFFFFFFFFu);
+    busy_ = false;
+    faults_ |= kFaultCamera;
+    UpdateState();
+    PublishResult(&set, nullptr);
+    SendEmcy(static_cast<uint16_t>(EmcyCode::kSensor),
+             kSensorCaptureFailed | static_cast<uint32_t>(captured.code()) << 16 |
+                 Saturate(after.timeouts, 0xFFFF));
+    return;
+  }
+  const uint64_t unpaired = (after.left_unpaired_drops + after.right_unpaired_drops) -
+                            (before.left_unpaired_drops + before.right_unpaired_drops);
+  if (unpaired > 0) {
+    // Frames without a partner were skipped but a pair was found: a warning, not a fault.
+    SendEmcy(static_cast<uint16_t>(EmcyCode::kSensor),
+             kSensorUnpairedFrames | Saturate(unpaired, 0xFFFFFF));
+  }
+
+  const uint32_t mask = model_mask_.load();
+  if (mask != applied_mask_.load()) {
+    const Status s = dev_.recognition->SetModelMask(mask);
+    if (s.ok()) {
+      applied_mask_ = mask;
+    } else {
+      Log("model mask 0x%x: %s", mask, s.message());
+    }
+  }
+  const Status processed =
+      dev_.recognition->Process(frame, static_cast<float>(budget_ms_.load()), &set);
+  if (!processed.ok()) {
+    {
+      std::lock_guard<std::mutex> c(counters_mutex_);
+      ++counters_.recognition_errors;
+    }
+    Log("recognition: %s", processed.message());
+    set.object_count = 0;
+    set.status = ResultStatus::kInternalError;
+  }
+  set.processing_time_us =
+      Saturate(static_cast<uint64_t>(MonotonicNs() - trigger.trigger_ns) / 1000, 0xFFFFFFFFu);
+  busy_ = false;
+  UpdateState();
+  PublishResult(&set, &frame);
+  if (!processed.ok()) {
+    SendEmcy(static_cast<uint16_t>(EmcyCode::kSoftware), static_cast<uint32_t>(processed.code())
+                                                             << 16);
+  }
+  dev_.camera->Release();
+}
+
+void FirmwareCore::PublishResult(ResultSet* set, const hal::StereoFrame* frame) {
+  if (nmt_.load() != NmtState::kOperational) return;  // results only when operational
+  static Vector<CanFrame, kMaxResultFrames> frames;   // worker thread only
+  set->sequence = sequence_;
+  frames.clear();
+  Status encoded = EncodeResultSet(*set, node_, frames);
+  if (!encoded.ok()) {
+    // Never a clamped pose: the set goes out empty with status 3 and an EMCY names the problem.
+    Log("result set %u: %s", set->sequence, encoded.message());
+    set->object_count = 0;
+    set->status = ResultStatus::kInternalError;
+    frames.clear();
+    encoded = EncodeResultSet(*set, node_, frames);
+  }
+  ++sequence_;
+  {
+    std::lock_guard<std::mutex> lock(send_mutex_);  // frames of one set back to back
+    for (const CanFrame& f : frames) {
+      const Status s = dev_.can->Send(f);
+      if (s.ok()) continue;
+      {
+        std::lock_guard<std::mutex> c(counters_mutex_);
+        ++counters_.send_errors;
+      }
+      if (s.code() == StatusCode::kUnavailable) {
+        faults_ |= kFaultCanBusOff;
+        break;  // bus-off: the rest cannot go either
+      }
+      if (s.code() == StatusCode::kResourceExhausted) faults_ |= kFaultCanTxDropped;
+    }
+  }
+  UpdateState();
+  {
+    std::lock_guard<std::mutex> c(counters_mutex_);
+    ++counters_.result_sets;
+  }
+  if (!encoded.ok()) {
+    SendEmcy(static_cast<uint16_t>(EmcyCode::kSoftware), static_cast<uint32_t>(encoded.code())
+                                                             << 16);
+  }
+  if (dev_.observer != nullptr) dev_.observer->OnResult(*set, frame);
+}
+
+void FirmwareCore::ClearFault(const CanFrame& frame) {
+  const uint32_t bits = faults_.load();
+  if (bits == 0) {
+    SendAck(frame, Status::Ok(), 0, true);
+    return;
+  }
+  if (bits & (kFaultTables | kFaultCalibration | kFaultRecognition)) LoadData();
+  if (bits & kFaultCamera) {
+    if (camera_started_) (void)dev_.camera->Stop();
+    camera_started_ = false;
+    faults_ &= ~kFaultCamera;
+    const Status s = dev_.camera->Start();
+    if (s.ok()) {
+      camera_started_ = true;
+    } else {
+      Log("camera restart failed: %s", s.message());
+      RaiseFault(kFaultCamera, static_cast<uint16_t>(EmcyCode::kSensor),
+                 kSensorStartFailed | static_cast<uint32_t>(s.code()) << 16);
+    }
+  }
+  if ((bits & kFaultCanBusOff) && dev_.can->state() != hal::CanBusState::kBusOff) {
+    faults_ &= ~kFaultCanBusOff;
+  }
+  faults_ &= ~kFaultCanTxDropped;
+  UpdateState();
+  if (faults_.load() == 0) {
+    SendAck(frame, Status::Ok(), 0, true);
+    SendEmcy(static_cast<uint16_t>(EmcyCode::kNoError), 0);
+    Log("fault cleared");
+  } else {
+    SendAck(frame,
+            Status::Error(StatusCode::kFailedPrecondition, "fault persists (causes 0x%x)",
+                          faults_.load()),
+            0, true);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// CAN input
+
+void FirmwareCore::CanRxLoop() {
+  PrefaultStack();
+  while (!stopping_.load()) {
+    CanFrame frame;
+    const Result<bool> got = dev_.can->Receive(&frame, 100);
+    if (!got.ok()) {
+      SleepNs(10'000'000);  // interface down or bus-off: the heartbeat thread reports it
+      continue;
+    }
+    if (*got && !frame.error) HandleFrame(frame);
+  }
+}
+
+void FirmwareCore::HandleFrame(const CanFrame& frame) {
+  if (frame.id == kCobNmt && !frame.extended) {
+    const Result<NmtRequest> nmt = DecodeNmt(frame, node_);
+    if (!nmt.ok() || !nmt->addressed) return;
+    switch (nmt->command) {
+      case NmtCommand::kStart:
+        nmt_ = NmtState::kOperational;
+        break;
+      case NmtCommand::kStop:
+        nmt_ = NmtState::kStopped;
+        break;
+      case NmtCommand::kEnterPreOperational:
+        nmt_ = NmtState::kPreOperational;
+        break;
+      case NmtCommand::kResetNode:
+      case NmtCommand::kResetCommunication: {
+        const Result<CanFrame> boot = EncodeBootUp(node_);
+        if (boot.ok()) (void)SendFrame(*boot);
+        nmt_ = NmtState::kOperational;
+        break;
+      }
+    }
+    SetOutputs();
+    return;
+  }
+  if (frame.id != kCobCommand + node_ || frame.extended) return;
+  if (nmt_.load() != NmtState::kOperational) return;  // as in CANopen: RPDOs only when operational
+  HandleCommand(frame);
+}
+
+void FirmwareCore::HandleCommand(const CanFrame& frame) {
+  const Result<Command> cmd = DecodeCommand(frame, node_);
+  if (!cmd.ok()) {
+    SendAck(frame, cmd.status(), 0, false);
+    return;
+  }
+  switch (cmd->code) {
+    case CommandCode::kTrigger: {
+      const FirmwareState s = state_.load();
+      if (s != FirmwareState::kReady && s != FirmwareState::kBusy) {
+        SendAck(frame,
+                Status::Error(StatusCode::kFailedPrecondition, "trigger refused in state %u",
+                              static_cast<unsigned>(s)),
+                0, false);
+        return;
+      }
+      if (!QueueTrigger(cmd->request_id, MonotonicNs())) {
+        SendAck(frame, Status::Error(StatusCode::kFailedPrecondition, "trigger queue full"), 0,
+                false);
+        return;
+      }
+      SendAck(frame, Status::Ok(), 0, false);
+      return;
+    }
+    case CommandCode::kSelectModels: {
+      const Status s = CheckModelMask(cmd->model_mask, model_count_);
+      if (s.ok()) model_mask_ = cmd->model_mask;
+      SendAck(frame, s, 0, false);
+      return;
+    }
+    case CommandCode::kSetTimeBudget:
+      budget_ms_ = cmd->time_budget_ms;
+      SendAck(frame, Status::Ok(), 0, false);
+      return;
+    case CommandCode::kSetFreeRunRate:
+      free_run_dhz_ = cmd->free_run_rate_dhz;
+      cv_.notify_all();
+      SendAck(frame, Status::Ok(), 0, false);
+      return;
+    case CommandCode::kClearFault: {
+      // The worker does it: it owns the camera and the recognition.
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        clear_requested_ = true;
+        clear_frame_ = frame;
+      }
+      cv_.notify_all();
+      return;
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// GPIO and heartbeat
+
+void FirmwareCore::GpioLoop() {
+  if (dev_.gpio == nullptr) return;
+  PrefaultStack();
+  while (!stopping_.load()) {
+    hal::GpioEdgeEvent edge;
+    const Result<bool> got = dev_.gpio->WaitTriggerRisingEdge(100, &edge);
+    if (!got.ok()) {
+      if (got.status().code() == StatusCode::kFailedPrecondition) return;  // no trigger line
+      SleepNs(100'000'000);
+      continue;
+    }
+    if (!*got) continue;
+    const FirmwareState s = state_.load();
+    if ((s == FirmwareState::kReady || s == FirmwareState::kBusy) &&
+        nmt_.load() == NmtState::kOperational) {
+      QueueTrigger(0, static_cast<int64_t>(edge.timestamp_ns));
+    } else {
+      std::lock_guard<std::mutex> c(counters_mutex_);
+      ++counters_.triggers_rejected;
+    }
+  }
+}
+
+void FirmwareCore::HeartbeatLoop() {
+  PrefaultStack();
+  const int64_t period = int64_t{config_.heartbeat_ms} * 1'000'000;
+  int64_t next = MonotonicNs() + period;
+  hal::CanStats last = dev_.can->stats();
+  bool bus_off_reported = false;  // the fault bit was seen; recovery EMCY pending
+  bool passive_reported = false;
+  bool tx_drop_reported = false;
+  const int64_t alive_tolerance_ns =
+      (int64_t{config_.capture_timeout_ms} + protocol::kTimeBudgetMaxMs + 2000) * 1'000'000ll;
+  while (!stopping_.load()) {
+    // Sleep in short slices so Stop() is quick.
+    while (!stopping_.load() && MonotonicNs() < next) {
+      SleepNs(next - MonotonicNs() < 20'000'000 ? next - MonotonicNs() : 20'000'000);
+    }
+    if (stopping_.load()) break;
+    next += period;
+    if (next < MonotonicNs()) next = MonotonicNs() + period;
+
+    const Result<CanFrame> hb = EncodeHeartbeat(node_, nmt_.load());
+    if (hb.ok() && SendFrame(*hb).ok()) {
+      std::lock_guard<std::mutex> c(counters_mutex_);
+      ++counters_.heartbeats;
+    }
+
+    // CAN health.
+    const hal::CanBusState bus = dev_.can->state();
+    const hal::CanStats now = dev_.can->stats();
+    if (bus == hal::CanBusState::kBusOff) faults_ |= kFaultCanBusOff;
+    UpdateState();  // picks up fault bits set by SendFrame
+    if ((faults_.load() & kFaultCanBusOff) && bus != hal::CanBusState::kBusOff &&
+        !bus_off_reported) {
+      bus_off_reported = true;
+      SendEmcy(static_cast<uint16_t>(EmcyCode::kRecoveredFromBusOff),
+               Saturate(now.bus_off_events, 0xFFFFFFFFu));
+    }
+    if (!(faults_.load() & kFaultCanBusOff)) bus_off_reported = false;
+    if (bus == hal::CanBusState::kErrorPassive && !passive_reported) {
+      passive_reported = true;
+      SendEmcy(static_cast<uint16_t>(EmcyCode::kCanErrorPassive), 0);
+    }
+    if (bus == hal::CanBusState::kErrorActive) passive_reported = false;
+    if ((faults_.load() & kFaultCanTxDropped) && !tx_drop_reported &&
+        bus != hal::CanBusState::kBusOff) {
+      tx_drop_reported = true;
+      UpdateState();
+      SendEmcy(static_cast<uint16_t>(EmcyCode::kCommunication),
+               Saturate(now.tx_dropped_queue_full, 0xFFFFFFFFu));
+    }
+    if (!(faults_.load() & kFaultCanTxDropped)) tx_drop_reported = false;
+    if (now.rx_dropped_overflow > last.rx_dropped_overflow) {
+      SendEmcy(static_cast<uint16_t>(EmcyCode::kCanOverrun),
+               Saturate(now.rx_dropped_overflow - last.rx_dropped_overflow, 0xFFFFFFFFu));
+    }
+    last = now;
+
+    if (dev_.observer != nullptr && MonotonicNs() - worker_alive_ns_.load() < alive_tolerance_ns) {
+      dev_.observer->OnAlive();
+    }
+  }
+}
+
+}  // namespace sh::fw

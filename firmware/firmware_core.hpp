@@ -1,0 +1,202 @@
+// The firmware's state machine, independent of the backends: it is given a CanBus, a Gpio, a
+// StereoCamera, a Recognition and a DataSource, so the same code runs on the board, in the
+// simulator process and in-process in the fault-injection tests.
+//
+//   init --(tables + calibration loaded and checked)--> ready <--> busy
+//     |                                                  |
+//     +------------------- fault <----------------------+   (clear-fault command recovers)
+//
+// Threads (created in Start(), the only allocation after the objects exist):
+//   worker    - waits for triggers (queue from CAN and GPIO, or the free-run clock) and runs
+//               strobe + capture + recognition + result publication;
+//   can_rx    - NMT and commands: acks at once, queues triggers, applies settings;
+//   gpio      - rising edges of the trigger input into the trigger queue;
+//   heartbeat - heartbeat at its own period (also in fault), CAN health (bus-off, overrun) and
+//               the liveness callback (systemd watchdog).
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <thread>
+
+#include "firmware/can_protocol.hpp"
+#include "firmware/recognition.hpp"
+#include "hal/camera.hpp"
+#include "hal/can.hpp"
+#include "hal/gpio.hpp"
+#include "recog/base/status.hpp"
+#include "recog/camera/camera_model.hpp"
+#include "tables/table_view.hpp"
+
+namespace sh::fw {
+
+using protocol::FirmwareState;
+
+// Where the data of the boot checks come from; called at boot and when a data fault is cleared.
+class DataSource {
+ public:
+  virtual ~DataSource() = default;
+  virtual Result<TableView> LoadTable() = 0;
+  virtual Result<StereoCalibration> LoadCalibration() = 0;
+};
+
+// Reports from the core (simulator stdout, tests). Called from the core's threads; must not
+// block for long and must not allocate if the run is to stay allocation-free.
+class CoreObserver {
+ public:
+  virtual ~CoreObserver() = default;
+  virtual void OnResult(const protocol::ResultSet& set, const hal::StereoFrame* frame) {}
+  virtual void OnEmcy(const protocol::Emcy& emcy) {}
+  virtual void OnStateChange(FirmwareState state) {}
+  virtual void OnAlive() {}  // from the heartbeat thread while the worker loop is responsive
+};
+
+// EMCY detail values of the data-set code (0x6300) and the sensor code (0x7300).
+inline constexpr uint32_t kDetailTables = 1;
+inline constexpr uint32_t kDetailCalibration = 2;
+inline constexpr uint32_t kDetailCalibrationMismatch = 3;  // image size differs from calibration
+inline constexpr uint32_t kDetailRecognitionInit = 4;
+inline constexpr uint32_t kSensorCaptureFailed = 1u << 24;   // | StatusCode << 16 | timeouts
+inline constexpr uint32_t kSensorUnpairedFrames = 2u << 24;  // | unpaired drops in this capture
+inline constexpr uint32_t kSensorStartFailed = 3u << 24;     // | StatusCode << 16
+
+// Fault causes (bits); the fault state holds while any is set.
+enum FaultBits : uint32_t {
+  kFaultTables = 1u << 0,
+  kFaultCalibration = 1u << 1,
+  kFaultCamera = 1u << 2,
+  kFaultCanBusOff = 1u << 3,
+  kFaultCanTxDropped = 1u << 4,
+  kFaultRecognition = 1u << 5,
+};
+
+struct CoreConfig {
+  uint8_t node_id = 1;
+  uint32_t heartbeat_ms = 200;
+  int capture_timeout_ms = 500;
+  uint16_t budget_ms = 1000;
+  uint16_t free_run_dhz = 0;
+  uint32_t model_mask = 0xFFFFFFFFu;  // masked to the loaded models at boot
+  int strobe_min_us = 0;              // strobe held at least this long (illumination settle)
+  int sched_fifo_priority = 0;        // worker thread; 0 = normal
+};
+
+struct CoreDevices {
+  hal::CanBus* can = nullptr;
+  hal::Gpio* gpio = nullptr;  // may be null: no hardware trigger, no outputs
+  hal::StereoCamera* camera = nullptr;
+  Recognition* recognition = nullptr;
+  DataSource* data = nullptr;
+  CoreObserver* observer = nullptr;  // may be null
+};
+
+struct CoreCounters {
+  uint64_t triggers_accepted = 0;
+  uint64_t triggers_rejected = 0;
+  uint64_t triggers_dropped = 0;  // queue full
+  uint64_t result_sets = 0;
+  uint64_t capture_errors = 0;
+  uint64_t recognition_errors = 0;
+  uint64_t emcy_sent = 0;
+  uint64_t heartbeats = 0;
+  uint64_t send_errors = 0;
+};
+
+inline constexpr size_t kTriggerQueueDepth = 8;
+
+class FirmwareCore {
+ public:
+  FirmwareCore() = default;
+  ~FirmwareCore() { Stop(); }
+  FirmwareCore(const FirmwareCore&) = delete;
+  FirmwareCore& operator=(const FirmwareCore&) = delete;
+
+  // Boot: boot-up message, data load and checks, camera start, recognition init; then the
+  // threads. A failing check leaves the core in fault (with its EMCY), not an error: only
+  // missing devices or a bad configuration return a non-ok Status.
+  Status Start(const CoreConfig& config, const CoreDevices& devices);
+  // Stops and joins the threads. Safe to call twice.
+  void Stop();
+
+  FirmwareState state() const { return state_.load(); }
+  protocol::NmtState nmt_state() const { return nmt_.load(); }
+  uint32_t fault_bits() const { return faults_.load(); }
+  CoreCounters counters() const;
+  uint16_t budget_ms() const { return budget_ms_.load(); }
+  uint16_t free_run_dhz() const { return free_run_dhz_.load(); }
+  uint32_t model_mask() const { return model_mask_.load(); }
+  size_t loaded_models() const { return model_count_; }
+  uint16_t next_sequence() const { return sequence_; }
+
+  // Same path as a CAN trigger with request id 0 / a GPIO edge (tests, demo).
+  bool QueueTrigger(uint16_t request_id, int64_t trigger_ns);
+
+ private:
+  struct Trigger {
+    uint16_t request_id = 0;
+    int64_t trigger_ns = 0;  // CLOCK_MONOTONIC
+  };
+
+  void WorkerLoop();
+  void CanRxLoop();
+  void GpioLoop();
+  void HeartbeatLoop();
+
+  void LoadData();  // boot checks; sets data faults
+  void RunTrigger(const Trigger& trigger);
+  void PublishResult(protocol::ResultSet* set, const hal::StereoFrame* frame);
+  void HandleFrame(const hal::CanFrame& frame);
+  void HandleCommand(const hal::CanFrame& frame);
+  void ClearFault(const hal::CanFrame& frame);
+
+  void RaiseFault(uint32_t bit, uint16_t code, uint32_t detail);
+  void SendEmcy(uint16_t code, uint32_t detail);
+  void SendAck(const hal::CanFrame& command, const Status& status, uint32_t value_override,
+               bool use_override);
+  Status SendFrame(const hal::CanFrame& frame);
+  void UpdateState();
+  void SetState(FirmwareState state);
+  void SetOutputs();
+
+  CoreConfig config_;
+  CoreDevices dev_;
+  uint8_t node_ = 1;
+
+  std::atomic<FirmwareState> state_{FirmwareState::kInit};
+  std::atomic<protocol::NmtState> nmt_{protocol::NmtState::kPreOperational};
+  std::atomic<uint32_t> faults_{0};
+  std::atomic<bool> busy_{false};
+  std::atomic<bool> booted_{false};
+  std::atomic<uint16_t> budget_ms_{1000};
+  std::atomic<uint16_t> free_run_dhz_{0};
+  std::atomic<uint32_t> model_mask_{0};
+  std::atomic<uint32_t> applied_mask_{0};  // worker-side copy given to the recognition
+  std::atomic<bool> camera_started_{false};
+  size_t model_count_ = 0;
+
+  // Trigger queue and clear-fault request, guarded by mutex_.
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  Trigger queue_[kTriggerQueueDepth];
+  size_t queue_head_ = 0, queue_count_ = 0;
+  bool clear_requested_ = false;
+  hal::CanFrame clear_frame_;
+  bool stop_ = false;
+
+  std::atomic<bool> stopping_{false};
+  std::atomic<int64_t> worker_alive_ns_{0};
+  std::mutex send_mutex_;  // one writer at a time keeps a result set's frames together
+  std::mutex counters_mutex_;
+  CoreCounters counters_;
+  uint16_t sequence_ = 0;  // worker only
+
+  std::thread worker_, can_rx_, gpio_, heartbeat_;
+  bool threads_started_ = false;
+};
+
+// CLOCK_MONOTONIC in nanoseconds (the time base of triggers and the pipeline's budget).
+int64_t MonotonicNs();
+
+}  // namespace sh::fw

@@ -1,0 +1,95 @@
+// Configuration of stereohash-fw: a plain `key = value` text file (docs/firmware.md lists every
+// key). Parsing never throws and never allocates: strings live in fixed arrays, and the first
+// problem is reported with its line number and key.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "recog/base/status.hpp"
+
+namespace sh::fw {
+
+inline constexpr size_t kConfigPathMax = 256;
+inline constexpr size_t kConfigNameMax = 64;
+inline constexpr size_t kMaxConfigFileBytes = 64 * 1024;
+
+enum class Backend : uint8_t { kLinux, kSim };
+enum class RecognitionKind : uint8_t {
+  kPipeline,  // the recognition pipeline (the product)
+  kTruth,     // simulator only: reports the rendered ground truth (exercises CAN and timing paths)
+};
+// Simulated camera faults, injected from the start (tests inject them at run time instead).
+enum class SimCameraFault : uint8_t { kNone, kRightSilent, kDropRight };
+
+struct FwConfig {
+  Backend backend = Backend::kSim;
+  char can_interface[16] = "can0";
+  uint8_t node_id = 1;
+  uint32_t heartbeat_ms = 200;  // 10..10000
+
+  // Cameras (linux backend): libcamera ids take precedence over indices.
+  char camera_left_id[kConfigNameMax] = "";
+  char camera_right_id[kConfigNameMax] = "";
+  int camera_left_index = 0;
+  int camera_right_index = 1;
+  int camera_width = 1280;
+  int camera_height = 800;
+  int capture_timeout_ms = 500;
+
+  // Data. calibration: empty = the simulator's built-in rig (sim only). tables: "builtin" = the
+  // tables linked into the binary, else a table blob file.
+  char calibration_path[kConfigPathMax] = "";
+  char tables_path[kConfigPathMax] = "builtin";
+  char models_dir[kConfigPathMax] = "";  // OBJ models for the simulator renderer; "" = default
+
+  RecognitionKind recognition = RecognitionKind::kPipeline;
+  uint16_t budget_ms = 1000;          // kTimeBudgetMinMs..kTimeBudgetMaxMs
+  uint16_t free_run_dhz = 0;          // 0.1 Hz, 0 = off
+  uint32_t model_mask = 0xFFFFFFFFu;  // masked to the loaded models at boot
+  bool volume_set = false;            // working volume in the left camera frame, mm
+  float volume_min_mm[3] = {-1000, -1000, 100};
+  float volume_max_mm[3] = {1000, 1000, 3000};
+
+  // GPIO (linux backend; -1 = not wired).
+  char gpio_chip[kConfigNameMax] = "gpiochip0";
+  int gpio_trigger_line = -1;
+  int gpio_ready_line = -1;
+  int gpio_busy_line = -1;
+  int gpio_strobe_line = -1;
+  bool gpio_outputs_active_low = false;
+  bool gpio_trigger_active_low = false;
+
+  // Real time.
+  bool mlock = true;
+  int sched_fifo_priority = 0;  // 0 = normal scheduling, 1..99 = SCHED_FIFO for the worker
+
+  // Simulator.
+  int sim_port = 0;  // socketcand TCP port on 127.0.0.1; 0 = ephemeral
+  uint64_t sim_seed = 1;
+  bool sim_light_background = false;
+  int sim_objects = 3;
+  int sim_scenes = 6;  // distinct scenes rendered at boot and cycled through
+  SimCameraFault sim_camera_fault = SimCameraFault::kNone;
+  bool sim_corrupt_tables = false;   // boot with a damaged copy of the tables (fault demo)
+  bool sim_wait_for_client = false;  // boot only once a socketcand client is in raw mode
+  bool sim_print_truth = true;       // RESULT lines with ground truth on stdout
+
+  char candump_path[kConfigPathMax] = "";  // log of all CAN traffic; "" = none
+};
+
+// Built-in simulator defaults (`stereohash-fw --sim`).
+FwConfig SimDefaults();
+
+// Parses `text` (need not be NUL-terminated) on top of the values already in *config. Lines:
+// `key = value`, `#` starts a comment, blank lines are skipped. Unknown keys, repeated keys,
+// malformed values and out-of-range numbers fail with "line N: key 'k': ...".
+Status ParseConfig(const char* text, size_t length, FwConfig* config);
+
+// Reads and parses a file (at most kMaxConfigFileBytes) on top of *config, then validates.
+Status LoadConfigFile(const char* path, FwConfig* config);
+
+// Checks combinations (linux backend needs a calibration file, ...).
+Status ValidateConfig(const FwConfig& config);
+
+}  // namespace sh::fw

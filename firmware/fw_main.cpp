@@ -1,0 +1,418 @@
+// stereohash-fw: the vision board program. `--config FILE` on the board (backend = linux) or in
+// the simulator (backend = sim); `--sim` starts the simulator with built-in defaults.
+//
+// Simulator stdout (one line each, flushed), used by tests/python/test_firmware_e2e.py:
+//   SOCKETCAND_PORT=<n>      the socketcand server on 127.0.0.1 listens
+//   MODELS {json}            model names and symmetries by model id
+//   READY                    boot finished (state follows in STATE lines)
+//   STATE <n>                firmware state changes (0 init, 1 ready, 2 busy, 3 fault)
+//   RESULT {json}            every result set sent, with the ground truth of its frame
+//   EMCY {json}              every EMCY sent
+#include <signal.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+
+#include "firmware/data_source.hpp"
+#include "firmware/demo_client.hpp"
+#include "firmware/firmware_core.hpp"
+#include "firmware/fw_config.hpp"
+#include "firmware/realtime.hpp"
+#include "firmware/sd_notify.hpp"
+#include "firmware/sim_world.hpp"
+#include "hal/can_log.hpp"
+#include "hal/linux/socketcan_bus.hpp"
+#include "hal/sim/can_sim_bus.hpp"
+#include "hal/sim/gpio_sim.hpp"
+#include "hal/sim/sim_camera.hpp"
+#include "hal/sim/socketcand_server.hpp"
+#ifdef STEREOHASH_FW_HAVE_PIPELINE
+#include "firmware/pipeline_recognition.hpp"
+#endif
+#ifdef STEREOHASH_FW_HAVE_LIBCAMERA
+#include "hal/linux/libcamera_camera.hpp"
+#endif
+#ifdef STEREOHASH_FW_HAVE_GPIOD
+#include "hal/linux/gpiod_gpio.hpp"
+#endif
+
+namespace {
+
+using namespace sh;
+using namespace sh::fw;
+
+volatile sig_atomic_t g_stop = 0;
+void OnSignal(int) { g_stop = 1; }
+
+void Usage() {
+  std::printf(
+      "usage: stereohash-fw --config FILE        run with a configuration file\n"
+      "       stereohash-fw --sim [--config FILE] simulator (built-in defaults, FILE on top)\n"
+      "       stereohash-fw --sim --demo          simulator plus an in-process PLC printing the\n"
+      "                                           poses as they arrive over the simulated bus\n"
+      "options: --run-seconds S (stop after S seconds), --help\n"
+      "Configuration keys: docs/firmware.md; examples in share/stereohash/*.conf.example.\n");
+}
+
+// Model directory for the simulator: the config, else next to the installed binary
+// (<prefix>/bin/../share/stereohash/models), else the source tree this binary was built from.
+void DefaultModelsDir(char* out, size_t capacity) {
+  char exe[512];
+  const ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
+  if (n > 0) {
+    exe[n] = '\0';
+    char* slash = std::strrchr(exe, '/');
+    if (slash != nullptr) {
+      *slash = '\0';
+      std::snprintf(out, capacity, "%s/../share/stereohash/models", exe);
+      if (access(out, R_OK) == 0) return;
+    }
+  }
+  std::snprintf(out, capacity, "%s", STEREOHASH_FW_SOURCE_MODELS_DIR);
+}
+
+// stdout reporting of the simulator and the systemd watchdog.
+class Reporter final : public CoreObserver {
+ public:
+  Reporter(const SimWorld* world, const FileDataSource* data, SdNotifier* notifier, bool print)
+      : world_(world), data_(data), notifier_(notifier), print_(print) {}
+
+  void PrintModels() {
+    if (!print_) return;
+    const TableView& t = data_->table();
+    std::printf("MODELS {\"names\": [");
+    for (uint32_t m = 0; m < t.model_count(); ++m) {
+      std::printf("%s\"%s\"", m ? ", " : "", t.model(m).name);
+    }
+    std::printf("], \"symmetries\": [");
+    for (uint32_t m = 0; m < t.model_count(); ++m) {
+      const Model& model = t.model(m);
+      std::printf("%s[", m ? ", " : "");
+      for (int s = 0; s < model.n_symmetries; ++s) {
+        std::printf("%s[", s ? ", " : "");
+        for (int k = 0; k < 9; ++k) std::printf("%s%.9g", k ? ", " : "", model.symmetries[s][k]);
+        std::printf("]");
+      }
+      std::printf("]");
+    }
+    std::printf("]}\n");
+    std::fflush(stdout);
+    if (world_ != nullptr) MapRenderModelsToTable(*world_, t, table_ids_);
+  }
+
+  void OnResult(const protocol::ResultSet& set, const hal::StereoFrame* frame) override {
+    if (!print_) return;
+    std::printf(
+        "RESULT {\"sequence\": %u, \"request_id\": %u, \"status\": %u, "
+        "\"processing_time_us\": %u, \"objects\": [",
+        set.sequence, set.request_id, static_cast<unsigned>(set.status), set.processing_time_us);
+    for (int i = 0; i < set.object_count; ++i) {
+      const protocol::ObjectPose& p = set.objects[i];
+      std::printf(
+          "%s{\"model_id\": %u, \"instance\": %u, \"score\": %.17g, "
+          "\"t_mm\": [%.17g, %.17g, %.17g], \"q_wxyz\": [%.17g, %.17g, %.17g, %.17g]}",
+          i ? ", " : "", p.model_id, p.instance, p.score, p.cam_t_model_mm[0], p.cam_t_model_mm[1],
+          p.cam_t_model_mm[2], p.cam_q_model[0], p.cam_q_model[1], p.cam_q_model[2],
+          p.cam_q_model[3]);
+    }
+    std::printf("]");
+    if (frame != nullptr && world_ != nullptr) {
+      const int scene = world_->SceneOfFrame(frame->left_sequence);
+      const render::GeneratedScene& g = world_->scene(scene);
+      std::printf(", \"frame\": %u, \"pair_index\": %llu, \"scene\": %d, \"truth\": [",
+                  frame->left_sequence, static_cast<unsigned long long>(frame->pair_index), scene);
+      for (size_t i = 0; i < g.scene.objects.size(); ++i) {
+        const RigidTransform& T = g.left_T_model[i];
+        std::printf("%s{\"model_id\": %d, \"t_mm\": [%.6f, %.6f, %.6f], \"R\": [", i ? ", " : "",
+                    table_ids_[g.scene.objects[i].model_index], T.t_mm.x(), T.t_mm.y(), T.t_mm.z());
+        for (int k = 0; k < 9; ++k) std::printf("%s%.9f", k ? ", " : "", T.R(k / 3, k % 3));
+        std::printf("]}");
+      }
+      std::printf("]");
+    }
+    std::printf("}\n");
+    std::fflush(stdout);
+  }
+
+  void OnEmcy(const protocol::Emcy& e) override {
+    if (!print_) return;
+    std::printf(
+        "EMCY {\"error_code\": %u, \"error_register\": %u, \"state\": %u, \"detail\": %u}\n",
+        e.error_code, e.error_register, static_cast<unsigned>(e.state), e.detail);
+    std::fflush(stdout);
+  }
+
+  void OnStateChange(FirmwareState s) override {
+    if (!print_) return;
+    std::printf("STATE %u\n", static_cast<unsigned>(s));
+    std::fflush(stdout);
+  }
+
+  void OnAlive() override { (void)notifier_->Notify("WATCHDOG=1"); }
+
+ private:
+  const SimWorld* world_;
+  const FileDataSource* data_;
+  SdNotifier* notifier_;
+  bool print_;
+  int table_ids_[render::kMaxModelFiles] = {};
+};
+
+int Fail(const char* what, const Status& s) {
+  std::fprintf(stderr, "stereohash-fw: %s: %s\n", what, s.message());
+  return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const char* config_path = nullptr;
+  bool sim = false, demo = false;
+  long run_seconds = 0;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--config") && i + 1 < argc) {
+      config_path = argv[++i];
+    } else if (!std::strcmp(argv[i], "--sim")) {
+      sim = true;
+    } else if (!std::strcmp(argv[i], "--demo")) {
+      demo = true;
+    } else if (!std::strcmp(argv[i], "--run-seconds") && i + 1 < argc) {
+      run_seconds = std::strtol(argv[++i], nullptr, 10);
+    } else if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
+      Usage();
+      return 0;
+    } else {
+      std::fprintf(stderr, "stereohash-fw: unknown argument '%s' (see --help)\n", argv[i]);
+      return 2;
+    }
+  }
+  if (!sim && config_path == nullptr) {
+    Usage();
+    return 2;
+  }
+  if (demo && !sim) {
+    std::fprintf(stderr, "stereohash-fw: --demo needs --sim\n");
+    return 2;
+  }
+  static FwConfig config;
+  config = sim ? SimDefaults() : FwConfig();
+  if (config_path != nullptr) {
+    const Status s = LoadConfigFile(config_path, &config);
+    if (!s.ok()) return Fail("configuration", s);
+  }
+  if (sim) config.backend = Backend::kSim;
+  if (demo) {
+    config.sim_print_truth = false;
+    if (config.free_run_dhz == 0) config.free_run_dhz = 10;  // 1 Hz
+  }
+  {
+    const Status s = ValidateConfig(config);
+    if (!s.ok()) return Fail("configuration", s);
+  }
+  signal(SIGTERM, OnSignal);
+  signal(SIGINT, OnSignal);
+  signal(SIGPIPE, SIG_IGN);
+
+  static SdNotifier notifier;
+  {
+    const Status s = notifier.Open();
+    if (!s.ok()) std::fprintf(stderr, "stereohash-fw: %s\n", s.message());
+  }
+  const bool is_sim = config.backend == Backend::kSim;
+
+  // --- backends ---------------------------------------------------------------------------
+  static hal::SimCanBus sim_bus;
+  static hal::SocketcandServer socketcand;
+  static hal::SocketCanBus socketcan;
+  static hal::SimGpio sim_gpio;
+  static SimWorld world;
+  static std::unique_ptr<hal::SimCamera> sim_camera;
+  static DemoClient demo_client;
+  hal::CanBus* can = nullptr;
+  hal::Gpio* gpio = nullptr;
+  hal::StereoCamera* camera = nullptr;
+
+  const uint32_t rx_ids[] = {protocol::kCobNmt, protocol::kCobCommand + config.node_id};
+  if (is_sim) {
+    hal::SimCanEndpointConfig ep;
+    ep.name = config.can_interface;
+    for (uint32_t id : rx_ids) ep.filter_ids[ep.filter_count++] = id;
+    Result<hal::SimCanEndpoint*> fw_ep = sim_bus.AddEndpoint(ep);
+    if (!fw_ep.ok()) return Fail("sim CAN", fw_ep.status());
+    can = *fw_ep;
+    hal::SocketcandServerConfig sc;
+    sc.port = static_cast<uint16_t>(config.sim_port);
+    sc.channel = config.can_interface;
+    const Status s = socketcand.Start(&sim_bus, sc);
+    if (!s.ok()) return Fail("socketcand server", s);
+    std::printf("SOCKETCAND_PORT=%u\n", socketcand.port());
+    std::fflush(stdout);
+
+    static char models_dir[kConfigPathMax];
+    if (config.models_dir[0] != '\0') {
+      std::snprintf(models_dir, sizeof(models_dir), "%s", config.models_dir);
+    } else {
+      DefaultModelsDir(models_dir, sizeof(models_dir));
+    }
+    SimWorldConfig wc;
+    wc.models_dir = models_dir;
+    wc.seed = config.sim_seed;
+    wc.scenes = config.sim_scenes;
+    wc.objects = config.sim_objects;
+    wc.light_background = config.sim_light_background;
+    const Status built = world.Build(wc);
+    if (!built.ok()) return Fail("simulator scenes", built);
+    hal::SimCameraConfig cc;
+    if (config.sim_camera_fault == SimCameraFault::kRightSilent) cc.right_stop_after = 3;
+    if (config.sim_camera_fault == SimCameraFault::kDropRight) cc.drop_right_every = 3;
+    sim_camera = std::make_unique<hal::SimCamera>(&world, cc);
+    camera = sim_camera.get();
+    gpio = &sim_gpio;
+  } else {
+    hal::SocketCanConfig sc;
+    sc.interface = config.can_interface;
+    for (uint32_t id : rx_ids) sc.filter_ids[sc.filter_count++] = id;
+    const Status s = socketcan.Open(sc);
+    if (!s.ok()) return Fail("CAN", s);
+    can = &socketcan;
+#ifdef STEREOHASH_FW_HAVE_LIBCAMERA
+    hal::LibcameraStereoConfig lc;
+    lc.left_id = config.camera_left_id;
+    lc.right_id = config.camera_right_id;
+    lc.left_index = config.camera_left_index;
+    lc.right_index = config.camera_right_index;
+    lc.width = config.camera_width;
+    lc.height = config.camera_height;
+    static std::unique_ptr<hal::LibcameraStereoCamera> lcam;
+    lcam = std::make_unique<hal::LibcameraStereoCamera>(lc);
+    camera = lcam.get();
+#else
+    return Fail("camera",
+                Status::Error(StatusCode::kUnimplemented, "this build has no libcamera backend"));
+#endif
+    const bool gpio_wired = config.gpio_trigger_line >= 0 || config.gpio_ready_line >= 0 ||
+                            config.gpio_busy_line >= 0 || config.gpio_strobe_line >= 0;
+    if (gpio_wired) {
+#ifdef STEREOHASH_FW_HAVE_GPIOD
+      static hal::GpiodGpio gpiod;
+      hal::GpiodConfig gc;
+      gc.chip = config.gpio_chip;
+      gc.trigger_line = config.gpio_trigger_line;
+      gc.ready_line = config.gpio_ready_line;
+      gc.busy_line = config.gpio_busy_line;
+      gc.strobe_line = config.gpio_strobe_line;
+      gc.outputs_active_low = config.gpio_outputs_active_low;
+      gc.trigger_active_low = config.gpio_trigger_active_low;
+      const Status g = gpiod.Open(gc);
+      if (!g.ok()) return Fail("GPIO", g);
+      gpio = &gpiod;
+#else
+      return Fail("GPIO", Status::Error(StatusCode::kUnimplemented,
+                                        "gpio lines configured but this build has no libgpiod"));
+#endif
+    }
+  }
+
+  // candump log of everything the firmware sends and receives.
+  static FILE* candump = nullptr;
+  static std::unique_ptr<hal::CandumpLogger> logger;
+  if (config.candump_path[0] != '\0') {
+    candump = std::fopen(config.candump_path, "w");
+    if (candump == nullptr) {
+      return Fail("candump",
+                  Status::Error(StatusCode::kNotFound, "cannot write %s", config.candump_path));
+    }
+    logger = std::make_unique<hal::CandumpLogger>(can, candump, true);
+    can = logger.get();
+  }
+
+  // --- data and recognition --------------------------------------------------------------
+  static std::unique_ptr<FileDataSource> data;
+  data = std::make_unique<FileDataSource>(config.tables_path, config.calibration_path,
+                                          is_sim ? &world.calibration() : nullptr);
+  data->InjectCorruptTables(config.sim_corrupt_tables && is_sim);
+
+  static std::unique_ptr<Recognition> recognition;
+  if (config.recognition == RecognitionKind::kTruth) {
+    recognition = std::make_unique<TruthRecognition>(&world);
+  } else {
+#ifdef STEREOHASH_FW_HAVE_PIPELINE
+    static Pipeline pipeline;  // tens of MiB: static storage, locked and pre-faulted below
+    PipelineRecognitionConfig pc;
+    pc.light_background = is_sim && config.sim_light_background;
+    pc.volume_set = config.volume_set;
+    for (int k = 0; k < 3; ++k) {
+      pc.volume_min_mm[k] = config.volume_min_mm[k];
+      pc.volume_max_mm[k] = config.volume_max_mm[k];
+    }
+    recognition = std::make_unique<PipelineRecognition>(&pipeline, pc);
+#else
+    return Fail("recognition", Status::Error(StatusCode::kUnimplemented,
+                                             "this build has no recognition pipeline; use "
+                                             "recognition = truth in the simulator"));
+#endif
+  }
+
+  if (config.mlock) {
+    const Status s = LockMemory();
+    if (!s.ok()) std::fprintf(stderr, "stereohash-fw: %s; continuing unlocked\n", s.message());
+  }
+  PrefaultStack();
+
+  static Reporter reporter(is_sim ? &world : nullptr, data.get(), &notifier,
+                           is_sim && config.sim_print_truth);
+  if (demo) {
+    static const char* names[32] = {};
+    static Model name_models[1];
+    (void)name_models;
+    const Result<TableView> t = data->LoadTable();
+    int n_names = 0;
+    if (t.ok()) {
+      for (uint32_t m = 0; m < t->model_count() && m < 32; ++m) names[n_names++] = t->model(m).name;
+    }
+    const Status s = demo_client.Start(&sim_bus, config.node_id, names, n_names);
+    if (!s.ok()) return Fail("demo client", s);
+  }
+  if (is_sim && config.sim_wait_for_client) {
+    while (socketcand.raw_mode_clients() == 0 && !g_stop) usleep(2000);
+  }
+
+  CoreConfig cc;
+  cc.node_id = config.node_id;
+  cc.heartbeat_ms = config.heartbeat_ms;
+  cc.capture_timeout_ms = config.capture_timeout_ms;
+  cc.budget_ms = config.budget_ms;
+  cc.free_run_dhz = config.free_run_dhz;
+  cc.model_mask = config.model_mask;
+  cc.sched_fifo_priority = config.sched_fifo_priority;
+  CoreDevices devices;
+  devices.can = can;
+  devices.gpio = gpio;
+  devices.camera = camera;
+  devices.recognition = recognition.get();
+  devices.data = data.get();
+  devices.observer = &reporter;
+  static FirmwareCore core;
+  const Status started = core.Start(cc, devices);
+  if (!started.ok()) return Fail("start", started);
+  if (data->table().model_count() > 0) reporter.PrintModels();
+  if (is_sim && config.sim_print_truth) {
+    std::printf("READY\n");
+    std::fflush(stdout);
+  }
+  (void)notifier.Notify(core.state() == FirmwareState::kFault ? "READY=1\nSTATUS=fault"
+                                                              : "READY=1\nSTATUS=ready");
+
+  const int64_t end_ns = run_seconds > 0 ? MonotonicNs() + run_seconds * 1'000'000'000ll : 0;
+  while (!g_stop && (end_ns == 0 || MonotonicNs() < end_ns)) usleep(50'000);
+
+  (void)notifier.Notify("STOPPING=1");
+  core.Stop();
+  demo_client.Stop();
+  if (is_sim) socketcand.Stop();
+  if (candump != nullptr) std::fclose(candump);
+  return 0;
+}

@@ -1,0 +1,32 @@
+// Recognition through the recognition pipeline (recog/pipeline): the board's recogniser.
+#pragma once
+
+#include "firmware/recognition.hpp"
+#include "recog/pipeline/pipeline.hpp"
+
+namespace sh::fw {
+
+struct PipelineRecognitionConfig {
+  bool light_background = false;  // detector preset: dark objects on a light table
+  bool volume_set = false;        // working volume in the left camera frame
+  float volume_min_mm[3] = {0, 0, 0};
+  float volume_max_mm[3] = {0, 0, 0};
+};
+
+class PipelineRecognition final : public Recognition {
+ public:
+  // `pipeline` is large (tens of MiB): the caller keeps it in static storage.
+  PipelineRecognition(Pipeline* pipeline, const PipelineRecognitionConfig& config)
+      : pipeline_(pipeline), config_(config) {}
+
+  Status Init(const StereoCalibration& calib, const TableView& table, uint32_t model_mask) override;
+  Status SetModelMask(uint32_t model_mask) override;
+  Status Process(const hal::StereoFrame& frame, float budget_ms, protocol::ResultSet* set) override;
+
+ private:
+  Pipeline* pipeline_;
+  PipelineRecognitionConfig config_;
+  PipelineResult result_;
+};
+
+}  // namespace sh::fw

@@ -1,0 +1,32 @@
+// What the firmware core needs from recognition: one call per captured pair that fills the
+// poses of a result set. Behind an interface so that the board runs the real pipeline
+// (pipeline_recognition) while the simulator can also report its ground truth, and the fault
+// tests can use a double.
+#pragma once
+
+#include <cstdint>
+
+#include "firmware/can_protocol.hpp"
+#include "hal/camera.hpp"
+#include "recog/base/status.hpp"
+#include "recog/camera/camera_model.hpp"
+#include "tables/table_view.hpp"
+
+namespace sh::fw {
+
+class Recognition {
+ public:
+  virtual ~Recognition() = default;
+
+  // Called at boot and after a cleared data fault, before any Process(). May allocate.
+  virtual Status Init(const StereoCalibration& calib, const TableView& table,
+                      uint32_t model_mask) = 0;
+  // Restricts recognition to the models whose bits are set (already range-checked).
+  virtual Status SetModelMask(uint32_t model_mask) = 0;
+  // Fills set->objects, set->object_count and set->status (kOk or kTimeBudgetHit). A non-ok
+  // Status means no result (the core reports kInternalError with an EMCY). Must not allocate.
+  virtual Status Process(const hal::StereoFrame& frame, float budget_ms,
+                         protocol::ResultSet* set) = 0;
+};
+
+}  // namespace sh::fw
