@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "recog/hashing/scene_grid.hpp"
@@ -55,17 +56,34 @@ void SelectCorrespondences(const RefineInput& in, const RigidTransform& cam_T_mo
     out->matched_points += best >= 0;
   }
   const float gate2 = gate_mm * gate_mm;
+  // Only scene lines whose supported segment comes near the posed model can match its edges:
+  // collect them once instead of testing every scene line for every edge.
+  float radius = 0.0f;
+  for (int i = 0; i < m.n_corners; ++i) radius = std::max(radius, m.corner(i).norm());
+  const float reach = radius + gate_mm;
+  const Eigen::Vector3f object_centre = cam_T_model.t_mm;
+  int16_t near[kMaxSceneLines];
+  int n_near = 0;
+  for (size_t j = 0; j < in.scene->lines.size(); ++j) {
+    if (!in.line_active[j]) continue;
+    const SceneLine& l = in.scene->lines[j];
+    const Eigen::Vector3f ab = l.b_mm - l.a_mm;
+    const float t = std::clamp((object_centre - l.a_mm).dot(ab) / std::max(ab.squaredNorm(), 1e-6f),
+                               0.0f, 1.0f);
+    if ((l.a_mm + t * ab - object_centre).squaredNorm() <= reach * reach)
+      near[n_near++] = int16_t(j);
+  }
   for (int e = 0; e < m.n_edges; ++e) {
     const EdgeGeometry g = ModelEdgeGeometry(m, e);
     const Eigen::Vector3f centre = cam_T_model * g.centre, dir = cam_T_model.Rotate(g.dir);
     int best = -1;
     float best_d2 = gate2;
-    for (size_t j = 0; j < in.scene->lines.size(); ++j) {
-      if (!in.line_active[j]) continue;
+    for (int k = 0; k < n_near; ++k) {
+      const int j = near[k];
       const SceneLine& l = in.scene->lines[j];
       const Eigen::Vector3f v = l.direction();
       const float d2 = SegmentLineDistance2(centre, dir, g.length, l.a_mm, v);
-      if (d2 < best_d2) best_d2 = d2, best = int(j);
+      if (d2 < best_d2) best_d2 = d2, best = j;
     }
     out->line_of_edge[e] = int16_t(best);
     out->matched_lines += best >= 0;

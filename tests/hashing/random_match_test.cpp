@@ -83,8 +83,9 @@ TEST(RandomMatches, AverageVoteFollowsTheBinomialModel) {
       std::printf("%3d %-10s %8.4f  %8.4f\n", S, models[m].name, simulated, expected);
       if (csv) std::fprintf(csv, "%d,%s,%.5f,%.5f\n", S, models[m].name, simulated, expected);
       worst_ratio = std::max(worst_ratio, std::max(simulated / expected, expected / simulated));
-      // The model predicts the mean within 40 % (measured worst: 24 %); the thesis's figure 2.8 shows the same: the
-      // uniform-hash-value assumption is rough for few points; the trend must hold.
+      // The model predicts the mean within 40 % (measured worst: 24 %); the thesis's figure 2.8
+      // shows the same: the uniform-hash-value assumption is rough for few points; the trend must
+      // hold.
       EXPECT_LT(simulated, expected * 1.4 + 0.01) << models[m].name << " S=" << S;
       EXPECT_GT(simulated, expected / 1.4 - 0.01) << models[m].name << " S=" << S;
     }
