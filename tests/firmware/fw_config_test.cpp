@@ -1,0 +1,126 @@
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+
+#include "firmware/fw_config.hpp"
+
+namespace sh::fw {
+namespace {
+
+Status Parse(const std::string& text, FwConfig* c) {
+  return ParseConfig(text.data(), text.size(), c);
+}
+
+TEST(FwConfig, ParsesEveryKindOfValue) {
+  FwConfig c;
+  const Status s = Parse(
+      "# comment\n"
+      "backend = linux\n"
+      "  can_interface=can1   # trailing comment\n"
+      "node_id = 42\n"
+      "heartbeat_ms = 100\n"
+      "calibration = /etc/stereohash/calib.yaml\n"
+      "budget_ms = 250\n"
+      "free_run_dhz = 300\n"
+      "model_mask = 0x5\n"
+      "volume_min_mm = -100, -200 300\n"
+      "volume_max_mm = 100 200 900\n"
+      "gpio_trigger_line = 17\n"
+      "gpio_outputs_active_low = yes\n"
+      "sim_seed = 77\n"
+      "sim_camera_fault = drop_right\n"
+      "\n",
+      &c);
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(c.backend, Backend::kLinux);
+  EXPECT_STREQ(c.can_interface, "can1");
+  EXPECT_EQ(c.node_id, 42);
+  EXPECT_EQ(c.heartbeat_ms, 100u);
+  EXPECT_STREQ(c.calibration_path, "/etc/stereohash/calib.yaml");
+  EXPECT_EQ(c.budget_ms, 250);
+  EXPECT_EQ(c.free_run_dhz, 300);
+  EXPECT_EQ(c.model_mask, 5u);
+  EXPECT_TRUE(c.volume_set);
+  EXPECT_FLOAT_EQ(c.volume_min_mm[1], -200.0f);
+  EXPECT_FLOAT_EQ(c.volume_max_mm[2], 900.0f);
+  EXPECT_EQ(c.gpio_trigger_line, 17);
+  EXPECT_TRUE(c.gpio_outputs_active_low);
+  EXPECT_EQ(c.sim_seed, 77u);
+  EXPECT_EQ(c.sim_camera_fault, SimCameraFault::kDropRight);
+  EXPECT_TRUE(ValidateConfig(c).ok());
+}
+
+struct BadCase {
+  const char* text;
+  const char* expected;  // substring of the message
+};
+
+TEST(FwConfig, ErrorsNameLineAndKey) {
+  const BadCase cases[] = {
+      {"node_id = 1\nnode_id = 0\n", "line 2: key 'node_id'"},
+      {"node_id = 128\n", "1..127"},
+      {"heartbeat_ms = fast\n", "line 1: key 'heartbeat_ms'"},
+      {"backend = windows\n", "expected linux or sim"},
+      {"\n\nbogus_key = 1\n", "line 3: unknown key 'bogus_key'"},
+      {"node_id = 2\nnode_id = 3\n", "line 2: key 'node_id' given twice"},
+      {"just some words\n", "line 1: expected 'key = value'"},
+      {"budget_ms = 5\n", "line 1: key 'budget_ms'"},
+      {"free_run_dhz = 301\n", "key 'free_run_dhz'"},
+      {"model_mask = 0\n", "key 'model_mask'"},
+      {"volume_min_mm = 1 2\n", "three numbers"},
+      {"mlock = maybe\n", "expected true or false"},
+      {"can_interface =\n", "missing value"},
+      {"= 3\n", "missing key"},
+  };
+  for (const BadCase& bad : cases) {
+    FwConfig c;
+    const Status s = Parse(bad.text, &c);
+    EXPECT_FALSE(s.ok()) << bad.text;
+    EXPECT_NE(std::strstr(s.message(), bad.expected), nullptr)
+        << "text: " << bad.text << " message: " << s.message();
+  }
+}
+
+TEST(FwConfig, TextWithNulOrOverlongLineIsRefused) {
+  FwConfig c;
+  const char with_nul[] = "node_id = 1\0\n";
+  EXPECT_FALSE(ParseConfig(with_nul, sizeof(with_nul) - 1, &c).ok());
+  const std::string long_line = "calibration = " + std::string(1000, 'x') + "\n";
+  const Status s = Parse(long_line, &c);
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(std::strstr(s.message(), "line 1"), nullptr) << s.message();
+}
+
+TEST(FwConfig, ValidationChecksCombinations) {
+  FwConfig c;
+  c.backend = Backend::kLinux;
+  EXPECT_NE(std::strstr(ValidateConfig(c).message(), "'calibration'"), nullptr);
+  std::strcpy(c.calibration_path, "/x.yaml");
+  EXPECT_TRUE(ValidateConfig(c).ok());
+  c.recognition = RecognitionKind::kTruth;
+  EXPECT_FALSE(ValidateConfig(c).ok());
+  FwConfig d = SimDefaults();
+  EXPECT_TRUE(ValidateConfig(d).ok());
+  d.volume_min_mm[0] = 5000;
+  EXPECT_FALSE(ValidateConfig(d).ok());
+}
+
+TEST(FwConfig, MissingFileIsNotFound) {
+  FwConfig c;
+  const Status s = LoadConfigFile("/nonexistent/stereohash.conf", &c);
+  EXPECT_EQ(s.code(), StatusCode::kNotFound);
+  EXPECT_NE(std::strstr(s.message(), "/nonexistent/stereohash.conf"), nullptr);
+}
+
+TEST(FwConfig, ShippedExamplesParse) {
+  for (const char* path :
+       {"firmware/stereohash-fw.conf.example", "firmware/stereohash-fw-sim.conf.example"}) {
+    FwConfig c;
+    const Status s = LoadConfigFile(path, &c);
+    EXPECT_TRUE(s.ok()) << path << ": " << s.message();
+  }
+}
+
+}  // namespace
+}  // namespace sh::fw

@@ -1,0 +1,315 @@
+// The firmware core in-process: boot, triggers from CAN and GPIO, commands, and every fault the
+// board must survive, injected through the simulator backends.
+#include <gtest/gtest.h>
+
+#include "tests/firmware/fw_test_support.hpp"
+
+namespace sh::fw::testing {
+namespace {
+
+TEST(FirmwareCore, BootsWithBootUpThenOperationalHeartbeats) {
+  Rig rig;
+  rig.Start();
+  std::optional<hal::CanFrame> first = rig.WaitFor(kCobHeartbeat);
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->len, 1);
+  EXPECT_EQ(first->data[0], 0x00) << "boot-up comes first";
+  std::optional<hal::CanFrame> hb = rig.WaitFor(kCobHeartbeat);
+  ASSERT_TRUE(hb);
+  EXPECT_EQ(hb->data[0], uint8_t(NmtState::kOperational));
+  EXPECT_TRUE(rig.WaitState(FirmwareState::kReady));
+  EXPECT_EQ(rig.core.loaded_models(), rig.data->table().model_count());
+  EXPECT_EQ(rig.recognition.inits.load(), 1);
+  EXPECT_TRUE(rig.gpio.output(hal::GpioOutput::kReady));
+}
+
+TEST(FirmwareCore, CanAndGpioTriggersPublishSequencedResultSets) {
+  Rig rig;
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  rig.gpio.ClearOutputLog();
+  rig.Trigger(77);
+  std::optional<CommandAck> ack = rig.WaitAck(0x01);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, 0);
+  EXPECT_EQ(ack->request_id, 77);
+  std::optional<ResultSet> a = rig.WaitSet();
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->request_id, 77);
+  EXPECT_EQ(a->status, ResultStatus::kOk);
+  ASSERT_EQ(a->object_count, 1);
+
+  ASSERT_TRUE(rig.gpio.FireTrigger());
+  std::optional<ResultSet> b = rig.WaitSet();
+  ASSERT_TRUE(b);
+  EXPECT_EQ(b->request_id, 0) << "hardware trigger";
+  EXPECT_EQ(uint16_t(a->sequence + 1), b->sequence);
+  // Consecutive captures: the object's x carries the frame number.
+  EXPECT_NEAR(b->objects[0].cam_t_model_mm[0] - a->objects[0].cam_t_model_mm[0], 1.0, 0.01);
+
+  // Strobe pulsed once per trigger, busy raised and lowered.
+  hal::GpioOutputChange log[64];
+  const size_t n = rig.gpio.CopyOutputLog(log, 64);
+  int strobe_on = 0, strobe_off = 0, busy_on = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (log[i].output == hal::GpioOutput::kStrobe) (log[i].active ? strobe_on : strobe_off)++;
+    if (log[i].output == hal::GpioOutput::kBusy && log[i].active) ++busy_on;
+  }
+  EXPECT_EQ(strobe_on, 2);
+  EXPECT_EQ(strobe_off, 2);
+  EXPECT_EQ(busy_on, 2);
+  EXPECT_EQ(rig.broken_sets, 0);
+}
+
+TEST(FirmwareCore, OutOfRangeCommandsAreRejectedWithEmcyAndChangeNothing) {
+  Rig rig;
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  const uint16_t budget = rig.core.budget_ms();
+  rig.Command({0x03, 5, 0, 0, 0, 0, 0, 0});  // budget 5 ms < 20 ms
+  std::optional<CommandAck> ack = rig.WaitAck(0x03);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, uint8_t(StatusCode::kOutOfRange));
+  std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kProtocolError));
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->detail, 0x03020005u);
+  EXPECT_EQ(e->state, FirmwareState::kReady);
+  EXPECT_EQ(rig.core.budget_ms(), budget);
+
+  rig.Command({0x02, 0, 0, 0x10, 0, 0, 0, 0});  // model 20: not loaded
+  ack = rig.WaitAck(0x02);
+  ASSERT_TRUE(ack);
+  EXPECT_NE(ack->status, 0);
+  rig.Command({0x05, 0x2D, 0x01, 0, 0, 0, 0, 0});  // 30.1 Hz > 30 Hz
+  ack = rig.WaitAck(0x05);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, uint8_t(StatusCode::kOutOfRange));
+  rig.Command({0x42});  // unknown command
+  ack = rig.WaitAck(0x42);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, uint8_t(StatusCode::kInvalidArgument));
+  rig.Command({0x01});  // trigger without its request id
+  ASSERT_TRUE(rig.WaitEmcy(uint16_t(EmcyCode::kPdoLengthError)));
+  EXPECT_EQ(rig.core.state(), FirmwareState::kReady);
+  EXPECT_EQ(rig.core.model_mask(), (1u << rig.core.loaded_models()) - 1);
+
+  // Valid settings are applied: budget reaches the recognition, the mask too.
+  rig.Command({0x03, 0xFA, 0x00, 0, 0, 0, 0, 0});  // 250 ms
+  ack = rig.WaitAck(0x03);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->value, 250u);
+  rig.Command({0x02, 0x05, 0, 0, 0, 0, 0, 0});
+  ack = rig.WaitAck(0x02);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, 0);
+  rig.Trigger(9);
+  ASSERT_TRUE(rig.WaitSet());
+  EXPECT_EQ(rig.recognition.mask.load(), 5u);
+  EXPECT_FLOAT_EQ(rig.recognition.last_budget_ms.load(), 250.0f);
+}
+
+TEST(FirmwareCore, FreeRunProducesSetsWithRequestIdZeroUntilStopped) {
+  Rig rig;
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  rig.Command({0x05, 200, 0, 0, 0, 0, 0, 0});  // 20 Hz
+  for (int i = 0; i < 3; ++i) {
+    std::optional<ResultSet> s = rig.WaitSet();
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->request_id, 0);
+  }
+  rig.Command({0x05, 0, 0, 0, 0, 0, 0, 0});
+  ASSERT_TRUE(rig.WaitAck(0x05));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  while (rig.WaitSet(50)) {
+  }
+  EXPECT_FALSE(rig.WaitSet(300)) << "free-run continued after rate 0";
+}
+
+TEST(FirmwareCore, CameraTimeoutFaultsKeepsHeartbeatAndClearFaultRecovers) {
+  hal::SimCameraConfig cc;
+  cc.right_stop_after = 1;  // the right camera goes silent after one frame
+  Rig rig(cc);
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  rig.Trigger(1);
+  ASSERT_TRUE(rig.WaitSet());
+  rig.Trigger(2);
+  std::optional<ResultSet> bad = rig.WaitSet();
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, ResultStatus::kImageError);
+  EXPECT_EQ(bad->object_count, 0);
+  std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kSensor));
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->state, FirmwareState::kFault);
+  EXPECT_EQ(e->detail >> 24, kSensorCaptureFailed >> 24);
+  EXPECT_EQ(rig.core.state(), FirmwareState::kFault);
+  EXPECT_GE(rig.CountHeartbeats(200), 3) << "heartbeat continues in fault";
+
+  rig.Trigger(3);  // refused while in fault
+  std::optional<CommandAck> ack = rig.WaitAck(0x01);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, uint8_t(StatusCode::kFailedPrecondition));
+
+  rig.ClearFault();  // restarts the camera: one more frame from the right side
+  ack = rig.WaitAck(0x04);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, 0);
+  ASSERT_TRUE(rig.WaitEmcy(uint16_t(EmcyCode::kNoError)));
+  EXPECT_TRUE(rig.WaitState(FirmwareState::kReady));
+  rig.Trigger(4);
+  std::optional<ResultSet> good = rig.WaitSet();
+  ASSERT_TRUE(good);
+  EXPECT_EQ(good->status, ResultStatus::kOk);
+}
+
+TEST(FirmwareCore, UnpairedFramesAreReportedWithoutLosingTheTrigger) {
+  hal::SimCameraConfig cc;
+  cc.drop_right_every = 2;
+  Rig rig(cc);
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  bool warned = false;
+  for (int i = 1; i <= 4; ++i) {
+    rig.Trigger(uint16_t(i));
+    std::optional<ResultSet> s = rig.WaitSet();
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->status, ResultStatus::kOk);
+  }
+  const hal::CameraStats stats = rig.camera->stats();
+  ASSERT_GT(stats.left_unpaired_drops + stats.right_unpaired_drops, 0u);
+  std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kSensor), 500);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->detail >> 24, kSensorUnpairedFrames >> 24);
+  warned = true;
+  EXPECT_TRUE(warned);
+  EXPECT_EQ(rig.core.state(), FirmwareState::kReady);
+}
+
+TEST(FirmwareCore, BusOffFaultsThenRecoveryIsReportedAndClearFaultRecovers) {
+  Rig rig;
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  rig.bus.InjectBusOff(rig.fw);
+  ASSERT_TRUE(rig.gpio.FireTrigger());
+  EXPECT_TRUE(rig.WaitState(FirmwareState::kFault));
+  EXPECT_EQ(rig.CountHeartbeats(150), 0) << "nothing leaves a bus-off controller";
+  rig.bus.RecoverFromBusOff(rig.fw);
+  std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kRecoveredFromBusOff));
+  ASSERT_TRUE(e);
+  EXPECT_GE(e->detail, 1u);
+  EXPECT_EQ(e->state, FirmwareState::kFault);
+  EXPECT_GE(rig.CountHeartbeats(150), 2) << "heartbeat resumes after recovery";
+  rig.ClearFault();
+  ASSERT_TRUE(rig.WaitEmcy(uint16_t(EmcyCode::kNoError)));
+  EXPECT_TRUE(rig.WaitState(FirmwareState::kReady));
+  rig.Trigger(11);
+  std::optional<ResultSet> s = rig.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->request_id, 11);
+}
+
+TEST(FirmwareCore, FullTransmitQueueFaultsWithEmcyAndRecovers) {
+  Rig rig;
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  rig.bus.InjectTxQueueFull(rig.fw, 12);  // two frames' worth of retries
+  ASSERT_TRUE(rig.gpio.FireTrigger());
+  std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kCommunication));
+  ASSERT_TRUE(e);
+  EXPECT_GE(e->detail, 1u) << "dropped frames";
+  EXPECT_EQ(rig.core.state(), FirmwareState::kFault);
+  EXPECT_GE(rig.CountHeartbeats(100), 2);
+  rig.ClearFault();
+  ASSERT_TRUE(rig.WaitEmcy(uint16_t(EmcyCode::kNoError)));
+  rig.Trigger(12);
+  std::optional<ResultSet> s = rig.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->request_id, 12);
+}
+
+TEST(FirmwareCore, CorruptTablesBootIntoFaultAndRecoverOnceRepaired) {
+  Rig rig;
+  rig.data->InjectCorruptTables(true);
+  rig.Start();
+  std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kDataSet));
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->detail, kDetailTables);
+  EXPECT_EQ(rig.core.state(), FirmwareState::kFault);
+  EXPECT_EQ(rig.recognition.inits.load(), 0);
+  EXPECT_GE(rig.CountHeartbeats(100), 2);
+
+  rig.ClearFault();  // still corrupt: refused, fault stays
+  std::optional<CommandAck> ack = rig.WaitAck(0x04);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, uint8_t(StatusCode::kFailedPrecondition));
+  EXPECT_EQ(rig.core.state(), FirmwareState::kFault);
+
+  rig.data->InjectCorruptTables(false);  // e.g. a good file copied onto the board
+  rig.ClearFault();
+  ack = rig.WaitAck(0x04);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, 0);
+  EXPECT_TRUE(rig.WaitState(FirmwareState::kReady));
+  EXPECT_EQ(rig.recognition.inits.load(), 1);
+  rig.Trigger(5);
+  ASSERT_TRUE(rig.WaitSet());
+}
+
+TEST(FirmwareCore, MissingCalibrationBootsIntoFault) {
+  Rig rig;
+  rig.data->InjectMissingCalibration(true);
+  rig.Start();
+  std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kDataSet));
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->detail, kDetailCalibration);
+  EXPECT_EQ(rig.core.fault_bits(), uint32_t(kFaultCalibration));
+  rig.data->InjectMissingCalibration(false);
+  rig.ClearFault();
+  ASSERT_TRUE(rig.WaitEmcy(uint16_t(EmcyCode::kNoError)));
+  EXPECT_TRUE(rig.WaitState(FirmwareState::kReady));
+}
+
+TEST(FirmwareCore, RecognitionErrorGivesStatusThreeAndEmcyButStaysReady) {
+  Rig rig;
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  rig.recognition.fail_next = true;
+  rig.Trigger(21);
+  std::optional<ResultSet> s = rig.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->status, ResultStatus::kInternalError);
+  EXPECT_EQ(s->object_count, 0);
+  ASSERT_TRUE(rig.WaitEmcy(uint16_t(EmcyCode::kSoftware)));
+  rig.Trigger(22);
+  s = rig.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->status, ResultStatus::kOk);
+}
+
+TEST(FirmwareCore, NmtStopSilencesCommandsUntilStarted) {
+  Rig rig;
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  hal::CanFrame nmt;
+  nmt.id = kCobNmt;
+  nmt.len = 2;
+  nmt.data[0] = uint8_t(NmtCommand::kStop);
+  nmt.data[1] = Rig::kNode;
+  ASSERT_TRUE(rig.plc->Send(nmt).ok());
+  std::optional<hal::CanFrame> hb = rig.WaitFor(kCobHeartbeat, uint8_t(NmtState::kStopped));
+  ASSERT_TRUE(hb);
+  rig.Trigger(30);
+  EXPECT_FALSE(rig.WaitFor(kCobCommandAck, 0x01, 300)) << "commands ignored when stopped";
+  EXPECT_FALSE(rig.WaitSet(100));
+  nmt.data[0] = uint8_t(NmtCommand::kStart);
+  ASSERT_TRUE(rig.plc->Send(nmt).ok());
+  ASSERT_TRUE(rig.WaitFor(kCobHeartbeat, uint8_t(NmtState::kOperational)));
+  rig.Trigger(31);
+  std::optional<ResultSet> s = rig.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->request_id, 31);
+}
+
+}  // namespace
+}  // namespace sh::fw::testing
