@@ -1,0 +1,187 @@
+#include "recog/pipeline/pipeline.hpp"
+
+#include <algorithm>
+
+#include "recog/camera/calibration_check.hpp"
+#include "recog/stereo/image_adapters.hpp"
+
+namespace sh {
+namespace {
+
+ConstEdgeMapView AsConst(const EdgeMapView& v) { return {v.edge, v.orientation}; }
+
+}  // namespace
+
+void EdgeMapVerifier::Reset(const StereoCalibration* calib, const TableView* table,
+                            ConstEdgeMapView left, ConstEdgeMapView right,
+                            const VerifyConfig* config, int64_t (*now_ns)()) {
+  calib_ = calib;
+  table_ = table;
+  left_ = left;
+  right_ = right;
+  config_ = config;
+  now_ns_ = now_ns;
+  elapsed_ns_ = 0;
+  errors_ = 0;
+}
+
+bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>& accepted,
+                             RecognizedObject& candidate) {
+  const int64_t start = now_ns_ ? now_ns_() : 0;
+  // Occluders: the accepted objects, or the kMaxOccluders whose centres are nearest to the
+  // candidate when there are more (far objects cannot hide it anyway in a table scene).
+  PosedModel occluders[kMaxOccluders];
+  size_t n_occluders = 0;
+  if (accepted.size() <= kMaxOccluders) {
+    for (const RecognizedObject& o : accepted) {
+      occluders[n_occluders++] = {&table_->model(o.model), o.cam_T_model};
+    }
+  } else {
+    float dist2[kMaxOccluders];
+    for (const RecognizedObject& o : accepted) {
+      const float d2 = (o.cam_T_model.t_mm - candidate.cam_T_model.t_mm).squaredNorm();
+      size_t slot = n_occluders;
+      if (n_occluders == kMaxOccluders) {
+        slot = static_cast<size_t>(std::max_element(dist2, dist2 + kMaxOccluders) - dist2);
+        if (dist2[slot] <= d2) continue;
+      } else {
+        ++n_occluders;
+      }
+      occluders[slot] = {&table_->model(o.model), o.cam_T_model};
+      dist2[slot] = d2;
+    }
+  }
+  const PosedModel hypothesis{&model, candidate.cam_T_model};
+  const Result<VerifyResult> r =
+      VerifyHypothesis(*calib_, left_, right_, hypothesis, occluders, n_occluders, *config_);
+  if (now_ns_) elapsed_ns_ += now_ns_() - start;
+  if (!r.ok()) {
+    ++errors_;
+    return false;
+  }
+  candidate.verify_score[0] = r->score_left;
+  candidate.verify_score[1] = r->score_right;
+  return r->accepted;
+}
+
+Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
+                      const PipelineConfig& config, ClockFn now_ns) {
+  initialised_ = false;
+  SH_RETURN_IF_ERROR(ValidateStereoCalibration(calib));
+  if (calib.left.width > kMaxImageWidth || calib.left.height > kMaxImageHeight ||
+      calib.right.width > kMaxImageWidth || calib.right.height > kMaxImageHeight) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "calibration image size %dx%d / %dx%d exceeds the supported %dx%d",
+                         calib.left.width, calib.left.height, calib.right.width, calib.right.height,
+                         kMaxImageWidth, kMaxImageHeight);
+  }
+  if (table.model_count() == 0) {
+    return Status::Error(StatusCode::kInvalidArgument, "pipeline: the table holds no models");
+  }
+  SH_RETURN_IF_ERROR(ValidateFeatureConfig(config.features));
+  SH_RETURN_IF_ERROR(CheckVerifyConfig(config.verify));
+  SH_RETURN_IF_ERROR(stereo_.Configure(calib, config.stereo));
+  SH_RETURN_IF_ERROR(recognizer_.Init(table, config.recognizer));
+  calib_ = calib;
+  table_ = table;
+  config_ = config;
+  now_ns_ = now_ns;
+  initialised_ = true;
+  return Status::Ok();
+}
+
+Status Pipeline::CheckImage(const ConstGrayView& image, const CameraIntrinsics& cam,
+                            const char* which) const {
+  if (image.empty()) {
+    return Status::Error(StatusCode::kInvalidArgument, "%s image is empty", which);
+  }
+  if (image.width != cam.width || image.height != cam.height) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "%s image is %dx%d but the calibration says %dx%d", which, image.width,
+                         image.height, cam.width, cam.height);
+  }
+  if (image.stride < image.width) {
+    return Status::Error(StatusCode::kInvalidArgument, "%s image stride %d < width %d", which,
+                         image.stride, image.width);
+  }
+  return Status::Ok();
+}
+
+float Pipeline::MsSince(int64_t start_ns) const {
+  // Nanoseconds to milliseconds; frame times fit a float's 24 bits many times over.
+  return now_ns_ ? static_cast<float>(now_ns_() - start_ns) * 1e-6f : 0.0f;
+}
+
+Status Pipeline::Process(ConstGrayView left, ConstGrayView right, float budget_ms,
+                         PipelineResult* out) {
+  if (out == nullptr) return Status::Error(StatusCode::kInvalidArgument, "pipeline: no result");
+  out->objects.clear();
+  *out = PipelineResult{};
+  if (!initialised_) {
+    return Status::Error(StatusCode::kFailedPrecondition, "pipeline: Init() has not succeeded");
+  }
+  SH_RETURN_IF_ERROR(CheckImage(left, calib_.left, "left"));
+  SH_RETURN_IF_ERROR(CheckImage(right, calib_.right, "right"));
+  const int64_t t0 = now_ns_ ? now_ns_() : 0;
+
+  // 1. Per-image features.
+  const ConstGrayView images[2] = {left, right};
+  size_t n_points[2], n_lines[2];
+  for (int i = 0; i < 2; ++i) {
+    const Status s = ExtractFeatures(images[i], config_.features, workspace_[i], features_[i]);
+    if (!s.ok()) {
+      return Status::Error(s.code(), "%s image: %s", i == 0 ? "left" : "right", s.message());
+    }
+    n_points[i] = ToStereoPoints(features_[i].corners, stereo_points_[i]);
+    n_lines[i] = ToStereoLines(features_[i].lines, stereo_lines_[i]);
+    out->points2d[i] = static_cast<uint32_t>(n_points[i]);
+    out->lines2d[i] = static_cast<uint32_t>(n_lines[i]);
+  }
+  const int64_t t1 = now_ns_ ? now_ns_() : 0;
+  out->time.features_ms = MsSince(t0);
+
+  // 2. Sloppy stereo. A full scene is a defined truncation: recognise what fits.
+  scene_.clear();
+  PointStereoStats point_stats;
+  LineStereoStats line_stats;
+  Status s = stereo_.MatchPoints(stereo_points_[0], n_points[0], stereo_points_[1], n_points[1],
+                                 scene_.points, &point_stats);
+  if (!s.ok() && s.code() != StatusCode::kResourceExhausted) return s;
+  s = stereo_.MatchLines(stereo_lines_[0], n_lines[0], stereo_lines_[1], n_lines[1], scene_.lines,
+                         &line_stats);
+  if (!s.ok() && s.code() != StatusCode::kResourceExhausted) return s;
+  out->points3d = static_cast<uint32_t>(scene_.points.size());
+  out->lines3d = static_cast<uint32_t>(scene_.lines.size());
+  out->points3d_truncated = point_stats.truncated;
+  out->lines3d_truncated = line_stats.truncated;
+  const int64_t t2 = now_ns_ ? now_ns_() : 0;
+  out->time.stereo_ms = MsSince(t1);
+
+  // 3-5. Hashing, pose refinement and verification against both edge maps.
+  verifier_.Reset(&calib_, &table_, AsConst(features_[0].edges), AsConst(features_[1].edges),
+                  &config_.verify, now_ns_);
+  Budget budget;
+  if (budget_ms > 0 && now_ns_ != nullptr) {
+    // The budget covers the whole frame: recognition gets what features and stereo left.
+    budget.deadline_ns = t0 + static_cast<int64_t>(static_cast<double>(budget_ms) * 1e6);
+    budget.now_ns = now_ns_;
+  }
+  s = recognizer_.Recognize(scene_, verifier_, budget, out->objects, &out->recognition);
+  if (!s.ok()) return s;
+  out->verify_errors = verifier_.errors();
+  if (now_ns_) {
+    const float recognize_ms = MsSince(t2);
+    out->time.verify_ms = static_cast<float>(verifier_.elapsed_ns()) * 1e-6f;
+    out->time.hashing_ms = std::max(0.0f, recognize_ms - out->time.verify_ms);
+    out->time.total_ms = MsSince(t0);
+  }
+  return Status::Ok();
+}
+
+ConstEdgeMapView Pipeline::left_edges() const { return AsConst(features_[0].edges); }
+ConstEdgeMapView Pipeline::right_edges() const { return AsConst(features_[1].edges); }
+const Scene& Pipeline::scene() const { return scene_; }
+const TableView& Pipeline::table() const { return table_; }
+const StereoCalibration& Pipeline::calibration() const { return calib_; }
+
+}  // namespace sh

@@ -1,0 +1,125 @@
+// The whole recognition pipeline of one stereo frame (thesis fig. 4.1): per-image features,
+// sloppy stereo, 3-D geometric hashing with pose refinement, and verification against the edge
+// pixels of both images. Statically allocated: a Pipeline object holds every buffer (tens of
+// MiB: keep it in static storage or allocate it once at start-up); Process() never allocates.
+#pragma once
+
+#include <cstdint>
+
+#include "recog/base/status.hpp"
+#include "recog/base/vector.hpp"
+#include "recog/camera/camera_model.hpp"
+#include "recog/hashing/recognizer.hpp"
+#include "recog/image/features.hpp"
+#include "recog/image/image.hpp"
+#include "recog/scene/scene.hpp"
+#include "recog/stereo/sloppy_stereo.hpp"
+#include "recog/stereo/stereo_features.hpp"
+#include "recog/verify/verify.hpp"
+#include "tables/table_view.hpp"
+
+namespace sh {
+
+struct PipelineConfig {
+  FeatureConfig features = FeatureConfig::DarkBackground();
+  // stereo.volume is the working volume (a box around the table): 3-D features outside it are
+  // dropped and 3-D lines are clipped to it. Nothing is derived from the scene.
+  SloppyStereoConfig stereo;
+  RecognizerConfig recognizer;
+  VerifyConfig verify;
+};
+
+// Milliseconds; zero when no clock was given. hashing_ms covers voting and pose refinement
+// (recognition minus the verifier's own time), verify_ms the verifier calls, so the four stages
+// add up to total_ms up to bookkeeping.
+struct PipelineTimings {
+  float features_ms = 0, stereo_ms = 0, hashing_ms = 0, verify_ms = 0, total_ms = 0;
+};
+
+struct PipelineResult {
+  Vector<RecognizedObject, kMaxObjects> objects;  // verify_score = {left, right}
+  uint32_t points2d[2] = {0, 0};                  // corners, left and right
+  uint32_t lines2d[2] = {0, 0};                   // lines, left and right
+  uint32_t points3d = 0, lines3d = 0;
+  RecognitionStats recognition;
+  PipelineTimings time;
+  // Stereo output reached the Scene's capacity (kMaxScenePoints / kMaxSceneLines): recognition
+  // ran on the truncated scene.
+  bool points3d_truncated = false, lines3d_truncated = false;
+  // Verifier calls that returned an error (treated as rejections; normally 0).
+  uint32_t verify_errors = 0;
+};
+
+// The verifier of the stereo pipeline: projects the refined hypothesis into both images and
+// checks it against their edge pixels, with the objects accepted so far as occluders (the
+// kMaxOccluders nearest to the candidate when there are more). Scores go to
+// candidate.verify_score = {left, right}.
+class EdgeMapVerifier : public HypothesisVerifier {
+ public:
+  void Reset(const StereoCalibration* calib, const TableView* table, ConstEdgeMapView left,
+             ConstEdgeMapView right, const VerifyConfig* config, int64_t (*now_ns)());
+  bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
+              RecognizedObject& candidate) override;
+
+  int64_t elapsed_ns() const { return elapsed_ns_; }
+  uint32_t errors() const { return errors_; }
+
+ private:
+  const StereoCalibration* calib_ = nullptr;
+  const TableView* table_ = nullptr;
+  ConstEdgeMapView left_{}, right_{};
+  const VerifyConfig* config_ = nullptr;
+  int64_t (*now_ns_)() = nullptr;
+  int64_t elapsed_ns_ = 0;
+  uint32_t errors_ = 0;
+};
+
+class Pipeline {
+ public:
+  // Monotonic clock used for the timings and the time budget (no clock: no timings, and only
+  // the scene-basis budget applies).
+  using ClockFn = int64_t (*)();
+
+  Status Init(const StereoCalibration& calib, const TableView& table, const PipelineConfig& config,
+              ClockFn now_ns = nullptr);
+
+  // Recognises the objects in one stereo pair. Images must match the calibration's size.
+  // `budget_ms` <= 0 means no time limit. On error the result is empty and the Status names the
+  // problem (size mismatch, empty image, ...).
+  Status Process(ConstGrayView left, ConstGrayView right, float budget_ms, PipelineResult* out);
+
+  // Views of the last frame's edge maps and features (valid until the next Process()), for
+  // overlays and diagnostics.
+  ConstEdgeMapView left_edges() const;
+  ConstEdgeMapView right_edges() const;
+  const Scene& scene() const;
+  const TableView& table() const;
+  const StereoCalibration& calibration() const;
+  const PipelineConfig& config() const { return config_; }
+  const ImageFeatures& left_features() const { return features_[0]; }
+  const ImageFeatures& right_features() const { return features_[1]; }
+
+ private:
+  Status CheckImage(const ConstGrayView& image, const CameraIntrinsics& cam,
+                    const char* which) const;
+  float MsSince(int64_t start_ns) const;
+
+  bool initialised_ = false;
+  StereoCalibration calib_;
+  TableView table_;
+  PipelineConfig config_;
+  ClockFn now_ns_ = nullptr;
+
+  // Per image: detector workspace (~42 MiB each, holds the edge map) and its features.
+  FeatureWorkspace workspace_[2];
+  ImageFeatures features_[2];
+  // Detector output in stereo's input form.
+  StereoPoint2D stereo_points_[2][kMaxStereoCorners];
+  StereoLine2D stereo_lines_[2][kMaxStereoLines];
+  SloppyStereo stereo_;
+  Scene scene_;
+  Recognizer recognizer_;  // ~3 MB of vote and candidate tables
+  EdgeMapVerifier verifier_;
+};
+
+}  // namespace sh

@@ -1,0 +1,249 @@
+// The whole pipeline on rendered stereo pairs with known poses: recognition quality against the
+// ground truth, the stage bookkeeping, the budget, and the input errors.
+#include "recog/pipeline/pipeline.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+#include "tables/table_file.hpp"
+#include "tests/pipeline/rendered_eval.hpp"
+
+namespace sh {
+namespace {
+
+using testing_support::RenderedPair;
+using testing_support::RenderModels;
+
+int64_t NowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+float Median(std::vector<float> v) {
+  if (v.empty()) return 1e9f;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+class PipelineTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    auto t = OpenDefaultTable();
+    ASSERT_TRUE(t.ok()) << t.status().message();
+    table_ = new TableView(*t);
+    models_ = new RenderModels();
+    const Status s = testing_support::LoadRenderModels(STEREOHASH_MODELS_DIR, *table_, models_);
+    ASSERT_TRUE(s.ok()) << s.message();
+    pipeline_ = new Pipeline();  // tens of MiB: one for the whole suite
+  }
+  static void TearDownTestSuite() {
+    delete pipeline_;
+    delete models_;
+    delete table_;
+  }
+
+  static render::ScenarioParams Scenario(render::Background bg) {
+    render::ScenarioParams p;
+    p.background = bg;
+    p.occlusion = render::Occlusion::kSome;
+    p.n_objects = 4;
+    p.camera_distance_mm = 400.0f;
+    return p;
+  }
+
+  static PipelineConfig ConfigFor(render::Background bg) {
+    PipelineConfig c;
+    c.features = bg == render::Background::kDark ? FeatureConfig::DarkBackground()
+                                                 : FeatureConfig::LightBackground();
+    return c;
+  }
+
+  static TableView* table_;
+  static RenderModels* models_;
+  static Pipeline* pipeline_;
+};
+
+TableView* PipelineTest::table_ = nullptr;
+RenderModels* PipelineTest::models_ = nullptr;
+Pipeline* PipelineTest::pipeline_ = nullptr;
+
+// Most objects are found, few false alarms, and the poses of the correct ones are accurate.
+TEST_F(PipelineTest, RecognisesRenderedScenes) {
+  int objects = 0, correct = 0, false_alarms = 0, reported = 0;
+  std::vector<float> t_err, r_err;
+  auto pair = std::make_unique<RenderedPair>();
+  PipelineResult result;
+  for (render::Background bg : {render::Background::kDark, render::Background::kLight}) {
+    for (uint64_t seed : {11u, 12u, 13u}) {
+      ASSERT_TRUE(testing_support::RenderPair(seed, Scenario(bg), *models_, pair.get()).ok());
+      ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, ConfigFor(bg), NowNs).ok());
+      const Status s = pipeline_->Process(pair->left_view(), pair->right_view(), 0, &result);
+      ASSERT_TRUE(s.ok()) << s.message();
+      const MatchCounts m =
+          MatchToTruth(models_->table, pair->truth, testing_support::PosesOf(result));
+      objects += static_cast<int>(pair->truth.size());
+      correct += m.correct;
+      false_alarms += m.false_alarms;
+      reported += static_cast<int>(result.objects.size());
+      t_err.insert(t_err.end(), m.translation_errors_mm.begin(), m.translation_errors_mm.end());
+      r_err.insert(r_err.end(), m.rotation_errors_deg.begin(), m.rotation_errors_deg.end());
+      // Every accepted object passed verification in both images.
+      for (const RecognizedObject& o : result.objects) {
+        EXPECT_GE(o.verify_score[0], ConfigFor(bg).verify.min_fraction);
+        EXPECT_GE(o.verify_score[1], ConfigFor(bg).verify.min_fraction);
+        EXPECT_LE(o.verify_score[0], 1.0f);
+        EXPECT_LE(o.verify_score[1], 1.0f);
+      }
+      EXPECT_GT(result.points2d[0], 0u);
+      EXPECT_GT(result.lines2d[1], 0u);
+      EXPECT_GT(result.lines3d, 0u);
+    }
+  }
+  EXPECT_GE(correct, objects * 3 / 4) << correct << " of " << objects;
+  EXPECT_LE(false_alarms, reported / 5) << false_alarms << " of " << reported;
+  EXPECT_LT(Median(t_err), 2.0f);
+  EXPECT_LT(Median(r_err), 2.0f);
+}
+
+TEST_F(PipelineTest, TimingsAddUpAndResultsRepeat) {
+  auto pair = std::make_unique<RenderedPair>();
+  ASSERT_TRUE(
+      testing_support::RenderPair(21, Scenario(render::Background::kDark), *models_, pair.get())
+          .ok());
+  ASSERT_TRUE(
+      pipeline_->Init(pair->generated.calib, *table_, ConfigFor(render::Background::kDark), NowNs)
+          .ok());
+  PipelineResult a, b;
+  ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, &a).ok());
+  ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, &b).ok());
+  EXPECT_GT(a.time.features_ms, 0.0f);
+  EXPECT_GT(a.time.stereo_ms, 0.0f);
+  EXPECT_GT(a.time.hashing_ms, 0.0f);
+  EXPECT_GE(a.time.verify_ms, 0.0f);
+  const float stages = a.time.features_ms + a.time.stereo_ms + a.time.hashing_ms + a.time.verify_ms;
+  EXPECT_LE(stages, a.time.total_ms * 1.001f + 0.01f);
+  EXPECT_GE(stages, a.time.total_ms * 0.9f);
+  EXPECT_FALSE(a.recognition.budget_exhausted);
+  // Deterministic: the same frame gives the same objects.
+  ASSERT_EQ(a.objects.size(), b.objects.size());
+  for (size_t i = 0; i < a.objects.size(); ++i) {
+    EXPECT_EQ(a.objects[i].model, b.objects[i].model);
+    EXPECT_TRUE(a.objects[i].cam_T_model.t_mm.isApprox(b.objects[i].cam_T_model.t_mm));
+  }
+  EXPECT_EQ(a.points3d, b.points3d);
+  EXPECT_EQ(a.lines3d, b.lines3d);
+}
+
+TEST_F(PipelineTest, NoClockMeansNoTimings) {
+  auto pair = std::make_unique<RenderedPair>();
+  ASSERT_TRUE(
+      testing_support::RenderPair(22, Scenario(render::Background::kDark), *models_, pair.get())
+          .ok());
+  ASSERT_TRUE(
+      pipeline_->Init(pair->generated.calib, *table_, ConfigFor(render::Background::kDark)).ok());
+  PipelineResult r;
+  ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 1.0f, &r).ok());
+  EXPECT_EQ(r.time.total_ms, 0.0f);
+  EXPECT_FALSE(r.recognition.budget_exhausted);  // without a clock only the basis budget applies
+  EXPECT_GT(r.objects.size(), 0u);
+}
+
+// A budget shorter than the feature stage leaves no time for recognition: the frame completes
+// with features and stereo but no objects, and says so.
+TEST_F(PipelineTest, BudgetStopsRecognition) {
+  auto pair = std::make_unique<RenderedPair>();
+  ASSERT_TRUE(
+      testing_support::RenderPair(23, Scenario(render::Background::kDark), *models_, pair.get())
+          .ok());
+  ASSERT_TRUE(
+      pipeline_->Init(pair->generated.calib, *table_, ConfigFor(render::Background::kDark), NowNs)
+          .ok());
+  PipelineResult r;
+  ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 1e-3f, &r).ok());
+  EXPECT_TRUE(r.recognition.budget_exhausted);
+  EXPECT_EQ(r.objects.size(), 0u);
+  EXPECT_GT(r.lines3d, 0u);
+}
+
+TEST_F(PipelineTest, RefusesBadInput) {
+  auto pair = std::make_unique<RenderedPair>();
+  ASSERT_TRUE(
+      testing_support::RenderPair(26, Scenario(render::Background::kDark), *models_, pair.get())
+          .ok());
+  PipelineResult r;
+  {
+    Pipeline* fresh = pipeline_;
+    // Not initialised with a valid calibration: a clear precondition error.
+    StereoCalibration broken = pair->generated.calib;
+    broken.left.fx = -1;
+    EXPECT_FALSE(fresh->Init(broken, *table_, PipelineConfig{}).ok());
+    const Status s = fresh->Process(pair->left_view(), pair->right_view(), 0, &r);
+    EXPECT_EQ(s.code(), StatusCode::kFailedPrecondition) << s.message();
+  }
+  ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, PipelineConfig{}, NowNs).ok());
+  // Size mismatch with the calibration.
+  ConstGrayView small = pair->left_view();
+  small.width -= 4;
+  Status s = pipeline_->Process(small, pair->right_view(), 0, &r);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::string(s.message()).find("calibration"), std::string::npos) << s.message();
+  ConstGrayView short_right = pair->right_view();
+  short_right.height -= 1;
+  s = pipeline_->Process(pair->left_view(), short_right, 0, &r);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::string(s.message()).find("right"), std::string::npos) << s.message();
+  // Empty images.
+  s = pipeline_->Process(ConstGrayView{}, pair->right_view(), 0, &r);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::string(s.message()).find("empty"), std::string::npos) << s.message();
+  EXPECT_EQ(r.objects.size(), 0u);
+  // A bad configuration is refused at Init.
+  PipelineConfig bad;
+  bad.verify.min_fraction = 2.0f;
+  EXPECT_FALSE(pipeline_->Init(pair->generated.calib, *table_, bad).ok());
+  bad = PipelineConfig{};
+  bad.stereo.epipolar_tolerance_px = -1.0f;
+  EXPECT_FALSE(pipeline_->Init(pair->generated.calib, *table_, bad).ok());
+}
+
+// The working volume is the stereo configuration's: with a box far behind the table, every 3-D
+// feature that remains lies in that box (only spurious pairings can), and nothing is recognised.
+TEST_F(PipelineTest, WorkingVolumeLimitsTheScene) {
+  auto pair = std::make_unique<RenderedPair>();
+  ASSERT_TRUE(
+      testing_support::RenderPair(25, Scenario(render::Background::kDark), *models_, pair.get())
+          .ok());
+  PipelineConfig config = ConfigFor(render::Background::kDark);
+  config.stereo.volume = WorkingVolume::InLeftCamera(Eigen::Vector3f(-500, -500, 2000),
+                                                     Eigen::Vector3f(500, 500, 2500));
+  ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, config).ok());
+  PipelineResult r;
+  ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, &r).ok());
+  EXPECT_GT(r.points2d[0], 0u);
+  EXPECT_EQ(r.objects.size(), 0u);
+  const Scene& scene = pipeline_->scene();
+  EXPECT_EQ(scene.points.size(), r.points3d);
+  EXPECT_EQ(scene.lines.size(), r.lines3d);
+  const auto inside = [](const Eigen::Vector3f& p) {
+    return p.z() >= 2000.0f - 0.1f && p.z() <= 2500.0f + 0.1f && std::abs(p.x()) <= 500.1f &&
+           std::abs(p.y()) <= 500.1f;
+  };
+  for (const ScenePoint& p : scene.points) EXPECT_TRUE(inside(p.p_mm));
+  for (const SceneLine& l : scene.lines) {
+    EXPECT_TRUE(inside(l.a_mm));
+    EXPECT_TRUE(inside(l.b_mm));
+  }
+  // The same frame with the default volume does give objects.
+  ASSERT_TRUE(
+      pipeline_->Init(pair->generated.calib, *table_, ConfigFor(render::Background::kDark)).ok());
+  ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, &r).ok());
+  EXPECT_GT(r.objects.size(), 0u);
+}
+
+}  // namespace
+}  // namespace sh

@@ -1,0 +1,218 @@
+// End-to-end test of `stereohash recognize`: a pair rendered by `stereohash render` is
+// recognised, the JSON output parsed and compared with the renderer's ground truth; bad input
+// gives a clear message and a non-zero exit, never a crash.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "hal/sim/image_files.hpp"
+#include "tables/table_file.hpp"
+#include "tests/pipeline/mini_json.hpp"
+#include "tests/support/synthetic_scene.hpp"
+
+namespace sh {
+namespace {
+
+using testing_support::Json;
+using testing_support::JsonReader;
+
+struct ToolRun {
+  int exit_code = -1;
+  bool signalled = false;
+  std::string output;  // stdout and stderr
+};
+
+ToolRun RunTool(const std::string& args) {
+  ToolRun r;
+  const std::string command = std::string(STEREOHASH_EXE) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return r;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) r.output.append(buffer, n);
+  const int status = pclose(pipe);
+  r.signalled = WIFSIGNALED(status);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+void WriteText(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f << text;
+}
+
+RigidTransform PoseOf(const Json& o) {
+  RigidTransform T;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) T.R(r, c) = static_cast<float>(o["R"][r][c].number);
+    T.t_mm[r] = static_cast<float>(o["t"][r].number);
+  }
+  return T;
+}
+
+class RecognizeToolTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    char pattern[] = "/tmp/stereohash_recognize_XXXXXX";
+    ASSERT_NE(mkdtemp(pattern), nullptr);
+    dir_ = new std::string(pattern);
+    const ToolRun r = RunTool("render --out " + *dir_ + " --seed 7 --objects 4 --occlusion some");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  static void TearDownTestSuite() {
+    (void)std::system(("rm -rf " + *dir_).c_str());
+    delete dir_;
+  }
+  static std::string Path(const char* name) { return *dir_ + "/" + name; }
+  static std::string Inputs(const std::string& calib, const std::string& left,
+                            const std::string& right) {
+    return "recognize --calib " + calib + " --left " + left + " --right " + right;
+  }
+  static std::string* dir_;
+};
+
+std::string* RecognizeToolTest::dir_ = nullptr;
+
+TEST_F(RecognizeToolTest, JsonMatchesTheRenderedTruth) {
+  const ToolRun r = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) +
+                            " --json " + Path("out.json") + " --overlay " + Path("overlay.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("recognised"), std::string::npos) << r.output;
+
+  Json out, truth;
+  ASSERT_TRUE(JsonReader(ReadText(Path("out.json"))).Parse(&out)) << ReadText(Path("out.json"));
+  ASSERT_TRUE(JsonReader(ReadText(Path("truth.json"))).Parse(&truth));
+  auto table = OpenDefaultTable();
+  ASSERT_TRUE(table.ok());
+  std::vector<Model> models;
+  for (uint32_t i = 0; i < table->model_count(); ++i) models.push_back(table->model(i));
+
+  std::vector<TruthObject> expected;
+  for (const Json& o : truth["objects"].items) {
+    const int m = table->FindModel(o["model"].text.c_str());
+    ASSERT_GE(m, 0) << o["model"].text;
+    expected.push_back({m, PoseOf(o)});
+  }
+  std::vector<RecognizedPose> found;
+  ASSERT_EQ(out["objects"].type, Json::kArray);
+  for (const Json& o : out["objects"].items) {
+    const int m = table->FindModel(o["model"].text.c_str());
+    ASSERT_GE(m, 0) << "unknown model in output: " << o["model"].text;
+    RigidTransform T = PoseOf(o);
+    EXPECT_NEAR(T.R.determinant(), 1.0f, 1e-4f);
+    EXPECT_TRUE((T.R * T.R.transpose()).isApprox(Eigen::Matrix3f::Identity(), 1e-4f));
+    ASSERT_EQ(o["verify"].size(), 2u);
+    EXPECT_GT(o["verify"][0].number, 0.0);
+    EXPECT_LE(o["verify"][1].number, 1.0);
+    EXPECT_GT(o["vote"].number, 0.0);
+    found.push_back({m, T});
+  }
+  const MatchCounts m = MatchToTruth(models, expected, found);
+  EXPECT_GE(m.correct, static_cast<int>(expected.size()) / 2)
+      << m.correct << " of " << expected.size() << "\n"
+      << r.output;
+  for (float e : m.translation_errors_mm) EXPECT_LT(e, 10.0f);
+
+  const Json& f = out["features"];
+  ASSERT_EQ(f["points2d"].size(), 2u);
+  ASSERT_EQ(f["lines2d"].size(), 2u);
+  EXPECT_GT(f["points2d"][0].number, 0);
+  EXPECT_GT(f["lines2d"][1].number, 0);
+  EXPECT_GT(f["lines3d"].number, 0);
+  EXPECT_EQ(f["points3d"].type, Json::kNumber);
+  const Json& t = out["time_ms"];
+  for (const char* stage : {"features", "stereo", "hashing", "verify"}) {
+    EXPECT_EQ(t[stage].type, Json::kNumber) << stage;
+    EXPECT_GE(t[stage].number, 0.0) << stage;
+    EXPECT_LE(t[stage].number, t["total"].number + 1e-3) << stage;
+  }
+
+  // The overlay is an RGB PNG of both images side by side.
+  const std::string png = ReadText(Path("overlay.png"));
+  ASSERT_GT(png.size(), 33u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  const auto be32 = [&](size_t at) {
+    return (uint32_t(uint8_t(png[at])) << 24) | (uint32_t(uint8_t(png[at + 1])) << 16) |
+           (uint32_t(uint8_t(png[at + 2])) << 8) | uint32_t(uint8_t(png[at + 3]));
+  };
+  auto calib_text = ReadText(Path("calib.yaml"));
+  const size_t w_at = calib_text.find("image_width:");
+  ASSERT_NE(w_at, std::string::npos);
+  const int width = std::atoi(calib_text.c_str() + w_at + 12);
+  EXPECT_EQ(be32(16), uint32_t(2 * width));
+  EXPECT_EQ(uint8_t(png[25]), 2);  // colour type RGB
+}
+
+TEST_F(RecognizeToolTest, MissingFileIsAClearError) {
+  const ToolRun r =
+      RunTool(Inputs(Path("calib.yaml"), Path("no_such_left.png"), Path("right.png")));
+  EXPECT_FALSE(r.signalled);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("no_such_left.png"), std::string::npos) << r.output;
+  const ToolRun c = RunTool(Inputs(Path("missing.yaml"), Path("left.png"), Path("right.png")));
+  EXPECT_NE(c.exit_code, 0);
+  EXPECT_NE(c.output.find("missing.yaml"), std::string::npos) << c.output;
+  const ToolRun t = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) +
+                            " --tables " + Path("no_tables.bin"));
+  EXPECT_NE(t.exit_code, 0);
+  EXPECT_NE(t.output.find("no_tables.bin"), std::string::npos) << t.output;
+}
+
+TEST_F(RecognizeToolTest, MalformedYamlIsAClearError) {
+  WriteText(Path("bad.yaml"), "%YAML:1.0\n---\nimage_width: 756\nK1: [not a matrix\n");
+  ToolRun r = RunTool(Inputs(Path("bad.yaml"), Path("left.png"), Path("right.png")));
+  EXPECT_FALSE(r.signalled);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("bad.yaml"), std::string::npos) << r.output;
+
+  // Non-finite numbers: the focal length replaced by NaN.
+  std::string calib = ReadText(Path("calib.yaml"));
+  const size_t data = calib.find("data: [", calib.find("K1"));
+  ASSERT_NE(data, std::string::npos);
+  const size_t comma = calib.find(',', data);
+  calib.replace(data + 7, comma - (data + 7), " .nan");
+  WriteText(Path("nan.yaml"), calib);
+  r = RunTool(Inputs(Path("nan.yaml"), Path("left.png"), Path("right.png")));
+  EXPECT_FALSE(r.signalled);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("nan.yaml"), std::string::npos) << r.output;
+
+  r = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) + " --budget-ms nan");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = RunTool("recognize --left " + Path("left.png"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+}
+
+TEST_F(RecognizeToolTest, SizeMismatchIsAClearError) {
+  std::vector<uint8_t> small(320 * 240, 40);
+  ASSERT_TRUE(
+      hal::WritePgm(Path("small.pgm").c_str(), ConstGrayView{small.data(), 320, 240, 320}).ok());
+  const ToolRun r = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("small.pgm")));
+  EXPECT_FALSE(r.signalled);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("320x240"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("calibration"), std::string::npos) << r.output;
+  // Not an image at all.
+  WriteText(Path("garbage.png"), "this is not an image");
+  const ToolRun g = RunTool(Inputs(Path("calib.yaml"), Path("garbage.png"), Path("right.png")));
+  EXPECT_FALSE(g.signalled);
+  EXPECT_NE(g.exit_code, 0);
+  EXPECT_NE(g.output.find("garbage.png"), std::string::npos) << g.output;
+}
+
+}  // namespace
+}  // namespace sh

@@ -1,0 +1,233 @@
+#include "tools/overlay.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "hal/sim/deflate.hpp"
+#include "recog/base/crc32.hpp"
+#include "recog/verify/view_camera.hpp"
+
+namespace sh::tools {
+namespace {
+
+// 5 x 7 glyphs: one byte per row, top row first, bit 4 = leftmost column.
+struct Glyph {
+  char c;
+  uint8_t rows[7];
+};
+
+constexpr Glyph kGlyphs[] = {
+    {'a', {0x00, 0x00, 0x0e, 0x01, 0x0f, 0x11, 0x0f}},
+    {'b', {0x10, 0x10, 0x1e, 0x11, 0x11, 0x11, 0x1e}},
+    {'c', {0x00, 0x00, 0x0e, 0x10, 0x10, 0x11, 0x0e}},
+    {'d', {0x01, 0x01, 0x0f, 0x11, 0x11, 0x11, 0x0f}},
+    {'e', {0x00, 0x00, 0x0e, 0x11, 0x1f, 0x10, 0x0e}},
+    {'f', {0x06, 0x09, 0x08, 0x1c, 0x08, 0x08, 0x08}},
+    {'g', {0x00, 0x00, 0x0f, 0x11, 0x0f, 0x01, 0x0e}},
+    {'h', {0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x11}},
+    {'i', {0x04, 0x00, 0x0c, 0x04, 0x04, 0x04, 0x0e}},
+    {'j', {0x02, 0x00, 0x06, 0x02, 0x02, 0x12, 0x0c}},
+    {'k', {0x10, 0x10, 0x12, 0x14, 0x18, 0x14, 0x12}},
+    {'l', {0x0c, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0e}},
+    {'m', {0x00, 0x00, 0x1a, 0x15, 0x15, 0x11, 0x11}},
+    {'n', {0x00, 0x00, 0x16, 0x19, 0x11, 0x11, 0x11}},
+    {'o', {0x00, 0x00, 0x0e, 0x11, 0x11, 0x11, 0x0e}},
+    {'p', {0x00, 0x00, 0x1e, 0x11, 0x1e, 0x10, 0x10}},
+    {'q', {0x00, 0x00, 0x0f, 0x11, 0x0f, 0x01, 0x01}},
+    {'r', {0x00, 0x00, 0x16, 0x19, 0x10, 0x10, 0x10}},
+    {'s', {0x00, 0x00, 0x0e, 0x10, 0x0e, 0x01, 0x1e}},
+    {'t', {0x08, 0x08, 0x1c, 0x08, 0x08, 0x09, 0x06}},
+    {'u', {0x00, 0x00, 0x11, 0x11, 0x11, 0x13, 0x0d}},
+    {'v', {0x00, 0x00, 0x11, 0x11, 0x11, 0x0a, 0x04}},
+    {'w', {0x00, 0x00, 0x11, 0x11, 0x15, 0x15, 0x0a}},
+    {'x', {0x00, 0x00, 0x11, 0x0a, 0x04, 0x0a, 0x11}},
+    {'y', {0x00, 0x00, 0x11, 0x11, 0x0f, 0x01, 0x0e}},
+    {'z', {0x00, 0x00, 0x1f, 0x02, 0x04, 0x08, 0x1f}},
+    {'0', {0x0e, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0e}},
+    {'1', {0x04, 0x0c, 0x04, 0x04, 0x04, 0x04, 0x0e}},
+    {'2', {0x0e, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1f}},
+    {'3', {0x1f, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0e}},
+    {'4', {0x02, 0x06, 0x0a, 0x12, 0x1f, 0x02, 0x02}},
+    {'5', {0x1f, 0x10, 0x1e, 0x01, 0x01, 0x11, 0x0e}},
+    {'6', {0x06, 0x08, 0x10, 0x1e, 0x11, 0x11, 0x0e}},
+    {'7', {0x1f, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08}},
+    {'8', {0x0e, 0x11, 0x11, 0x0e, 0x11, 0x11, 0x0e}},
+    {'9', {0x0e, 0x11, 0x11, 0x0f, 0x01, 0x02, 0x0c}},
+    {'-', {0x00, 0x00, 0x00, 0x1f, 0x00, 0x00, 0x00}},
+    {'_', {0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x1f}},
+    {'.', {0x00, 0x00, 0x00, 0x00, 0x00, 0x0c, 0x0c}},
+    {'#', {0x0a, 0x0a, 0x1f, 0x0a, 0x1f, 0x0a, 0x0a}},
+    {'(', {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02}},
+    {')', {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08}},
+    {':', {0x00, 0x0c, 0x0c, 0x00, 0x0c, 0x0c, 0x00}},
+
+};
+
+const uint8_t* FindGlyph(char c) {
+  if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  for (const Glyph& g : kGlyphs) {
+    if (g.c == c) return g.rows;
+  }
+  return nullptr;
+}
+
+void Put(ImageView<Rgb8> image, int x, int y, Rgb8 colour) {
+  if (image.contains(x, y)) image.at(x, y) = colour;
+}
+
+void DrawGlyph(ImageView<Rgb8> image, int x0, int y0, const uint8_t* rows, int scale, Rgb8 colour) {
+  for (int gy = 0; gy < 7; ++gy) {
+    for (int gx = 0; gx < 5; ++gx) {
+      // Unknown characters: a box outline.
+      const bool ink =
+          rows ? ((rows[gy] >> (4 - gx)) & 1) != 0 : (gx == 0 || gx == 4 || gy == 0 || gy == 6);
+      if (!ink) continue;
+      for (int sy = 0; sy < scale; ++sy) {
+        for (int sx = 0; sx < scale; ++sx)
+          Put(image, x0 + gx * scale + sx, y0 + gy * scale + sy, colour);
+      }
+    }
+  }
+}
+
+Eigen::Vector3f ModelCentre(const Model& m) {
+  Eigen::Vector3f c = Eigen::Vector3f::Zero();
+  for (int i = 0; i < m.n_corners; ++i) c += m.corner(i);
+  return m.n_corners ? Eigen::Vector3f(c / static_cast<float>(m.n_corners)) : c;
+}
+
+void PutBe32(std::vector<uint8_t>* out, uint32_t v) {
+  for (int shift = 24; shift >= 0; shift -= 8) out->push_back(static_cast<uint8_t>(v >> shift));
+}
+
+void PutChunk(std::vector<uint8_t>* out, const char type[4], const uint8_t* data, size_t size) {
+  PutBe32(out, static_cast<uint32_t>(size));
+  const size_t start = out->size();
+  out->insert(out->end(), type, type + 4);
+  out->insert(out->end(), data, data + size);
+  PutBe32(out, Crc32(out->data() + start, size + 4));
+}
+
+}  // namespace
+
+Status WriteRgbPng(const char* path, const uint8_t* rgb, int width, int height) {
+  if (width <= 0 || height <= 0 || width > (1 << 15) || height > (1 << 15)) {
+    return Status::Error(StatusCode::kOutOfRange, "PNG: cannot write a %d x %d image", width,
+                         height);
+  }
+  // Filter type 0 (none) before every row.
+  const size_t row = size_t(width) * 3;
+  std::vector<uint8_t> raw(size_t(height) * (row + 1), 0);
+  for (int y = 0; y < height; ++y) std::memcpy(&raw[y * (row + 1) + 1], rgb + y * row, row);
+  std::vector<uint8_t> z(hal::ZlibDeflateBound(raw.size()));
+  const Result<size_t> z_size = hal::ZlibDeflate(raw.data(), raw.size(), z.data(), z.size());
+  if (!z_size.ok()) return z_size.status();
+  std::vector<uint8_t> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  uint8_t ihdr[13] = {};
+  for (int i = 0; i < 4; ++i) {
+    ihdr[i] = static_cast<uint8_t>(uint32_t(width) >> (24 - 8 * i));
+    ihdr[4 + i] = static_cast<uint8_t>(uint32_t(height) >> (24 - 8 * i));
+  }
+  ihdr[8] = 8;  // bit depth
+  ihdr[9] = 2;  // colour type RGB
+  PutChunk(&png, "IHDR", ihdr, sizeof(ihdr));
+  PutChunk(&png, "IDAT", z.data(), *z_size);
+  PutChunk(&png, "IEND", nullptr, 0);
+  std::FILE* f = std::fopen(path, "wb");
+  if (f == nullptr) {
+    return Status::Error(StatusCode::kNotFound, "cannot create %s: %s", path, std::strerror(errno));
+  }
+  const bool ok = std::fwrite(png.data(), 1, png.size(), f) == png.size();
+  if (std::fclose(f) != 0 || !ok) {
+    return Status::Error(StatusCode::kUnavailable, "cannot write %s", path);
+  }
+  return Status::Ok();
+}
+
+int TextWidth(const char* text, int scale) {
+  const int n = static_cast<int>(std::strlen(text));
+  return n > 0 ? (6 * n - 1) * scale : 0;
+}
+
+void DrawText(ImageView<Rgb8> image, int x, int y, const char* text, int scale, Rgb8 colour) {
+  const Rgb8 outline{0, 0, 0};
+  for (int pass = 0; pass < 2; ++pass) {
+    int cx = x;
+    for (const char* p = text; *p != '\0'; ++p, cx += 6 * scale) {
+      if (*p == ' ') continue;
+      const uint8_t* rows = FindGlyph(*p);
+      if (pass == 0) {
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            if (dx != 0 || dy != 0) DrawGlyph(image, cx + dx, y + dy, rows, scale, outline);
+          }
+        }
+      } else {
+        DrawGlyph(image, cx, y, rows, scale, colour);
+      }
+    }
+  }
+}
+
+Rgb8 ObjectColour(int i) {
+  static constexpr Rgb8 kColours[] = {{255, 64, 64},  {64, 255, 64},  {80, 160, 255},
+                                      {255, 230, 40}, {255, 64, 255}, {40, 255, 255},
+                                      {255, 150, 40}, {170, 110, 255}};
+  return kColours[i % (sizeof(kColours) / sizeof(kColours[0]))];
+}
+
+Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, ConstGrayView left,
+                    ConstGrayView right, std::vector<uint8_t>* rgb, int* width, int* height) {
+  if (left.empty() || right.empty() || left.width != right.width || left.height != right.height) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "overlay needs two non-empty images of the same size");
+  }
+  const int w = left.width, h = left.height;
+  *width = 2 * w;
+  *height = h;
+  rgb->assign(size_t(*width) * h * 3, 0);
+  ImageView<Rgb8> all{reinterpret_cast<Rgb8*>(rgb->data()), *width, h, *width};
+  // The images dimmed a little so that the coloured edges stand out.
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const uint8_t l = static_cast<uint8_t>(left.at(x, y) * 3 / 4);
+      const uint8_t r = static_cast<uint8_t>(right.at(x, y) * 3 / 4);
+      all.at(x, y) = {l, l, l};
+      all.at(w + x, y) = {r, r, r};
+    }
+  }
+  const StereoCalibration& calib = pipeline.calibration();
+  const ViewCamera views[2] = {LeftView(calib), RightView(calib)};
+  const ImageView<Rgb8> halves[2] = {{all.data, w, h, *width}, {all.data + w, w, h, *width}};
+  const TableView& table = pipeline.table();
+  const size_t n = result.objects.size();
+  PosedModel posed[kMaxObjects];
+  for (size_t i = 0; i < n; ++i) {
+    posed[i] = {&table.model(result.objects[i].model), result.objects[i].cam_T_model};
+  }
+  for (size_t i = 0; i < n; ++i) {
+    // Every other recognised object may hide this one (at most kMaxOccluders of them).
+    PosedModel occluders[kMaxOccluders];
+    size_t n_occluders = 0;
+    for (size_t k = 0; k < n && n_occluders < kMaxOccluders; ++k) {
+      if (k != i) occluders[n_occluders++] = posed[k];
+    }
+    const Rgb8 colour = ObjectColour(static_cast<int>(i));
+    for (int v = 0; v < 2; ++v) {
+      SH_RETURN_IF_ERROR(
+          DrawPosedModel(views[v], posed[i], occluders, n_occluders, halves[v], colour));
+      const Eigen::Vector3f centre =
+          views[v].cam_T_left * (posed[i].cam_T_model * ModelCentre(*posed[i].model));
+      Eigen::Vector2d px;
+      if (!ProjectToPixel(views[v].intrinsics, centre.cast<double>(), &px)) continue;
+      const char* name = posed[i].model->name;
+      const int scale = 2;
+      DrawText(halves[v], static_cast<int>(px.x()) - TextWidth(name, scale) / 2,
+               static_cast<int>(px.y()) - 7 * scale / 2, name, scale, colour);
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace sh::tools

@@ -1,0 +1,34 @@
+// Result overlays for the host tools: the left and right images side by side in colour, with the
+// recognised models' visible edges drawn in distinct colours and labelled with the model name.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "recog/base/status.hpp"
+#include "recog/pipeline/pipeline.hpp"
+#include "recog/verify/draw_edges.hpp"
+
+namespace sh::tools {
+
+// Draws `text` (lower-case letters, digits, space and - _ . # ( ) :) with a 5 x 7 pixel font
+// enlarged `scale` times, its top-left corner at (x, y), with a one-pixel dark outline so that it
+// reads on any background. Unknown characters draw as a box; pixels outside the image are
+// skipped.
+void DrawText(ImageView<Rgb8> image, int x, int y, const char* text, int scale, Rgb8 colour);
+
+// Width in pixels of `text` drawn at `scale`.
+int TextWidth(const char* text, int scale);
+
+// Colour of the i-th object: well separated hues that stand out on grey.
+Rgb8 ObjectColour(int i);
+
+// Builds the side-by-side overlay (2 w x h RGB, packed rows) of one processed frame.
+Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, ConstGrayView left,
+                    ConstGrayView right, std::vector<uint8_t>* rgb, int* width, int* height);
+
+// Writes packed RGB rows as a PNG of any size (the simulator's encoder stops at the largest
+// camera frame; a side-by-side overlay is twice as wide).
+Status WriteRgbPng(const char* path, const uint8_t* rgb, int width, int height);
+
+}  // namespace sh::tools
