@@ -49,7 +49,8 @@ bool SceneSupportVerifier::Verify(const Model& model, const Vector<RecognizedObj
   candidate.verify_score[0] = points;
   candidate.verify_score[1] = lines;
   return 0.5f * (points + lines) >= min_fraction_ && candidate.matched_points >= 3 &&
-         candidate.matched_lines >= 3;
+         candidate.matched_lines >= 3 &&
+         candidate.matched_points + candidate.matched_lines >= min_features_;
 }
 
 Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) {

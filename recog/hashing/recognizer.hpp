@@ -97,12 +97,16 @@ class HypothesisVerifier {
 // Scores: {corner fraction, edge fraction}.
 class SceneSupportVerifier : public HypothesisVerifier {
  public:
-  explicit SceneSupportVerifier(float min_fraction = 0.5f) : min_fraction_(min_fraction) {}
+  // min_features: matched corners plus edges, so that small models (the wedge has 15
+  // features) are not confirmed by a handful of clutter features.
+  explicit SceneSupportVerifier(float min_fraction = 0.5f, int min_features = 8)
+      : min_fraction_(min_fraction), min_features_(min_features) {}
   bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
               RecognizedObject& candidate) override;
 
  private:
   float min_fraction_;
+  int min_features_;
 };
 
 struct Budget {
