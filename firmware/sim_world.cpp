@@ -25,12 +25,17 @@ Status SimWorld::Build(const SimWorldConfig& config) {
   params.background =
       config.light_background ? render::Background::kLight : render::Background::kDark;
   scenes_.reset(new render::GeneratedScene[config.scenes]);
+  uint64_t seed = config.seed;
   for (int i = 0; i < config.scenes; ++i) {
-    Result<render::GeneratedScene> g = render::GenerateScene(config.seed + static_cast<uint64_t>(i),
-                                                             params, models_.get(), n_models_);
+    // Some seeds cannot place the objects in view; the next seeds are tried (deterministic).
+    Result<render::GeneratedScene> g =
+        render::GenerateScene(seed++, params, models_.get(), n_models_);
+    for (int attempt = 0; !g.ok() && attempt < 16; ++attempt) {
+      g = render::GenerateScene(seed++, params, models_.get(), n_models_);
+    }
     if (!g.ok()) {
       return Status::Error(g.status().code(), "sim scene %d (seed %llu): %s", i,
-                           static_cast<unsigned long long>(config.seed + i), g.status().message());
+                           static_cast<unsigned long long>(seed - 1), g.status().message());
     }
     scenes_[i] = *g;
     const StereoCalibration& c0 = scenes_[0].calib;

@@ -1,0 +1,17 @@
+# stereohash-fw in simulation, end to end from a python-can/socketcand PLC with canmatrix decoding:
+# 50 triggers with the recognition pipeline against the renderer's ground truth, and a run that
+# reports the ground truth itself (CAN path, sequence counters, latency without recognition).
+if(TARGET stereohash-fw)
+  foreach(_kind pipeline truth)
+    if(_kind STREQUAL "pipeline" AND NOT TARGET stereohash_fw_pipeline)
+      continue()
+    endif()
+    add_test(NAME python_firmware_e2e_${_kind}
+             COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_firmware_e2e.py
+                     --firmware $<TARGET_FILE:stereohash-fw>
+                     --dbc ${PROJECT_SOURCE_DIR}/firmware/stereohash.dbc
+                     --triggers 50 --recognition ${_kind})
+    set_tests_properties(python_firmware_e2e_${_kind} PROPERTIES TIMEOUT 600
+                         SKIP_RETURN_CODE 77)
+  endforeach()
+endif()

@@ -1,0 +1,279 @@
+#!/usr/bin/python3
+"""End-to-end test of stereohash-fw in simulation, seen from a PLC on the simulated CAN bus.
+
+Starts `stereohash-fw --sim` in its own process, connects with python-can's socketcand client,
+waits for the boot-up and heartbeats, triggers N recognitions, decodes every frame with canmatrix
+from firmware/stereohash.dbc (independently of the C++ decoders), checks sequence counters,
+frame counts and CRC-8 (no frame lost), compares the decoded poses with what the firmware encoded
+and with the renderer's ground truth (modulo model symmetries), and reports the errors and the
+trigger-to-last-frame latency (median, p99).
+"""
+import argparse
+import json
+import math
+import os
+import queue
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from test_can_socketcand import Plc, crc8, POSITION_LSB_MM, QUATERNION_LSB  # noqa: E402 (skips without python-can)
+
+ARGS = None
+NODE = 1
+
+
+class Firmware:
+    """stereohash-fw --sim and its stdout lines (SOCKETCAND_PORT, MODELS, RESULT, EMCY, STATE)."""
+
+    def __init__(self, binary, config_text):
+        self.config = tempfile.NamedTemporaryFile("w", suffix=".conf", delete=False)
+        self.config.write(config_text)
+        self.config.close()
+        self.proc = subprocess.Popen([binary, "--sim", "--config", self.config.name],
+                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                     bufsize=1)
+        self.results = queue.Queue()
+        self.emcys = queue.Queue()
+        self.models = None
+        self.port = None
+        self.stderr_lines = []
+        port_seen, models_seen = threading.Event(), threading.Event()
+
+        def read_stdout():
+            for line in self.proc.stdout:
+                line = line.strip()
+                if line.startswith("SOCKETCAND_PORT="):
+                    self.port = int(line.split("=", 1)[1])
+                    port_seen.set()
+                elif line.startswith("MODELS "):
+                    self.models = json.loads(line.split(" ", 1)[1])
+                    models_seen.set()
+                elif line.startswith("RESULT "):
+                    self.results.put(json.loads(line.split(" ", 1)[1]))
+                elif line.startswith("EMCY "):
+                    self.emcys.put(json.loads(line.split(" ", 1)[1]))
+            port_seen.set()
+            models_seen.set()
+
+        def read_stderr():
+            for line in self.proc.stderr:
+                self.stderr_lines.append(line.rstrip())
+
+        threading.Thread(target=read_stdout, daemon=True).start()
+        threading.Thread(target=read_stderr, daemon=True).start()
+        self.models_seen = models_seen
+        if not port_seen.wait(120) or self.port is None:
+            self.stop()
+            raise RuntimeError("stereohash-fw did not report SOCKETCAND_PORT:\n" +
+                               "\n".join(self.stderr_lines[-20:]))
+
+    def result(self, request_id, timeout=30.0):
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            try:
+                r = self.results.get(timeout=max(0.01, deadline - time.time()))
+            except queue.Empty:
+                break
+            if r["request_id"] == request_id:
+                return r
+        raise AssertionError("no RESULT line for request %d" % request_id)
+
+    def stop(self):
+        if self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(20)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+        os.unlink(self.config.name)
+
+
+def quat_to_matrix(w, x, y, z):
+    n = math.sqrt(w * w + x * x + y * y + z * z)
+    w, x, y, z = w / n, x / n, y / n, z / n
+    return [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
+
+
+def matmul(a, b):
+    return [[sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+
+
+def transpose(a):
+    return [[a[j][i] for j in range(3)] for i in range(3)]
+
+
+def apply(R, t, p):
+    return [sum(R[i][k] * p[k] for k in range(3)) + t[i] for i in range(3)]
+
+
+def angle_deg(R):
+    c = max(-1.0, min(1.0, (R[0][0] + R[1][1] + R[2][2] - 1.0) / 2.0))
+    return math.degrees(math.acos(c))
+
+
+def percentile(values, p):
+    s = sorted(values)
+    return s[min(len(s) - 1, int(math.ceil(p / 100.0 * len(s))) - 1)]
+
+
+class FirmwareEndToEndTest(unittest.TestCase):
+    def test_triggers_over_socketcand(self):
+        recognition = ARGS.recognition
+        fw = Firmware(ARGS.firmware, "\n".join([
+            "node_id = %d" % NODE, "heartbeat_ms = 100", "sim_port = 0", "sim_seed = 7",
+            "sim_scenes = 5", "sim_objects = 3", "budget_ms = 2000",
+            "recognition = %s" % recognition, "sim_wait_for_client = true", ""]))
+        try:
+            time.sleep(0.2)
+            if fw.proc.poll() is not None:
+                raise AssertionError("stereohash-fw exited:\n" + "\n".join(fw.stderr_lines))
+            plc = Plc(fw.port, ARGS.dbc, NODE)
+            try:
+                self.run_session(fw, plc, recognition)
+            finally:
+                plc.close()
+        finally:
+            fw.stop()
+
+    def run_session(self, fw, plc, recognition):
+        startup = plc.receive_until(
+            lambda n, v, m: n == "SH_Heartbeat" and v["HB_NmtState"] == 5, timeout=60)
+        hb = [v["HB_NmtState"] for n, v, _ in startup if n == "SH_Heartbeat"]
+        self.assertEqual(hb[0], 0, "boot-up first")
+        self.assertTrue(fw.models_seen.wait(30))
+        models = fw.models
+        self.assertIsNotNone(models)
+
+        latencies_ms, processing_ms = [], []
+        position_errors, rotation_errors = [], []
+        truth_objects = matched = false_positives = 0
+        heartbeats = 0
+        last_sequence = None
+        for request_id in range(1, ARGS.triggers + 1):
+            sent = time.time()
+            plc.send("SH_Command", {"CMD_Code": 1, "CMD_TriggerRequestId": request_id})
+            frames = plc.receive_until(
+                lambda n, v, m: n == "SH_ResultEnd", timeout=30)
+            arrived = time.time()
+            heartbeats += sum(1 for n, _, _ in frames if n == "SH_Heartbeat")
+            emcys = [v for n, v, _ in frames if n == "SH_Emcy"]
+            self.assertEqual(emcys, [], "EMCY during trigger %d" % request_id)
+            acks = [v for n, v, _ in frames if n == "SH_CommandAck"]
+            self.assertTrue(any(a["ACK_RequestId"] == request_id and a["ACK_Status"] == 0
+                                for a in acks), acks)
+            start = max(i for i, f in enumerate(frames) if f[0] == "SH_ResultHeader")
+            set_frames = [f for f in frames[start:] if f[0] in
+                          ("SH_ResultHeader", "SH_ResultObject", "SH_ResultEnd")]
+            header, end = set_frames[0][1], set_frames[-1][1]
+            self.assertEqual(header["RH_RequestId"], request_id)
+            sequence = int(header["RH_Sequence"])
+            if last_sequence is not None:
+                self.assertEqual(sequence, (last_sequence + 1) & 0xFFFF, "sequence gap")
+            last_sequence = sequence
+            count = int(header["RH_ObjectCount"])
+            self.assertEqual(len(set_frames), 2 + 4 * count, "frames lost in set %d" % sequence)
+            self.assertEqual(int(end["RE_Sequence"]), sequence)
+            self.assertEqual(int(end["RE_ObjectCount"]), count)
+            crc = 0
+            for _, _, msg in set_frames[:-1]:
+                crc = crc8(msg.data, crc)
+            self.assertEqual(int(end["RE_Crc8"]), crc)
+            latencies_ms.append((arrived - sent) * 1000.0)
+            processing_ms.append(header["RH_ProcessingTime"])
+
+            report = fw.result(request_id)
+            self.assertEqual(report["sequence"], sequence)
+            self.assertEqual(len(report["objects"]), count)
+            objects = {}
+            for k, (_, values, _) in enumerate(set_frames[1:-1]):
+                self.assertEqual(values["RO_ObjectIndex"], k // 4)
+                self.assertEqual(values["RO_Part"], k % 4)
+                objects.setdefault(k // 4, {}).update(values)
+            truth = report.get("truth", [])
+            truth_objects += len(truth)
+            used = set()
+            for index, expected in enumerate(report["objects"]):
+                got = objects[index]
+                # What went over the bus is what the firmware encoded.
+                self.assertEqual(got["RO_ModelId"], expected["model_id"])
+                for axis, value in zip("XYZ", expected["t_mm"]):
+                    self.assertAlmostEqual(got["RO_Position" + axis], value,
+                                           delta=POSITION_LSB_MM / 2 + 1e-9)
+                q = [got["RO_Quat" + a] for a in "WXYZ"]
+                eq = expected["q_wxyz"]
+                sign = -1.0 if eq[0] < 0 else 1.0
+                for a, b in zip(q, eq):
+                    self.assertAlmostEqual(a, sign * b, delta=QUATERNION_LSB / 2 + 1e-12)
+                # Against the renderer's ground truth, modulo the model's symmetries.
+                model = int(got["RO_ModelId"])
+                R = quat_to_matrix(*q)
+                t = [got["RO_Position" + a] for a in "XYZ"]
+                c = models["centroids_mm"][model]
+                p = apply(R, t, c)
+                best = None
+                for j, tr in enumerate(truth):
+                    if j in used or tr["model_id"] != model:
+                        continue
+                    Rt = [tr["R"][0:3], tr["R"][3:6], tr["R"][6:9]]
+                    pt = apply(Rt, tr["t_mm"], c)
+                    dp = math.dist(p, pt)
+                    da = min(angle_deg(matmul(transpose(R), matmul(Rt, [s[0:3], s[3:6], s[6:9]])))
+                             for s in models["symmetries"][model])
+                    if best is None or dp < best[1]:
+                        best = (j, dp, da)
+                if best is None or best[1] > ARGS.max_position_error_mm or \
+                        best[2] > ARGS.max_rotation_error_deg:
+                    false_positives += 1
+                    continue
+                used.add(best[0])
+                matched += 1
+                position_errors.append(best[1])
+                rotation_errors.append(best[2])
+
+        recall = matched / truth_objects if truth_objects else 0.0
+        print("\nstereohash-fw e2e (recognition = %s): %d triggers, %d result sets, sequences "
+              "consecutive, CRC ok" % (recognition, ARGS.triggers, len(latencies_ms)))
+        print("  trigger -> last frame latency: median %.1f ms, p99 %.1f ms, max %.1f ms"
+              % (statistics.median(latencies_ms), percentile(latencies_ms, 99),
+                 max(latencies_ms)))
+        print("  firmware processing time: median %.1f ms, p99 %.1f ms"
+              % (statistics.median(processing_ms), percentile(processing_ms, 99)))
+        print("  objects: %d in the ground truth, %d found, %d not matching any (recall %.2f)"
+              % (truth_objects, matched, false_positives, recall))
+        if position_errors:
+            print("  pose error of found objects: position median %.2f mm, max %.2f mm; "
+                  "rotation median %.2f deg, max %.2f deg"
+                  % (statistics.median(position_errors), max(position_errors),
+                     statistics.median(rotation_errors), max(rotation_errors)))
+        print("  heartbeats seen during the run: %d" % heartbeats)
+        sys.stdout.flush()
+        self.assertEqual(len(latencies_ms), ARGS.triggers)
+        self.assertGreater(heartbeats, 0)
+        self.assertEqual(false_positives, 0, "reported objects with no ground-truth partner")
+        self.assertGreaterEqual(recall, ARGS.min_recall)
+
+
+def main():
+    global ARGS
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--firmware", required=True, help="path of stereohash-fw")
+    parser.add_argument("--dbc", required=True)
+    parser.add_argument("--triggers", type=int, default=50)
+    parser.add_argument("--recognition", default="pipeline", choices=("pipeline", "truth"))
+    parser.add_argument("--max-position-error-mm", type=float, default=5.0)
+    parser.add_argument("--max-rotation-error-deg", type=float, default=3.0)
+    parser.add_argument("--min-recall", type=float, default=0.8)
+    ARGS, rest = parser.parse_known_args()
+    unittest.main(argv=[sys.argv[0]] + rest, verbosity=2)
+
+
+if __name__ == "__main__":
+    main()
