@@ -98,6 +98,17 @@ class Reporter final : public CoreObserver {
       }
       std::printf("]");
     }
+    // Corner centroids: symmetries map the corners onto themselves, so they fix the centroid,
+    // which makes it the point to compare positions of symmetric objects at.
+    std::printf("], \"centroids_mm\": [");
+    for (uint32_t m = 0; m < t.model_count(); ++m) {
+      const Model& model = t.model(m);
+      double c[3] = {0, 0, 0};
+      for (int i = 0; i < model.n_corners; ++i) {
+        for (int k = 0; k < 3; ++k) c[k] += model.corners_mm[i][k] / model.n_corners;
+      }
+      std::printf("%s[%.6f, %.6f, %.6f]", m ? ", " : "", c[0], c[1], c[2]);
+    }
     std::printf("]}\n");
     std::fflush(stdout);
     if (world_ != nullptr) MapRenderModelsToTable(*world_, t, table_ids_);
