@@ -123,7 +123,8 @@ void CheckLineRecovery(double distortion, double tolerance_mm, uint32_t seed) {
   EXPECT_LT(worst_mm, tolerance_mm);
 }
 
-TEST(Triangulation, LineFromTwoPlanesRecoversRandomSegments) { CheckLineRecovery(0.0, 1e-6, 3); }
+// Segment rays are single precision: at 0.5-1 m a ray is exact to about 1e-3 mm.
+TEST(Triangulation, LineFromTwoPlanesRecoversRandomSegments) { CheckLineRecovery(0.0, 1e-2, 3); }
 
 TEST(Triangulation, LineRecoveryWithDistortionUsesTheChordPlane) {
   // The image of a 3-D segment is curved; the plane through the rays of the chord's ends and
