@@ -31,7 +31,7 @@ void PrintHelp() {
       "  --json        write {\"objects\": [...], \"features\": {...}, \"time_ms\": {...}}\n"
       "  --overlay     write left | right with the recognised models' visible edges (RGB PNG)\n"
       "  --budget-ms   time limit for the frame (default 0: none)\n"
-      "  --background  detector presets: dark (default) or light\n");
+      "  --background  pipeline preset: dark (default) or light\n");
 }
 
 int64_t NowNs() {
@@ -143,6 +143,9 @@ void PrintTable(const TableView& table, const PipelineResult& r) {
       "3-D lines %u%s\n",
       r.points2d[0], r.points2d[1], r.lines2d[0], r.lines2d[1], r.points3d, r.lines3d,
       r.points3d_truncated || r.lines3d_truncated ? " (scene capacity reached)" : "");
+  std::printf("recognition: %u of %u scene bases tried, %u hypotheses, %u verified, %u accepted\n",
+              r.recognition.scene_bases_tried, r.recognition.scene_bases_available,
+              r.recognition.hypotheses, r.recognition.verifications, r.recognition.accepted);
   std::printf(
       "time: features %.1f ms, stereo %.1f ms, hashing %.1f ms, verify %.1f ms, total "
       "%.1f ms%s\n",
@@ -224,8 +227,8 @@ int RunRecognize(int argc, char** argv) {
   if (s.ok()) s = LoadImage(right_path, "right", &right);
   if (!s.ok()) return Fail("%s", s.message());
 
-  PipelineConfig config;
-  config.features = light ? FeatureConfig::LightBackground() : FeatureConfig::DarkBackground();
+  const PipelineConfig config =
+      light ? PipelineConfig::LightBackground() : PipelineConfig::DarkBackground();
   auto pipeline = std::make_unique<Pipeline>();  // ~90 MiB of frame buffers
   s = pipeline->Init(*calib, table, config, NowNs);
   if (!s.ok()) return Fail("%s", s.message());

@@ -27,6 +27,11 @@ struct PipelineConfig {
   SloppyStereoConfig stereo;
   RecognizerConfig recognizer;
   VerifyConfig verify;
+
+  // Presets for the two kinds of scene (thesis 5.3): the detectors' preset plus recognition and
+  // verification settings measured on rendered scenes (docs/pipeline.md).
+  static PipelineConfig DarkBackground();
+  static PipelineConfig LightBackground();
 };
 
 // Milliseconds; zero when no clock was given. hashing_ms covers voting and pose refinement

@@ -57,10 +57,8 @@ class PipelineTest : public ::testing::Test {
   }
 
   static PipelineConfig ConfigFor(render::Background bg) {
-    PipelineConfig c;
-    c.features = bg == render::Background::kDark ? FeatureConfig::DarkBackground()
-                                                 : FeatureConfig::LightBackground();
-    return c;
+    return bg == render::Background::kDark ? PipelineConfig::DarkBackground()
+                                           : PipelineConfig::LightBackground();
   }
 
   static TableView* table_;
