@@ -169,6 +169,7 @@ int RunBenchScenes(int argc, char** argv) {
   int fruitless = -1;
   bool verbose = false;
   const char* only = nullptr;         // restrict to one background
+  int seed_offset = 0;                // another set of scenes (the presets were chosen on offset 0)
   std::vector<const char*> settings;  // name=value overrides of the presets
   const char* preset = nullptr;       // detector preset for every row (default: by background)
   for (int i = 2; i < argc; ++i) {
@@ -186,6 +187,9 @@ int RunBenchScenes(int argc, char** argv) {
       min_fraction = static_cast<float>(std::atof(argv[++i]));
     } else if (std::strcmp(argv[i], "--set") == 0 && has_value) {
       settings.push_back(argv[++i]);
+    } else if (std::strcmp(argv[i], "--seed-offset") == 0 && has_value &&
+               ParseInt(argv[i + 1], 0, 1000000000, &seed_offset)) {
+      ++i;
     } else if (std::strcmp(argv[i], "--only") == 0 && has_value) {
       only = argv[++i];
     } else if (std::strcmp(argv[i], "--verbose") == 0) {
@@ -200,6 +204,7 @@ int RunBenchScenes(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: stereohash bench scenes [--scenes-per-row N] [--json OUT] "
                    "[--budget-ms MS] [--min-fraction F] [--fruitless N] [--features dark|light] "
+                   "[--set NAME=VALUE] [--only dark|light] [--seed-offset N] [--verbose] "
                    "[--models DIR]\n");
       return 2;
     }
@@ -243,7 +248,7 @@ int RunBenchScenes(int argc, char** argv) {
     }
     for (int i = 0, attempt = 0; i < per_row && attempt < 4 * per_row; ++attempt) {
       // Seeds whose objects cannot be placed for the scenario are skipped (reported).
-      const uint64_t seed = 1000u * (r + 1) + attempt;
+      const uint64_t seed = uint64_t(seed_offset) + 1000u * (r + 1) + attempt;
       st = testing_support::RenderPair(seed, ScenarioFor(row, i), models, pair.get());
       if (!st.ok()) {
         std::fprintf(stderr, "scene %s/%s seed %llu skipped: %s\n", row.background, row.occlusion,
@@ -517,6 +522,8 @@ int RunBench(int argc, char** argv) {
   std::fprintf(
       stderr,
       "usage: stereohash bench scenes [--scenes-per-row N] [--json OUT] [--budget-ms MS]\n"
+      "                               [--set NAME=VALUE] [--only dark|light] [--seed-offset N]\n"
+      "                               [--features dark|light] [--verbose]\n"
       "       stereohash bench synthetic [--scenes N] [--features N] [--json OUT]\n"
       "scenes:    rendered stereo pairs (dark/light x no/some/severe occlusion) through the whole\n"
       "           pipeline, reported like the thesis's table 5.5.\n"
