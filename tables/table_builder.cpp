@@ -34,6 +34,11 @@ struct BuiltBasis {
   std::vector<StoredLine> lines;
 };
 
+Eigen::Vector3f QuantisedMm(const Eigen::Vector3f& p) {
+  return {QCoordMm::FromDouble(p.x()).ToFloat(), QCoordMm::FromDouble(p.y()).ToFloat(),
+          QCoordMm::FromDouble(p.z()).ToFloat()};
+}
+
 BasisLine3 EdgeLine(const Model& m, int e, bool reversed) {
   const Eigen::Vector3f a = m.corner(m.edges[e].a), b = m.corner(m.edges[e].b);
   Eigen::Vector3f d = (b - a).normalized();
@@ -238,7 +243,8 @@ Result<std::vector<uint8_t>> BuildTableBlob(std::vector<Model> models,
   std::vector<LineEntry> lines;
   for (uint32_t bi = 0; bi < bases.size(); ++bi) {
     for (const auto& p : bases[bi].points) {
-      point_pos.push_back(p.p);
+      // Binned by the stored (quantised) coordinates, which are what look-ups compare with.
+      point_pos.push_back(QuantisedMm(p.p));
       // mm -> Q10.6: round(mm * 64); model coordinates are far inside +-512 mm.
       points.push_back({QCoordMm::FromDouble(p.p.x()).raw(), QCoordMm::FromDouble(p.p.y()).raw(),
                         QCoordMm::FromDouble(p.p.z()).raw(), uint16_t(bi)});

@@ -83,7 +83,7 @@ class Rig {
     data = std::make_unique<FileDataSource>("builtin", "", &calib);
     config.node_id = kNode;
     config.heartbeat_ms = 20;
-    config.capture_timeout_ms = 100;
+    config.capture_timeout_ms = 500;  // generous: tests also run under qemu
   }
   ~Rig() { core.Stop(); }
 
@@ -100,7 +100,7 @@ class Rig {
 
   // Receives at the PLC until a frame with this id (and, if given, this first byte) arrives.
   std::optional<hal::CanFrame> WaitFor(uint32_t function_code, int first_byte = -1,
-                                       int timeout_ms = 3000) {
+                                       int timeout_ms = 15000) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
     while (std::chrono::steady_clock::now() < end) {
       hal::CanFrame f;
@@ -113,7 +113,7 @@ class Rig {
   }
 
   // Next EMCY with this code, including those received while waiting for something else.
-  std::optional<Emcy> WaitEmcy(uint16_t code, int timeout_ms = 3000) {
+  std::optional<Emcy> WaitEmcy(uint16_t code, int timeout_ms = 15000) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
     while (true) {
       while (emcy_read_ < emcys_.size()) {
@@ -136,7 +136,7 @@ class Rig {
   }
 
   // Waits for the next complete, verified result set.
-  std::optional<ResultSet> WaitSet(int timeout_ms = 3000) {
+  std::optional<ResultSet> WaitSet(int timeout_ms = 15000) {
     sets_before_ = sets_done_;
     const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
     while (std::chrono::steady_clock::now() < end && sets_done_ == sets_before_) {
@@ -159,7 +159,7 @@ class Rig {
   }
   void ClearFault() { Command({0x04, 0, 0, 0, 0, 0, 0, 0}); }
 
-  bool WaitState(FirmwareState s, int timeout_ms = 3000) {
+  bool WaitState(FirmwareState s, int timeout_ms = 15000) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
     while (std::chrono::steady_clock::now() < end) {
       if (core.state() == s) return true;

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -48,7 +49,8 @@ TEST(TableView, OpensWhatTheBuilderWrote) {
     for (const PointEntry& e : view->point_bin(bin)) {
       const float coords[3] = {e.x / 64.0f, e.y / 64.0f, e.z / 64.0f};
       uint32_t idx[3];
-      for (int a = 0; a < 3; ++a) idx[a] = uint32_t((coords[a] - g.min_mm[a]) / g.bin_mm);
+      for (int a = 0; a < 3; ++a)
+        idx[a] = uint32_t(std::floor((coords[a] - g.min_mm[a]) / g.bin_mm));
       EXPECT_EQ((idx[2] * g.dims[1] + idx[1]) * g.dims[0] + idx[0], bin);
     }
   }
