@@ -1,0 +1,47 @@
+// Random but reproducible test scenes: reference objects resting on the table in stable poses,
+// seen by a converging stereo pair modelled on the thesis camera (756 x 581 px, 12.5 mm lens,
+// 11 um pixels => fx ~ 1136 px) with mild barrel distortion.
+#pragma once
+
+#include <cstdint>
+
+#include "hal/sim/render/render_scene.hpp"
+#include "recog/base/status.hpp"
+#include "recog/camera/camera_model.hpp"
+#include "recog/model/model.hpp"
+
+namespace sh::render {
+
+enum class Occlusion : uint8_t {
+  kNone,    // objects apart: no object overlaps another in either image
+  kSome,    // objects closer: at least one pair overlaps in the left image
+  kSevere,  // objects clustered, nearly touching: at least two overlapping pairs
+};
+
+struct ScenarioParams {
+  int n_objects = 4;                  // 1 .. kMaxRenderObjects
+  Background background = Background::kDark;
+  Occlusion occlusion = Occlusion::kSome;
+  float camera_distance_mm = 400.0f;  // rig centre to the fixation point on the table, 200..600
+  float spread_mm = 400.0f;           // side of the square the objects are scattered over
+  float baseline_mm = 120.0f;
+  float noise_sigma = 1.5f;           // grey levels
+};
+
+struct GeneratedScene {
+  RenderScene scene;
+  StereoCalibration calib;
+  // Ground truth: model -> left camera (OpenCV axes, mm), one per scene.objects entry.
+  RigidTransform left_T_model[kMaxRenderObjects];
+};
+
+// Fails with a clear Status if the parameters are out of range or the objects cannot be placed
+// (too many objects for the view at that distance).
+Result<GeneratedScene> GenerateScene(uint64_t seed, const ScenarioParams& params,
+                                     const Model* models, int n_models);
+
+// Stable resting faces of a model: faces whose plane supports the whole model and that contain
+// the projection of its centroid. Returns the number written to faces[].
+int StableFaces(const Model& model, int* faces);
+
+}  // namespace sh::render

@@ -1,0 +1,299 @@
+#include "hal/sim/render/renderer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "hal/sim/render/model_directory.hpp"
+#include "hal/sim/render/scene_generator.hpp"
+
+namespace sh::render {
+namespace {
+
+struct Models {
+  Model models[kMaxModelFiles];
+  int n = 0;
+};
+
+const Models& ReferenceModels() {
+  static Models* m = [] {
+    auto* out = new Models;
+    const Result<int> n = LoadModelDirectory(STEREOHASH_MODELS_DIR, out->models, kMaxModelFiles);
+    EXPECT_TRUE(n.ok()) << n.status().message();
+    out->n = n.ok() ? *n : 0;
+    return out;
+  }();
+  return *m;
+}
+
+struct Images {
+  int width = 0, height = 0;
+  std::vector<uint8_t> image, labels;
+  std::vector<float> depth;
+  RenderTargets targets() {
+    RenderTargets t;
+    t.image = {image.data(), width, height, width};
+    t.labels = {labels.data(), width, height, width};
+    t.depth_mm = {depth.data(), width, height, width};
+    return t;
+  }
+  explicit Images(const CameraIntrinsics& c)
+      : width(c.width),
+        height(c.height),
+        image(size_t(c.width) * c.height),
+        labels(image.size()),
+        depth(image.size()) {}
+};
+
+GeneratedScene Generate(uint64_t seed, Occlusion occlusion, Background background,
+                        float noise = 1.5f) {
+  const Models& m = ReferenceModels();
+  ScenarioParams p;
+  p.n_objects = 5;
+  p.occlusion = occlusion;
+  p.background = background;
+  p.noise_sigma = noise;
+  Result<GeneratedScene> g = GenerateScene(seed, p, m.models, m.n);
+  EXPECT_TRUE(g.ok()) << g.status().message();
+  return *g;
+}
+
+TEST(SceneGenerator, ObjectsRestOnTheTableInsideBothImages) {
+  const Models& m = ReferenceModels();
+  ASSERT_EQ(m.n, 6);
+  for (uint64_t seed : {1, 2, 3}) {
+    for (Occlusion occ : {Occlusion::kNone, Occlusion::kSome, Occlusion::kSevere}) {
+      const GeneratedScene g = Generate(seed, occ, Background::kDark);
+      ASSERT_EQ(g.scene.objects.size(), 5u);
+      const RigidTransform right_T_table = RightFromTable(g.scene, g.calib);
+      for (size_t i = 0; i < g.scene.objects.size(); ++i) {
+        const SceneObject& o = g.scene.objects[i];
+        const Model& model = m.models[o.model_index];
+        // Ground truth is the composition of the table pose and the object pose.
+        const RigidTransform expected = g.scene.left_T_table * o.table_T_model;
+        EXPECT_LT((expected.R - g.left_T_model[i].R).norm(), 1e-5f);
+        EXPECT_LT((expected.t_mm - g.left_T_model[i].t_mm).norm(), 1e-3f);
+        float min_z = 1e9f;
+        for (int c = 0; c < model.n_corners; ++c) {
+          const Eigen::Vector3f p_table = o.table_T_model * model.corner(c);
+          min_z = std::min(min_z, p_table.z());
+          for (int cam = 0; cam < 2; ++cam) {
+            const Eigen::Vector3f p = cam == 0 ? g.left_T_model[i] * model.corner(c)
+                                               : right_T_table * p_table;
+            Eigen::Vector2d px;
+            ASSERT_TRUE(ProjectToPixel(cam == 0 ? g.calib.left : g.calib.right,
+                                       p.cast<double>(), &px));
+            EXPECT_TRUE(px.x() >= 0 && px.y() >= 0 && px.x() < 756 && px.y() < 581);
+          }
+        }
+        EXPECT_NEAR(min_z, 0.0f, 1e-3f) << model.name;  // resting on the table, not sunk
+      }
+    }
+  }
+}
+
+TEST(SceneGenerator, RefusesBadParameters) {
+  const Models& m = ReferenceModels();
+  ScenarioParams p;
+  p.camera_distance_mm = 1000;
+  EXPECT_EQ(GenerateScene(1, p, m.models, m.n).status().code(), StatusCode::kOutOfRange);
+  p = ScenarioParams();
+  p.n_objects = 0;
+  EXPECT_FALSE(GenerateScene(1, p, m.models, m.n).ok());
+  p = ScenarioParams();
+  p.n_objects = 16;
+  p.camera_distance_mm = 200;
+  p.occlusion = Occlusion::kNone;
+  const Result<GeneratedScene> crowded = GenerateScene(1, p, m.models, m.n);
+  ASSERT_FALSE(crowded.ok());
+  EXPECT_NE(std::string(crowded.status().message()).find("could not place"), std::string::npos);
+  EXPECT_FALSE(GenerateScene(1, ScenarioParams(), m.models, 0).ok());
+}
+
+TEST(Renderer, SameSeedGivesIdenticalBytesAndOtherSeedsDiffer) {
+  const Models& m = ReferenceModels();
+  std::vector<uint8_t> first;
+  for (int run = 0; run < 3; ++run) {
+    const GeneratedScene g = Generate(run < 2 ? 11 : 12, Occlusion::kSome, Background::kLight);
+    Images left(g.calib.left), right(g.calib.right);
+    ASSERT_TRUE(RenderStereo(g.scene, m.models, m.n, g.calib, left.targets(), right.targets()).ok());
+    std::vector<uint8_t> bytes = left.image;
+    bytes.insert(bytes.end(), right.image.begin(), right.image.end());
+    if (run == 0) {
+      first = bytes;
+    } else if (run == 1) {
+      EXPECT_EQ(bytes, first);
+    } else {
+      EXPECT_NE(bytes, first);
+    }
+  }
+}
+
+// Max - min of the 5 x 5 neighbourhood of a pixel.
+int LocalRange(const Images& im, int x, int y) {
+  int lo = 255, hi = 0;
+  for (int dy = -2; dy <= 2; ++dy) {
+    for (int dx = -2; dx <= 2; ++dx) {
+      const int v = im.image[size_t(std::clamp(y + dy, 0, im.height - 1)) * im.width +
+                             std::clamp(x + dx, 0, im.width - 1)];
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  return hi - lo;
+}
+
+TEST(Renderer, ProjectedCornersSitOnStrongIntensityEdges) {
+  const Models& m = ReferenceModels();
+  for (Background bg : {Background::kDark, Background::kLight}) {
+    const GeneratedScene g = Generate(21, Occlusion::kSome, bg);
+    Images left(g.calib.left), right(g.calib.right);
+    ASSERT_TRUE(RenderStereo(g.scene, m.models, m.n, g.calib, left.targets(), right.targets()).ok());
+    int visible = 0, on_edge = 0;
+    for (size_t i = 0; i < g.scene.objects.size(); ++i) {
+      const Model& model = m.models[g.scene.objects[i].model_index];
+      for (int c = 0; c < model.n_corners; ++c) {
+        const Eigen::Vector3f p = g.left_T_model[i] * model.corner(c);
+        Eigen::Vector2d px;
+        ASSERT_TRUE(ProjectToPixel(g.calib.left, p.cast<double>(), &px));
+        const int x = static_cast<int>(std::lround(px.x())), y = static_cast<int>(std::lround(px.y()));
+        // Visible: a neighbouring pixel shows this object at the corner's depth.
+        bool seen = false;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const size_t k = size_t(y + dy) * left.width + (x + dx);
+            seen |= left.labels[k] == i + 1 && std::abs(left.depth[k] - p.z()) < 3.0f;
+          }
+        }
+        if (!seen) continue;
+        ++visible;
+        on_edge += LocalRange(left, x, y) >= 25;
+      }
+    }
+    EXPECT_GE(visible, 15);
+    EXPECT_GE(on_edge, visible * 9 / 10) << "visible " << visible;
+  }
+}
+
+double Bilinear(const Images& im, double x, double y) {
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const double fx = x - x0, fy = y - y0;
+  auto at = [&](int xx, int yy) { return double(im.image[size_t(yy) * im.width + xx]); };
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
+         fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+}
+
+// Silhouette edges of a lone cube (one adjacent face towards the camera, one away) cross the
+// half-way grey level where ProjectToPixel puts them, to a fraction of a pixel.
+TEST(Renderer, SilhouetteEdgesArePositionedToSubPixelAccuracy) {
+  const Models& m = ReferenceModels();
+  const int cube = FindModel(m.models, m.n, "cube");
+  ASSERT_GE(cube, 0);
+  GeneratedScene g = Generate(5, Occlusion::kNone, Background::kDark, 0.0f);
+  RenderScene scene = g.scene;
+  scene.objects.clear();
+  SceneObject o;
+  o.model_index = static_cast<uint16_t>(cube);
+  o.table_T_model.R = Eigen::AngleAxisf(0.4f, Eigen::Vector3f::UnitZ()).toRotationMatrix();
+  o.table_T_model.t_mm = {5, 10, 20};  // resting on its 30 x 30 face
+  ASSERT_TRUE(scene.objects.push_back(o));
+  Images left(g.calib.left);
+  ASSERT_TRUE(RenderView(scene, m.models, m.n, g.calib.left, scene.left_T_table, 0,
+                         left.targets()).ok());
+  const Model& model = m.models[cube];
+  const RigidTransform left_T_model = scene.left_T_table * o.table_T_model;
+  const Eigen::Vector3f eye_model = left_T_model.Inverse().t_mm;
+  int tested = 0, accurate = 0;
+  for (int e = 0; e < model.n_edges; ++e) {
+    const ModelEdge& edge = model.edges[e];
+    auto faces_camera = [&](int f) {
+      return model.face_normal(f).dot(eye_model) > model.faces[f].offset_mm;
+    };
+    if (faces_camera(edge.face0) == faces_camera(edge.face1)) continue;
+    Eigen::Vector2d a, b, mid;
+    const Eigen::Vector3f pa = left_T_model * model.corner(edge.a);
+    const Eigen::Vector3f pb = left_T_model * model.corner(edge.b);
+    ASSERT_TRUE(ProjectToPixel(g.calib.left, pa.cast<double>(), &a));
+    ASSERT_TRUE(ProjectToPixel(g.calib.left, pb.cast<double>(), &b));
+    ASSERT_TRUE(ProjectToPixel(g.calib.left, (0.5f * (pa + pb)).cast<double>(), &mid));
+    const Eigen::Vector2d dir = (b - a).normalized();
+    const Eigen::Vector2d normal(-dir.y(), dir.x());
+    // Profile across the edge at its midpoint; find where it crosses the mid level.
+    const double lo = Bilinear(left, mid.x() - 3 * normal.x(), mid.y() - 3 * normal.y());
+    const double hi = Bilinear(left, mid.x() + 3 * normal.x(), mid.y() + 3 * normal.y());
+    if (std::abs(hi - lo) < 40) continue;  // not enough contrast to measure
+    ++tested;
+    const double level = 0.5 * (lo + hi);
+    double crossing = 1e9;
+    for (double s = -3; s < 3; s += 0.01) {
+      const double v0 = Bilinear(left, mid.x() + s * normal.x(), mid.y() + s * normal.y()) - level;
+      const double v1 =
+          Bilinear(left, mid.x() + (s + 0.01) * normal.x(), mid.y() + (s + 0.01) * normal.y()) -
+          level;
+      if ((v0 <= 0) != (v1 <= 0) && std::abs(s) < std::abs(crossing)) crossing = s;
+    }
+    accurate += std::abs(crossing) < 0.25;
+  }
+  EXPECT_GE(tested, 3);
+  EXPECT_EQ(accurate, tested);
+}
+
+// Occlusion: a pixel shows object i in the full scene only if it shows i when i is alone, and
+// where i alone is hidden in the full scene, the object shown instead is nearer to the camera.
+TEST(Renderer, OccludedObjectsAreHiddenByNearerOnes) {
+  const Models& m = ReferenceModels();
+  const GeneratedScene g = Generate(31, Occlusion::kSevere, Background::kDark);
+  Images full(g.calib.left);
+  ASSERT_TRUE(RenderView(g.scene, m.models, m.n, g.calib.left, g.scene.left_T_table, 0,
+                         full.targets()).ok());
+  int occluded = 0;
+  for (size_t i = 0; i < g.scene.objects.size(); ++i) {
+    RenderScene alone = g.scene;
+    alone.objects.clear();
+    ASSERT_TRUE(alone.objects.push_back(g.scene.objects[i]));
+    Images single(g.calib.left);
+    ASSERT_TRUE(RenderView(alone, m.models, m.n, g.calib.left, alone.left_T_table, 0,
+                           single.targets()).ok());
+    for (size_t k = 0; k < full.labels.size(); ++k) {
+      if (full.labels[k] == i + 1) {
+        ASSERT_EQ(single.labels[k], 1) << "pixel " << k;
+      }
+      if (single.labels[k] == 1 && full.labels[k] != i + 1) {
+        ASSERT_NE(full.labels[k], kTableLabel);
+        ASSERT_LT(full.depth[k], single.depth[k]);
+        ++occluded;
+      }
+    }
+  }
+  EXPECT_GT(occluded, 100);
+}
+
+TEST(Renderer, RefusesMismatchedTargetsAndBadModels) {
+  const Models& m = ReferenceModels();
+  const GeneratedScene g = Generate(1, Occlusion::kSome, Background::kDark);
+  std::vector<uint8_t> small(100 * 100);
+  const GrayView view{small.data(), 100, 100, 100};
+  const Status wrong_size = RenderStereo(g.scene, m.models, m.n, g.calib, view, view);
+  EXPECT_EQ(wrong_size.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::string(wrong_size.message()).find("100 x 100"), std::string::npos);
+  std::vector<uint8_t> l(756 * 581), r(756 * 581);
+  const Status missing_models = RenderStereo(g.scene, m.models, 2, g.calib,
+                                             GrayView{l.data(), 756, 581, 756},
+                                             GrayView{r.data(), 756, 581, 756});
+  bool uses_high_index = false;
+  for (const SceneObject& o : g.scene.objects) uses_high_index |= o.model_index >= 2;
+  if (uses_high_index) {
+    EXPECT_EQ(missing_models.code(), StatusCode::kInvalidArgument);
+  }
+  RenderScene bad = g.scene;
+  bad.supersampling = 0;
+  EXPECT_EQ(RenderStereo(bad, m.models, m.n, g.calib, GrayView{l.data(), 756, 581, 756},
+                         GrayView{r.data(), 756, 581, 756})
+                .code(),
+            StatusCode::kOutOfRange);
+}
+
+}  // namespace
+}  // namespace sh::render
