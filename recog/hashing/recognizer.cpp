@@ -554,6 +554,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
   PrepareScene(scene);
   uint32_t cursor = 0;
   uint32_t fruitless = 0;
+  uint32_t generated = candidate_count_;
   Vector<Hypothesis, kMaxHypothesesPerBasis> hypotheses;
   RefineInput refine_in;
   refine_in.scene = &scene;
@@ -576,6 +577,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
       cursor = 0;
       AppendCandidates(false);
       all_candidates_generated_ = true;
+      generated += candidate_count_;
       if (candidate_count_ == 0) break;
     }
     const SceneBasis basis = candidates_[cursor++];
@@ -629,7 +631,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     }
     if (stats.objects_full) break;
   }
-  stats.scene_bases_available = candidate_count_;
+  stats.scene_bases_available = generated;
   if (stats_out) *stats_out = stats;
   return Status::Ok();
 }

@@ -117,7 +117,7 @@ struct Budget {
 
 struct RecognitionStats {
   uint32_t scene_bases_tried = 0;
-  uint32_t scene_bases_available = 0;  // candidates generated (capped at kMaxSceneBases)
+  uint32_t scene_bases_available = 0;  // candidates generated, both passes (each capped)
   uint32_t hypotheses = 0;
   uint32_t verifications = 0;
   uint32_t accepted = 0;
