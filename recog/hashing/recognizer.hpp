@@ -50,7 +50,7 @@ struct RecognizerConfig {
   int min_active_features = 6;        // stop when fewer scene features remain
   // Stop after this many scene bases in a row produced no object: in clutter, the bases that
   // find objects come early in quality order and the rest of the list only costs time.
-  uint32_t max_fruitless_bases = 30;
+  uint32_t max_fruitless_bases = 15;
   float min_object_separation_mm = 15.0f;  // two objects cannot share a centre this close
   float connect_tolerance_mm = 2.5f;       // a line this close to a point or line meets it
   float junction_reach_mm = 12.0f;         // an edge's detected end lies this close to its corner
