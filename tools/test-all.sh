@@ -26,7 +26,9 @@ ctest --preset host-release -j "$jobs" --timeout 900
 
 section "fuzzers"
 cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz -j "$jobs"
+targets=()
+for corpus in tests/fuzz/corpus/*/; do targets+=("$(basename "$corpus")_fuzz"); done
+cmake --build --preset fuzz -j "$jobs" --target "${targets[@]}"
 fuzz_seconds=${STEREOHASH_FUZZ_SECONDS:-20}
 for corpus in tests/fuzz/corpus/*/; do
   name=$(basename "$corpus")
