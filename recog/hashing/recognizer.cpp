@@ -31,6 +31,20 @@ inline bool BinRange(const GridGeometry& g, int axis, float v, float r, int* lo,
   return true;
 }
 
+// The x-bins of row (y, z) that intersect the ball of radius r around c: the neighbourhood is a
+// ball, so rows and row ends outside it are skipped (about half of the bounding cube's bins).
+inline bool RowRangeInBall(const GridGeometry& g, const Eigen::Vector3f& c, float r, int y, int z,
+                           int* x_lo, int* x_hi) {
+  auto slab_distance = [&g](float v, int axis, int i) {
+    const float lo = g.min_mm[axis] + float(i) * g.bin_mm, hi = lo + g.bin_mm;
+    return v < lo ? lo - v : (v > hi ? v - hi : 0.0f);
+  };
+  const float dy = slab_distance(c.y(), 1, y), dz = slab_distance(c.z(), 2, z);
+  const float rest = r * r - dy * dy - dz * dz;
+  if (rest < 0.0f) return false;
+  return BinRange(g, 0, c.x(), std::sqrt(rest), x_lo, x_hi);
+}
+
 uint32_t NextRandom(uint32_t& state) {  // xorshift32: deterministic on every platform
   state ^= state << 13;
   state ^= state >> 17;
@@ -233,8 +247,13 @@ void Recognizer::AppendCandidates(bool connected_only) {
       if (!line_active_[i]) continue;
       const BasisLine3 line{s.lines[i].a_mm, line_dir_[i]};
       const float length = s.lines[i].length_mm();
+      // A basis point of the same object lies within an object's size of the supported
+      // segment (every model corner is within max_point_spacing_mm of every point of every
+      // edge); farther points are not paired, whatever their distance to the infinite line.
+      const Eigen::Vector3f mid = 0.5f * (s.lines[i].a_mm + s.lines[i].b_mm);
+      const float reach = 0.5f * length + limits.max_point_spacing_mm;
       for (int j = 0; j < np; ++j) {
-        if (!point_active_[j]) continue;
+        if (!point_active_[j] || (s.points[j].p_mm - mid).squaredNorm() > reach * reach) continue;
         const float d = PointLineDistance(line, s.points[j].p_mm);
         if (d < limits.min_point_line_mm || d > limits.max_point_line_mm) continue;
         // First pass: bases with structural evidence (a connecting edge, or at least a
@@ -336,9 +355,11 @@ void Recognizer::VotePoint(const Eigen::Vector3f& q) {
   const uint32_t* offsets = table_.point_bin_offsets();
   for (int z = lo[2]; z <= hi[2]; ++z) {
     for (int y = lo[1]; y <= hi[1]; ++y) {
+      int x_lo = 0, x_hi = 0;
+      if (!RowRangeInBall(g, q, r, y, z, &x_lo, &x_hi)) continue;
       const uint32_t row = (uint32_t(z) * g.dims[1] + uint32_t(y)) * g.dims[0];
       // Bins of one row are contiguous in the entry array: one range covers x = lo..hi.
-      const uint32_t begin = offsets[row + lo[0]], end = offsets[row + hi[0] + 1];
+      const uint32_t begin = offsets[row + x_lo], end = offsets[row + x_hi + 1];
       for (uint32_t e = begin; e < end; ++e) {
         const PointEntry& p = base[e];
         const float dx = float(p.x) * kMmPerRaw - q.x();
@@ -366,8 +387,10 @@ void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v) {
   const float angle_cut = 12.0f * float(kVoteCutoff) / inv_sigma2_line_;
   for (int z = lo[2]; z <= hi[2]; ++z) {
     for (int y = lo[1]; y <= hi[1]; ++y) {
+      int x_lo = 0, x_hi = 0;
+      if (!RowRangeInBall(g, s, r, y, z, &x_lo, &x_hi)) continue;
       const uint32_t row = (uint32_t(z) * g.dims[1] + uint32_t(y)) * g.dims[0];
-      const uint32_t begin = offsets[row + lo[0]], end = offsets[row + hi[0] + 1];
+      const uint32_t begin = offsets[row + x_lo], end = offsets[row + x_hi + 1];
       for (uint32_t e = begin; e < end; ++e) {
         const LineEntry& l = base[e];
         const Eigen::Vector3f u(float(l.vx) * kUnitPerRaw, float(l.vy) * kUnitPerRaw,

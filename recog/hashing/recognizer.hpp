@@ -180,7 +180,9 @@ class Recognizer {
   static constexpr int kMaxIncidentLines = 4;
   int16_t incident_[kMaxScenePoints][kMaxIncidentLines];  // lines ending at each point
   uint8_t incident_count_[kMaxScenePoints];
-  uint8_t line_end_joins_[kMaxSceneLines];  // 0..2 ends where another line ends too
+  uint8_t line_end_joins_[kMaxSceneLines];
+  int16_t near_points_[kMaxScenePoints];  // scratch for candidate generation  // 0..2 ends where
+                                          // another line ends too
   Eigen::Vector3f grid_scratch_[2 * kMaxSceneLines];
   uint32_t order_scratch_[kMaxSceneBases];
   SceneBasis sorted_scratch_[kMaxSceneBases];
