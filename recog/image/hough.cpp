@@ -90,14 +90,12 @@ void UpdateMaxima(HoughWorkspace& ws, int block_lo, int block_hi) {
       if (ws.block_dirty[t][b]) {
         ws.block_dirty[t][b] = 0;
         const int32_t* cell = ws.acc[t] + b * HoughWorkspace::kBlock;
+        // Maximum first (a branch-free reduction the compiler vectorises), then its first
+        // position: the same cell as a scan that keeps the earliest of equal maxima.
         int32_t m = cell[0];
+        for (int i = 1; i < HoughWorkspace::kBlock; ++i) m = cell[i] > m ? cell[i] : m;
         int arg = 0;
-        for (int i = 1; i < HoughWorkspace::kBlock; ++i) {
-          if (cell[i] > m) {
-            m = cell[i];
-            arg = i;
-          }
-        }
+        while (cell[arg] != m) ++arg;
         ws.block_max[t][b] = m;
         ws.block_arg[t][b] = static_cast<int16_t>(b * HoughWorkspace::kBlock + arg);
       }
