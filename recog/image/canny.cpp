@@ -54,16 +54,6 @@ Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, Filter
   ImageView<float> gx = scratch.planes[2].view(w, h);
   ImageView<float> gy = scratch.planes[3].view(w, h);
   FilterRows(image, &g0, smooth_x, &g1, deriv_x, nullptr, {});
-  FilterColumns(deriv_x, g0, gx);
-  FilterColumns(smooth_x, g1, gy);
-  // Squared magnitude (monotonic, so no square roots are needed) into plane 0.
-  ImageView<float> mag2 = smooth_x;
-  for (int y = 0; y < h; ++y) {
-    const float* ax = gx.row(y);
-    const float* ay = gy.row(y);
-    float* m = mag2.row(y);
-    for (int x = 0; x < w; ++x) m[x] = ax[x] * ax[x] + ay[x] * ay[x];
-  }
 
   edges = buffers.view(w, h);
   uint8_t* const flag = buffers.edge;
@@ -74,13 +64,25 @@ Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, Filter
   // tan(22.5 deg): splits gradient directions into horizontal, vertical and the two diagonals.
   constexpr float kTan22 = 0.41421356f;
   size_t candidates = 0, top = 0;
-  for (int y = 1; y < h - 1; ++y) {
-    const float* m = mag2.row(y);
-    const float* mu = mag2.row(y - 1);
-    const float* md = mag2.row(y + 1);
-    const float* ax = gx.row(y);
-    const float* ay = gy.row(y);
-    uint8_t* f = flag + static_cast<size_t>(y) * w;
+  // One pass over the rows: the column filters of row y, its squared magnitude (monotonic, so no
+  // square roots are needed) into a ring of three rows, and non-maximum suppression of row y - 1,
+  // whose neighbours are then complete. The rows are used while they are still in cache.
+  float mag_ring[3][kMaxImageWidth];
+  for (int y = 0; y < h; ++y) {
+    float* ax_row = gx.row(y);
+    float* ay_row = gy.row(y);
+    FilterColumnRow(deriv_x, g0, y, ax_row);
+    FilterColumnRow(smooth_x, g1, y, ay_row);
+    float* m_row = mag_ring[y % 3];
+    for (int x = 0; x < w; ++x) m_row[x] = ax_row[x] * ax_row[x] + ay_row[x] * ay_row[x];
+    const int yc = y - 1;  // row whose suppression is now possible
+    if (yc < 1) continue;
+    const float* m = mag_ring[yc % 3];
+    const float* mu = mag_ring[(yc - 1) % 3];
+    const float* md = mag_ring[y % 3];
+    const float* ax = gx.row(yc);
+    const float* ay = gy.row(yc);
+    uint8_t* f = flag + static_cast<size_t>(yc) * w;
     for (int x = 1; x < w - 1; ++x) {
       const float v = m[x];
       if (v < low2) continue;
@@ -104,7 +106,7 @@ Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, Filter
       ++candidates;
       if (v >= high2) {
         f[x] = kStrongPending;
-        buffers.stack[top++] = static_cast<uint32_t>(y) * w + x;
+        buffers.stack[top++] = static_cast<uint32_t>(yc) * w + x;
       } else {
         f[x] = kWeak;
       }

@@ -95,6 +95,23 @@ void DifferenceResponseRow(const float* __restrict up, const float* __restrict m
   if (width > 1) out[width - 1] = response(width - 2, width - 1, width - 1);
 }
 
+// Largest value of a row. Eight independent running maxima let the compiler vectorise the loop
+// (a single running std::max is a serial dependency chain); max is exact, so the result does not
+// depend on the order.
+float RowMax(const float* __restrict row, int width, float init) {
+  constexpr int kLanes = 8;
+  float lane[kLanes];
+  for (int i = 0; i < kLanes; ++i) lane[i] = init;
+  int x = 0;
+  for (; x + kLanes <= width; x += kLanes) {
+    for (int i = 0; i < kLanes; ++i) lane[i] = lane[i] > row[x + i] ? lane[i] : row[x + i];
+  }
+  float m = init;
+  for (int i = 0; i < kLanes; ++i) m = std::max(m, lane[i]);
+  for (; x < width; ++x) m = std::max(m, row[x]);
+  return m;
+}
+
 bool IsLocalMax(const ImageView<const float>& resp, int x, int y, int radius) {
   const float v = resp.row(y)[x];
   const int y0 = std::max(0, y - radius), y1 = std::min(resp.height - 1, y + radius);
@@ -279,13 +296,19 @@ Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, Fil
     ImageView<float> rows = scratch.planes[0].view(w, h);
     ImageView<float> smooth = scratch.planes[1].view(w, h);
     FilterRows(image, &g0, rows, nullptr, {}, nullptr, {});
-    FilterColumns(rows, g0, smooth);
-    for (int y = 0; y < h; ++y) {
+    // Column pass row by row, each response row as soon as its lower neighbour exists: the three
+    // smoothed rows are still in cache.
+    auto response_row = [&](int y) {
       float* out = resp.row(y);
       DifferenceResponseRow(smooth.row(std::max(0, y - 1)), smooth.row(y),
                             smooth.row(std::min(h - 1, y + 1)), w, scale, out);
-      for (int x = 0; x < w; ++x) max_strength = std::max(max_strength, out[x]);
+      max_strength = RowMax(out, w, max_strength);
+    };
+    for (int y = 0; y < h; ++y) {
+      FilterColumnRow(rows, g0, y, smooth.row(y));
+      if (y >= 1) response_row(y - 1);
     }
+    response_row(h - 1);
   } else {
     GaussianKernel g0, g1, g2;
     SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 0, g0));
@@ -307,7 +330,7 @@ Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, Fil
       ClampedRowPointers(p2, y, r, rows2);
       float* out = resp.row(y);
       ResponseRow(rows0, rows1, rows2, r, g0, g1, g2, w, scale, out, ix, iy, ixx, ixy, iyy);
-      for (int x = 0; x < w; ++x) max_strength = std::max(max_strength, out[x]);
+      max_strength = RowMax(out, w, max_strength);
     }
   }
   const float threshold = std::max(config.threshold, config.relative_threshold * max_strength);

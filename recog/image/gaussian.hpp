@@ -68,6 +68,12 @@ void FilterRows(const ConstGrayView& image, const GaussianKernel* k0, ImageView<
 // outside the image replaced by the nearest border row. `rows` holds 2 * radius + 1 entries.
 void ClampedRowPointers(const ImageView<const float>& in, int y, int radius, const float** rows);
 
+// Column (y-direction) pass of one float plane with one kernel, for output row y only (written to
+// out_row, which must not overlap `in`): lets callers consume each filtered row while it is
+// still in cache.
+void FilterColumnRow(const ImageView<const float>& in, const GaussianKernel& kernel, int y,
+                     float* out_row);
+
 // Column (y-direction) pass of one float plane with one kernel.
 void FilterColumns(const ImageView<const float>& in, const GaussianKernel& kernel,
                    ImageView<float> out);
