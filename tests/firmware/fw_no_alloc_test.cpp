@@ -9,31 +9,10 @@
 
 #include "firmware/sim_world.hpp"
 #include "tests/firmware/fw_test_support.hpp"
+#include "tests/support/counting_allocator.hpp"
 #ifdef STEREOHASH_FW_HAVE_PIPELINE
 #include "firmware/pipeline_recognition.hpp"
 #endif
-
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<uint64_t> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
-  void* p = std::malloc(n ? n : 1);
-  if (p == nullptr) std::abort();
-  return p;
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace sh::fw::testing {
 namespace {
@@ -108,8 +87,7 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
 
   constexpr int kTriggers = 100;
   int sets = 0, with_objects = 0, ok_status = 0;
-  g_allocations = 0;
-  g_counting = true;
+  const uint64_t allocations_before = sh::testing_support::HeapAllocations();
   for (int i = 0; i < kTriggers; ++i) {
     if (i % 4 == 3) {
       gpio.FireTrigger();
@@ -123,14 +101,14 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
       ok_status += set.status == ResultStatus::kOk;
     }
   }
-  g_counting = false;
+  const uint64_t allocations = sh::testing_support::HeapAllocations() - allocations_before;
   core.Stop();
   EXPECT_EQ(sets, kTriggers);
-  EXPECT_EQ(g_allocations.load(), 0u)
-      << "heap allocations during " << kTriggers << " triggers with recognition = " << kind;
+  EXPECT_EQ(allocations, 0u) << "heap allocations during " << kTriggers
+                             << " triggers with recognition = " << kind;
   EXPECT_GT(with_objects, kTriggers / 2);
   std::printf("recognition = %s: %d sets, %d with objects, %d status ok, %llu allocations\n", kind,
-              sets, with_objects, ok_status, static_cast<unsigned long long>(g_allocations.load()));
+              sets, with_objects, ok_status, static_cast<unsigned long long>(allocations));
 }
 
 }  // namespace

@@ -7,21 +7,7 @@
 #include <new>
 
 #include "tests/hashing/fixtures.hpp"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}
-
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#include "tests/support/counting_allocator.hpp"
 
 namespace sh {
 namespace {
@@ -42,18 +28,18 @@ TEST(RecognizerAllocations, NoneAfterInitialisation) {
   SceneSupportVerifier verifier;
   RecognitionStats stats;
   size_t found = 0;
-  const long before = g_allocations.load();
+  const uint64_t before = testing_support::HeapAllocations();
   for (const auto& s : scenes) {
     ASSERT_TRUE(recognizer->Recognize(s->scene, verifier, Budget{}, objects, &stats).ok());
     found += objects.size();
   }
-  const long after = g_allocations.load();
-  EXPECT_EQ(after - before, 0) << "heap allocations during recognition";
+  const uint64_t after = testing_support::HeapAllocations();
+  EXPECT_EQ(after - before, 0u) << "heap allocations during recognition";
   EXPECT_GT(found, 0u);  // the scenes were actually recognised, not skipped
   // The counter works: an allocation here is seen.
-  const long probe_before = g_allocations.load();
+  const uint64_t probe_before = testing_support::HeapAllocations();
   auto* probe = new int(1);
-  const long probe_after = g_allocations.load();
+  const uint64_t probe_after = testing_support::HeapAllocations();
   delete probe;
   EXPECT_EQ(probe_after, probe_before + 1);
 }

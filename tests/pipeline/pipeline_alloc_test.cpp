@@ -11,21 +11,7 @@
 #include "recog/pipeline/pipeline.hpp"
 #include "tables/table_file.hpp"
 #include "tests/pipeline/rendered_eval.hpp"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}
-
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#include "tests/support/counting_allocator.hpp"
 
 namespace sh {
 namespace {
@@ -55,7 +41,7 @@ TEST(PipelineAllocations, NoneWhileProcessing) {
   for (const auto& pair : pairs) {
     // Init (start-up, not per frame) with each scene's own calibration, outside the count.
     ASSERT_TRUE(pipeline->Init(pair->generated.calib, *table, PipelineConfig{}, FakeClock).ok());
-    const long before = g_allocations.load();
+    const long before = testing_support::HeapAllocations();
     for (int repeat = 0; repeat < 2; ++repeat) {
       const Status s = pipeline->Process(pair->left_view(), pair->right_view(), 1000.0f, &result);
       ASSERT_TRUE(s.ok()) << s.message();
@@ -63,13 +49,13 @@ TEST(PipelineAllocations, NoneWhileProcessing) {
     }
     // Errors are reported without allocating too.
     ASSERT_FALSE(pipeline->Process(ConstGrayView{}, pair->right_view(), 0, &result).ok());
-    during += g_allocations.load() - before;
+    during += testing_support::HeapAllocations() - before;
   }
   EXPECT_EQ(during, 0) << "heap allocations while processing frames";
   EXPECT_GT(found, 0u);  // the frames were actually recognised
-  const long probe_before = g_allocations.load();
+  const long probe_before = testing_support::HeapAllocations();
   auto* probe = new int(1);
-  const long probe_after = g_allocations.load();
+  const long probe_after = testing_support::HeapAllocations();
   delete probe;
   EXPECT_EQ(probe_after, probe_before + 1);
 }
