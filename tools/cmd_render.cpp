@@ -115,13 +115,12 @@ int RunRender(int argc, char** argv) {
     } else if (std::strcmp(arg, "--background") == 0 &&
                (std::strcmp(value, "dark") == 0 || std::strcmp(value, "light") == 0)) {
       background = value;
-      params.background =
-          value[0] == 'd' ? render::Background::kDark : render::Background::kLight;
+      params.background = value[0] == 'd' ? render::Background::kDark : render::Background::kLight;
     } else if (std::strcmp(arg, "--occlusion") == 0 &&
                (std::strcmp(value, "none") == 0 || std::strcmp(value, "some") == 0 ||
                 std::strcmp(value, "severe") == 0)) {
       occlusion = value;
-      params.occlusion = value[1] == 'o' ? render::Occlusion::kNone
+      params.occlusion = value[1] == 'o'   ? render::Occlusion::kNone
                          : value[1] == 'e' ? render::Occlusion::kSevere
                                            : render::Occlusion::kSome;
     } else {
@@ -136,7 +135,8 @@ int RunRender(int argc, char** argv) {
   }
 
   static Model models[render::kMaxModelFiles];
-  const Result<int> n_models = render::LoadModelDirectory(models_dir, models, render::kMaxModelFiles);
+  const Result<int> n_models =
+      render::LoadModelDirectory(models_dir, models, render::kMaxModelFiles);
   if (!n_models.ok()) {
     std::fprintf(stderr, "stereohash render: %s\n", n_models.status().message());
     return 1;
@@ -187,10 +187,10 @@ int RunRender(int argc, char** argv) {
     std::fprintf(stderr, "stereohash render: %s\n", st.message());
     return 1;
   }
-  std::printf("rendered %zu objects (seed %llu) in %.0f ms -> %s/{left.png,right.png,calib.yaml,"
-              "truth.json}\n",
-              scene->scene.objects.size(), static_cast<unsigned long long>(seed), render_ms,
-              out_dir);
+  std::printf(
+      "rendered %zu objects (seed %llu) in %.0f ms -> %s/{left.png,right.png,calib.yaml,"
+      "truth.json}\n",
+      scene->scene.objects.size(), static_cast<unsigned long long>(seed), render_ms, out_dir);
   return 0;
 }
 

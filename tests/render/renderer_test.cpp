@@ -80,11 +80,11 @@ TEST(SceneGenerator, ObjectsRestOnTheTableInsideBothImages) {
           const Eigen::Vector3f p_table = o.table_T_model * model.corner(c);
           min_z = std::min(min_z, p_table.z());
           for (int cam = 0; cam < 2; ++cam) {
-            const Eigen::Vector3f p = cam == 0 ? g.left_T_model[i] * model.corner(c)
-                                               : right_T_table * p_table;
+            const Eigen::Vector3f p =
+                cam == 0 ? g.left_T_model[i] * model.corner(c) : right_T_table * p_table;
             Eigen::Vector2d px;
-            ASSERT_TRUE(ProjectToPixel(cam == 0 ? g.calib.left : g.calib.right,
-                                       p.cast<double>(), &px));
+            ASSERT_TRUE(
+                ProjectToPixel(cam == 0 ? g.calib.left : g.calib.right, p.cast<double>(), &px));
             EXPECT_TRUE(px.x() >= 0 && px.y() >= 0 && px.x() < 756 && px.y() < 581);
           }
         }
@@ -118,7 +118,8 @@ TEST(Renderer, SameSeedGivesIdenticalBytesAndOtherSeedsDiffer) {
   for (int run = 0; run < 3; ++run) {
     const GeneratedScene g = Generate(run < 2 ? 11 : 12, Occlusion::kSome, Background::kLight);
     Images left(g.calib.left), right(g.calib.right);
-    ASSERT_TRUE(RenderStereo(g.scene, m.models, m.n, g.calib, left.targets(), right.targets()).ok());
+    ASSERT_TRUE(
+        RenderStereo(g.scene, m.models, m.n, g.calib, left.targets(), right.targets()).ok());
     std::vector<uint8_t> bytes = left.image;
     bytes.insert(bytes.end(), right.image.begin(), right.image.end());
     if (run == 0) {
@@ -150,7 +151,8 @@ TEST(Renderer, ProjectedCornersSitOnStrongIntensityEdges) {
   for (Background bg : {Background::kDark, Background::kLight}) {
     const GeneratedScene g = Generate(21, Occlusion::kSome, bg);
     Images left(g.calib.left), right(g.calib.right);
-    ASSERT_TRUE(RenderStereo(g.scene, m.models, m.n, g.calib, left.targets(), right.targets()).ok());
+    ASSERT_TRUE(
+        RenderStereo(g.scene, m.models, m.n, g.calib, left.targets(), right.targets()).ok());
     int visible = 0, on_edge = 0;
     for (size_t i = 0; i < g.scene.objects.size(); ++i) {
       const Model& model = m.models[g.scene.objects[i].model_index];
@@ -158,7 +160,8 @@ TEST(Renderer, ProjectedCornersSitOnStrongIntensityEdges) {
         const Eigen::Vector3f p = g.left_T_model[i] * model.corner(c);
         Eigen::Vector2d px;
         ASSERT_TRUE(ProjectToPixel(g.calib.left, p.cast<double>(), &px));
-        const int x = static_cast<int>(std::lround(px.x())), y = static_cast<int>(std::lround(px.y()));
+        const int x = static_cast<int>(std::lround(px.x())),
+                  y = static_cast<int>(std::lround(px.y()));
         // Visible: a neighbouring pixel shows this object at the corner's depth.
         bool seen = false;
         for (int dy = -1; dy <= 1; ++dy) {
@@ -200,8 +203,8 @@ TEST(Renderer, SilhouetteEdgesArePositionedToSubPixelAccuracy) {
   o.table_T_model.t_mm = {5, 10, 20};  // resting on its 30 x 30 face
   ASSERT_TRUE(scene.objects.push_back(o));
   Images left(g.calib.left);
-  ASSERT_TRUE(RenderView(scene, m.models, m.n, g.calib.left, scene.left_T_table, 0,
-                         left.targets()).ok());
+  ASSERT_TRUE(
+      RenderView(scene, m.models, m.n, g.calib.left, scene.left_T_table, 0, left.targets()).ok());
   const Model& model = m.models[cube];
   const RigidTransform left_T_model = scene.left_T_table * o.table_T_model;
   const Eigen::Vector3f eye_model = left_T_model.Inverse().t_mm;
@@ -246,16 +249,18 @@ TEST(Renderer, OccludedObjectsAreHiddenByNearerOnes) {
   const Models& m = ReferenceModels();
   const GeneratedScene g = Generate(31, Occlusion::kSevere, Background::kDark);
   Images full(g.calib.left);
-  ASSERT_TRUE(RenderView(g.scene, m.models, m.n, g.calib.left, g.scene.left_T_table, 0,
-                         full.targets()).ok());
+  ASSERT_TRUE(
+      RenderView(g.scene, m.models, m.n, g.calib.left, g.scene.left_T_table, 0, full.targets())
+          .ok());
   int occluded = 0;
   for (size_t i = 0; i < g.scene.objects.size(); ++i) {
     RenderScene alone = g.scene;
     alone.objects.clear();
     ASSERT_TRUE(alone.objects.push_back(g.scene.objects[i]));
     Images single(g.calib.left);
-    ASSERT_TRUE(RenderView(alone, m.models, m.n, g.calib.left, alone.left_T_table, 0,
-                           single.targets()).ok());
+    ASSERT_TRUE(
+        RenderView(alone, m.models, m.n, g.calib.left, alone.left_T_table, 0, single.targets())
+            .ok());
     for (size_t k = 0; k < full.labels.size(); ++k) {
       if (full.labels[k] == i + 1) {
         ASSERT_EQ(single.labels[k], 1) << "pixel " << k;
@@ -279,9 +284,9 @@ TEST(Renderer, RefusesMismatchedTargetsAndBadModels) {
   EXPECT_EQ(wrong_size.code(), StatusCode::kInvalidArgument);
   EXPECT_NE(std::string(wrong_size.message()).find("100 x 100"), std::string::npos);
   std::vector<uint8_t> l(756 * 581), r(756 * 581);
-  const Status missing_models = RenderStereo(g.scene, m.models, 2, g.calib,
-                                             GrayView{l.data(), 756, 581, 756},
-                                             GrayView{r.data(), 756, 581, 756});
+  const Status missing_models =
+      RenderStereo(g.scene, m.models, 2, g.calib, GrayView{l.data(), 756, 581, 756},
+                   GrayView{r.data(), 756, 581, 756});
   bool uses_high_index = false;
   for (const SceneObject& o : g.scene.objects) uses_high_index |= o.model_index >= 2;
   if (uses_high_index) {

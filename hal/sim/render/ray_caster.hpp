@@ -16,7 +16,7 @@ inline constexpr int kTableHit = 0xff;  // Hit::object for the table plane
 inline constexpr int kNoHit = 0xfe;
 
 struct Hit {
-  float t_mm = 0;   // distance along the (unit) ray
+  float t_mm = 0;  // distance along the (unit) ray
   int object = kNoHit;
   int face = 0;
 };

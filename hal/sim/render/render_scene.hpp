@@ -21,7 +21,7 @@ enum class Background : uint8_t {
 struct SceneObject {
   uint16_t model_index = 0;  // into the model array passed to the renderer
   RigidTransform table_T_model;
-  float albedo = 0.8f;       // diffuse reflectance in [0, 1]
+  float albedo = 0.8f;  // diffuse reflectance in [0, 1]
 };
 
 struct PointLight {

@@ -14,7 +14,7 @@ namespace {
 constexpr float kEpsilonMm = 1e-2f;       // offset of secondary rays from the surface
 constexpr float kEnvironment = 0.06f;     // radiance of rays leaving the scene (dim room)
 constexpr float kObjectSpecular = 0.18f;  // Blinn-Phong weight and exponent of the objects
-constexpr int kObjectShininess = 32;  // powers of two: evaluated by squaring
+constexpr int kObjectShininess = 32;      // powers of two: evaluated by squaring
 constexpr int kMaxSupersampling = 8;
 
 struct TableFinish {
@@ -244,9 +244,8 @@ Status RenderView(const RenderScene& scene, const Model* models, int n_models,
         if (!targets.depth_mm.empty()) {
           // Camera-frame z of the hit: t along the unit ray times the ray's z component.
           const float z_per_t = 1.0f / Eigen::Vector3f(xy.x(), xy.y(), 1.0f).norm();
-          targets.depth_mm.at(x, y) = hit.object == kNoHit
-                                          ? std::numeric_limits<float>::infinity()
-                                          : hit.t_mm * z_per_t;
+          targets.depth_mm.at(x, y) =
+              hit.object == kNoHit ? std::numeric_limits<float>::infinity() : hit.t_mm * z_per_t;
         }
       }
     }

@@ -25,9 +25,9 @@ namespace sh::render {
 inline constexpr uint8_t kTableLabel = 0;
 
 struct RenderTargets {
-  GrayView image;               // required; width and height must match the camera
-  GrayView labels;              // optional (empty view = skip): object at the pixel centre
-  ImageView<float> depth_mm;    // optional: camera-frame z of the surface at the pixel centre
+  GrayView image;             // required; width and height must match the camera
+  GrayView labels;            // optional (empty view = skip): object at the pixel centre
+  ImageView<float> depth_mm;  // optional: camera-frame z of the surface at the pixel centre
 };
 
 // Renders one camera whose pose is cam_T_table. `camera_index` selects the noise stream.

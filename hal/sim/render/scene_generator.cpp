@@ -166,7 +166,8 @@ bool MakeCandidate(const Model& model, const int* stable, int n_stable, const fl
       Eigen::Quaternionf::FromTwoVectors(model.face_normal(f), -Eigen::Vector3f::UnitZ())
           .toRotationMatrix();
   const float heading = rng.Uniform(0.0f, 2 * kPi);
-  c->table_T_model.R = Eigen::AngleAxisf(heading, Eigen::Vector3f::UnitZ()).toRotationMatrix() * down;
+  c->table_T_model.R =
+      Eigen::AngleAxisf(heading, Eigen::Vector3f::UnitZ()).toRotationMatrix() * down;
   // Face points satisfy normal . x = offset, i.e. z = -offset after the rotation.
   c->table_T_model.t_mm = Eigen::Vector3f(xy.x(), xy.y(), model.faces[f].offset_mm);
   Orthonormalize(c->table_T_model);
@@ -271,7 +272,8 @@ Result<GeneratedScene> GenerateScene(uint64_t seed, const ScenarioParams& params
   float spread_factor = 1.0f, gap_mm = 15.0f;
   int min_overlaps = 0;
   switch (params.occlusion) {
-    case Occlusion::kNone: break;
+    case Occlusion::kNone:
+      break;
     case Occlusion::kSome:
       spread_factor = 0.55f;
       gap_mm = 2.0f;

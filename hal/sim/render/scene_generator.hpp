@@ -19,13 +19,13 @@ enum class Occlusion : uint8_t {
 };
 
 struct ScenarioParams {
-  int n_objects = 4;                  // 1 .. kMaxRenderObjects
+  int n_objects = 4;  // 1 .. kMaxRenderObjects
   Background background = Background::kDark;
   Occlusion occlusion = Occlusion::kSome;
   float camera_distance_mm = 400.0f;  // rig centre to the fixation point on the table, 200..600
   float spread_mm = 400.0f;           // side of the square the objects are scattered over
   float baseline_mm = 120.0f;
-  float noise_sigma = 1.5f;           // grey levels
+  float noise_sigma = 1.5f;  // grey levels
 };
 
 struct GeneratedScene {
