@@ -243,7 +243,8 @@ void FirmwareCore::SendAck(const CanFrame& command, const Status& status, uint32
 // ---------------------------------------------------------------------------------------------
 // Triggers
 
-bool FirmwareCore::QueueTrigger(uint16_t request_id, int64_t trigger_ns) {
+bool FirmwareCore::QueueTrigger(uint16_t request_id, int64_t trigger_ns,
+                                const CanFrame* accepted_ack) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (queue_count_ == kTriggerQueueDepth) {
@@ -251,6 +252,9 @@ bool FirmwareCore::QueueTrigger(uint16_t request_id, int64_t trigger_ns) {
       ++counters_.triggers_dropped;
       return false;
     }
+    // Under the queue lock: the worker pops triggers under it, so its result set cannot
+    // overtake this ack on the bus (a send is a non-blocking queue write).
+    if (accepted_ack != nullptr) SendAck(*accepted_ack, Status::Ok(), 0, false);
     queue_[(queue_head_ + queue_count_) % kTriggerQueueDepth] = {request_id, trigger_ns};
     ++queue_count_;
   }
@@ -540,12 +544,10 @@ void FirmwareCore::HandleCommand(const CanFrame& frame) {
                 0, false);
         return;
       }
-      if (!QueueTrigger(cmd->request_id, MonotonicNs())) {
+      if (!QueueTrigger(cmd->request_id, MonotonicNs(), &frame)) {
         SendAck(frame, Status::Error(StatusCode::kFailedPrecondition, "trigger queue full"), 0,
                 false);
-        return;
       }
-      SendAck(frame, Status::Ok(), 0, false);
       return;
     }
     case CommandCode::kSelectModels: {

@@ -130,8 +130,11 @@ class FirmwareCore {
   size_t loaded_models() const { return model_count_; }
   uint16_t next_sequence() const { return sequence_; }
 
-  // Same path as a CAN trigger with request id 0 / a GPIO edge (tests, demo).
-  bool QueueTrigger(uint16_t request_id, int64_t trigger_ns);
+  // Same path as a CAN trigger with request id 0 / a GPIO edge (tests, demo). With `accepted_ack`
+  // the OK ack of that command is sent before the worker can see the trigger, so a PLC always
+  // receives the ack of a trigger before its result set.
+  bool QueueTrigger(uint16_t request_id, int64_t trigger_ns,
+                    const hal::CanFrame* accepted_ack = nullptr);
 
  private:
   struct Trigger {

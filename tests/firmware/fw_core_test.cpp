@@ -33,6 +33,7 @@ TEST(FirmwareCore, CanAndGpioTriggersPublishSequencedResultSets) {
   ASSERT_TRUE(ack);
   EXPECT_EQ(ack->status, 0);
   EXPECT_EQ(ack->request_id, 77);
+  EXPECT_EQ(rig.sets_completed(), 0) << "the ack of a trigger precedes its result set";
   std::optional<ResultSet> a = rig.WaitSet();
   ASSERT_TRUE(a);
   EXPECT_EQ(a->request_id, 77);

@@ -135,16 +135,17 @@ class Rig {
     return *a;
   }
 
-  // Waits for the next complete, verified result set.
+  // Waits for a complete, verified result set newer than the last one returned (it may have
+  // arrived while the rig was waiting for another frame).
   std::optional<ResultSet> WaitSet(int timeout_ms = 15000) {
-    sets_before_ = sets_done_;
     const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
-    while (std::chrono::steady_clock::now() < end && sets_done_ == sets_before_) {
+    while (std::chrono::steady_clock::now() < end && sets_done_ == sets_returned_) {
       hal::CanFrame f;
       Result<bool> got = plc->Receive(&f, 20);
       if (got.ok() && *got) Feed(f);
     }
-    if (sets_done_ == sets_before_) return std::nullopt;
+    if (sets_done_ == sets_returned_) return std::nullopt;
+    sets_returned_ = sets_done_;
     return last_set_;
   }
 
@@ -195,6 +196,9 @@ class Rig {
     }
   }
 
+  // Result sets completed so far, including those seen while waiting for something else.
+  int sets_completed() const { return sets_done_; }
+
   static constexpr uint8_t kNode = 5;
   hal::SimCanBus bus;
   hal::SimCanEndpoint* fw = nullptr;
@@ -214,7 +218,7 @@ class Rig {
   ResultSet last_set_;
   std::vector<Emcy> emcys_;
   size_t emcy_read_ = 0;
-  int sets_done_ = 0, sets_before_ = 0;
+  int sets_done_ = 0, sets_returned_ = 0;
 };
 
 }  // namespace sh::fw::testing
