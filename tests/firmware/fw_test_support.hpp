@@ -169,6 +169,21 @@ class Rig {
     return core.state() == s;
   }
 
+  // True once `n` operational-or-fault heartbeats reached the PLC; false if they did not within
+  // the timeout (generous: the rig also runs under qemu on a loaded machine).
+  bool SeeHeartbeats(int n, int timeout_ms = 15000) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    int seen = 0;
+    while (seen < n && std::chrono::steady_clock::now() < end) {
+      hal::CanFrame f;
+      Result<bool> got = plc->Receive(&f, 10);
+      if (!got.ok() || !*got) continue;
+      Feed(f);
+      if (f.id == kCobHeartbeat + kNode && f.len == 1 && f.data[0] != 0) ++seen;
+    }
+    return seen >= n;
+  }
+
   // Heartbeats seen by the PLC within `ms`.
   int CountHeartbeats(int ms) {
     int n = 0;

@@ -75,7 +75,7 @@ class Device:
             self.stop()
             raise RuntimeError("device did not report SOCKETCAND_PORT: %s" % command)
 
-    def report(self, kind, predicate, timeout=5.0):
+    def report(self, kind, predicate, timeout=15.0):
         deadline = time.time() + timeout
         while time.time() < deadline:
             try:
@@ -126,7 +126,7 @@ class Plc:
     def send(self, name, values):
         self.send_raw(name, self.frame_def(name).encode(values))
 
-    def receive_until(self, predicate, timeout=5.0):
+    def receive_until(self, predicate, timeout=15.0):
         """Receives decoded frames until predicate(name, values, msg) is true; returns them all."""
         frames = []
         deadline = time.time() + timeout
