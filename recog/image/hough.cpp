@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace sh {
 
@@ -12,12 +13,21 @@ constexpr float kPi = 3.14159265358979f;
 // is quantised to 1/kSubBins bin to index the precomputed kernel weights (error <= 1/32 px,
 // well inside the kernel width, and removed by the least-squares refinement).
 constexpr int kVoteOne = 256;
-constexpr int kSubBins = 16;
+constexpr int kSubBinBits = 4;
+constexpr int kSubBins = 1 << kSubBinBits;
 constexpr int kMaxTaps = 2 * kMaxVoteHalfWidthPx;
+// Vote positions are computed in integers (sin and cos scaled by 2^kTrigBits): removing a pixel's
+// votes then subtracts exactly what was added, whatever the compiler does with float arithmetic
+// (contraction, vectorisation) in the two places. x sin + y cos + offset stays below 2^12 bins,
+// so the scaled sums stay below 2^28.
+constexpr int kTrigBits = 16;
+constexpr int kPosShift = kTrigBits - kSubBinBits;  // scaled position -> 1/kSubBins bin
+static_assert(kMaxImageWidth + kMaxImageHeight + kHoughRhoOffset < (1 << 12),
+              "vote positions must fit in int32");
 
 struct Tables {
-  float sin_t[kHoughThetaBins];
-  float cos_t[kHoughThetaBins];
+  int32_t sin_q[kHoughThetaBins];  // sin(theta) * 2^kTrigBits, rounded
+  int32_t cos_q[kHoughThetaBins];
   int16_t weight[kSubBins][kMaxTaps];  // bin (base - taps/2 + 1 + k) for sub-position s
   int taps = 0;                        // 2 * ceil(half width)
   int window = 0;                      // theta half-window in bins
@@ -25,8 +35,10 @@ struct Tables {
 
 void BuildTables(const HoughConfig& config, Tables& tb) {
   for (int t = 0; t < kHoughThetaBins; ++t) {
-    tb.sin_t[t] = std::sin(t * kHoughThetaStepRad);
-    tb.cos_t[t] = std::cos(t * kHoughThetaStepRad);
+    tb.sin_q[t] = static_cast<int32_t>(
+        std::lround(std::sin(t * double{kHoughThetaStepRad}) * (1 << kTrigBits)));
+    tb.cos_q[t] = static_cast<int32_t>(
+        std::lround(std::cos(t * double{kHoughThetaStepRad}) * (1 << kTrigBits)));
   }
   const float hw = config.vote_half_width_px;
   const int half = static_cast<int>(std::ceil(hw));
@@ -57,55 +69,123 @@ int16_t CentreThetaBin(uint8_t orientation) {
   return static_cast<int16_t>(WrapTheta(t));
 }
 
-// Adds (sign +1) or removes (sign -1) all votes of one pixel. Removal repeats the same float
-// arithmetic, so it subtracts exactly what was added.
-template <int kSign, bool kMarkDirty>
-void CastVotes(HoughWorkspace& ws, const Tables& tb, const HoughEdgePoint& p) {
-  const float x = p.x, y = p.y;
-  const int half = tb.taps / 2;
-  for (int j = -tb.window; j <= tb.window; ++j) {
-    const int t = WrapTheta(p.tc + j);
-    const float pos = x * tb.sin_t[t] + y * tb.cos_t[t] + static_cast<float>(kHoughRhoOffset);
-    const int q = static_cast<int>(pos * kSubBins + 0.5f);  // pos > 0: truncation is floor
-    const int base = q / kSubBins;
-    const int16_t* w = tb.weight[q % kSubBins];
-    int32_t* row = ws.acc[t] + base - half + 1;
-    for (int k = 0; k < tb.taps; ++k) row[k] += kSign * w[k];
-    if (kMarkDirty) {
-      ws.row_dirty[t] = 1;
-      ws.block_dirty[t][(base - half + 1) / HoughWorkspace::kBlock] = 1;
-      ws.block_dirty[t][(base + half) / HoughWorkspace::kBlock] = 1;
+// Adds (kSign +1) or removes (kSign -1) the votes of the points points[idx[begin, end)] (idx null:
+// points[begin, end)) in accumulator row t. The vote position is x sin + y cos + offset in
+// 1/kSubBins bins (rounded); the kernel's taps start half - 1 bins below its bin. kTaps is a
+// template argument so that the tap loop unrolls. With `dirty` set, the blocks touched are marked.
+template <int kSign, int kTaps>
+void VoteRowT(int32_t* __restrict row, uint8_t* __restrict dirty, const Tables& tb, int t,
+              const HoughEdgePoint* points, const uint32_t* idx, int32_t begin, int32_t end) {
+  const int32_t s = tb.sin_q[t], c = tb.cos_q[t];
+  const int32_t off = (kHoughRhoOffset << kTrigBits) + (1 << (kPosShift - 1));
+  constexpr int kFirst = 1 - kTaps / 2;  // first tap relative to the vote's bin
+  for (int32_t i = begin; i < end; ++i) {
+    const HoughEdgePoint& p = points[idx != nullptr ? idx[i] : static_cast<uint32_t>(i)];
+    const int32_t q = (p.x * s + p.y * c + off) >> kPosShift;
+    const int32_t first = (q >> kSubBinBits) + kFirst;
+    int32_t* cell = row + first;
+    const int16_t* w = tb.weight[q & (kSubBins - 1)];
+    for (int k = 0; k < kTaps; ++k) cell[k] += kSign * w[k];
+    if (dirty != nullptr) {
+      dirty[first / HoughWorkspace::kBlock] = 1;
+      dirty[(first + kTaps - 1) / HoughWorkspace::kBlock] = 1;
     }
   }
+}
+
+template <int kSign>
+void VoteRow(int32_t* row, uint8_t* dirty, const Tables& tb, int t, const HoughEdgePoint* points,
+             const uint32_t* idx, int32_t begin, int32_t end) {
+  switch (tb.taps) {
+    case 2:
+      VoteRowT<kSign, 2>(row, dirty, tb, t, points, idx, begin, end);
+      break;
+    case 4:
+      VoteRowT<kSign, 4>(row, dirty, tb, t, points, idx, begin, end);
+      break;
+    case 6:
+      VoteRowT<kSign, 6>(row, dirty, tb, t, points, idx, begin, end);
+      break;
+    default:
+      VoteRowT<kSign, kMaxTaps>(row, dirty, tb, t, points, idx, begin, end);
+      break;
+  }
+}
+
+// Maximum of one block and its first position (a branch-free reduction the compiler
+// vectorises, then the first cell holding it: the same cell as a scan that keeps the earliest of
+// equal maxima).
+void BlockMax(HoughWorkspace& ws, int t, int b) {
+  const int32_t* cell = ws.acc[t] + b * HoughWorkspace::kBlock;
+  int32_t m = cell[0];
+  for (int i = 1; i < HoughWorkspace::kBlock; ++i) m = cell[i] > m ? cell[i] : m;
+  int arg = 0;
+  while (cell[arg] != m) ++arg;
+  ws.block_max[t][b] = m;
+  ws.block_arg[t][b] = static_cast<int16_t>(b * HoughWorkspace::kBlock + arg);
+}
+
+// Row maximum from the block maxima; recomputes the dirty blocks first.
+void RowMax(HoughWorkspace& ws, int t, int block_lo, int block_hi) {
+  int32_t best = INT32_MIN;
+  int16_t best_arg = 0;
+  for (int b = block_lo; b <= block_hi; ++b) {
+    if (ws.block_dirty[t][b]) {
+      ws.block_dirty[t][b] = 0;
+      BlockMax(ws, t, b);
+    }
+    if (ws.block_max[t][b] > best) {
+      best = ws.block_max[t][b];
+      best_arg = ws.block_arg[t][b];
+    }
+  }
+  ws.row_max[t] = best;
+  ws.row_arg[t] = best_arg;
+  ws.row_dirty[t] = 0;
 }
 
 // Only blocks [block_lo, block_hi] can hold votes for the current image size.
 void UpdateMaxima(HoughWorkspace& ws, int block_lo, int block_hi) {
   for (int t = 0; t < kHoughThetaBins; ++t) {
-    if (!ws.row_dirty[t]) continue;
-    ws.row_dirty[t] = 0;
-    int32_t best = INT32_MIN;
-    int16_t best_arg = 0;
-    for (int b = block_lo; b <= block_hi; ++b) {
-      if (ws.block_dirty[t][b]) {
-        ws.block_dirty[t][b] = 0;
-        const int32_t* cell = ws.acc[t] + b * HoughWorkspace::kBlock;
-        // Maximum first (a branch-free reduction the compiler vectorises), then its first
-        // position: the same cell as a scan that keeps the earliest of equal maxima.
-        int32_t m = cell[0];
-        for (int i = 1; i < HoughWorkspace::kBlock; ++i) m = cell[i] > m ? cell[i] : m;
-        int arg = 0;
-        while (cell[arg] != m) ++arg;
-        ws.block_max[t][b] = m;
-        ws.block_arg[t][b] = static_cast<int16_t>(b * HoughWorkspace::kBlock + arg);
-      }
-      if (ws.block_max[t][b] > best) {
-        best = ws.block_max[t][b];
-        best_arg = ws.block_arg[t][b];
-      }
+    if (ws.row_dirty[t]) RowMax(ws, t, block_lo, block_hi);
+  }
+}
+
+// The whole transform, one accumulator row at a time: row t is cleared, receives the votes of
+// every pixel whose theta window holds t (the points are sorted by window centre, so these are
+// 2 window + 1 contiguous ranges), and gets its maxima while it is still in cache. Casting the
+// votes pixel by pixel instead scatters each pixel's votes over 2 window + 1 rows of several KiB,
+// a cache miss per row.
+void CastAllVotes(HoughWorkspace& ws, const Tables& tb, int block_lo, int block_hi) {
+  for (int t = 0; t < kHoughThetaBins; ++t) {
+    int32_t* row = ws.acc[t];
+    std::fill(row + ws.acc_lo, row + ws.acc_hi, 0);
+    for (int j = -tb.window; j <= tb.window; ++j) {
+      const int tc = WrapTheta(t - j);
+      VoteRow<+1>(row, nullptr, tb, t, ws.points, nullptr, ws.theta_start[tc],
+                  ws.theta_start[tc + 1]);
     }
-    ws.row_max[t] = best;
-    ws.row_arg[t] = best_arg;
+    for (int b = block_lo; b <= block_hi; ++b) ws.block_dirty[t][b] = 1;
+    RowMax(ws, t, block_lo, block_hi);
+  }
+}
+
+// Removes the votes of the points ws.points[idx[0..n)] row by row (the rows of one line's pixels
+// then stay in cache) and marks the touched blocks and rows for a new maximum.
+void RemoveVotes(HoughWorkspace& ws, const Tables& tb, const uint32_t* idx, size_t n) {
+  for (int j = -tb.window; j <= tb.window; ++j) {
+    // CollectPoints gathers the points grouped by window centre: one call per group.
+    size_t i = 0;
+    while (i < n) {
+      const int tc = ws.points[idx[i]].tc;
+      size_t e = i + 1;
+      while (e < n && ws.points[idx[e]].tc == tc) ++e;
+      const int t = WrapTheta(tc + j);
+      VoteRow<-1>(ws.acc[t], ws.block_dirty[t], tb, t, ws.points, idx, static_cast<int32_t>(i),
+                  static_cast<int32_t>(e));
+      ws.row_dirty[t] = 1;
+      i = e;
+    }
   }
 }
 
@@ -395,7 +475,10 @@ size_t ReleaseCrossingRuns(HoughWorkspace& ws, const HoughConfig& config, const 
   return m;
 }
 
-// Gathers the pixel list from the edge map, sorted by theta window centre (counting sort).
+// Gathers the pixel list from the edge map, sorted by theta window centre (counting sort). One
+// scan of the edge map: the pixels go to ws.collected first (as y * width + x, with their centre
+// in ws.subset), then into their places. Edge maps are sparse, so the scan skips eight zero
+// bytes at a time.
 void GatherPoints(const ConstEdgeMapView& edges, HoughWorkspace& ws, size_t& dropped) {
   int32_t count[kHoughThetaBins] = {};
   size_t total = 0;
@@ -404,34 +487,42 @@ void GatherPoints(const ConstEdgeMapView& edges, HoughWorkspace& ws, size_t& dro
   for (int y = 0; y < h; ++y) {
     const uint8_t* e = edges.edge.row(y);
     const uint8_t* o = edges.orientation.row(y);
-    for (int x = 0; x < w; ++x) {
-      if (e[x] == 0) continue;
-      if (total == kMaxHoughEdgePixels) {
-        ++dropped;
-        continue;
+    int x = 0;
+    while (x < w) {
+      if (x + 8 <= w) {
+        uint64_t word;
+        std::memcpy(&word, e + x, sizeof word);
+        if (word == 0) {
+          x += 8;
+          continue;
+        }
       }
-      ++total;
-      ++count[CentreThetaBin(o[x])];
+      const int end = std::min(w, x + 8);
+      for (; x < end; ++x) {
+        if (e[x] == 0) continue;
+        if (total == kMaxHoughEdgePixels) {
+          ++dropped;
+          continue;
+        }
+        const int16_t tc = CentreThetaBin(o[x]);
+        ws.collected[total] = static_cast<uint32_t>(y) * static_cast<uint32_t>(w) + x;
+        ws.subset[total] = static_cast<uint32_t>(tc);
+        ++total;
+        ++count[tc];
+      }
     }
   }
   ws.theta_start[0] = 0;
   for (int t = 0; t < kHoughThetaBins; ++t) ws.theta_start[t + 1] = ws.theta_start[t] + count[t];
   int32_t fill[kHoughThetaBins];
   std::copy(ws.theta_start, ws.theta_start + kHoughThetaBins, fill);
-  size_t taken = 0;
-  for (int y = 0; y < h && taken < total; ++y) {
-    const uint8_t* e = edges.edge.row(y);
-    const uint8_t* o = edges.orientation.row(y);
-    for (int x = 0; x < w && taken < total; ++x) {
-      if (e[x] == 0) continue;
-      const int16_t tc = CentreThetaBin(o[x]);
-      HoughEdgePoint& p = ws.points[fill[tc]++];
-      p.x = static_cast<int16_t>(x);
-      p.y = static_cast<int16_t>(y);
-      p.tc = tc;
-      p.line = -1;
-      ++taken;
-    }
+  for (size_t i = 0; i < total; ++i) {
+    const int16_t tc = static_cast<int16_t>(ws.subset[i]);
+    HoughEdgePoint& p = ws.points[fill[tc]++];
+    p.x = static_cast<int16_t>(ws.collected[i] % static_cast<uint32_t>(w));
+    p.y = static_cast<int16_t>(ws.collected[i] / static_cast<uint32_t>(w));
+    p.tc = tc;
+    p.line = -1;
   }
   ws.point_count = total;
 }
@@ -506,8 +597,6 @@ Status DetectLines(const ConstEdgeMapView& edges, const HoughConfig& config, Hou
 
   GatherPoints(edges, ws, st.edge_pixels_dropped);
   st.edge_pixels = ws.point_count;
-  // Only the rho range this image can reach needs clearing and searching, but clearing the whole
-  // accumulator keeps the block bookkeeping simple; memset speed makes it cheap.
   // Votes of this image land in rho bins kHoughRhoOffset + [-(height - 1), diagonal], widened
   // by the kernel; only those blocks are cleared and searched.
   const int diagonal = static_cast<int>(std::ceil(std::hypot(e.width, e.height)));
@@ -515,13 +604,7 @@ Status DetectLines(const ConstEdgeMapView& edges, const HoughConfig& config, Hou
   const int block_hi = (kHoughRhoOffset + diagonal + kMaxVoteHalfWidthPx) / HoughWorkspace::kBlock;
   ws.acc_lo = block_lo * HoughWorkspace::kBlock;
   ws.acc_hi = (block_hi + 1) * HoughWorkspace::kBlock;
-  for (int t = 0; t < kHoughThetaBins; ++t) {
-    std::fill(ws.acc[t] + block_lo * HoughWorkspace::kBlock,
-              ws.acc[t] + (block_hi + 1) * HoughWorkspace::kBlock, 0);
-  }
-  for (size_t i = 0; i < ws.point_count; ++i) CastVotes<+1, false>(ws, tb, ws.points[i]);
-  std::fill(&ws.block_dirty[0][0], &ws.block_dirty[0][0] + sizeof(ws.block_dirty), uint8_t{1});
-  std::fill(ws.row_dirty, ws.row_dirty + kHoughThetaBins, uint8_t{1});
+  CastAllVotes(ws, tb, block_lo, block_hi);
 
   const int32_t min_acc = static_cast<int32_t>(std::ceil(config.min_votes * kVoteOne));
   while (true) {
@@ -570,7 +653,7 @@ Status DetectLines(const ConstEdgeMapView& edges, const HoughConfig& config, Hou
       m = ReleaseCrossingRuns(ws, config, fitted, m);
     }
     n = m;
-    for (size_t i = 0; i < n; ++i) CastVotes<-1, true>(ws, tb, ws.points[ws.collected[i]]);
+    RemoveVotes(ws, tb, ws.collected, n);
 
     Line2D line;
     line.votes = static_cast<float>(peak) / kVoteOne;
