@@ -39,84 +39,105 @@ Status ValidateCannyConfig(const CannyConfig& config) {
   return Status::Ok();
 }
 
-Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, FilterScratch& scratch,
-                   EdgeBuffers& buffers, EdgeMapView& edges, CannyStats* stats) {
-  edges = EdgeMapView{};
-  if (stats != nullptr) *stats = CannyStats{};
-  SH_RETURN_IF_ERROR(ValidateGrayImage(image, "DetectEdges"));
-  SH_RETURN_IF_ERROR(ValidateCannyConfig(config));
-  GaussianKernel g0, g1;
-  SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 0, g0));
-  SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 1, g1));
-  const int w = image.width, h = image.height;
-  ImageView<float> smooth_x = scratch.planes[0].view(w, h);  // G0 along x
-  ImageView<float> deriv_x = scratch.planes[1].view(w, h);   // G1 along x
-  ImageView<float> gx = scratch.planes[2].view(w, h);
-  ImageView<float> gy = scratch.planes[3].view(w, h);
-  FilterRows(image, &g0, smooth_x, &g1, deriv_x, nullptr, {});
+void GradientRow(const float* __restrict up, const float* __restrict mid,
+                 const float* __restrict down, int width, float* __restrict gx,
+                 float* __restrict gy) {
+  // Scharr's weights: (3, 10, 3) / 16 across, 1/2 of the central difference along.
+  constexpr float kSide = 3.0f / 32.0f, kCentre = 10.0f / 32.0f;
+  auto at = [width](const float* row, int x) { return row[std::clamp(x, 0, width - 1)]; };
+  auto border = [&](int x) {
+    gx[x] = kSide * (at(up, x + 1) - at(up, x - 1)) + kCentre * (at(mid, x + 1) - at(mid, x - 1)) +
+            kSide * (at(down, x + 1) - at(down, x - 1));
+    gy[x] = kSide * (at(down, x - 1) - at(up, x - 1)) + kCentre * (down[x] - up[x]) +
+            kSide * (at(down, x + 1) - at(up, x + 1));
+  };
+  border(0);
+  for (int x = 1; x < width - 1; ++x) {
+    gx[x] = kSide * (up[x + 1] - up[x - 1]) + kCentre * (mid[x + 1] - mid[x - 1]) +
+            kSide * (down[x + 1] - down[x - 1]);
+    gy[x] = kSide * (down[x - 1] - up[x - 1]) + kCentre * (down[x] - up[x]) +
+            kSide * (down[x + 1] - up[x + 1]);
+  }
+  if (width > 1) border(width - 1);
+}
 
-  edges = buffers.view(w, h);
-  uint8_t* const flag = buffers.edge;
-  std::fill(flag, flag + static_cast<size_t>(w) * h, kNotEdge);
-  std::fill(buffers.orientation, buffers.orientation + static_cast<size_t>(w) * h, uint8_t{0});
-  const float low2 = config.low_threshold * config.low_threshold;
-  const float high2 = config.high_threshold * config.high_threshold;
+EdgeTracer::EdgeTracer(const CannyConfig& config, EdgeBuffers& buffers, int width, int height)
+    : b_(buffers),
+      width_(width),
+      height_(height),
+      low2_(config.low_threshold * config.low_threshold),
+      high2_(config.high_threshold * config.high_threshold) {}
+
+void EdgeTracer::AddRow(const float* __restrict gx, const float* __restrict gy) {
+  const int slot = rows_ % 3;
+  float* __restrict rx = b_.ring_gx[slot];
+  float* __restrict ry = b_.ring_gy[slot];
+  float* __restrict m = b_.ring_mag[slot];
+  // Squared magnitude: monotonic, so no square roots are needed.
+  for (int x = 0; x < width_; ++x) {
+    rx[x] = gx[x];
+    ry[x] = gy[x];
+    m[x] = gx[x] * gx[x] + gy[x] * gy[x];
+  }
+  ++rows_;
+  // Row rows_ - 2 now has both neighbours; the border rows are never edges.
+  if (rows_ >= 3) Suppress(rows_ - 2);
+}
+
+void EdgeTracer::Suppress(int yc) {
+  const int w = width_;
+  const float* m = b_.ring_mag[yc % 3];
+  const float* mu = b_.ring_mag[(yc - 1) % 3];
+  const float* md = b_.ring_mag[(yc + 1) % 3];
+  const float* ax = b_.ring_gx[yc % 3];
+  const float* ay = b_.ring_gy[yc % 3];
+  uint8_t* f = b_.edge + static_cast<size_t>(yc) * w;
+  uint8_t* o = b_.orientation + static_cast<size_t>(yc) * w;
+  std::fill(f, f + w, kNotEdge);
   // tan(22.5 deg): splits gradient directions into horizontal, vertical and the two diagonals.
   constexpr float kTan22 = 0.41421356f;
-  size_t candidates = 0, top = 0;
-  // One pass over the rows: the column filters of row y, its squared magnitude (monotonic, so no
-  // square roots are needed) into a ring of three rows, and non-maximum suppression of row y - 1,
-  // whose neighbours are then complete. The rows are used while they are still in cache.
-  float mag_ring[3][kMaxImageWidth];
-  for (int y = 0; y < h; ++y) {
-    float* ax_row = gx.row(y);
-    float* ay_row = gy.row(y);
-    FilterColumnRow(deriv_x, g0, y, ax_row);
-    FilterColumnRow(smooth_x, g1, y, ay_row);
-    float* m_row = mag_ring[y % 3];
-    for (int x = 0; x < w; ++x) m_row[x] = ax_row[x] * ax_row[x] + ay_row[x] * ay_row[x];
-    const int yc = y - 1;  // row whose suppression is now possible
-    if (yc < 1) continue;
-    const float* m = mag_ring[yc % 3];
-    const float* mu = mag_ring[(yc - 1) % 3];
-    const float* md = mag_ring[y % 3];
-    const float* ax = gx.row(yc);
-    const float* ay = gy.row(yc);
-    uint8_t* f = flag + static_cast<size_t>(yc) * w;
-    for (int x = 1; x < w - 1; ++x) {
-      const float v = m[x];
-      if (v < low2) continue;
-      const float adx = std::fabs(ax[x]), ady = std::fabs(ay[x]);
-      float before, after;  // neighbours against and along the gradient
-      if (ady <= kTan22 * adx) {
-        before = m[x - 1];
-        after = m[x + 1];
-      } else if (adx <= kTan22 * ady) {
-        before = mu[x];
-        after = md[x];
-      } else if ((ax[x] > 0.0f) == (ay[x] > 0.0f)) {
-        before = mu[x - 1];
-        after = md[x + 1];
-      } else {
-        before = mu[x + 1];
-        after = md[x - 1];
-      }
-      // Asymmetric comparison keeps exactly one pixel of a two-pixel plateau.
-      if (!(v > before && v >= after)) continue;
-      ++candidates;
-      if (v >= high2) {
-        f[x] = kStrongPending;
-        buffers.stack[top++] = static_cast<uint32_t>(yc) * w + x;
-      } else {
-        f[x] = kWeak;
-      }
+  for (int x = 1; x < w - 1; ++x) {
+    const float v = m[x];
+    if (v < low2_) continue;
+    const float adx = std::fabs(ax[x]), ady = std::fabs(ay[x]);
+    float before, after;  // neighbours against and along the gradient
+    if (ady <= kTan22 * adx) {
+      before = m[x - 1];
+      after = m[x + 1];
+    } else if (adx <= kTan22 * ady) {
+      before = mu[x];
+      after = md[x];
+    } else if ((ax[x] > 0.0f) == (ay[x] > 0.0f)) {
+      before = mu[x - 1];
+      after = md[x + 1];
+    } else {
+      before = mu[x + 1];
+      after = md[x - 1];
+    }
+    // Asymmetric comparison keeps exactly one pixel of a two-pixel plateau.
+    if (!(v > before && v >= after)) continue;
+    ++candidates_;
+    // Orientation now, while the gradient is at hand; Finish clears it where no edge remains.
+    o[x] = QuantizeOrientation(std::atan2(ay[x], ax[x]));
+    if (v >= high2_) {
+      f[x] = kStrongPending;
+      b_.stack[top_++] = static_cast<uint32_t>(yc) * w + x;
+    } else {
+      f[x] = kWeak;
     }
   }
+}
+
+void EdgeTracer::Finish(EdgeMapView& edges, CannyStats* stats) {
+  const int w = width_, h = height_;
+  uint8_t* const flag = b_.edge;
+  std::fill(flag, flag + w, kNotEdge);
+  std::fill(flag + static_cast<size_t>(h - 1) * w, flag + static_cast<size_t>(h) * w, kNotEdge);
   // Hysteresis: grow from strong pixels through 8-connected weak ones. A pixel is marked before
   // it is pushed, so the stack never holds more than the image's pixel count.
   size_t edge_count = 0;
-  while (top > 0) {
-    const uint32_t idx = buffers.stack[--top];
+  while (top_ > 0) {
+    const uint32_t idx = b_.stack[--top_];
     flag[idx] = kEdgePixel;
     ++edge_count;
     const int x = static_cast<int>(idx % w), y = static_cast<int>(idx / w);
@@ -129,29 +150,55 @@ Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, Filter
         const uint32_t n = static_cast<uint32_t>(yy) * w + xx;
         if (flag[n] == kWeak) {
           flag[n] = kStrongPending;
-          buffers.stack[top++] = n;
+          b_.stack[top_++] = n;
         }
       }
     }
   }
-  // Drop unconnected weak pixels; orientation at the edges.
-  for (int y = 0; y < h; ++y) {
-    uint8_t* f = flag + static_cast<size_t>(y) * w;
-    uint8_t* o = buffers.orientation + static_cast<size_t>(y) * w;
-    const float* ax = gx.row(y);
-    const float* ay = gy.row(y);
-    for (int x = 0; x < w; ++x) {
-      if (f[x] == kEdgePixel) {
-        o[x] = QuantizeOrientation(std::atan2(ay[x], ax[x]));
-      } else {
-        f[x] = kNotEdge;
-      }
-    }
+  // Drop unconnected weak pixels, and the orientation wherever no edge remains (branch-free, so
+  // the loop vectorises).
+  uint8_t* __restrict f = flag;
+  uint8_t* __restrict o = b_.orientation;
+  const size_t n = static_cast<size_t>(w) * h;
+  for (size_t i = 0; i < n; ++i) {
+    const bool edge = f[i] == kEdgePixel;
+    f[i] = edge ? kEdgePixel : kNotEdge;
+    o[i] = edge ? o[i] : uint8_t{0};
   }
+  edges = b_.view(w, h);
   if (stats != nullptr) {
     stats->edge_pixels = edge_count;
-    stats->nms_candidates = candidates;
+    stats->nms_candidates = candidates_;
   }
+}
+
+Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, FilterScratch& scratch,
+                   EdgeBuffers& buffers, EdgeMapView& edges, CannyStats* stats) {
+  edges = EdgeMapView{};
+  if (stats != nullptr) *stats = CannyStats{};
+  SH_RETURN_IF_ERROR(ValidateGrayImage(image, "DetectEdges"));
+  SH_RETURN_IF_ERROR(ValidateCannyConfig(config));
+  GaussianKernel g0;
+  SH_RETURN_IF_ERROR(MakeGaussianKernel(DifferenceSmoothingSigma(config.sigma_px), 0, g0));
+  const int w = image.width, h = image.height;
+  ImageView<float> rows = scratch.planes[0].view(w, h);
+  ImageView<float> smooth = scratch.planes[1].view(w, h);
+  FilterRows(image, &g0, rows, nullptr, {}, nullptr, {});
+  // One pass over the rows: the column filter of row y, then the gradient of row y - 1, whose
+  // lower neighbour now exists; the tracer suppresses one row further behind.
+  EdgeTracer tracer(config, buffers, w, h);
+  float gx[kMaxImageWidth], gy[kMaxImageWidth];
+  auto gradient_row = [&](int y) {
+    GradientRow(smooth.row(std::max(0, y - 1)), smooth.row(y), smooth.row(std::min(h - 1, y + 1)),
+                w, gx, gy);
+    tracer.AddRow(gx, gy);
+  };
+  for (int y = 0; y < h; ++y) {
+    FilterColumnRow(rows, g0, y, smooth.row(y));
+    if (y >= 1) gradient_row(y - 1);
+  }
+  gradient_row(h - 1);
+  tracer.Finish(edges, stats);
   return Status::Ok();
 }
 

@@ -1,7 +1,8 @@
-// Canny edge detection: Gaussian-derivative gradient at sigma, non-maximum suppression across the
-// edge, hysteresis between a low and a high gradient-magnitude threshold. The result is an
-// EdgeMapView (edge flag 255 / 0 and the gradient orientation, see edge_map.hpp) over
-// caller-owned EdgeBuffers.
+// Canny edge detection: gradient at scale sigma (GradientRow of the image smoothed at
+// DifferenceSmoothingSigma(sigma): about a Gaussian derivative at sqrt(sigma^2 + 0.1)), non-maximum
+// suppression across the edge, hysteresis between a low and a high gradient-magnitude threshold.
+// The result is an EdgeMapView (edge flag 255 / 0 and the gradient orientation, see edge_map.hpp)
+// over caller-owned EdgeBuffers.
 #pragma once
 
 #include <cstddef>
@@ -15,7 +16,9 @@
 namespace sh {
 
 struct CannyConfig {
-  float sigma_px = 1.0f;  // Gaussian scale of the gradient
+  // Gaussian scale of the gradient. Below about 0.6 px the smoothing stays at its minimum (0.3 px)
+  // and the effective scale at about 0.65 px.
+  float sigma_px = 1.0f;
   // Gradient magnitude thresholds in grey levels per pixel. A step of contrast C blurred at
   // sigma has a peak gradient of C / (sqrt(2 pi) sigma), e.g. 20 for C = 50 at sigma 1.
   float low_threshold = 4.0f;
@@ -23,11 +26,16 @@ struct CannyConfig {
 };
 
 // Output and work memory of one edge map, for images up to kMaxImageWidth x kMaxImageHeight:
-// 2 bytes of output and 4 bytes of hysteresis stack per pixel (7.5 MiB). Keep in static storage.
+// 2 bytes of output and 4 bytes of hysteresis stack per pixel, and three rows of gradient
+// (7.5 MiB). Keep in static storage.
 struct EdgeBuffers {
   uint8_t edge[kMaxImagePixels];
   uint8_t orientation[kMaxImagePixels];
   uint32_t stack[kMaxImagePixels];  // hysteresis work list; each pixel is pushed at most once
+  // Ring of the last three gradient rows (x, y, squared magnitude) for non-maximum suppression.
+  float ring_gx[3][kMaxImageWidth];
+  float ring_gy[3][kMaxImageWidth];
+  float ring_mag[3][kMaxImageWidth];
   EdgeMapView view(int width, int height) {
     return {{edge, width, height, width}, {orientation, width, height, width}};
   }
@@ -42,10 +50,42 @@ struct CannyStats {
 
 Status ValidateCannyConfig(const CannyConfig& config);
 
-// Detects edges; on success `edges` views `buffers` with the image's size. Uses planes of
+// Detects edges; on success `edges` views `buffers` with the image's size. Uses planes 0 and 1 of
 // `scratch`. Pixels on the one-pixel image border are never edges (no gradient neighbours).
 Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, FilterScratch& scratch,
                    EdgeBuffers& buffers, EdgeMapView& edges, CannyStats* stats = nullptr);
+
+// Gradient of row `mid` of a smoothed image, rows `up` and `down` being its neighbours (the row
+// itself at the image border; columns beyond the border replicate it): central differences with
+// Scharr's (3, 10, 3) / 16 smoothing across them. Plain central differences bias the gradient
+// direction towards the axes (up to 1.8 deg for a step at total blur 1.1 px); the cross
+// smoothing, whose variance (3/8) matches the blur of the difference along (1/3), keeps the
+// bias under 0.1 deg.
+void GradientRow(const float* up, const float* mid, const float* down, int width, float* gx,
+                 float* gy);
+
+// Non-maximum suppression and hysteresis over gradient rows supplied one at a time, top to
+// bottom: the second half of DetectEdges, also used by ExtractFeatures when it computes the
+// gradient from the smoothed image it shares with the corner detector. Suppression runs one row
+// behind the input, so each row is used while it is still in cache; the gradient orientation is
+// taken at the suppression candidates only. The configuration must be valid.
+class EdgeTracer {
+ public:
+  EdgeTracer(const CannyConfig& config, EdgeBuffers& buffers, int width, int height);
+  // Gradient of the next row (rows 0 .. height - 1 in order).
+  void AddRow(const float* gx, const float* gy);
+  // After the last row: hysteresis; `edges` then views the buffers.
+  void Finish(EdgeMapView& edges, CannyStats* stats);
+
+ private:
+  void Suppress(int y);
+
+  EdgeBuffers& b_;
+  int width_, height_;
+  float low2_, high2_;
+  int rows_ = 0;
+  size_t candidates_ = 0, top_ = 0;
+};
 
 // Gradient direction (atan2(gy, gx), any range) to the 256-step orientation of edge_map.hpp.
 uint8_t QuantizeOrientation(float gradient_angle_rad);

@@ -63,6 +63,10 @@ Status MakeGaussianKernel(float sigma_px, int order, GaussianKernel& kernel) {
   return Status::Ok();
 }
 
+float DifferenceSmoothingSigma(float sigma_px) {
+  return std::max(kMinGaussianSigmaPx, std::sqrt(std::max(0.0f, sigma_px * sigma_px - 0.25f)));
+}
+
 Status ValidateGrayImage(const ConstGrayView& image, const char* what) {
   if (image.data == nullptr || image.width <= 0 || image.height <= 0) {
     return Status::Error(StatusCode::kInvalidArgument, "%s: empty image (%dx%d, data %s)", what,
