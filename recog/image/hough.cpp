@@ -69,45 +69,47 @@ int16_t CentreThetaBin(uint8_t orientation) {
   return static_cast<int16_t>(WrapTheta(t));
 }
 
-// Adds (kSign +1) or removes (kSign -1) the votes of the points points[idx[begin, end)] (idx null:
-// points[begin, end)) in accumulator row t. The vote position is x sin + y cos + offset in
-// 1/kSubBins bins (rounded); the kernel's taps start half - 1 bins below its bin. kTaps is a
-// template argument so that the tap loop unrolls. With `dirty` set, the blocks touched are marked.
-template <int kSign, int kTaps>
+// Adds (kSign +1) or removes (kSign -1) the votes of the points points[begin, end) (kIndexed:
+// points[idx[begin, end)]) in accumulator row t, and with kMarkDirty marks the blocks touched.
+// The vote position is x sin + y cos + offset in 1/kSubBins bins (rounded); the kernel's taps
+// start half - 1 bins below its bin. Template arguments keep the loop free of the choices and
+// let the tap loop unroll.
+template <int kSign, int kTaps, bool kIndexed, bool kMarkDirty>
 void VoteRowT(int32_t* __restrict row, uint8_t* __restrict dirty, const Tables& tb, int t,
               const HoughEdgePoint* points, const uint32_t* idx, int32_t begin, int32_t end) {
   const int32_t s = tb.sin_q[t], c = tb.cos_q[t];
   const int32_t off = (kHoughRhoOffset << kTrigBits) + (1 << (kPosShift - 1));
   constexpr int kFirst = 1 - kTaps / 2;  // first tap relative to the vote's bin
   for (int32_t i = begin; i < end; ++i) {
-    const HoughEdgePoint& p = points[idx != nullptr ? idx[i] : static_cast<uint32_t>(i)];
+    const HoughEdgePoint& p = points[kIndexed ? idx[i] : static_cast<uint32_t>(i)];
     const int32_t q = (p.x * s + p.y * c + off) >> kPosShift;
     const int32_t first = (q >> kSubBinBits) + kFirst;
     int32_t* cell = row + first;
     const int16_t* w = tb.weight[q & (kSubBins - 1)];
     for (int k = 0; k < kTaps; ++k) cell[k] += kSign * w[k];
-    if (dirty != nullptr) {
+    if (kMarkDirty) {
       dirty[first / HoughWorkspace::kBlock] = 1;
       dirty[(first + kTaps - 1) / HoughWorkspace::kBlock] = 1;
     }
   }
 }
 
-template <int kSign>
+// Casting (all points of a range) and removal (listed points, marking dirty blocks).
+template <int kSign, bool kIndexed, bool kMarkDirty>
 void VoteRow(int32_t* row, uint8_t* dirty, const Tables& tb, int t, const HoughEdgePoint* points,
              const uint32_t* idx, int32_t begin, int32_t end) {
   switch (tb.taps) {
     case 2:
-      VoteRowT<kSign, 2>(row, dirty, tb, t, points, idx, begin, end);
+      VoteRowT<kSign, 2, kIndexed, kMarkDirty>(row, dirty, tb, t, points, idx, begin, end);
       break;
     case 4:
-      VoteRowT<kSign, 4>(row, dirty, tb, t, points, idx, begin, end);
+      VoteRowT<kSign, 4, kIndexed, kMarkDirty>(row, dirty, tb, t, points, idx, begin, end);
       break;
     case 6:
-      VoteRowT<kSign, 6>(row, dirty, tb, t, points, idx, begin, end);
+      VoteRowT<kSign, 6, kIndexed, kMarkDirty>(row, dirty, tb, t, points, idx, begin, end);
       break;
     default:
-      VoteRowT<kSign, kMaxTaps>(row, dirty, tb, t, points, idx, begin, end);
+      VoteRowT<kSign, kMaxTaps, kIndexed, kMarkDirty>(row, dirty, tb, t, points, idx, begin, end);
       break;
   }
 }
@@ -162,30 +164,30 @@ void CastAllVotes(HoughWorkspace& ws, const Tables& tb, int block_lo, int block_
     std::fill(row + ws.acc_lo, row + ws.acc_hi, 0);
     for (int j = -tb.window; j <= tb.window; ++j) {
       const int tc = WrapTheta(t - j);
-      VoteRow<+1>(row, nullptr, tb, t, ws.points, nullptr, ws.theta_start[tc],
-                  ws.theta_start[tc + 1]);
+      VoteRow<+1, false, false>(row, nullptr, tb, t, ws.points, nullptr, ws.theta_start[tc],
+                                ws.theta_start[tc + 1]);
     }
     for (int b = block_lo; b <= block_hi; ++b) ws.block_dirty[t][b] = 1;
     RowMax(ws, t, block_lo, block_hi);
   }
 }
 
-// Removes the votes of the points ws.points[idx[0..n)] row by row (the rows of one line's pixels
-// then stay in cache) and marks the touched blocks and rows for a new maximum.
+// Removes the votes of the points ws.points[idx[0..n)] and marks the touched blocks and rows for
+// a new maximum. CollectPoints gathers the points grouped by window centre; each group's rows are
+// done together (the next group's rows are mostly the same ones, still in cache).
 void RemoveVotes(HoughWorkspace& ws, const Tables& tb, const uint32_t* idx, size_t n) {
-  for (int j = -tb.window; j <= tb.window; ++j) {
-    // CollectPoints gathers the points grouped by window centre: one call per group.
-    size_t i = 0;
-    while (i < n) {
-      const int tc = ws.points[idx[i]].tc;
-      size_t e = i + 1;
-      while (e < n && ws.points[idx[e]].tc == tc) ++e;
+  size_t i = 0;
+  while (i < n) {
+    const int tc = ws.points[idx[i]].tc;
+    size_t e = i + 1;
+    while (e < n && ws.points[idx[e]].tc == tc) ++e;
+    for (int j = -tb.window; j <= tb.window; ++j) {
       const int t = WrapTheta(tc + j);
-      VoteRow<-1>(ws.acc[t], ws.block_dirty[t], tb, t, ws.points, idx, static_cast<int32_t>(i),
-                  static_cast<int32_t>(e));
+      VoteRow<-1, true, true>(ws.acc[t], ws.block_dirty[t], tb, t, ws.points, idx,
+                              static_cast<int32_t>(i), static_cast<int32_t>(e));
       ws.row_dirty[t] = 1;
-      i = e;
     }
+    i = e;
   }
 }
 
