@@ -155,15 +155,16 @@ void EdgeTracer::Finish(EdgeMapView& edges, CannyStats* stats) {
       }
     }
   }
-  // Drop unconnected weak pixels, and the orientation wherever no edge remains (branch-free, so
-  // the loop vectorises).
+  // Drop unconnected weak pixels, and the orientation wherever no edge remains. A mask instead of
+  // a branch or a select, so that the loop vectorises (kEdgePixel is all ones).
+  static_assert(kEdgePixel == 0xff && kNotEdge == 0, "edge flags double as masks");
   uint8_t* __restrict f = flag;
   uint8_t* __restrict o = b_.orientation;
   const size_t n = static_cast<size_t>(w) * h;
   for (size_t i = 0; i < n; ++i) {
-    const bool edge = f[i] == kEdgePixel;
-    f[i] = edge ? kEdgePixel : kNotEdge;
-    o[i] = edge ? o[i] : uint8_t{0};
+    const uint8_t mask = static_cast<uint8_t>(-static_cast<int>(f[i] == kEdgePixel));
+    f[i] = mask;
+    o[i] = static_cast<uint8_t>(o[i] & mask);
   }
   edges = b_.view(w, h);
   if (stats != nullptr) {
