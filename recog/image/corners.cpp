@@ -77,24 +77,6 @@ void ResponseRow(const float* const* r0, const float* const* r1, const float* co
   }
 }
 
-// Response row from the smoothed image by central differences (rows y - 1, y, y + 1; borders
-// replicated).
-void DifferenceResponseRow(const float* __restrict up, const float* __restrict mid,
-                           const float* __restrict down, int width, float scale,
-                           float* __restrict out) {
-  auto response = [&](int xm, int x, int xp) {
-    const float ix = 0.5f * (mid[xp] - mid[xm]);
-    const float iy = 0.5f * (down[x] - up[x]);
-    const float ixx = mid[xp] - 2.0f * mid[x] + mid[xm];
-    const float iyy = down[x] - 2.0f * mid[x] + up[x];
-    const float ixy = 0.25f * (down[xp] - down[xm] - up[xp] + up[xm]);
-    return std::fabs(iy * iy * ixx - 2.0f * ix * iy * ixy + ix * ix * iyy) * scale;
-  };
-  for (int x = 1; x < width - 1; ++x) out[x] = response(x - 1, x, x + 1);
-  out[0] = response(0, 0, std::min(1, width - 1));
-  if (width > 1) out[width - 1] = response(width - 2, width - 1, width - 1);
-}
-
 // Largest value of a row. Eight independent running maxima let the compiler vectorise the loop
 // (a single running std::max is a serial dependency chain); max is exact, so the result does not
 // depend on the order.
@@ -110,6 +92,14 @@ float RowMax(const float* __restrict row, int width, float init) {
   for (int i = 0; i < kLanes; ++i) m = std::max(m, lane[i]);
   for (; x < width; ++x) m = std::max(m, row[x]);
   return m;
+}
+
+// Whether any of kScanBlock values exceeds t: counted without branches, so the loop vectorises.
+constexpr int kScanBlock = 16;
+bool AnyAbove(const float* __restrict v, float t) {
+  int above = 0;
+  for (int i = 0; i < kScanBlock; ++i) above += v[i] > t ? 1 : 0;
+  return above != 0;
 }
 
 bool IsLocalMax(const ImageView<const float>& resp, int x, int y, int radius) {
@@ -212,6 +202,15 @@ bool RefineToVertex(const ConstGrayView& image, const CornerConfig& config, Corn
   const float inv_2s2 = 0.5f / (weight_sigma * weight_sigma);
   float ex = c.x_px, ey = c.y_px;
   for (int iter = 0; iter < 4; ++iter) {
+    // The Gaussian weight is separable: one exponential per column and per row of the window
+    // instead of one per pixel.
+    float wcol[2 * kMaxRefineRadiusPx + 1], wrow[2 * kMaxRefineRadiusPx + 1];
+    for (int i = 0; i < side; ++i) {
+      const float dx = static_cast<float>(cx - window + i) - ex;
+      const float dy = static_cast<float>(cy - window + i) - ey;
+      wcol[i] = std::exp(-dx * dx * inv_2s2);
+      wrow[i] = std::exp(-dy * dy * inv_2s2);
+    }
     double a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0;
     for (int j = 0; j < side; ++j) {
       for (int i = 0; i < side; ++i) {
@@ -219,7 +218,7 @@ bool RefineToVertex(const ConstGrayView& image, const CornerConfig& config, Corn
         const float qy = static_cast<float>(cy - window + j);
         const float d2 = (qx - ex) * (qx - ex) + (qy - ey) * (qy - ey);
         if (d2 > static_cast<float>(window * window)) continue;
-        const float w = std::exp(-d2 * inv_2s2);
+        const float w = wcol[i] * wrow[j];
         const double x = gx[j * side + i], y = gy[j * side + i];
         const double wxx = w * x * x, wxy = w * x * y, wyy = w * y * y;
         a11 += wxx;
@@ -277,77 +276,72 @@ Status ValidateCornerConfig(const CornerConfig& config) {
   return Status::Ok();
 }
 
-Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, FilterScratch& scratch,
-                     Vector<Corner2D>& corners, CornerStats* stats) {
-  corners.clear();
-  if (stats != nullptr) *stats = CornerStats{};
-  SH_RETURN_IF_ERROR(ValidateGrayImage(image, "DetectCorners"));
-  SH_RETURN_IF_ERROR(ValidateCornerConfig(config));
-  const int w = image.width, h = image.height;
-  ImageView<float> resp = scratch.planes[3].view(w, h);
-  // Normalisation: derivatives of total order 4 scale as sigma^-4 and N as contrast^3.
-  const double s2 = double{config.sigma_px} * config.sigma_px;
-  const float scale = static_cast<float>(s2 * s2 / (255.0 * 255.0 * 255.0 * kIdealCornerResponse));
-  float max_strength = 0.0f;
-  const float smooth_sigma = std::sqrt(std::max(0.0f, config.sigma_px * config.sigma_px - 0.25f));
-  if (!config.exact_derivatives && smooth_sigma >= kMinGaussianSigmaPx) {
-    GaussianKernel g0;
-    SH_RETURN_IF_ERROR(MakeGaussianKernel(smooth_sigma, 0, g0));
-    ImageView<float> rows = scratch.planes[0].view(w, h);
-    ImageView<float> smooth = scratch.planes[1].view(w, h);
-    FilterRows(image, &g0, rows, nullptr, {}, nullptr, {});
-    // Column pass row by row, each response row as soon as its lower neighbour exists: the three
-    // smoothed rows are still in cache.
-    auto response_row = [&](int y) {
-      float* out = resp.row(y);
-      DifferenceResponseRow(smooth.row(std::max(0, y - 1)), smooth.row(y),
-                            smooth.row(std::min(h - 1, y + 1)), w, scale, out);
-      max_strength = RowMax(out, w, max_strength);
-    };
-    for (int y = 0; y < h; ++y) {
-      FilterColumnRow(rows, g0, y, smooth.row(y));
-      if (y >= 1) response_row(y - 1);
-    }
-    response_row(h - 1);
-  } else {
-    GaussianKernel g0, g1, g2;
-    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 0, g0));
-    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 1, g1));
-    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 2, g2));
-    const int r = g0.radius;
-    ImageView<float> p0 = scratch.planes[0].view(w, h);
-    ImageView<float> p1 = scratch.planes[1].view(w, h);
-    ImageView<float> p2 = scratch.planes[2].view(w, h);
-    FilterRows(image, &g0, p0, &g1, p1, &g2, p2);
-    const float* rows0[2 * kMaxGaussianRadius + 1];
-    const float* rows1[2 * kMaxGaussianRadius + 1];
-    const float* rows2[2 * kMaxGaussianRadius + 1];
-    float ix[kMaxImageWidth], iy[kMaxImageWidth], ixx[kMaxImageWidth], ixy[kMaxImageWidth],
-        iyy[kMaxImageWidth];
-    for (int y = 0; y < h; ++y) {
-      ClampedRowPointers(p0, y, r, rows0);
-      ClampedRowPointers(p1, y, r, rows1);
-      ClampedRowPointers(p2, y, r, rows2);
-      float* out = resp.row(y);
-      ResponseRow(rows0, rows1, rows2, r, g0, g1, g2, w, scale, out, ix, iy, ixx, ixy, iyy);
-      max_strength = RowMax(out, w, max_strength);
-    }
-  }
-  const float threshold = std::max(config.threshold, config.relative_threshold * max_strength);
+bool CornersUseSmoothedImage(const CornerConfig& config) {
+  return !config.exact_derivatives &&
+         !(config.reduce_large_scales && config.sigma_px >= kCornerReduceSigmaPx) &&
+         config.sigma_px * config.sigma_px - 0.25f >= kMinGaussianSigmaPx * kMinGaussianSigmaPx;
+}
 
+float CornerResponseScale(float sigma_px) {
+  // Derivatives of total order 4 scale as sigma^-4 and N as contrast^3.
+  const double s2 = double{sigma_px} * sigma_px;
+  return static_cast<float>(s2 * s2 / (255.0 * 255.0 * 255.0 * kIdealCornerResponse));
+}
+
+float CornerResponseRow(const float* __restrict up, const float* __restrict mid,
+                        const float* __restrict down, int width, float scale,
+                        float* __restrict out) {
+  auto response = [&](int xm, int x, int xp) {
+    const float ix = 0.5f * (mid[xp] - mid[xm]);
+    const float iy = 0.5f * (down[x] - up[x]);
+    const float ixx = mid[xp] - 2.0f * mid[x] + mid[xm];
+    const float iyy = down[x] - 2.0f * mid[x] + up[x];
+    const float ixy = 0.25f * (down[xp] - down[xm] - up[xp] + up[xm]);
+    return std::fabs(iy * iy * ixx - 2.0f * ix * iy * ixy + ix * ix * iyy) * scale;
+  };
+  // The interior spelled out with fixed offsets (same arithmetic as `response`) vectorises; the
+  // index form does not.
+  for (int x = 1; x < width - 1; ++x) {
+    const float ix = 0.5f * (mid[x + 1] - mid[x - 1]);
+    const float iy = 0.5f * (down[x] - up[x]);
+    const float ixx = mid[x + 1] - 2.0f * mid[x] + mid[x - 1];
+    const float iyy = down[x] - 2.0f * mid[x] + up[x];
+    const float ixy = 0.25f * (down[x + 1] - down[x - 1] - up[x + 1] + up[x - 1]);
+    out[x] = std::fabs(iy * iy * ixx - 2.0f * ix * iy * ixy + ix * ix * iyy) * scale;
+  }
+  out[0] = response(0, 0, std::min(1, width - 1));
+  if (width > 1) out[width - 1] = response(width - 2, width - 1, width - 1);
+  return RowMax(out, width, 0.0f);
+}
+
+namespace {
+
+// Corners of a response plane computed on the image reduced by `factor` (1 or 2): positions are
+// scaled back to the full image, whose pixels the vertex refinement uses.
+void ExtractCorners(const ConstGrayView& image, const CornerConfig& config,
+                    const ImageView<const float>& resp, float max_strength, int nms_radius,
+                    int factor, Vector<Corner2D>& corners, CornerStats* stats) {
+  corners.clear();
+  const float threshold = std::max(config.threshold, config.relative_threshold * max_strength);
   bool heap_built = false;
   size_t found = 0, dropped = 0;
-  const ImageView<const float> cresp = resp;
-  for (int y = 0; y < h; ++y) {
-    const float* row = cresp.row(y);
-    for (int x = 0; x < w; ++x) {
-      // Strictly above: a zero threshold must not turn flat regions into corners.
-      if (!(row[x] > threshold)) continue;
-      if (!IsLocalMax(cresp, x, y, config.nms_radius_px)) continue;
-      float dx, dy;
-      QuadraticPeak(cresp, x, y, dx, dy);
-      ++found;
-      KeepStrongest(corners, Corner2D{x + dx, y + dy, row[x]}, heap_built, dropped);
+  for (int y = 0; y < resp.height; ++y) {
+    const float* row = resp.row(y);
+    for (int x0 = 0; x0 < resp.width; x0 += kScanBlock) {
+      const int x1 = std::min(resp.width, x0 + kScanBlock);
+      // Most of the plane is below the threshold: skip whole blocks at once.
+      if (x1 - x0 == kScanBlock && !AnyAbove(row + x0, threshold)) continue;
+      for (int x = x0; x < x1; ++x) {
+        // Strictly above: a zero threshold must not turn flat regions into corners.
+        if (!(row[x] > threshold)) continue;
+        if (!IsLocalMax(resp, x, y, nms_radius)) continue;
+        float dx, dy;
+        QuadraticPeak(resp, x, y, dx, dy);
+        ++found;
+        const float fx = std::min(static_cast<float>(factor) * (x + dx), image.width - 1.0f);
+        const float fy = std::min(static_cast<float>(factor) * (y + dy), image.height - 1.0f);
+        KeepStrongest(corners, Corner2D{fx, fy, row[x]}, heap_built, dropped);
+      }
     }
   }
   // std::sort (not stable_sort, which may allocate) with a total order: strength, then raster.
@@ -367,6 +361,144 @@ Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, Fil
     stats->maxima_dropped = dropped;
     stats->vertex_refined = refined;
   }
+}
+
+// Smooths `image` at smooth_sigma and fills `resp` (same size) with the difference response;
+// returns its maximum. The column pass runs row by row, each response row as soon as its lower
+// neighbour exists: the three smoothed rows are still in cache. Uses planes 0 and 1.
+float SmoothedResponse(const ConstGrayView& image, const GaussianKernel& g0, float scale,
+                       FilterScratch& scratch, ImageView<float> resp) {
+  const int w = image.width, h = image.height;
+  ImageView<float> rows = scratch.planes[0].view(w, h);
+  ImageView<float> smooth = scratch.planes[1].view(w, h);
+  FilterRows(image, &g0, rows, nullptr, {}, nullptr, {});
+  float max_strength = 0.0f;
+  auto response_row = [&](int y) {
+    max_strength = std::max(
+        max_strength, CornerResponseRow(smooth.row(std::max(0, y - 1)), smooth.row(y),
+                                        smooth.row(std::min(h - 1, y + 1)), w, scale, resp.row(y)));
+  };
+  for (int y = 0; y < h; ++y) {
+    FilterColumnRow(rows, g0, y, smooth.row(y));
+    if (y >= 1) response_row(y - 1);
+  }
+  response_row(h - 1);
+  return max_strength;
+}
+
+// The five Gaussian-derivative convolutions at sigma_c (exact_derivatives). Uses all planes.
+float ExactResponse(const ConstGrayView& image, const GaussianKernel& g0, const GaussianKernel& g1,
+                    const GaussianKernel& g2, float scale, FilterScratch& scratch,
+                    ImageView<float> resp) {
+  const int w = image.width, h = image.height;
+  const int r = g0.radius;
+  ImageView<float> p0 = scratch.planes[0].view(w, h);
+  ImageView<float> p1 = scratch.planes[1].view(w, h);
+  ImageView<float> p2 = scratch.planes[2].view(w, h);
+  FilterRows(image, &g0, p0, &g1, p1, &g2, p2);
+  const float* rows0[2 * kMaxGaussianRadius + 1];
+  const float* rows1[2 * kMaxGaussianRadius + 1];
+  const float* rows2[2 * kMaxGaussianRadius + 1];
+  float ix[kMaxImageWidth], iy[kMaxImageWidth], ixx[kMaxImageWidth], ixy[kMaxImageWidth],
+      iyy[kMaxImageWidth];
+  float max_strength = 0.0f;
+  for (int y = 0; y < h; ++y) {
+    ClampedRowPointers(p0, y, r, rows0);
+    ClampedRowPointers(p1, y, r, rows1);
+    ClampedRowPointers(p2, y, r, rows2);
+    float* out = resp.row(y);
+    ResponseRow(rows0, rows1, rows2, r, g0, g1, g2, w, scale, out, ix, iy, ixx, ixy, iyy);
+    max_strength = RowMax(out, w, max_strength);
+  }
+  return max_strength;
+}
+
+// 2x reduction: the binomial (1 4 6 4 1) / 16 (variance 1 px^2, zero response at the Nyquist
+// frequency) along both axes, kept at even columns and rows, borders replicated. The sums are
+// exact integers (at most 255 * 256); the result is rounded to grey levels, an error far below
+// the sensor noise once the reduced image is smoothed at sigma_c / 2.
+ConstGrayView ReduceImage(const ConstGrayView& image, uint8_t* out) {
+  const int w = image.width, h = image.height;
+  const int rw = (w + 1) / 2, rh = (h + 1) / 2;
+  // Horizontal sums of the source rows, in a ring: output row j needs source rows 2j-2..2j+2.
+  constexpr int kRing = 8;
+  uint16_t hsum[kRing][(kMaxImageWidth + 1) / 2];
+  int ring_row[kRing];
+  for (int& r : ring_row) r = -1;
+  uint16_t pad[kMaxImageWidth + 4];
+  auto horizontal = [&](int y) -> const uint16_t* {
+    uint16_t* dst = hsum[y % kRing];
+    if (ring_row[y % kRing] == y) return dst;
+    ring_row[y % kRing] = y;
+    const uint8_t* src = image.row(y);
+    pad[0] = pad[1] = src[0];
+    for (int x = 0; x < w; ++x) pad[x + 2] = src[x];
+    pad[w + 2] = pad[w + 3] = src[w - 1];
+    for (int i = 0; i < rw; ++i) {
+      const uint16_t* p = pad + 2 * i;  // p[2] is source column 2i
+      dst[i] = static_cast<uint16_t>(p[0] + 4 * p[1] + 6 * p[2] + 4 * p[3] + p[4]);
+    }
+    return dst;
+  };
+  for (int j = 0; j < rh; ++j) {
+    const uint16_t* r[5];
+    for (int k = 0; k < 5; ++k) r[k] = horizontal(std::clamp(2 * j - 2 + k, 0, h - 1));
+    uint8_t* dst = out + static_cast<size_t>(j) * rw;
+    for (int i = 0; i < rw; ++i) {
+      const uint32_t v = r[0][i] + 4u * r[1][i] + 6u * r[2][i] + 4u * r[3][i] + r[4][i];
+      dst[i] = static_cast<uint8_t>((v + 128u) >> 8);
+    }
+  }
+  return {out, rw, rh, rw};
+}
+
+}  // namespace
+
+void CornersFromResponse(const ConstGrayView& image, const CornerConfig& config,
+                         const ImageView<const float>& response, float max_strength,
+                         Vector<Corner2D>& corners, CornerStats* stats) {
+  if (stats != nullptr) *stats = CornerStats{};
+  ExtractCorners(image, config, response, max_strength, config.nms_radius_px, 1, corners, stats);
+}
+
+Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, FilterScratch& scratch,
+                     Vector<Corner2D>& corners, CornerStats* stats) {
+  corners.clear();
+  if (stats != nullptr) *stats = CornerStats{};
+  SH_RETURN_IF_ERROR(ValidateGrayImage(image, "DetectCorners"));
+  SH_RETURN_IF_ERROR(ValidateCornerConfig(config));
+  const int w = image.width, h = image.height;
+  if (!config.exact_derivatives && config.reduce_large_scales &&
+      config.sigma_px >= kCornerReduceSigmaPx) {
+    // Reduced image: sigma_c / 2 in its pixels, of which the binomial contributes 1/2 and the
+    // differences 1/2 (variances in reduced px^2, as DifferenceSmoothingSigma counts them).
+    const ConstGrayView reduced = ReduceImage(image, scratch.reduced);
+    const float sigma_r = 0.5f * config.sigma_px;
+    GaussianKernel g0;
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(std::sqrt(sigma_r * sigma_r - 0.5f), 0, g0));
+    ImageView<float> resp = scratch.planes[3].view(reduced.width, reduced.height);
+    const float max_strength =
+        SmoothedResponse(reduced, g0, CornerResponseScale(sigma_r), scratch, resp);
+    // The neighbourhood halves with the pixels (at least the 8 neighbours).
+    const int nms_radius = std::max(1, (config.nms_radius_px + 1) / 2);
+    ExtractCorners(image, config, resp, max_strength, nms_radius, 2, corners, stats);
+    return Status::Ok();
+  }
+  ImageView<float> resp = scratch.planes[3].view(w, h);
+  const float scale = CornerResponseScale(config.sigma_px);
+  float max_strength = 0.0f;
+  if (CornersUseSmoothedImage(config)) {
+    GaussianKernel g0;
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(DifferenceSmoothingSigma(config.sigma_px), 0, g0));
+    max_strength = SmoothedResponse(image, g0, scale, scratch, resp);
+  } else {
+    GaussianKernel g0, g1, g2;
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 0, g0));
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 1, g1));
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 2, g2));
+    max_strength = ExactResponse(image, g0, g1, g2, scale, scratch, resp);
+  }
+  ExtractCorners(image, config, resp, max_strength, config.nms_radius_px, 1, corners, stats);
   return Status::Ok();
 }
 

@@ -47,7 +47,15 @@ struct CornerConfig {
   // stays within the refinement window (about 2.5 sigma_c).
   bool refine_to_vertex = true;
   float refine_sigma_px = 1.0f;
+  // Scales of at least kCornerReduceSigmaPx (without exact_derivatives) are computed on the image
+  // reduced 2x: binomial (1 4 6 4 1) / 16 blur, every second column and row, then sigma_c / 2
+  // there, as in a Gaussian scale space. A quarter of the pixels with half the taps each; the
+  // maxima are scaled back and the vertex refinement runs on the full image. false: always at
+  // full resolution (the reference the reduced path is tested against).
+  bool reduce_large_scales = true;
 };
+
+inline constexpr float kCornerReduceSigmaPx = 4.0f;
 
 struct CornerStats {
   float max_strength = 0.0f;    // strongest response in the image
@@ -67,6 +75,28 @@ Status ValidateCornerConfig(const CornerConfig& config);
 // Uses all planes of `scratch`. Fails (and leaves `corners` empty) on an invalid image or config.
 Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, FilterScratch& scratch,
                      Vector<Corner2D>& corners, CornerStats* stats = nullptr);
+
+// Building blocks of DetectCorners for callers that share the smoothed image with another
+// detector (ExtractFeatures with equal corner and Canny scales).
+//
+// True when DetectCorners smooths the full image at DifferenceSmoothingSigma(sigma_c) and takes
+// central differences: neither exact_derivatives nor the reduced path, and sigma_c large enough
+// for the smoothing.
+bool CornersUseSmoothedImage(const CornerConfig& config);
+
+// Normalised response (see Corner2D::strength) of row `mid` of the smoothed image from central
+// differences, `up` and `down` being its neighbours (the row itself at the image border).
+// `scale` is CornerResponseScale(sigma_c). Returns the row's largest response.
+float CornerResponseRow(const float* up, const float* mid, const float* down, int width,
+                        float scale, float* out);
+float CornerResponseScale(float sigma_px);
+
+// Threshold, non-maximum suppression, sub-pixel peaks, the strongest kMaxCorners2d, vertex
+// refinement: the corners of a full-resolution response plane whose largest value is
+// max_strength. `corners` is cleared first.
+void CornersFromResponse(const ConstGrayView& image, const CornerConfig& config,
+                         const ImageView<const float>& response, float max_strength,
+                         Vector<Corner2D>& corners, CornerStats* stats);
 
 // Strength of an ideal right-angle corner of unit contrast at unit sigma: the maximum over the
 // plane of |N| for I = Phi(x) Phi(y), evaluated numerically; it scales Corner2D::strength.

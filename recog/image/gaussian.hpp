@@ -46,12 +46,18 @@ struct FloatPlane {
   ImageView<const float> view(int width, int height) const { return {data, width, height, width}; }
 };
 
-// Float planes shared by the detectors of one frame (corners use all four, Canny three). Sized
-// for the largest image: 4 * kMaxImagePixels floats (20 MiB); keep one per concurrent frame, in
-// static storage.
+// Pixels of an image reduced 2x in both directions (every second column and row, from 0).
+inline constexpr size_t kMaxReducedPixels =
+    size_t{(kMaxImageWidth + 1) / 2} * ((kMaxImageHeight + 1) / 2);
+
+// Float planes shared by the detectors of one frame (corners use up to all four, Canny two), and
+// the 2x reduced grey image of the large corner scales. Sized for the largest image:
+// 4 * kMaxImagePixels floats and kMaxReducedPixels bytes (20.3 MiB); keep one per concurrent
+// frame, in static storage.
 struct FilterScratch {
   static constexpr int kPlanes = 4;
   FloatPlane planes[kPlanes];
+  uint8_t reduced[kMaxReducedPixels];
 };
 
 // Smoothing scale that, followed by central differences, approximates Gaussian derivatives at
