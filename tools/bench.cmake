@@ -7,7 +7,8 @@ if(TARGET stereohash_render)
   if(STEREOHASH_BUILD_TESTS)
     target_link_libraries(stereohash PRIVATE stereohash_synth)
   else()
-    target_sources(stereohash PRIVATE ${PROJECT_SOURCE_DIR}/tests/support/synthetic_scene.cpp)
+    target_sources(stereohash PRIVATE ${PROJECT_SOURCE_DIR}/tests/support/synthetic_scene.cpp
+                                      ${PROJECT_SOURCE_DIR}/tests/support/truth_pose_fit.cpp)
   endif()
   target_link_libraries(stereohash PRIVATE stereohash_pipeline stereohash_render
                         stereohash_table_builder stereohash_default_tables)
