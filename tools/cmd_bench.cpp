@@ -16,6 +16,7 @@
 #include "hal/sim/render/scene_generator.hpp"
 #include "recog/hashing/recognizer.hpp"
 #include "recog/pipeline/pipeline.hpp"
+#include "recog/verify/verify.hpp"
 #include "tables/model_files.hpp"
 #include "tables/table_builder.hpp"
 #include "tables/table_file.hpp"
@@ -126,6 +127,10 @@ bool ApplySetting(const char* setting, PipelineConfig* c) {
     c->features.corners.threshold = v;
   } else if (name == "features.canny_sigma_px") {
     c->features.canny.sigma_px = v;
+  } else if (name == "features.canny_low") {
+    c->features.canny.low_threshold = v;
+  } else if (name == "features.canny_high") {
+    c->features.canny.high_threshold = v;
   } else {
     return false;
   }
@@ -161,6 +166,62 @@ void PrintErrors(const std::vector<Model>& models, const std::vector<TruthObject
   }
 }
 
+// Working volume over the table (table frame, mm): the scenes scatter objects over a 40 cm
+// square; no reference object stands higher than 70 mm. 3 mm below the table top keeps
+// bottom edges whose triangulation errs downwards and drops the mirror images of the light table.
+const Eigen::Vector3f kTableVolumeMin(-350.0f, -350.0f, -3.0f);
+const Eigen::Vector3f kTableVolumeMax(350.0f, 350.0f, 150.0f);
+
+// Why objects were missed, judged at their true poses: does the image verification accept
+// the true pose (are the edges there), and how much 3-D support does the scene hold there
+// (did stereo produce the object's corners and lines)?
+struct MissCauses {
+  int no_edges = 0;      // the verifier rejects even the true pose
+  int no_3d = 0;         // verifiable, but under 30 % of the model's features in the 3-D scene
+  int not_searched = 0;  // verifiable and supported: the search did not reach it
+};
+
+void ExplainMisses(const std::vector<Model>& models, const std::vector<TruthObject>& truth,
+                   const PipelineResult& result, const Pipeline& pipeline, uint64_t seed,
+                   bool verbose, MissCauses* causes) {
+  const std::vector<RecognizedPose> found = testing_support::PosesOf(result);
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const std::vector<TruthObject> one = {truth[i]};
+    if (MatchToTruth(models, one, found).correct == 1) continue;
+    const Model& model = models[truth[i].model];
+    PosedModel occluders[kMaxOccluders];
+    size_t n_occluders = 0;
+    for (size_t j = 0; j < truth.size() && n_occluders < kMaxOccluders; ++j) {
+      if (j != i) occluders[n_occluders++] = {&models[truth[j].model], truth[j].cam_T_model};
+    }
+    const ConstEdgeMapView left{pipeline.left_features().edges.edge,
+                                pipeline.left_features().edges.orientation};
+    const ConstEdgeMapView right{pipeline.right_features().edges.edge,
+                                 pipeline.right_features().edges.orientation};
+    const Result<VerifyResult> v =
+        VerifyHypothesis(pipeline.calibration(), left, right, {&model, truth[i].cam_T_model},
+                         occluders, n_occluders, pipeline.config().verify);
+    const TruthPoseFit fit = FitFromTruePose(model, truth[i].cam_T_model, pipeline.scene(),
+                                             pipeline.config().recognizer);
+    const bool verifiable = v.ok() && v->accepted;
+    if (!verifiable) {
+      ++causes->no_edges;
+    } else if (fit.support < 0.3f) {
+      ++causes->no_3d;
+    } else {
+      ++causes->not_searched;
+    }
+    if (verbose) {
+      std::printf(
+          "  seed %llu: missed %s; at its true pose: image verification %.2f %.2f (%s), 3-D "
+          "support %.2f (%d corners, %d edges)\n",
+          static_cast<unsigned long long>(seed), model.name, v.ok() ? v->score_left : 0.0f,
+          v.ok() ? v->score_right : 0.0f, verifiable ? "accepted" : "rejected", fit.support,
+          fit.matched_points, fit.matched_lines);
+    }
+  }
+}
+
 int RunBenchScenes(int argc, char** argv) {
   int per_row = 10;
   const char* json_path = nullptr;
@@ -169,6 +230,10 @@ int RunBenchScenes(int argc, char** argv) {
   float min_fraction = -1;
   int fruitless = -1;
   bool verbose = false;
+  // The working volume an integrator configures: the box over the table the objects can occupy
+  // (table frame: z up from the table top, mm). Off: the stereo module's large default box.
+  bool table_volume = true;
+  MissCauses miss_causes;
   const char* only = nullptr;         // restrict to one background
   int seed_offset = 0;                // another set of scenes (the presets were chosen on offset 0)
   std::vector<const char*> settings;  // name=value overrides of the presets
@@ -195,6 +260,8 @@ int RunBenchScenes(int argc, char** argv) {
       only = argv[++i];
     } else if (std::strcmp(argv[i], "--verbose") == 0) {
       verbose = true;
+    } else if (std::strcmp(argv[i], "--no-table-volume") == 0) {
+      table_volume = false;
     } else if (std::strcmp(argv[i], "--fruitless") == 0 && has_value &&
                ParseInt(argv[i + 1], 1, 100000, &fruitless)) {
       ++i;
@@ -206,7 +273,7 @@ int RunBenchScenes(int argc, char** argv) {
                    "usage: stereohash bench scenes [--scenes-per-row N] [--json OUT] "
                    "[--budget-ms MS] [--min-fraction F] [--fruitless N] [--features dark|light] "
                    "[--set NAME=VALUE] [--only dark|light] [--seed-offset N] [--verbose] "
-                   "[--models DIR]\n");
+                   "[--no-table-volume] [--models DIR]\n");
       return 2;
     }
   }
@@ -257,8 +324,13 @@ int RunBenchScenes(int argc, char** argv) {
         continue;
       }
       ++i;
-      // Every scene brings its own calibration (camera distance varies).
-      st = pipeline->Init(pair->generated.calib, *table, config, NowNs);
+      // Every scene brings its own calibration (camera distance varies) and its own table pose.
+      PipelineConfig scene_config = config;
+      if (table_volume) {
+        scene_config.stereo.volume = WorkingVolume::InFrame(pair->generated.scene.left_T_table,
+                                                            kTableVolumeMin, kTableVolumeMax);
+      }
+      st = pipeline->Init(pair->generated.calib, *table, scene_config, NowNs);
       if (st.ok())
         st = pipeline->Process(pair->left_view(), pair->right_view(), budget_ms, &result);
       if (!st.ok()) {
@@ -270,6 +342,7 @@ int RunBenchScenes(int argc, char** argv) {
       const MatchCounts m =
           MatchToTruth(models.table, pair->truth, testing_support::PosesOf(result));
       if (verbose) PrintErrors(models.table, pair->truth, result, seed);
+      ExplainMisses(models.table, pair->truth, result, *pipeline, seed, verbose, &miss_causes);
       ++row.scenes;
       row.objects += static_cast<int>(pair->truth.size());
       row.correct += m.correct;
@@ -352,6 +425,10 @@ int RunBenchScenes(int argc, char** argv) {
       total.objects ? 100.0 * total.correct / total.objects : 0.0,
       found ? 100.0 * total.false_alarms / found : 0.0, Median(total.features_ms),
       Median(total.stereo_ms), Median(total.hashing_ms), Median(total.verify_ms), total.failed);
+  std::printf(
+      "missed %d: at the true pose %d fail the image verification (edges too weak or hidden), "
+      "%d have under 30 %% 3-D support (stereo lost them), %d were not reached by the search\n",
+      total.missed, miss_causes.no_edges, miss_causes.no_3d, miss_causes.not_searched);
   if (json_path != nullptr && !WriteFile(json_path, json)) {
     std::fprintf(stderr, "stereohash bench: cannot write %s\n", json_path);
     return 1;
