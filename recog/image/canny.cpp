@@ -39,28 +39,6 @@ Status ValidateCannyConfig(const CannyConfig& config) {
   return Status::Ok();
 }
 
-void GradientRow(const float* __restrict up, const float* __restrict mid,
-                 const float* __restrict down, int width, float* __restrict gx,
-                 float* __restrict gy) {
-  // Scharr's weights: (3, 10, 3) / 16 across, 1/2 of the central difference along.
-  constexpr float kSide = 3.0f / 32.0f, kCentre = 10.0f / 32.0f;
-  auto at = [width](const float* row, int x) { return row[std::clamp(x, 0, width - 1)]; };
-  auto border = [&](int x) {
-    gx[x] = kSide * (at(up, x + 1) - at(up, x - 1)) + kCentre * (at(mid, x + 1) - at(mid, x - 1)) +
-            kSide * (at(down, x + 1) - at(down, x - 1));
-    gy[x] = kSide * (at(down, x - 1) - at(up, x - 1)) + kCentre * (down[x] - up[x]) +
-            kSide * (at(down, x + 1) - at(up, x + 1));
-  };
-  border(0);
-  for (int x = 1; x < width - 1; ++x) {
-    gx[x] = kSide * (up[x + 1] - up[x - 1]) + kCentre * (mid[x + 1] - mid[x - 1]) +
-            kSide * (down[x + 1] - down[x - 1]);
-    gy[x] = kSide * (down[x - 1] - up[x - 1]) + kCentre * (down[x] - up[x]) +
-            kSide * (down[x + 1] - up[x + 1]);
-  }
-  if (width > 1) border(width - 1);
-}
-
 EdgeTracer::EdgeTracer(const CannyConfig& config, EdgeBuffers& buffers, int width, int height)
     : b_(buffers),
       width_(width),
@@ -179,26 +157,22 @@ Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, Filter
   if (stats != nullptr) *stats = CannyStats{};
   SH_RETURN_IF_ERROR(ValidateGrayImage(image, "DetectEdges"));
   SH_RETURN_IF_ERROR(ValidateCannyConfig(config));
-  GaussianKernel g0;
-  SH_RETURN_IF_ERROR(MakeGaussianKernel(DifferenceSmoothingSigma(config.sigma_px), 0, g0));
+  GaussianKernel g0, g1;
+  SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 0, g0));
+  SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 1, g1));
   const int w = image.width, h = image.height;
-  ImageView<float> rows = scratch.planes[0].view(w, h);
-  ImageView<float> smooth = scratch.planes[1].view(w, h);
-  FilterRows(image, &g0, rows, nullptr, {}, nullptr, {});
-  // One pass over the rows: the column filter of row y, then the gradient of row y - 1, whose
-  // lower neighbour now exists; the tracer suppresses one row further behind.
+  ImageView<float> smooth_x = scratch.planes[0].view(w, h);  // G0 along x
+  ImageView<float> deriv_x = scratch.planes[1].view(w, h);   // G1 along x
+  FilterRows(image, &g0, smooth_x, &g1, deriv_x, nullptr, {});
+  // One pass over the rows: the column filters of row y go straight to the tracer, which
+  // suppresses one row behind; no gradient planes.
   EdgeTracer tracer(config, buffers, w, h);
   float gx[kMaxImageWidth], gy[kMaxImageWidth];
-  auto gradient_row = [&](int y) {
-    GradientRow(smooth.row(std::max(0, y - 1)), smooth.row(y), smooth.row(std::min(h - 1, y + 1)),
-                w, gx, gy);
-    tracer.AddRow(gx, gy);
-  };
   for (int y = 0; y < h; ++y) {
-    FilterColumnRow(rows, g0, y, smooth.row(y));
-    if (y >= 1) gradient_row(y - 1);
+    FilterColumnRow(deriv_x, g0, y, gx);
+    FilterColumnRow(smooth_x, g1, y, gy);
+    tracer.AddRow(gx, gy);
   }
-  gradient_row(h - 1);
   tracer.Finish(edges, stats);
   return Status::Ok();
 }

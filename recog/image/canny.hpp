@@ -1,6 +1,5 @@
-// Canny edge detection: gradient at scale sigma (GradientRow of the image smoothed at
-// DifferenceSmoothingSigma(sigma): about a Gaussian derivative at sqrt(sigma^2 + 0.1)), non-maximum
-// suppression across the edge, hysteresis between a low and a high gradient-magnitude threshold.
+// Canny edge detection: Gaussian-derivative gradient at sigma, non-maximum suppression across the
+// edge, hysteresis between a low and a high gradient-magnitude threshold.
 // The result is an EdgeMapView (edge flag 255 / 0 and the gradient orientation, see edge_map.hpp)
 // over caller-owned EdgeBuffers.
 #pragma once
@@ -16,9 +15,7 @@
 namespace sh {
 
 struct CannyConfig {
-  // Gaussian scale of the gradient. Below about 0.6 px the smoothing stays at its minimum (0.3 px)
-  // and the effective scale at about 0.65 px.
-  float sigma_px = 1.0f;
+  float sigma_px = 1.0f;  // Gaussian scale of the gradient
   // Gradient magnitude thresholds in grey levels per pixel. A step of contrast C blurred at
   // sigma has a peak gradient of C / (sqrt(2 pi) sigma), e.g. 20 for C = 50 at sigma 1.
   float low_threshold = 4.0f;
@@ -55,20 +52,10 @@ Status ValidateCannyConfig(const CannyConfig& config);
 Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, FilterScratch& scratch,
                    EdgeBuffers& buffers, EdgeMapView& edges, CannyStats* stats = nullptr);
 
-// Gradient of row `mid` of a smoothed image, rows `up` and `down` being its neighbours (the row
-// itself at the image border; columns beyond the border replicate it): central differences with
-// Scharr's (3, 10, 3) / 16 smoothing across them. Plain central differences bias the gradient
-// direction towards the axes (up to 1.8 deg for a step at total blur 1.1 px); the cross
-// smoothing, whose variance (3/8) matches the blur of the difference along (1/3), keeps the
-// bias under 0.1 deg.
-void GradientRow(const float* up, const float* mid, const float* down, int width, float* gx,
-                 float* gy);
-
 // Non-maximum suppression and hysteresis over gradient rows supplied one at a time, top to
-// bottom: the second half of DetectEdges, also used by ExtractFeatures when it computes the
-// gradient from the smoothed image it shares with the corner detector. Suppression runs one row
-// behind the input, so each row is used while it is still in cache; the gradient orientation is
-// taken at the suppression candidates only. The configuration must be valid.
+// bottom: the second half of DetectEdges. Suppression runs one row behind the input, so each row is
+// used while it is still in cache; the gradient orientation is taken at the suppression candidates
+// only. The configuration must be valid.
 class EdgeTracer {
  public:
   EdgeTracer(const CannyConfig& config, EdgeBuffers& buffers, int width, int height);

@@ -276,18 +276,26 @@ Status ValidateCornerConfig(const CornerConfig& config) {
   return Status::Ok();
 }
 
+namespace {
+
+// Whether the full image is smoothed at DifferenceSmoothingSigma(sigma_c) and differentiated by
+// central differences: neither exact_derivatives nor the reduced path, and sigma_c large enough
+// for the smoothing.
 bool CornersUseSmoothedImage(const CornerConfig& config) {
   return !config.exact_derivatives &&
          !(config.reduce_large_scales && config.sigma_px >= kCornerReduceSigmaPx) &&
          config.sigma_px * config.sigma_px - 0.25f >= kMinGaussianSigmaPx * kMinGaussianSigmaPx;
 }
 
+// Factor that normalises the response (see Corner2D::strength).
 float CornerResponseScale(float sigma_px) {
   // Derivatives of total order 4 scale as sigma^-4 and N as contrast^3.
   const double s2 = double{sigma_px} * sigma_px;
   return static_cast<float>(s2 * s2 / (255.0 * 255.0 * 255.0 * kIdealCornerResponse));
 }
 
+// Normalised response of row `mid` of the smoothed image from central differences, `up` and
+// `down` being its neighbours (the row itself at the image border); returns the row's maximum.
 float CornerResponseRow(const float* __restrict up, const float* __restrict mid,
                         const float* __restrict down, int width, float scale,
                         float* __restrict out) {
@@ -313,8 +321,6 @@ float CornerResponseRow(const float* __restrict up, const float* __restrict mid,
   if (width > 1) out[width - 1] = response(width - 2, width - 1, width - 1);
   return RowMax(out, width, 0.0f);
 }
-
-namespace {
 
 // Corners of a response plane computed on the image reduced by `factor` (1 or 2): positions are
 // scaled back to the full image, whose pixels the vertex refinement uses.
@@ -453,13 +459,6 @@ ConstGrayView ReduceImage(const ConstGrayView& image, uint8_t* out) {
 }
 
 }  // namespace
-
-void CornersFromResponse(const ConstGrayView& image, const CornerConfig& config,
-                         const ImageView<const float>& response, float max_strength,
-                         Vector<Corner2D>& corners, CornerStats* stats) {
-  if (stats != nullptr) *stats = CornerStats{};
-  ExtractCorners(image, config, response, max_strength, config.nms_radius_px, 1, corners, stats);
-}
 
 Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, FilterScratch& scratch,
                      Vector<Corner2D>& corners, CornerStats* stats) {

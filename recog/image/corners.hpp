@@ -76,28 +76,6 @@ Status ValidateCornerConfig(const CornerConfig& config);
 Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, FilterScratch& scratch,
                      Vector<Corner2D>& corners, CornerStats* stats = nullptr);
 
-// Building blocks of DetectCorners for callers that share the smoothed image with another
-// detector (ExtractFeatures with equal corner and Canny scales).
-//
-// True when DetectCorners smooths the full image at DifferenceSmoothingSigma(sigma_c) and takes
-// central differences: neither exact_derivatives nor the reduced path, and sigma_c large enough
-// for the smoothing.
-bool CornersUseSmoothedImage(const CornerConfig& config);
-
-// Normalised response (see Corner2D::strength) of row `mid` of the smoothed image from central
-// differences, `up` and `down` being its neighbours (the row itself at the image border).
-// `scale` is CornerResponseScale(sigma_c). Returns the row's largest response.
-float CornerResponseRow(const float* up, const float* mid, const float* down, int width,
-                        float scale, float* out);
-float CornerResponseScale(float sigma_px);
-
-// Threshold, non-maximum suppression, sub-pixel peaks, the strongest kMaxCorners2d, vertex
-// refinement: the corners of a full-resolution response plane whose largest value is
-// max_strength. `corners` is cleared first.
-void CornersFromResponse(const ConstGrayView& image, const CornerConfig& config,
-                         const ImageView<const float>& response, float max_strength,
-                         Vector<Corner2D>& corners, CornerStats* stats);
-
 // Strength of an ideal right-angle corner of unit contrast at unit sigma: the maximum over the
 // plane of |N| for I = Phi(x) Phi(y), evaluated numerically; it scales Corner2D::strength.
 inline constexpr double kIdealCornerResponse = 0.0299739;

@@ -63,8 +63,7 @@ struct FilterScratch {
 // Smoothing scale that, followed by central differences, approximates Gaussian derivatives at
 // sigma_px: sqrt(sigma^2 - 1/4), at least kMinGaussianSigmaPx. The differences add a blur of their
 // own (variance 1/3 px^2 for the first difference, 1/6 for the second; 1/4 splits them), so one
-// smoothing pass replaces the separate derivative filters. Corners and Canny use the same value,
-// which lets ExtractFeatures smooth once when their scales coincide.
+// smoothing pass replaces the separate derivative filters (the corner detector).
 float DifferenceSmoothingSigma(float sigma_px);
 
 // Checks that a grey image is non-empty, consistent, and no larger than the static buffers.

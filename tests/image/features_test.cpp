@@ -59,53 +59,6 @@ TEST(Features, LightBackgroundPreset) {
   CheckPreset(c, 180.0, 110.0);
 }
 
-// With equal corner and Canny scales ExtractFeatures smooths once for both; the corners and the
-// edge map are exactly those of the two detectors run on their own.
-TEST(Features, SharedSmoothingGivesTheSeparateDetectorsResults) {
-  const int w = 756, h = 581;
-  test::SyntheticImage synth(w, h, 180.0);
-  for (const Polygon& p : test::TestScene(w, h, 110.0)) synth.Fill(p, 4);
-  synth.Blur(0.8);
-  synth.AddNoise(2.0, 6);
-  std::vector<uint8_t> px;
-  const ConstGrayView img = synth.ToGray(px);
-  const FeatureConfig config = FeatureConfig::LightBackground();
-  ASSERT_EQ(config.corners.sigma_px, config.canny.sigma_px);
-  ASSERT_TRUE(CornersUseSmoothedImage(config.corners));
-  auto ws = std::make_unique<FeatureWorkspace>();
-  auto features = std::make_unique<ImageFeatures>();
-  ASSERT_TRUE(ExtractFeatures(img, config, *ws, *features).ok());
-
-  auto alone = std::make_unique<FeatureWorkspace>();
-  Vector<Corner2D, kMaxCorners2d> corners;
-  CornerStats corner_stats;
-  ASSERT_TRUE(DetectCorners(img, config.corners, alone->filter, corners, &corner_stats).ok());
-  EdgeMapView edges;
-  CannyStats canny_stats;
-  ASSERT_TRUE(
-      DetectEdges(img, config.canny, alone->filter, alone->edges, edges, &canny_stats).ok());
-
-  ASSERT_EQ(features->corners.size(), corners.size());
-  ASSERT_GT(corners.size(), 10u);
-  for (size_t i = 0; i < corners.size(); ++i) {
-    EXPECT_EQ(features->corners[i].x_px, corners[i].x_px) << i;
-    EXPECT_EQ(features->corners[i].y_px, corners[i].y_px) << i;
-    EXPECT_EQ(features->corners[i].strength, corners[i].strength) << i;
-  }
-  EXPECT_EQ(features->corner_stats.maxima_found, corner_stats.maxima_found);
-  EXPECT_EQ(features->canny_stats.edge_pixels, canny_stats.edge_pixels);
-  EXPECT_EQ(features->canny_stats.nms_candidates, canny_stats.nms_candidates);
-  ASSERT_GT(canny_stats.edge_pixels, 1000u);
-  size_t differing = 0;
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      differing += features->edges.edge.at(x, y) != edges.edge.at(x, y) ||
-                   features->edges.orientation.at(x, y) != edges.orientation.at(x, y);
-    }
-  }
-  EXPECT_EQ(differing, 0u);
-}
-
 TEST(Features, RefusesOversizedAndEmptyImagesWithEmptyOutput) {
   auto ws = std::make_unique<FeatureWorkspace>();
   auto features = std::make_unique<ImageFeatures>();
