@@ -72,11 +72,16 @@ void EdgeTracer::Suppress(int yc) {
   uint8_t* f = b_.edge + static_cast<size_t>(yc) * w;
   uint8_t* o = b_.orientation + static_cast<size_t>(yc) * w;
   std::fill(f, f + w, kNotEdge);
+  // Members in locals: the byte stores below could alias them, which would force a reload or a
+  // store of each per pixel.
+  const float low2 = low2_, high2 = high2_;
+  uint32_t* const stack = b_.stack;
+  size_t candidates = candidates_, top = top_;
   // tan(22.5 deg): splits gradient directions into horizontal, vertical and the two diagonals.
   constexpr float kTan22 = 0.41421356f;
   for (int x = 1; x < w - 1; ++x) {
     const float v = m[x];
-    if (v < low2_) continue;
+    if (v < low2) continue;
     const float adx = std::fabs(ax[x]), ady = std::fabs(ay[x]);
     float before, after;  // neighbours against and along the gradient
     if (ady <= kTan22 * adx) {
@@ -94,16 +99,18 @@ void EdgeTracer::Suppress(int yc) {
     }
     // Asymmetric comparison keeps exactly one pixel of a two-pixel plateau.
     if (!(v > before && v >= after)) continue;
-    ++candidates_;
+    ++candidates;
     // Orientation now, while the gradient is at hand; Finish clears it where no edge remains.
     o[x] = QuantizeOrientation(std::atan2(ay[x], ax[x]));
-    if (v >= high2_) {
+    if (v >= high2) {
       f[x] = kStrongPending;
-      b_.stack[top_++] = static_cast<uint32_t>(yc) * w + x;
+      stack[top++] = static_cast<uint32_t>(yc) * w + x;
     } else {
       f[x] = kWeak;
     }
   }
+  candidates_ = candidates;
+  top_ = top;
 }
 
 void EdgeTracer::Finish(EdgeMapView& edges, CannyStats* stats) {
