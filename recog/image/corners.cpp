@@ -94,12 +94,17 @@ float RowMax(const float* __restrict row, int width, float init) {
   return m;
 }
 
-// Whether any of kScanBlock values exceeds t: counted without branches, so the loop vectorises.
+// Whether any of kScanBlock values exceeds t: four running maxima (max is exact, so the order does
+// not matter), which the compiler maps onto one vector register; a count of the comparisons or a
+// single running maximum stays scalar.
 constexpr int kScanBlock = 16;
 bool AnyAbove(const float* __restrict v, float t) {
-  int above = 0;
-  for (int i = 0; i < kScanBlock; ++i) above += v[i] > t ? 1 : 0;
-  return above != 0;
+  float lane[4] = {v[0], v[1], v[2], v[3]};
+  for (int k = 4; k < kScanBlock; k += 4) {
+    for (int i = 0; i < 4; ++i) lane[i] = lane[i] > v[k + i] ? lane[i] : v[k + i];
+  }
+  const float m = std::max(std::max(lane[0], lane[1]), std::max(lane[2], lane[3]));
+  return m > t;
 }
 
 bool IsLocalMax(const ImageView<const float>& resp, int x, int y, int radius) {
