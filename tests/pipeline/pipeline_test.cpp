@@ -110,15 +110,14 @@ TEST_F(PipelineTest, RecognisesRenderedScenes) {
 
 // A wedge fits a cube's 40 x 30 side face and the edges beside it, and verifies at a good
 // fraction of its own edges: the whole cube must win because it explains more edge pixels
-// (`stereohash bench scenes --seed-offset 100000`, dark row without occlusion, scene 101001,
+// (`stereohash bench scenes --seed-offset 100000`, dark row with some occlusion, scene 102001,
 // with the working volume over the table that the bench configures).
 TEST_F(PipelineTest, WholeObjectWinsOverASmallerModelFittingPartOfIt) {
   render::ScenarioParams p = Scenario(render::Background::kDark);
-  p.occlusion = render::Occlusion::kNone;
   p.n_objects = 5;
   p.camera_distance_mm = 300.0f + 300.0f * 7.0f / 9.0f;
   auto pair = std::make_unique<RenderedPair>();
-  ASSERT_TRUE(testing_support::RenderPair(101001, p, *models_, pair.get()).ok());
+  ASSERT_TRUE(testing_support::RenderPair(102001, p, *models_, pair.get()).ok());
   const int cube = table_->FindModel("cube");
   ASSERT_GE(cube, 0);
   ASSERT_TRUE(std::any_of(pair->truth.begin(), pair->truth.end(),
