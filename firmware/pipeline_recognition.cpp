@@ -8,9 +8,9 @@ namespace sh::fw {
 
 Status PipelineRecognition::Init(const StereoCalibration& calib, const TableView& table,
                                  uint32_t model_mask) {
-  PipelineConfig config;
-  config.features =
-      config_.light_background ? FeatureConfig::LightBackground() : FeatureConfig::DarkBackground();
+  // The presets chosen on rendered scenes (detectors, verification, search), not bare defaults.
+  PipelineConfig config = config_.light_background ? PipelineConfig::LightBackground()
+                                                   : PipelineConfig::DarkBackground();
   if (config_.volume_set) {
     config.stereo.volume = WorkingVolume::InLeftCamera(
         Eigen::Vector3f(config_.volume_min_mm[0], config_.volume_min_mm[1],
