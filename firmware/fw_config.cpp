@@ -1,6 +1,8 @@
 #include "firmware/fw_config.hpp"
 
+#include <Eigen/Geometry>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -154,6 +156,35 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
     c->volume_set = true;
     return Status::Ok();
   }
+  if (is("volume_frame")) {
+    if (!std::strcmp(value, "camera")) {
+      c->volume_in_table_frame = false;
+    } else if (!std::strcmp(value, "table")) {
+      c->volume_in_table_frame = true;
+    } else {
+      return LineError(line, key, "expected camera or table", value);
+    }
+    return Status::Ok();
+  }
+  if (is("table_rotation_deg") || is("table_origin_mm")) {
+    float v[3];
+    if (!ParseVec3(value, v)) return LineError(line, key, "expected three numbers", value);
+    std::memcpy(is("table_rotation_deg") ? c->table_rotation_deg : c->table_origin_mm, v,
+                sizeof(v));
+    c->table_pose_set = true;
+    return Status::Ok();
+  }
+  if (is("background")) {
+    if (!std::strcmp(value, "dark")) {
+      c->light_background = false;
+    } else if (!std::strcmp(value, "light")) {
+      c->light_background = true;
+    } else {
+      return LineError(line, key, "expected dark or light", value);
+    }
+    c->background_set = true;
+    return Status::Ok();
+  }
   if (is("gpio_chip")) return string_key(c->gpio_chip, sizeof(c->gpio_chip));
   if (is("gpio_trigger_line")) return int_key(-1, 1023, &c->gpio_trigger_line);
   if (is("gpio_ready_line")) return int_key(-1, 1023, &c->gpio_ready_line);
@@ -209,6 +240,14 @@ FwConfig SimDefaults() {
   c.backend = Backend::kSim;
   c.calibration_path[0] = '\0';  // the renderer's rig
   c.mlock = false;               // a desktop simulator need not pin its memory
+  // The box over the rendered table an integrator would configure: objects lie within 350 mm
+  // of the table origin and stand under 150 mm; 3 mm below the top keeps bottom edges and drops
+  // the mirror images of the light table.
+  c.volume_set = true;
+  c.volume_in_table_frame = true;
+  const float min_mm[3] = {-350, -350, -3}, max_mm[3] = {350, 350, 150};
+  std::memcpy(c.volume_min_mm, min_mm, sizeof(min_mm));
+  std::memcpy(c.volume_max_mm, max_mm, sizeof(max_mm));
   return c;
 }
 
@@ -266,6 +305,18 @@ Status ParseConfig(const char* text, size_t length, FwConfig* config) {
   return Status::Ok();
 }
 
+RigidTransform TablePose(const FwConfig& c) {
+  const Eigen::Vector3f r_rad =
+      Eigen::Vector3f(c.table_rotation_deg[0], c.table_rotation_deg[1], c.table_rotation_deg[2]) *
+      float(M_PI / 180.0);
+  const float angle = r_rad.norm();
+  RigidTransform t;
+  t.R = angle > 0.0f ? Eigen::AngleAxisf(angle, r_rad / angle).toRotationMatrix()
+                     : Eigen::Matrix3f::Identity();
+  t.t_mm = Eigen::Vector3f(c.table_origin_mm[0], c.table_origin_mm[1], c.table_origin_mm[2]);
+  return t;
+}
+
 Status ValidateConfig(const FwConfig& c) {
   if (c.backend == Backend::kLinux) {
     if (c.calibration_path[0] == '\0') {
@@ -281,6 +332,11 @@ Status ValidateConfig(const FwConfig& c) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "keys 'camera_left_index'/'camera_right_index': both are %d",
                          c.camera_left_index);
+  }
+  if (c.volume_in_table_frame && !c.table_pose_set && c.backend != Backend::kSim) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "key 'volume_frame = table' needs the table pose: 'table_rotation_deg' "
+                         "and 'table_origin_mm'");
   }
   for (int i = 0; i < 3; ++i) {
     if (!(c.volume_min_mm[i] < c.volume_max_mm[i])) {

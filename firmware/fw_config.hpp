@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "recog/base/status.hpp"
+#include "recog/geometry/rigid_transform.hpp"
 
 namespace sh::fw {
 
@@ -47,9 +48,18 @@ struct FwConfig {
   uint16_t budget_ms = 1000;          // kTimeBudgetMinMs..kTimeBudgetMaxMs
   uint16_t free_run_dhz = 0;          // 0.1 Hz, 0 = off
   uint32_t model_mask = 0xFFFFFFFFu;  // masked to the loaded models at boot
-  bool volume_set = false;            // working volume in the left camera frame, mm
+  bool volume_set = false;            // working volume box, mm, in volume_frame
   float volume_min_mm[3] = {-1000, -1000, 100};
   float volume_max_mm[3] = {1000, 1000, 3000};
+  // The box's frame: the left camera, or the table (conveyor) whose pose in the left camera is
+  // table_rotation_deg (rotation vector, degrees) and table_origin_mm. In the simulator a table
+  // volume without a pose takes the rendered rig's table.
+  bool volume_in_table_frame = false;
+  bool table_pose_set = false;
+  float table_rotation_deg[3] = {0, 0, 0};
+  float table_origin_mm[3] = {0, 0, 0};
+  bool light_background = false;  // pipeline preset; `background` key, in sim: sim_background
+  bool background_set = false;
 
   // GPIO (linux backend; -1 = not wired).
   char gpio_chip[kConfigNameMax] = "gpiochip0";
@@ -88,6 +98,10 @@ Status ParseConfig(const char* text, size_t length, FwConfig* config);
 
 // Reads and parses a file (at most kMaxConfigFileBytes) on top of *config, then validates.
 Status LoadConfigFile(const char* path, FwConfig* config);
+
+// The table (conveyor) frame in the left camera from table_rotation_deg / table_origin_mm:
+// x_left = R(rotation vector) x_table + origin.
+RigidTransform TablePose(const FwConfig& c);
 
 // Checks combinations (linux backend needs a calibration file, ...).
 Status ValidateConfig(const FwConfig& config);

@@ -353,11 +353,18 @@ int main(int argc, char** argv) {
 #ifdef STEREOHASH_FW_HAVE_PIPELINE
     static Pipeline pipeline;  // tens of MiB: static storage, locked and pre-faulted below
     PipelineRecognitionConfig pc;
-    pc.light_background = is_sim && config.sim_light_background;
+    pc.light_background =
+        config.background_set ? config.light_background : is_sim && config.sim_light_background;
     pc.volume_set = config.volume_set;
     for (int k = 0; k < 3; ++k) {
       pc.volume_min_mm[k] = config.volume_min_mm[k];
       pc.volume_max_mm[k] = config.volume_max_mm[k];
+    }
+    pc.volume_in_table_frame = config.volume_in_table_frame;
+    if (config.table_pose_set) {
+      pc.left_T_table = TablePose(config);
+    } else if (is_sim) {
+      pc.left_T_table = world.scene(0).scene.left_T_table;  // the rendered rig's table
     }
     recognition = std::make_unique<PipelineRecognition>(&pipeline, pc);
 #else

@@ -12,11 +12,13 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const TableView
   PipelineConfig config = config_.light_background ? PipelineConfig::LightBackground()
                                                    : PipelineConfig::DarkBackground();
   if (config_.volume_set) {
-    config.stereo.volume = WorkingVolume::InLeftCamera(
-        Eigen::Vector3f(config_.volume_min_mm[0], config_.volume_min_mm[1],
-                        config_.volume_min_mm[2]),
-        Eigen::Vector3f(config_.volume_max_mm[0], config_.volume_max_mm[1],
-                        config_.volume_max_mm[2]));
+    const Eigen::Vector3f min_mm(config_.volume_min_mm[0], config_.volume_min_mm[1],
+                                 config_.volume_min_mm[2]);
+    const Eigen::Vector3f max_mm(config_.volume_max_mm[0], config_.volume_max_mm[1],
+                                 config_.volume_max_mm[2]);
+    config.stereo.volume = config_.volume_in_table_frame
+                               ? WorkingVolume::InFrame(config_.left_T_table, min_mm, max_mm)
+                               : WorkingVolume::InLeftCamera(min_mm, max_mm);
   }
   config.recognizer.model_mask = model_mask;
   return pipeline_->Init(calib, table, config, &MonotonicNs);

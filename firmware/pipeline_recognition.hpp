@@ -8,9 +8,11 @@ namespace sh::fw {
 
 struct PipelineRecognitionConfig {
   bool light_background = false;  // detector preset: dark objects on a light table
-  bool volume_set = false;        // working volume in the left camera frame
+  bool volume_set = false;        // working volume box, in the left camera or the table frame
   float volume_min_mm[3] = {0, 0, 0};
   float volume_max_mm[3] = {0, 0, 0};
+  bool volume_in_table_frame = false;
+  RigidTransform left_T_table;  // table (conveyor) frame -> left camera, mm
 };
 
 class PipelineRecognition final : public Recognition {

@@ -69,6 +69,9 @@ TEST(FwConfig, ErrorsNameLineAndKey) {
       {"free_run_dhz = 301\n", "key 'free_run_dhz'"},
       {"model_mask = 0\n", "key 'model_mask'"},
       {"volume_min_mm = 1 2\n", "three numbers"},
+      {"volume_frame = world\n", "expected camera or table"},
+      {"table_origin_mm = 1 2 x\n", "three numbers"},
+      {"background = grey\n", "expected dark or light"},
       {"mlock = maybe\n", "expected true or false"},
       {"can_interface =\n", "missing value"},
       {"= 3\n", "missing key"},
@@ -104,6 +107,48 @@ TEST(FwConfig, ValidationChecksCombinations) {
   EXPECT_TRUE(ValidateConfig(d).ok());
   d.volume_min_mm[0] = 5000;
   EXPECT_FALSE(ValidateConfig(d).ok());
+}
+
+// A box over a conveyor: its frame is the table's, placed in the left camera by a rotation
+// vector and an origin; the linux backend cannot guess the pose, the simulator takes its rig's.
+TEST(FwConfig, TableFrameVolumeNeedsAPoseOnTheBoard) {
+  FwConfig c;
+  ASSERT_TRUE(Parse("backend = linux\ncalibration = /x.yaml\nvolume_frame = table\n"
+                    "volume_min_mm = -300 -300 -3\nvolume_max_mm = 300 300 150\n"
+                    "background = light\n",
+                    &c)
+                  .ok());
+  EXPECT_TRUE(c.volume_in_table_frame);
+  EXPECT_TRUE(c.light_background);
+  EXPECT_TRUE(c.background_set);
+  const Status s = ValidateConfig(c);
+  EXPECT_NE(std::strstr(s.message(), "table_rotation_deg"), nullptr) << s.message();
+  ASSERT_TRUE(Parse("backend = linux\ncalibration = /x.yaml\nvolume_frame = table\n"
+                    "table_rotation_deg = 180 0 0\ntable_origin_mm = 0 0 600\n",
+                    &c)
+                  .ok());
+  EXPECT_TRUE(ValidateConfig(c).ok());
+  FwConfig sim = SimDefaults();
+  sim.volume_in_table_frame = true;
+  EXPECT_TRUE(ValidateConfig(sim).ok()) << "the simulator knows its table";
+}
+
+TEST(FwConfig, TablePoseMapsTableAxesIntoTheCamera) {
+  FwConfig c;
+  // Camera 600 mm above the table looking down: table z (up) is camera -z, table y is camera -y.
+  ASSERT_TRUE(Parse("table_rotation_deg = 180 0 0\ntable_origin_mm = 10 20 600\n", &c).ok());
+  const RigidTransform left_T_table = TablePose(c);
+  EXPECT_TRUE(
+      (left_T_table * Eigen::Vector3f(0, 0, 100)).isApprox(Eigen::Vector3f(10, 20, 500), 1e-4f));
+  EXPECT_TRUE(
+      (left_T_table * Eigen::Vector3f(5, 5, 0)).isApprox(Eigen::Vector3f(15, 15, 600), 1e-4f));
+  // Transform then invert is the identity.
+  const Eigen::Vector3f p(-7, 3, 42);
+  EXPECT_TRUE((left_T_table.Inverse() * (left_T_table * p)).isApprox(p, 1e-4f));
+  // 90 degrees about z maps table x onto camera y.
+  ASSERT_TRUE(Parse("table_rotation_deg = 0 0 90\n", &c).ok());
+  EXPECT_TRUE(
+      (TablePose(c).R * Eigen::Vector3f::UnitX()).isApprox(Eigen::Vector3f::UnitY(), 1e-5f));
 }
 
 TEST(FwConfig, MissingFileIsNotFound) {
