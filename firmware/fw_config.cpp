@@ -100,6 +100,19 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
     *field = b;
     return Status::Ok();
   };
+  // A key with two named values: `when_false` or `when_true`.
+  auto choice_key = [&](const char* when_false, const char* when_true, bool* field) -> Status {
+    if (!std::strcmp(value, when_false)) {
+      *field = false;
+    } else if (!std::strcmp(value, when_true)) {
+      *field = true;
+    } else {
+      char what[64];
+      std::snprintf(what, sizeof(what), "expected %s or %s", when_false, when_true);
+      return LineError(line, key, what, value);
+    }
+    return Status::Ok();
+  };
   auto string_key = [&](char* field, size_t capacity) -> Status {
     if (!CopyString(value, field, capacity)) return LineError(line, key, "too long", value);
     return Status::Ok();
@@ -156,16 +169,7 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
     c->volume_set = true;
     return Status::Ok();
   }
-  if (is("volume_frame")) {
-    if (!std::strcmp(value, "camera")) {
-      c->volume_in_table_frame = false;
-    } else if (!std::strcmp(value, "table")) {
-      c->volume_in_table_frame = true;
-    } else {
-      return LineError(line, key, "expected camera or table", value);
-    }
-    return Status::Ok();
-  }
+  if (is("volume_frame")) return choice_key("camera", "table", &c->volume_in_table_frame);
   if (is("table_rotation_deg") || is("table_origin_mm")) {
     float v[3];
     if (!ParseVec3(value, v)) return LineError(line, key, "expected three numbers", value);
@@ -175,15 +179,8 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
     return Status::Ok();
   }
   if (is("background")) {
-    if (!std::strcmp(value, "dark")) {
-      c->light_background = false;
-    } else if (!std::strcmp(value, "light")) {
-      c->light_background = true;
-    } else {
-      return LineError(line, key, "expected dark or light", value);
-    }
     c->background_set = true;
-    return Status::Ok();
+    return choice_key("dark", "light", &c->light_background);
   }
   if (is("gpio_chip")) return string_key(c->gpio_chip, sizeof(c->gpio_chip));
   if (is("gpio_trigger_line")) return int_key(-1, 1023, &c->gpio_trigger_line);
@@ -202,16 +199,7 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
     c->sim_seed = static_cast<uint64_t>(n);
     return Status::Ok();
   }
-  if (is("sim_background")) {
-    if (!std::strcmp(value, "dark")) {
-      c->sim_light_background = false;
-    } else if (!std::strcmp(value, "light")) {
-      c->sim_light_background = true;
-    } else {
-      return LineError(line, key, "expected dark or light", value);
-    }
-    return Status::Ok();
-  }
+  if (is("sim_background")) return choice_key("dark", "light", &c->sim_light_background);
   if (is("sim_objects")) return int_key(1, 16, &c->sim_objects);  // kMaxRenderObjects
   if (is("sim_scenes")) return int_key(1, 64, &c->sim_scenes);
   if (is("sim_camera_fault")) {
