@@ -13,7 +13,7 @@ namespace sh::fw {
 
 inline constexpr size_t kConfigPathMax = 256;
 inline constexpr size_t kConfigNameMax = 64;
-inline constexpr size_t kMaxConfigFileBytes = 64 * 1024;
+inline constexpr size_t kMaxConfigFileBytes = size_t{64} * 1024;
 
 enum class Backend : uint8_t { kLinux, kSim };
 enum class RecognitionKind : uint8_t {

@@ -240,7 +240,9 @@ int RunBenchScenes(int argc, char** argv) {
   const char* preset = nullptr;       // detector preset for every row (default: by background)
   for (int i = 2; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
+    // Options with a numeric value all end by consuming it (++i): the same body on purpose.
     if (std::strcmp(argv[i], "--scenes-per-row") == 0 && has_value &&
+        // NOLINTNEXTLINE(bugprone-branch-clone)
         ParseInt(argv[i + 1], 1, 1000, &per_row)) {
       ++i;
     } else if (std::strcmp(argv[i], "--json") == 0 && has_value) {
@@ -316,7 +318,7 @@ int RunBenchScenes(int argc, char** argv) {
     }
     for (int i = 0, attempt = 0; i < per_row && attempt < 4 * per_row; ++attempt) {
       // Seeds whose objects cannot be placed for the scenario are skipped (reported).
-      const uint64_t seed = uint64_t(seed_offset) + 1000u * (r + 1) + attempt;
+      const uint64_t seed = uint64_t(seed_offset) + uint64_t{1000} * (r + 1) + attempt;
       st = testing_support::RenderPair(seed, ScenarioFor(row, i), models, pair.get());
       if (!st.ok()) {
         std::fprintf(stderr, "scene %s/%s seed %llu skipped: %s\n", row.background, row.occlusion,
@@ -466,7 +468,9 @@ int RunBenchSynthetic(int argc, char** argv) {
   const char* models_dir = STEREOHASH_DEFAULT_MODELS_DIR;
   for (int i = 2; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
+    // Options with a numeric value all end by consuming it (++i): the same body on purpose.
     if (std::strcmp(argv[i], "--scenes") == 0 && has_value &&
+        // NOLINTNEXTLINE(bugprone-branch-clone)
         ParseInt(argv[i + 1], 1, 100000, &n_scenes)) {
       ++i;
     } else if (std::strcmp(argv[i], "--features") == 0 && has_value &&

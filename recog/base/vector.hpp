@@ -31,6 +31,7 @@ class Vector<T, kGenericCapacity> {
 
   Vector(const Vector&) = delete;
   Vector& operator=(const Vector& other) {
+    if (this == &other) return *this;
     assert(other.size_ <= capacity_);
     size_ = other.size_ <= capacity_ ? other.size_ : capacity_;
     for (size_t i = 0; i < size_; ++i) data_[i] = other.data_[i];
@@ -106,6 +107,7 @@ class Vector : public Vector<T, kGenericCapacity> {
   Vector() : Vector<T, kGenericCapacity>(storage_, N) {}
   Vector(const Vector& other) : Vector() { *this = other; }
   Vector& operator=(const Vector& other) {
+    if (this == &other) return *this;
     Vector<T, kGenericCapacity>::operator=(other);
     return *this;
   }

@@ -70,14 +70,18 @@ bool SceneSupportVerifier::Verify(const Model& model, const Vector<RecognizedObj
 }
 
 Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) {
-  if (!(config.sigma_point_mm > 0.0f) || !(config.sigma_line_mm > 0.0f))
+  if (!(config.sigma_point_mm > 0.0f) || !(config.sigma_line_mm > 0.0f)) {
     return Status::Error(StatusCode::kInvalidArgument, "vote widths must be positive");
-  if (!(config.vote_threshold >= 0.0f && config.vote_threshold <= 2.0f))
+  }
+  if (!(config.vote_threshold >= 0.0f && config.vote_threshold <= 2.0f)) {
     return Status::Error(StatusCode::kInvalidArgument, "vote threshold %g outside [0, 2]",
                          double(config.vote_threshold));
-  if (config.hypotheses_per_basis < 1 || config.hypotheses_per_basis > int(kMaxHypothesesPerBasis))
+  }
+  if (config.hypotheses_per_basis < 1 ||
+      config.hypotheses_per_basis > int(kMaxHypothesesPerBasis)) {
     return Status::Error(StatusCode::kInvalidArgument, "hypotheses per basis must be 1..%zu",
                          kMaxHypothesesPerBasis);
+  }
   table_ = table;
   config_ = config;
   // Reach of the model entries from their basis origins (plus the vote support), for the
@@ -117,8 +121,8 @@ void Recognizer::PrepareScene(const Scene& scene) {
     line_active_[i] = l.a_mm.allFinite() && l.b_mm.allFinite() && length > 1.0f;
     line_dir_[i] =
         line_active_[i] ? Eigen::Vector3f((l.b_mm - l.a_mm) / length) : Eigen::Vector3f::UnitX();
-    positions[2 * i] = l.a_mm;
-    positions[2 * i + 1] = l.b_mm;
+    positions[size_t{2} * i] = l.a_mm;
+    positions[size_t{2} * i + 1] = l.b_mm;
   }
   endpoint_grid_.Build(positions, 2 * nl, 5.0f);
   FindIncidentLines();
@@ -310,9 +314,11 @@ void Recognizer::AppendCandidates(bool connected_only) {
           if (!ThreePointFrame(table_.hash_function(), pi, pj, pk, limits, &unused)) return;
           // Corners joined by edges first: a line incident to both ends of a side.
           auto joined = [this](int a, int b) {
-            for (int x = 0; x < incident_count_[a]; ++x)
-              for (int y = 0; y < incident_count_[b]; ++y)
+            for (int x = 0; x < incident_count_[a]; ++x) {
+              for (int y = 0; y < incident_count_[b]; ++y) {
                 if (incident_[a][x] == incident_[b][y]) return 1;
+              }
+            }
             return 0;
           };
           const float score =
@@ -339,9 +345,10 @@ bool Recognizer::SceneBasisFrame(const SceneBasis& b, RigidTransform* basis_T_ca
     *shape_point = TriangleShapePoint(p0, p1, p2);
     return true;
   }
-  if (hf == HashFunction::kTwoLines)
+  if (hf == HashFunction::kTwoLines) {
     return TwoLineFrame({s.lines[b.f[0]].a_mm, line_dir_[b.f[0]]},
                         {s.lines[b.f[1]].a_mm, line_dir_[b.f[1]]}, limits, basis_T_cam);
+  }
   return LinePointFrame(hf, {s.lines[b.f[0]].a_mm, line_dir_[b.f[0]]}, s.points[b.f[1]].p_mm,
                         limits, basis_T_cam);
 }

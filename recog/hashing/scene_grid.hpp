@@ -28,11 +28,15 @@ class SceneGrid {
       hi[i] = CellCoord(p[i] + radius_mm, i);
     }
     const float r2 = radius_mm * radius_mm;
-    for (int z = lo[2]; z <= hi[2]; ++z)
-      for (int y = lo[1]; y <= hi[1]; ++y)
-        for (int x = lo[0]; x <= hi[0]; ++x)
-          for (int16_t it = head_[(z * dims_[1] + y) * dims_[0] + x]; it >= 0; it = next_[it])
+    for (int z = lo[2]; z <= hi[2]; ++z) {
+      for (int y = lo[1]; y <= hi[1]; ++y) {
+        for (int x = lo[0]; x <= hi[0]; ++x) {
+          for (int16_t it = head_[(z * dims_[1] + y) * dims_[0] + x]; it >= 0; it = next_[it]) {
             if ((positions_[it] - p).squaredNorm() <= r2) fn(int(it));
+          }
+        }
+      }
+    }
   }
   int count() const { return count_; }
 
