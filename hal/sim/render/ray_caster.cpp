@@ -63,6 +63,18 @@ Status RayCaster::Prepare(const RenderScene& scene, const Model* models, int n_m
   return Status::Ok();
 }
 
+// Bounding-sphere test: false when the ray misses the object's sphere, or meets it only behind
+// the origin or beyond t_max, so its faces need not be tested.
+bool RayCaster::MayHit(const Object& obj, const Eigen::Vector3f& o, const Eigen::Vector3f& d,
+                       float t_max) const {
+  const Eigen::Vector3f oc = obj.centre - o;
+  const float tca = oc.dot(d);
+  const float d2 = oc.squaredNorm() - tca * tca;
+  if (d2 > obj.radius_sq) return false;
+  const float half = std::sqrt(obj.radius_sq - d2);
+  return tca + half > kEpsilonMm && tca - half < t_max;
+}
+
 bool RayCaster::HitsFace(const Face& f, const Eigen::Vector3f& o, const Eigen::Vector3f& d,
                          float t_max, float* t_out) const {
   const float denom = f.normal.dot(d);
@@ -90,12 +102,7 @@ Hit RayCaster::Cast(const Eigen::Vector3f& o, const Eigen::Vector3f& d) const {
   }
   for (int i = 0; i < n_objects_; ++i) {
     const Object& obj = objects_[i];
-    const Eigen::Vector3f oc = obj.centre - o;
-    const float tca = oc.dot(d);
-    const float d2 = oc.squaredNorm() - tca * tca;
-    if (d2 > obj.radius_sq) continue;
-    const float half = std::sqrt(obj.radius_sq - d2);
-    if (tca + half <= kEpsilonMm || tca - half >= best.t_mm) continue;
+    if (!MayHit(obj, o, d, best.t_mm)) continue;
     for (int f = 0; f < obj.n_faces; ++f) {
       float t;
       if (HitsFace(obj.faces[f], o, d, best.t_mm, &t)) {
@@ -111,12 +118,7 @@ Hit RayCaster::Cast(const Eigen::Vector3f& o, const Eigen::Vector3f& d) const {
 bool RayCaster::Blocked(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_max) const {
   for (int i = 0; i < n_objects_; ++i) {
     const Object& obj = objects_[i];
-    const Eigen::Vector3f oc = obj.centre - o;
-    const float tca = oc.dot(d);
-    const float d2 = oc.squaredNorm() - tca * tca;
-    if (d2 > obj.radius_sq) continue;
-    const float half = std::sqrt(obj.radius_sq - d2);
-    if (tca + half <= kEpsilonMm || tca - half >= t_max) continue;
+    if (!MayHit(obj, o, d, t_max)) continue;
     for (int f = 0; f < obj.n_faces; ++f) {
       float t;
       if (HitsFace(obj.faces[f], o, d, t_max, &t)) return true;

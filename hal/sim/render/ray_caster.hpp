@@ -51,6 +51,8 @@ class RayCaster {
     Face faces[kMaxModelFaces];
   };
 
+  bool MayHit(const Object& obj, const Eigen::Vector3f& o, const Eigen::Vector3f& d,
+              float t_max) const;
   bool HitsFace(const Face& f, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_max,
                 float* t) const;
 
