@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "firmware/can_protocol.hpp"
+#include "hal/sim/render/scene_generator.hpp"
 
 namespace sh::fw {
 namespace {
@@ -228,14 +229,11 @@ FwConfig SimDefaults() {
   c.backend = Backend::kSim;
   c.calibration_path[0] = '\0';  // the renderer's rig
   c.mlock = false;               // a desktop simulator need not pin its memory
-  // The box over the rendered table an integrator would configure: objects lie within 350 mm
-  // of the table origin and stand under 150 mm; 3 mm below the top keeps bottom edges and drops
-  // the mirror images of the light table.
+  // The box over the rendered table an integrator would configure (render::kTableVolume*).
   c.volume_set = true;
   c.volume_in_table_frame = true;
-  const float min_mm[3] = {-350, -350, -3}, max_mm[3] = {350, 350, 150};
-  std::memcpy(c.volume_min_mm, min_mm, sizeof(min_mm));
-  std::memcpy(c.volume_max_mm, max_mm, sizeof(max_mm));
+  std::memcpy(c.volume_min_mm, render::kTableVolumeMinMm, sizeof(c.volume_min_mm));
+  std::memcpy(c.volume_max_mm, render::kTableVolumeMaxMm, sizeof(c.volume_max_mm));
   return c;
 }
 

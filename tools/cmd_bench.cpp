@@ -166,11 +166,9 @@ void PrintErrors(const std::vector<Model>& models, const std::vector<TruthObject
   }
 }
 
-// Working volume over the table (table frame, mm): the scenes scatter objects over a 40 cm
-// square; no reference object stands higher than 70 mm. 3 mm below the table top keeps
-// bottom edges whose triangulation errs downwards and drops the mirror images of the light table.
-const Eigen::Vector3f kTableVolumeMin(-350.0f, -350.0f, -3.0f);
-const Eigen::Vector3f kTableVolumeMax(350.0f, 350.0f, 150.0f);
+// Working volume over the rendered table (table frame, mm), as an integrator would set it.
+const Eigen::Vector3f kTableVolumeMin(render::kTableVolumeMinMm);
+const Eigen::Vector3f kTableVolumeMax(render::kTableVolumeMaxMm);
 
 // Why objects were missed, judged at their true poses: does the image verification accept
 // the true pose (are the edges there), and how much 3-D support does the scene hold there

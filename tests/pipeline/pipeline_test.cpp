@@ -56,6 +56,18 @@ class PipelineTest : public ::testing::Test {
     return p;
   }
 
+  // A dark-table scene with some occlusion; null (and a test failure) if it cannot be rendered.
+  static std::unique_ptr<RenderedPair> RenderDark(uint64_t seed) {
+    auto pair = std::make_unique<RenderedPair>();
+    const Status s = testing_support::RenderPair(seed, Scenario(render::Background::kDark),
+                                                 *models_, pair.get());
+    if (!s.ok()) {
+      ADD_FAILURE() << "seed " << seed << ": " << s.message();
+      return nullptr;
+    }
+    return pair;
+  }
+
   static PipelineConfig ConfigFor(render::Background bg) {
     return bg == render::Background::kDark ? PipelineConfig::DarkBackground()
                                            : PipelineConfig::LightBackground();
@@ -123,8 +135,9 @@ TEST_F(PipelineTest, WholeObjectWinsOverASmallerModelFittingPartOfIt) {
   ASSERT_TRUE(std::any_of(pair->truth.begin(), pair->truth.end(),
                           [&](const TruthObject& t) { return t.model == cube; }));
   PipelineConfig config = PipelineConfig::DarkBackground();
-  config.stereo.volume = WorkingVolume::InFrame(
-      pair->generated.scene.left_T_table, {-350.0f, -350.0f, -3.0f}, {350.0f, 350.0f, 150.0f});
+  config.stereo.volume = WorkingVolume::InFrame(pair->generated.scene.left_T_table,
+                                                Eigen::Vector3f(render::kTableVolumeMinMm),
+                                                Eigen::Vector3f(render::kTableVolumeMaxMm));
   ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, config, NowNs).ok());
   PipelineResult result;
   ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, &result).ok());
@@ -139,10 +152,8 @@ TEST_F(PipelineTest, WholeObjectWinsOverASmallerModelFittingPartOfIt) {
 }
 
 TEST_F(PipelineTest, TimingsAddUpAndResultsRepeat) {
-  auto pair = std::make_unique<RenderedPair>();
-  ASSERT_TRUE(
-      testing_support::RenderPair(21, Scenario(render::Background::kDark), *models_, pair.get())
-          .ok());
+  std::unique_ptr<RenderedPair> pair = RenderDark(21);
+  ASSERT_TRUE(pair);
   ASSERT_TRUE(
       pipeline_->Init(pair->generated.calib, *table_, ConfigFor(render::Background::kDark), NowNs)
           .ok());
@@ -168,10 +179,8 @@ TEST_F(PipelineTest, TimingsAddUpAndResultsRepeat) {
 }
 
 TEST_F(PipelineTest, NoClockMeansNoTimings) {
-  auto pair = std::make_unique<RenderedPair>();
-  ASSERT_TRUE(
-      testing_support::RenderPair(22, Scenario(render::Background::kDark), *models_, pair.get())
-          .ok());
+  std::unique_ptr<RenderedPair> pair = RenderDark(22);
+  ASSERT_TRUE(pair);
   ASSERT_TRUE(
       pipeline_->Init(pair->generated.calib, *table_, ConfigFor(render::Background::kDark)).ok());
   PipelineResult r;
@@ -184,10 +193,8 @@ TEST_F(PipelineTest, NoClockMeansNoTimings) {
 // A budget shorter than the feature stage leaves no time for recognition: the frame completes
 // with features and stereo but no objects, and says so.
 TEST_F(PipelineTest, BudgetStopsRecognition) {
-  auto pair = std::make_unique<RenderedPair>();
-  ASSERT_TRUE(
-      testing_support::RenderPair(23, Scenario(render::Background::kDark), *models_, pair.get())
-          .ok());
+  std::unique_ptr<RenderedPair> pair = RenderDark(23);
+  ASSERT_TRUE(pair);
   ASSERT_TRUE(
       pipeline_->Init(pair->generated.calib, *table_, ConfigFor(render::Background::kDark), NowNs)
           .ok());
@@ -199,10 +206,8 @@ TEST_F(PipelineTest, BudgetStopsRecognition) {
 }
 
 TEST_F(PipelineTest, RefusesBadInput) {
-  auto pair = std::make_unique<RenderedPair>();
-  ASSERT_TRUE(
-      testing_support::RenderPair(26, Scenario(render::Background::kDark), *models_, pair.get())
-          .ok());
+  std::unique_ptr<RenderedPair> pair = RenderDark(26);
+  ASSERT_TRUE(pair);
   PipelineResult r;
   {
     Pipeline* fresh = pipeline_;
@@ -242,10 +247,8 @@ TEST_F(PipelineTest, RefusesBadInput) {
 // The working volume is the stereo configuration's: with a box far behind the table, every 3-D
 // feature that remains lies in that box (only spurious pairings can), and nothing is recognised.
 TEST_F(PipelineTest, WorkingVolumeLimitsTheScene) {
-  auto pair = std::make_unique<RenderedPair>();
-  ASSERT_TRUE(
-      testing_support::RenderPair(25, Scenario(render::Background::kDark), *models_, pair.get())
-          .ok());
+  std::unique_ptr<RenderedPair> pair = RenderDark(25);
+  ASSERT_TRUE(pair);
   PipelineConfig config = ConfigFor(render::Background::kDark);
   config.stereo.volume = WorkingVolume::InLeftCamera(Eigen::Vector3f(-500, -500, 2000),
                                                      Eigen::Vector3f(500, 500, 2500));

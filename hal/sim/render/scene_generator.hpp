@@ -18,6 +18,13 @@ enum class Occlusion : uint8_t {
   kSevere,  // objects clustered, nearly touching: at least two overlapping pairs
 };
 
+// The working volume an integrator would set over this table (table frame: z up from the
+// table top, mm): the scenes scatter objects over at most a 60 cm square and no reference
+// object rests higher than 70 mm; 3 mm below the top keeps bottom edges whose triangulation
+// errs downwards and drops the mirror images of the light table.
+inline constexpr float kTableVolumeMinMm[3] = {-350.0f, -350.0f, -3.0f};
+inline constexpr float kTableVolumeMaxMm[3] = {350.0f, 350.0f, 150.0f};
+
 struct ScenarioParams {
   int n_objects = 4;  // 1 .. kMaxRenderObjects
   Background background = Background::kDark;
