@@ -163,16 +163,11 @@ int RunRecognize(int argc, char** argv) {
   float budget_ms = 0;
   bool light = false;
   for (int i = 1; i < argc; ++i) {
-    const char* arg = argv[i];
-    if (std::strcmp(arg, "--help") == 0 || std::strcmp(arg, "-h") == 0) {
-      PrintHelp();
-      return 0;
+    const char *arg = nullptr, *value = nullptr;
+    int exit_code = 0;
+    if (!NextOption("recognize", argc, argv, PrintHelp, &i, &arg, &value, &exit_code)) {
+      return exit_code;
     }
-    if (i + 1 >= argc) {
-      std::fprintf(stderr, "stereohash recognize: %s needs a value (see --help)\n", arg);
-      return 2;
-    }
-    const char* value = argv[++i];
     if (std::strcmp(arg, "--calib") == 0) {
       calib_path = value;
     } else if (std::strcmp(arg, "--tables") == 0) {

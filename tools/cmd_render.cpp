@@ -86,16 +86,11 @@ int RunRender(int argc, char** argv) {
   uint64_t seed = 1;
   render::ScenarioParams params;
   for (int i = 1; i < argc; ++i) {
-    const char* arg = argv[i];
-    if (std::strcmp(arg, "--help") == 0 || std::strcmp(arg, "-h") == 0) {
-      PrintHelp();
-      return 0;
+    const char *arg = nullptr, *value = nullptr;
+    int exit_code = 0;
+    if (!NextOption("render", argc, argv, PrintHelp, &i, &arg, &value, &exit_code)) {
+      return exit_code;
     }
-    if (i + 1 >= argc) {
-      std::fprintf(stderr, "stereohash render: %s needs a value (see --help)\n", arg);
-      return 2;
-    }
-    const char* value = argv[++i];
     double number = 0;
     const bool numeric = ParseNumber(value, &number);
     if (std::strcmp(arg, "--out") == 0) {

@@ -13,6 +13,12 @@ void RegisterCommand(const Command& command);
 const Command* FindCommand(const char* name);
 void ListCommands(void (*print)(const Command&));
 
+// One step of a `--option value` loop over argv[1..]: sets *option and *value and moves *i onto
+// the value. Returns false when the command should end with *exit_code: 0 after `--help`/`-h`
+// (help printed), 2 for an option without a value (message naming `command` printed).
+bool NextOption(const char* command, int argc, char** argv, void (*print_help)(), int* i,
+                const char** option, const char** value, int* exit_code);
+
 struct CommandRegistrar {
   explicit CommandRegistrar(const Command& command) { RegisterCommand(command); }
 };

@@ -22,6 +22,23 @@ void PrintUsage() {
 
 }  // namespace
 
+bool NextOption(const char* command, int argc, char** argv, void (*print_help)(), int* i,
+                const char** option, const char** value, int* exit_code) {
+  *option = argv[*i];
+  if (std::strcmp(*option, "--help") == 0 || std::strcmp(*option, "-h") == 0) {
+    print_help();
+    *exit_code = 0;
+    return false;
+  }
+  if (*i + 1 >= argc) {
+    std::fprintf(stderr, "stereohash %s: %s needs a value (see --help)\n", command, *option);
+    *exit_code = 2;
+    return false;
+  }
+  *value = argv[++*i];
+  return true;
+}
+
 void RegisterCommand(const Command& command) {
   if (g_count < kMaxCommands) g_commands[g_count++] = command;
 }
