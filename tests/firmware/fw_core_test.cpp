@@ -7,6 +7,18 @@
 namespace sh::fw::testing {
 namespace {
 
+// After a fault: clear-fault brings the no-error EMCY and the ready state back, and a trigger
+// with `request_id` produces its result set again.
+void ExpectRecoveryByClearFault(Rig& rig, uint16_t request_id) {
+  rig.ClearFault();
+  ASSERT_TRUE(rig.WaitEmcy(uint16_t(EmcyCode::kNoError)));
+  EXPECT_TRUE(rig.WaitState(FirmwareState::kReady));
+  rig.Trigger(request_id);
+  std::optional<ResultSet> s = rig.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->request_id, request_id);
+}
+
 TEST(FirmwareCore, BootsWithBootUpThenOperationalHeartbeats) {
   Rig rig;
   rig.Start();
@@ -201,13 +213,7 @@ TEST(FirmwareCore, BusOffFaultsThenRecoveryIsReportedAndClearFaultRecovers) {
   EXPECT_GE(e->detail, 1u);
   EXPECT_EQ(e->state, FirmwareState::kFault);
   EXPECT_TRUE(rig.SeeHeartbeats(2)) << "heartbeat resumes after recovery";
-  rig.ClearFault();
-  ASSERT_TRUE(rig.WaitEmcy(uint16_t(EmcyCode::kNoError)));
-  EXPECT_TRUE(rig.WaitState(FirmwareState::kReady));
-  rig.Trigger(11);
-  std::optional<ResultSet> s = rig.WaitSet();
-  ASSERT_TRUE(s);
-  EXPECT_EQ(s->request_id, 11);
+  ExpectRecoveryByClearFault(rig, 11);
 }
 
 TEST(FirmwareCore, FullTransmitQueueFaultsWithEmcyAndRecovers) {
@@ -221,12 +227,7 @@ TEST(FirmwareCore, FullTransmitQueueFaultsWithEmcyAndRecovers) {
   EXPECT_GE(e->detail, 1u) << "dropped frames";
   EXPECT_EQ(rig.core.state(), FirmwareState::kFault);
   EXPECT_TRUE(rig.SeeHeartbeats(2));
-  rig.ClearFault();
-  ASSERT_TRUE(rig.WaitEmcy(uint16_t(EmcyCode::kNoError)));
-  rig.Trigger(12);
-  std::optional<ResultSet> s = rig.WaitSet();
-  ASSERT_TRUE(s);
-  EXPECT_EQ(s->request_id, 12);
+  ExpectRecoveryByClearFault(rig, 12);
 }
 
 TEST(FirmwareCore, CorruptTablesBootIntoFaultAndRecoverOnceRepaired) {
@@ -266,9 +267,7 @@ TEST(FirmwareCore, MissingCalibrationBootsIntoFault) {
   EXPECT_EQ(e->detail, kDetailCalibration);
   EXPECT_EQ(rig.core.fault_bits(), uint32_t(kFaultCalibration));
   rig.data->InjectMissingCalibration(false);
-  rig.ClearFault();
-  ASSERT_TRUE(rig.WaitEmcy(uint16_t(EmcyCode::kNoError)));
-  EXPECT_TRUE(rig.WaitState(FirmwareState::kReady));
+  ExpectRecoveryByClearFault(rig, 13);
 }
 
 TEST(FirmwareCore, RecognitionErrorGivesStatusThreeAndEmcyButStaysReady) {
