@@ -23,7 +23,11 @@
 #include "tests/pipeline/rendered_eval.hpp"
 #include "tests/support/synthetic_scene.hpp"
 #include "tests/support/truth_pose_fit.hpp"
+#include "tools/bench_recorded.hpp"
 #include "tools/command.hpp"
+#include "tools/miss_causes.hpp"
+#include "tools/recognize_setup.hpp"
+#include "tools/report_util.hpp"
 
 namespace sh::tools {
 namespace {
@@ -34,36 +38,12 @@ int64_t NowNs() {
       .count();
 }
 
-float Median(std::vector<float> v) {
-  if (v.empty()) return 0.0f;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5f * (v[n / 2 - 1] + v[n / 2]);
-}
-
-float Max(const std::vector<float>& v) {
-  return v.empty() ? 0.0f : *std::max_element(v.begin(), v.end());
-}
-
-std::string CommandLine(int argc, char** argv) {
-  std::string s = "stereohash";
-  for (int i = 0; i < argc; ++i) s += std::string(" ") + argv[i];
-  return s;
-}
-
 bool ParseInt(const char* text, int lo, int hi, int* value) {
   char* end = nullptr;
   const long v = std::strtol(text, &end, 10);
   if (end == text || *end != '\0' || v < lo || v > hi) return false;
   *value = static_cast<int>(v);
   return true;
-}
-
-bool WriteFile(const char* path, const std::string& text) {
-  std::FILE* f = std::fopen(path, "wb");
-  if (f == nullptr) return false;
-  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  return std::fclose(f) == 0 && ok;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -95,46 +75,6 @@ render::ScenarioParams ScenarioFor(const SceneRow& row, int i) {
   p.camera_distance_mm = 300.0f + 300.0f * static_cast<float>((i * 7) % 10) / 9.0f;
   p.spread_mm = 400.0f;
   return p;
-}
-
-// --set name=value: the settings worth exploring on rendered scenes.
-bool ApplySetting(const char* setting, PipelineConfig* c) {
-  const char* eq = std::strchr(setting, '=');
-  if (eq == nullptr) return false;
-  const std::string name(setting, eq);
-  const float v = static_cast<float>(std::atof(eq + 1));
-  if (name == "verify.min_fraction") {
-    c->verify.min_fraction = v;
-  } else if (name == "verify.max_distance_px") {
-    c->verify.max_distance_px = v;
-  } else if (name == "verify.max_angle_deg") {
-    c->verify.max_angle_deg = v;
-  } else if (name == "verify.min_samples") {
-    c->verify.min_samples = static_cast<int>(v);
-  } else if (name == "recognizer.vote_threshold") {
-    c->recognizer.vote_threshold = v;
-  } else if (name == "recognizer.max_fruitless_bases") {
-    c->recognizer.max_fruitless_bases = static_cast<uint32_t>(v);
-  } else if (name == "recognizer.sigma_mm") {
-    c->recognizer.sigma_point_mm = c->recognizer.sigma_line_mm = v;
-  } else if (name == "recognizer.hypotheses_per_basis") {
-    c->recognizer.hypotheses_per_basis = static_cast<int>(v);
-  } else if (name == "stereo.epipolar_tolerance_px") {
-    c->stereo.epipolar_tolerance_px = v;
-  } else if (name == "features.corner_sigma_px") {
-    c->features.corners.sigma_px = v;
-  } else if (name == "features.corner_threshold") {
-    c->features.corners.threshold = v;
-  } else if (name == "features.canny_sigma_px") {
-    c->features.canny.sigma_px = v;
-  } else if (name == "features.canny_low") {
-    c->features.canny.low_threshold = v;
-  } else if (name == "features.canny_high") {
-    c->features.canny.high_threshold = v;
-  } else {
-    return false;
-  }
-  return true;
 }
 
 // For --verbose: every reported object that matches no truth object, with the nearest truth.
@@ -169,56 +109,6 @@ void PrintErrors(const std::vector<Model>& models, const std::vector<TruthObject
 // Working volume over the rendered table (table frame, mm), as an integrator would set it.
 const Eigen::Vector3f kTableVolumeMin(render::kTableVolumeMinMm);
 const Eigen::Vector3f kTableVolumeMax(render::kTableVolumeMaxMm);
-
-// Why objects were missed, judged at their true poses: does the image verification accept
-// the true pose (are the edges there), and how much 3-D support does the scene hold there
-// (did stereo produce the object's corners and lines)?
-struct MissCauses {
-  int no_edges = 0;      // the verifier rejects even the true pose
-  int no_3d = 0;         // verifiable, but under 30 % of the model's features in the 3-D scene
-  int not_searched = 0;  // verifiable and supported: the search did not reach it
-};
-
-void ExplainMisses(const std::vector<Model>& models, const std::vector<TruthObject>& truth,
-                   const PipelineResult& result, const Pipeline& pipeline, uint64_t seed,
-                   bool verbose, MissCauses* causes) {
-  const std::vector<RecognizedPose> found = testing_support::PosesOf(result);
-  for (size_t i = 0; i < truth.size(); ++i) {
-    const std::vector<TruthObject> one = {truth[i]};
-    if (MatchToTruth(models, one, found).correct == 1) continue;
-    const Model& model = models[truth[i].model];
-    PosedModel occluders[kMaxOccluders];
-    size_t n_occluders = 0;
-    for (size_t j = 0; j < truth.size() && n_occluders < kMaxOccluders; ++j) {
-      if (j != i) occluders[n_occluders++] = {&models[truth[j].model], truth[j].cam_T_model};
-    }
-    const ConstEdgeMapView left{pipeline.left_features().edges.edge,
-                                pipeline.left_features().edges.orientation};
-    const ConstEdgeMapView right{pipeline.right_features().edges.edge,
-                                 pipeline.right_features().edges.orientation};
-    const Result<VerifyResult> v =
-        VerifyHypothesis(pipeline.calibration(), left, right, {&model, truth[i].cam_T_model},
-                         occluders, n_occluders, pipeline.config().verify);
-    const TruthPoseFit fit = FitFromTruePose(model, truth[i].cam_T_model, pipeline.scene(),
-                                             pipeline.config().recognizer);
-    const bool verifiable = v.ok() && v->accepted;
-    if (!verifiable) {
-      ++causes->no_edges;
-    } else if (fit.support < 0.3f) {
-      ++causes->no_3d;
-    } else {
-      ++causes->not_searched;
-    }
-    if (verbose) {
-      std::printf(
-          "  seed %llu: missed %s; at its true pose: image verification %.2f %.2f (%s), 3-D "
-          "support %.2f (%d corners, %d edges)\n",
-          static_cast<unsigned long long>(seed), model.name, v.ok() ? v->score_left : 0.0f,
-          v.ok() ? v->score_right : 0.0f, verifiable ? "accepted" : "rejected", fit.support,
-          fit.matched_points, fit.matched_lines);
-    }
-  }
-}
 
 int RunBenchScenes(int argc, char** argv) {
   int per_row = 10;
@@ -309,7 +199,7 @@ int RunBenchScenes(int argc, char** argv) {
     if (min_fraction >= 0) config.verify.min_fraction = min_fraction;
     if (fruitless > 0) config.recognizer.max_fruitless_bases = static_cast<uint32_t>(fruitless);
     for (const char* setting : settings) {
-      if (!ApplySetting(setting, &config)) {
+      if (!ApplyPipelineSetting(setting, &config)) {
         std::fprintf(stderr, "stereohash bench: unknown setting %s\n", setting);
         return 2;
       }
@@ -342,7 +232,9 @@ int RunBenchScenes(int argc, char** argv) {
       const MatchCounts m =
           MatchToTruth(models.table, pair->truth, testing_support::PosesOf(result));
       if (verbose) PrintErrors(models.table, pair->truth, result, seed);
-      ExplainMisses(models.table, pair->truth, result, *pipeline, seed, verbose, &miss_causes);
+      char label[32];
+      std::snprintf(label, sizeof(label), "seed %llu", static_cast<unsigned long long>(seed));
+      ExplainMisses(models.table, pair->truth, result, *pipeline, label, verbose, &miss_causes);
       ++row.scenes;
       row.objects += static_cast<int>(pair->truth.size());
       row.correct += m.correct;
@@ -429,7 +321,7 @@ int RunBenchScenes(int argc, char** argv) {
       "missed %d: at the true pose %d fail the image verification (edges too weak or hidden), "
       "%d have under 30 %% 3-D support (stereo lost them), %d were not reached by the search\n",
       total.missed, miss_causes.no_edges, miss_causes.no_3d, miss_causes.not_searched);
-  if (json_path != nullptr && !WriteFile(json_path, json)) {
+  if (json_path != nullptr && !WriteTextFile(json_path, json)) {
     std::fprintf(stderr, "stereohash bench: cannot write %s\n", json_path);
     return 1;
   }
@@ -617,7 +509,7 @@ int RunBenchSynthetic(int argc, char** argv) {
     first = false;
   }
   json += "\n  ]\n}\n";
-  if (json_path != nullptr && !WriteFile(json_path, json)) {
+  if (json_path != nullptr && !WriteTextFile(json_path, json)) {
     std::fprintf(stderr, "stereohash bench: cannot write %s\n", json_path);
     return 1;
   }
@@ -627,22 +519,25 @@ int RunBenchSynthetic(int argc, char** argv) {
 int RunBench(int argc, char** argv) {
   if (argc >= 2 && std::strcmp(argv[1], "scenes") == 0) return RunBenchScenes(argc, argv);
   if (argc >= 2 && std::strcmp(argv[1], "synthetic") == 0) return RunBenchSynthetic(argc, argv);
+  if (argc >= 2 && std::strcmp(argv[1], "recorded") == 0) return RunBenchRecorded(argc, argv);
   std::fprintf(
       stderr,
       "usage: stereohash bench scenes [--scenes-per-row N] [--json OUT] [--budget-ms MS]\n"
       "                               [--set NAME=VALUE] [--only dark|light] [--seed-offset N]\n"
       "                               [--features dark|light] [--verbose]\n"
       "       stereohash bench synthetic [--scenes N] [--features N] [--json OUT]\n"
+      "       stereohash bench recorded DIR [--json OUT] [--verbose] [--no-table] [options]\n"
       "scenes:    rendered stereo pairs (dark/light x no/some/severe occlusion) through the whole\n"
       "           pipeline, reported like the thesis's table 5.5.\n"
       "synthetic: the recogniser alone on synthetic 3-D scenes, all five hash functions, and the\n"
-      "           time per scene for 100..2000 features.\n");
+      "           time per scene for 100..2000 features.\n"
+      "recorded:  recorded stereo scenes with ground truth (DIR/sceneNN/...) through the\n"
+      "           pipeline as `stereohash recognize` runs it.\n");
   return 2;
 }
 
 }  // namespace
 
-SH_REGISTER_COMMAND(bench, "evaluation grids: rendered scenes (pipeline) or synthetic 3-D scenes",
-                    RunBench);
+SH_REGISTER_COMMAND(bench, "evaluation: rendered, recorded or synthetic 3-D scenes", RunBench);
 
 }  // namespace sh::tools

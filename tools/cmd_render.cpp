@@ -14,6 +14,7 @@
 #include "hal/sim/render/renderer.hpp"
 #include "hal/sim/render/scene_generator.hpp"
 #include "recog/camera/calibration_yaml.hpp"
+#include "recog/camera/table_yaml.hpp"
 #include "tools/command.hpp"
 
 namespace sh::tools {
@@ -25,7 +26,8 @@ void PrintHelp() {
       "                         [--occlusion none|some|severe] [--distance-mm MM]\n"
       "                         [--baseline-mm MM] [--noise SIGMA] [--models DIR]\n"
       "Renders reference objects lying on a table, seen by a calibrated stereo pair, and writes\n"
-      "DIR/left.png, DIR/right.png, DIR/calib.yaml (OpenCV FileStorage: K1 D1 K2 D2 R T, mm)\n"
+      "DIR/left.png, DIR/right.png, DIR/calib.yaml (OpenCV FileStorage: K1 D1 K2 D2 R T, mm),\n"
+      "DIR/table.yaml (R_table, t_table: x_left = R_table x_table + t_table, table z up)\n"
       "and DIR/truth.json (per object: model name, R and t with x_left_cam = R x_model + t, mm).\n"
       "Defaults: --seed 1 --objects 4 --background dark --occlusion some --distance-mm 400\n"
       "          --baseline-mm 120 --noise 1.5 --models %s\n",
@@ -174,6 +176,12 @@ int RunRender(int argc, char** argv) {
                        ConstGrayView{right.data(), cam.width, cam.height, cam.width});
   }
   if (st.ok()) st = WriteText(dir + "/calib.yaml", std::string(yaml.data(), *yaml_size));
+  // The table's pose, as an installation measures it once (`recognize --table`).
+  std::vector<char> table_yaml(4096);
+  const Result<size_t> table_size =
+      WriteTableYaml(scene->scene.left_T_table, table_yaml.data(), table_yaml.size());
+  if (st.ok() && !table_size.ok()) st = table_size.status();
+  if (st.ok()) st = WriteText(dir + "/table.yaml", std::string(table_yaml.data(), *table_size));
   if (st.ok()) {
     st = WriteText(dir + "/truth.json",
                    TruthJson(*scene, models, seed, params, background, occlusion));
@@ -184,7 +192,7 @@ int RunRender(int argc, char** argv) {
   }
   std::printf(
       "rendered %zu objects (seed %llu) in %.0f ms -> %s/{left.png,right.png,calib.yaml,"
-      "truth.json}\n",
+      "table.yaml,truth.json}\n",
       scene->scene.objects.size(), static_cast<unsigned long long>(seed), render_ms, out_dir);
   return 0;
 }

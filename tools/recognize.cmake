@@ -1,6 +1,8 @@
 # `stereohash recognize`: the whole pipeline on one stereo pair from image files, with JSON and
 # overlay output. Own image I/O (hal/sim/image_files), no OpenCV.
 target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/cmd_recognize.cpp
+                                  ${CMAKE_CURRENT_LIST_DIR}/recognize_setup.cpp
+                                  ${CMAKE_CURRENT_LIST_DIR}/report_util.cpp
                                   ${CMAKE_CURRENT_LIST_DIR}/overlay.cpp)
 target_link_libraries(stereohash PRIVATE stereohash_pipeline stereohash_image_files
                       stereohash_default_tables stereohash_tables stereohash_camera)

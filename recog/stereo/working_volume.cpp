@@ -19,6 +19,13 @@ WorkingVolume WorkingVolume::InFrame(const RigidTransform& left_T_table,
   return v;
 }
 
+WorkingVolume WorkingVolume::OverTable(const RigidTransform& left_T_table) {
+  return InFrame(
+      left_T_table,
+      Eigen::Vector3f(-kTableVolumeHalfWidthMm, -kTableVolumeHalfWidthMm, -kTableVolumeBelowMm),
+      Eigen::Vector3f(kTableVolumeHalfWidthMm, kTableVolumeHalfWidthMm, kTableVolumeHeightMm));
+}
+
 namespace {
 // Box frame from left frame, in double: x_box = R^T (x_left - t).
 Eigen::Vector3d ToBox(const RigidTransform& left_T_box, const Eigen::Vector3d& p_left) {

@@ -14,6 +14,10 @@
 
 namespace sh {
 
+inline constexpr float kTableVolumeBelowMm = 3.0f;
+inline constexpr float kTableVolumeHeightMm = 150.0f;
+inline constexpr float kTableVolumeHalfWidthMm = 1000.0f;
+
 struct WorkingVolume {
   RigidTransform left_T_box = RigidTransform::Identity();
   Eigen::Vector3f min_mm = Eigen::Vector3f(-1000.0f, -1000.0f, 100.0f);
@@ -24,6 +28,10 @@ struct WorkingVolume {
   // A box in a table frame; left_T_table maps table coordinates into the left camera frame.
   static WorkingVolume InFrame(const RigidTransform& left_T_table, const Eigen::Vector3f& min_mm,
                                const Eigen::Vector3f& max_mm);
+  // The space over a table of known pose: kTableVolumeBelowMm under its top (bottom edges whose
+  // triangulation errs downwards stay; mirror images in a glossy table and shadows on it go) up
+  // to kTableVolumeHeightMm, kTableVolumeHalfWidthMm to either side of its origin.
+  static WorkingVolume OverTable(const RigidTransform& left_T_table);
 
   bool Contains(const Eigen::Vector3d& p_left_mm) const;
 

@@ -2,6 +2,7 @@
 // recognised, the JSON output parsed and compared with the renderer's ground truth; bad input
 // gives a clear message and a non-zero exit, never a crash.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <cmath>
@@ -212,6 +213,76 @@ TEST_F(RecognizeToolTest, SizeMismatchIsAClearError) {
   EXPECT_FALSE(g.signalled);
   EXPECT_NE(g.exit_code, 0);
   EXPECT_NE(g.output.find("garbage.png"), std::string::npos) << g.output;
+}
+
+TEST_F(RecognizeToolTest, TableFileBoundsTheVolumeAndIsReported) {
+  const ToolRun r = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) +
+                            " --table " + Path("table.yaml") + " --json " + Path("table.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  Json with_table, without;
+  ASSERT_TRUE(JsonReader(ReadText(Path("table.json"))).Parse(&with_table));
+  EXPECT_EQ(with_table["table"]["source"].text, "file");
+  EXPECT_EQ(with_table["table"]["file"].text, Path("table.yaml"));
+  ASSERT_EQ(with_table["table"]["t"].size(), 3u);
+  EXPECT_GT(with_table["table"]["t"][2].number, 0.0);  // the table lies in front of the camera
+  const ToolRun n = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) +
+                            " --json " + Path("no_table.json"));
+  ASSERT_EQ(n.exit_code, 0) << n.output;
+  ASSERT_TRUE(JsonReader(ReadText(Path("no_table.json"))).Parse(&without));
+  EXPECT_EQ(without["table"]["source"].text, "none");
+  // The volume over the table holds no more 3-D lines than the default box.
+  EXPECT_LE(with_table["features"]["lines3d"].number, without["features"]["lines3d"].number);
+
+  WriteText(Path("bad_table.yaml"), "%YAML:1.0\n---\nR_table: 7\n");
+  const ToolRun b = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) +
+                            " --table " + Path("bad_table.yaml"));
+  EXPECT_FALSE(b.signalled);
+  EXPECT_EQ(b.exit_code, 1) << b.output;
+  EXPECT_NE(b.output.find("bad_table.yaml"), std::string::npos) << b.output;
+  EXPECT_NE(b.output.find("R_table"), std::string::npos) << b.output;
+}
+
+// `bench recorded` on a folder in the recorded-set layout made of two rendered scenes.
+TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
+  const std::string set = Path("set");
+  ASSERT_EQ(mkdir(set.c_str(), 0777), 0);
+  for (const char* scene : {"scene00", "scene01"}) {
+    const std::string seed = scene[6] == '0' ? "11" : "12";
+    const ToolRun r = RunTool("render --out " + set + (std::string("/") + scene) + " --seed " +
+                              seed + " --objects 3 --occlusion none");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  // One calibration and table for the set (the camera does not move between scenes).
+  WriteText(set + "/calib.yaml", ReadText(set + "/scene00/calib.yaml"));
+  const ToolRun r = RunTool("bench recorded " + set + " --json " + Path("bench.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("recall by visibility"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("table: none"), std::string::npos) << r.output;
+  Json bench;
+  ASSERT_TRUE(JsonReader(ReadText(Path("bench.json"))).Parse(&bench))
+      << ReadText(Path("bench.json"));
+  const Json& summary = bench["summary"];
+  EXPECT_EQ(summary["objects"].number, 6);
+  EXPECT_EQ(summary["correct"].number + summary["missed"].number, 6);
+  EXPECT_GE(summary["correct"].number, 3) << r.output;
+  EXPECT_GE(summary["false_alarms"].number, 0);
+  EXPECT_EQ(bench["scenes"].size(), 2u);
+  EXPECT_EQ(bench["visibility"].size(), 3u);
+
+  // With the set's table file it is used and named; --no-table ignores it.
+  WriteText(set + "/table.yaml", ReadText(set + "/scene00/table.yaml"));
+  const ToolRun t = RunTool("bench recorded " + set);
+  ASSERT_EQ(t.exit_code, 0) << t.output;
+  EXPECT_NE(t.output.find("table: " + set + "/table.yaml"), std::string::npos) << t.output;
+  const ToolRun nt = RunTool("bench recorded " + set + " --no-table");
+  EXPECT_NE(nt.output.find("table: none"), std::string::npos) << nt.output;
+
+  // Errors: a folder without scenes, an unknown option, a bad recognition option.
+  const ToolRun empty = RunTool("bench recorded " + Path("no_such_dir"));
+  EXPECT_EQ(empty.exit_code, 1) << empty.output;
+  EXPECT_NE(empty.output.find("no_such_dir"), std::string::npos) << empty.output;
+  EXPECT_EQ(RunTool("bench recorded " + set + " --frobnicate 1").exit_code, 2);
+  EXPECT_EQ(RunTool("bench recorded " + set + " --background purple").exit_code, 2);
 }
 
 }  // namespace

@@ -209,6 +209,7 @@ MatchCounts MatchToTruth(const std::vector<Model>& models, const std::vector<Tru
     c.rotation_errors_deg.push_back(r_err);
   }
   for (bool u : used) c.missed += !u;
+  c.truth_found = used;
   return c;
 }
 

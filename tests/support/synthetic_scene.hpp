@@ -48,6 +48,7 @@ float SymmetricRotationErrorDeg(const Model& model, const Eigen::Matrix3f& R_est
 struct MatchCounts {
   int correct = 0, missed = 0, false_alarms = 0;
   std::vector<float> translation_errors_mm, rotation_errors_deg;
+  std::vector<bool> truth_found;  // per truth object: matched by a recognised one
 };
 
 // Matches recognised objects to the truth: same model, centre within max_translation_mm and

@@ -1,0 +1,438 @@
+// `stereohash bench recorded DIR`: the pipeline, run exactly as `stereohash recognize` runs it,
+// on every scene of a recorded set (DIR/calib.yaml, DIR/table.yaml, DIR/sceneNN/{left.png,
+// right.png, truth.json}; format in docs/pipeline.md), scored against the truth: thesis table
+// 5.5 per background x occlusion row, recall by visibility, false alarms, pose errors, frame
+// times, and why each missed object was missed at its true pose.
+#include "tools/bench_recorded.hpp"
+
+#include <dirent.h>
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "recog/pipeline/pipeline.hpp"
+#include "tests/pipeline/mini_json.hpp"
+#include "tests/pipeline/rendered_eval.hpp"
+#include "tests/support/synthetic_scene.hpp"
+#include "tools/command.hpp"
+#include "tools/miss_causes.hpp"
+#include "tools/recognize_setup.hpp"
+#include "tools/report_util.hpp"
+
+namespace sh::tools {
+namespace {
+
+// Scoring of the recorded sets (their README): same model, position within 5 mm and rotation
+// within 5 degrees, modulo the model's symmetries.
+constexpr float kMaxPositionErrorMm = 5.0f;
+constexpr float kMaxRotationErrorDeg = 5.0f;
+
+// Visibility bins: under 40 %, 40-70 %, 70 % and more (of the silhouette, mean of both images).
+constexpr int kVisibilityBins = 3;
+const char* const kVisibilityNames[kVisibilityBins] = {"under 40 %", "40-70 %", "70 % and more"};
+int VisibilityBin(float visible) { return visible < 0.4f ? 0 : visible < 0.7f ? 1 : 2; }
+
+void PrintHelp() {
+  std::printf(
+      "usage: stereohash bench recorded DIR [--json OUT] [--verbose] [--no-table]\n"
+      "                                     [--set NAME=VALUE ...] [recognize options]\n"
+      "Runs the pipeline as `stereohash recognize` does on every scene of a recorded set\n"
+      "(DIR/calib.yaml, DIR/table.yaml if present, DIR/*/left.png, right.png, truth.json) and\n"
+      "scores it: correct = same model, position within 5 mm, rotation within 5 deg\n"
+      "(symmetry-aware).\n"
+      "  --json      write the figures, with a summary {correct, missed, false_alarms, objects}\n"
+      "  --verbose   one line per false alarm and per miss (with its cause at the true pose)\n"
+      "  --no-table  ignore DIR/table.yaml (as a user without a table file)\n"
+      "  --set NAME=VALUE  override one pipeline setting (as `bench scenes --set`)\n"
+      "%s",
+      kRecognizeOptionsHelp);
+}
+
+bool IsFile(const std::string& path) {
+  struct stat st;
+  return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+bool ReadText(const std::string& path, std::string* text) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  *text = ss.str();
+  return true;
+}
+
+// Scene folders of DIR: sub-folders holding left.png, right.png and truth.json, sorted by name.
+std::vector<std::string> SceneFolders(const std::string& dir) {
+  std::vector<std::string> names;
+  DIR* d = opendir(dir.c_str());
+  if (d == nullptr) return names;
+  while (const dirent* e = readdir(d)) {
+    const std::string name = e->d_name;
+    if (name == "." || name == "..") continue;
+    const std::string base = dir + "/" + name + "/";
+    if (IsFile(base + "left.png") && IsFile(base + "right.png") && IsFile(base + "truth.json")) {
+      names.push_back(name);
+    }
+  }
+  closedir(d);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+struct SceneTruth {
+  std::string background, occlusion;
+  std::vector<TruthObject> objects;
+  std::vector<float> visible;  // mean of the left and right fraction
+};
+
+Status ParseTruth(const std::string& path, const TableView& tables, SceneTruth* out) {
+  std::string text;
+  if (!ReadText(path, &text)) {
+    return Status::Error(StatusCode::kNotFound, "cannot read %s", path.c_str());
+  }
+  testing_support::Json json;
+  if (!testing_support::JsonReader(text).Parse(&json) ||
+      json.type != testing_support::Json::kObject) {
+    return Status::Error(StatusCode::kInvalidArgument, "%s is not a JSON object", path.c_str());
+  }
+  out->background = json["background"].text;
+  out->occlusion = json["occlusion"].text;
+  const testing_support::Json& objects = json["objects"];
+  if (objects.type != testing_support::Json::kArray) {
+    return Status::Error(StatusCode::kInvalidArgument, "%s: no \"objects\" list", path.c_str());
+  }
+  for (const testing_support::Json& o : objects.items) {
+    int model = -1;
+    for (uint32_t m = 0; m < tables.model_count(); ++m) {
+      if (o["model"].text == tables.model(m).name) model = static_cast<int>(m);
+    }
+    if (model < 0) {
+      return Status::Error(StatusCode::kInvalidArgument, "%s: model '%s' is not in the tables",
+                           path.c_str(), o["model"].text.c_str());
+    }
+    const testing_support::Json& R = o["R"];
+    const testing_support::Json& t = o["t"];
+    if (R.size() != 3 || t.size() != 3) {
+      return Status::Error(StatusCode::kInvalidArgument, "%s: object without a 3x3 R and a t",
+                           path.c_str());
+    }
+    TruthObject truth;
+    truth.model = model;
+    for (int r = 0; r < 3; ++r) {
+      if (R[r].size() != 3) {
+        return Status::Error(StatusCode::kInvalidArgument, "%s: R is not 3x3", path.c_str());
+      }
+      for (int c = 0; c < 3; ++c) truth.cam_T_model.R(r, c) = static_cast<float>(R[r][c].number);
+      truth.cam_T_model.t_mm(r) = static_cast<float>(t[r].number);
+    }
+    const testing_support::Json& visible = o["visible"];
+    const float v = visible.size() == 2
+                        ? static_cast<float>(0.5 * (visible[0].number + visible[1].number))
+                        : 1.0f;
+    out->objects.push_back(truth);
+    out->visible.push_back(v);
+  }
+  return Status::Ok();
+}
+
+struct Row {
+  std::string background, occlusion;
+  int scenes = 0, objects = 0, correct = 0, missed = 0, false_alarms = 0;
+  std::vector<float> time_ms, points2d, lines2d, points3d, lines3d, t_err_mm, r_err_deg;
+  std::vector<float> features_ms, stereo_ms, hashing_ms, verify_ms;
+
+  void Add(const Row& o) {
+    scenes += o.scenes;
+    objects += o.objects;
+    correct += o.correct;
+    missed += o.missed;
+    false_alarms += o.false_alarms;
+    for (auto [dst, src] : {std::pair{&time_ms, &o.time_ms},
+                            {&points2d, &o.points2d},
+                            {&lines2d, &o.lines2d},
+                            {&points3d, &o.points3d},
+                            {&lines3d, &o.lines3d},
+                            {&t_err_mm, &o.t_err_mm},
+                            {&r_err_deg, &o.r_err_deg},
+                            {&features_ms, &o.features_ms},
+                            {&stereo_ms, &o.stereo_ms},
+                            {&hashing_ms, &o.hashing_ms},
+                            {&verify_ms, &o.verify_ms}}) {
+      dst->insert(dst->end(), src->begin(), src->end());
+    }
+  }
+};
+
+void PrintRow(const Row& row) {
+  std::printf("%-6s %-7s %6d %7d %7d %6d %6d %8.1f %8.1f %6.0f %6.0f %6.0f %6.0f %7.2f %7.2f\n",
+              row.background.c_str(), row.occlusion.c_str(), row.scenes, row.objects, row.correct,
+              row.missed, row.false_alarms, Median(row.time_ms), Max(row.time_ms),
+              Median(row.points2d), Median(row.lines2d), Median(row.points3d), Median(row.lines3d),
+              Median(row.t_err_mm), Median(row.r_err_deg));
+}
+
+std::string RowJson(const Row& row) {
+  char buffer[1024];
+  std::snprintf(buffer, sizeof(buffer),
+                "{\"background\": \"%s\", \"occlusion\": \"%s\", \"scenes\": %d, \"objects\": %d, "
+                "\"correct\": %d, \"missed\": %d, \"false_alarms\": %d, \"median_ms\": %.2f, "
+                "\"worst_ms\": %.2f, \"median_stage_ms\": {\"features\": %.2f, \"stereo\": %.2f, "
+                "\"hashing\": %.2f, \"verify\": %.2f}, \"points2d\": %.0f, \"lines2d\": %.0f, "
+                "\"points3d\": %.0f, \"lines3d\": %.0f, \"median_t_err_mm\": %.3f, "
+                "\"median_r_err_deg\": %.3f}",
+                row.background.c_str(), row.occlusion.c_str(), row.scenes, row.objects, row.correct,
+                row.missed, row.false_alarms, Median(row.time_ms), Max(row.time_ms),
+                Median(row.features_ms), Median(row.stereo_ms), Median(row.hashing_ms),
+                Median(row.verify_ms), Median(row.points2d), Median(row.lines2d),
+                Median(row.points3d), Median(row.lines3d), Median(row.t_err_mm),
+                Median(row.r_err_deg));
+  return buffer;
+}
+
+int Fail(const char* message) {
+  std::fprintf(stderr, "stereohash bench recorded: %s\n", message);
+  return 1;
+}
+
+}  // namespace
+
+int RunBenchRecorded(int argc, char** argv) {
+  // argv[0] = "bench", argv[1] = "recorded", argv[2] = DIR.
+  if (argc >= 3 && (std::strcmp(argv[2], "--help") == 0 || std::strcmp(argv[2], "-h") == 0)) {
+    PrintHelp();
+    return 0;
+  }
+  if (argc < 3 || argv[2][0] == '-') {
+    std::fprintf(stderr,
+                 "stereohash bench recorded: the scene folder DIR comes first (see --help)\n");
+    return 2;
+  }
+  const std::string dir = argv[2];
+  const char* json_path = nullptr;
+  bool verbose = false, use_table_file = true;
+  RecognizeOptions options;
+  std::vector<const char*> settings;  // --set name=value, for exploring settings
+  for (int i = 3; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--verbose") == 0) {
+      verbose = true;
+      continue;
+    }
+    if (std::strcmp(argv[i], "--no-table") == 0) {
+      use_table_file = false;
+      continue;
+    }
+    const char *arg = nullptr, *value = nullptr;
+    int exit_code = 0;
+    if (!NextOption("bench recorded", argc, argv, PrintHelp, &i, &arg, &value, &exit_code)) {
+      return exit_code;
+    }
+    if (std::strcmp(arg, "--json") == 0) {
+      json_path = value;
+      continue;
+    }
+    if (std::strcmp(arg, "--set") == 0) {
+      settings.push_back(value);
+      continue;
+    }
+    const OptionResult common = ParseRecognizeOption("bench recorded", arg, value, &options);
+    if (common == OptionResult::kBadValue) return 2;
+    if (common == OptionResult::kNotMine) {
+      std::fprintf(stderr, "stereohash bench recorded: unknown option %s (see --help)\n", arg);
+      return 2;
+    }
+  }
+  std::printf("command: %s\n", CommandLine(argc, argv).c_str());
+
+  const Result<StereoCalibration> calib = LoadCalibration((dir + "/calib.yaml").c_str());
+  if (!calib.ok()) return Fail(calib.status().message());
+  TableChoice table;
+  std::string table_path;
+  if (options.table_path != nullptr) {
+    table_path = options.table_path;
+  } else if (use_table_file && IsFile(dir + "/table.yaml")) {
+    table_path = dir + "/table.yaml";
+  }
+  if (!table_path.empty()) {
+    const Result<RigidTransform> pose = LoadTablePose(table_path.c_str());
+    if (!pose.ok()) return Fail(pose.status().message());
+    table.present = true;
+    table.left_T_table = *pose;
+    table.source = table_path;
+  }
+  LoadedTables tables;
+  Status s = LoadTables(options.tables_path, &tables);
+  if (!s.ok()) return Fail(s.message());
+  std::vector<Model> models;
+  for (uint32_t m = 0; m < tables.view.model_count(); ++m) models.push_back(tables.view.model(m));
+
+  const std::vector<std::string> scenes = SceneFolders(dir);
+  if (scenes.empty()) {
+    return Fail(("no scene folders (with left.png, right.png, truth.json) in " + dir).c_str());
+  }
+  PipelineConfig config = MakePipelineConfig(options, table);
+  for (const char* setting : settings) {
+    if (!ApplyPipelineSetting(setting, &config)) {
+      std::fprintf(stderr, "stereohash bench recorded: unknown setting %s\n", setting);
+      return 2;
+    }
+  }
+  auto pipeline = std::make_unique<Pipeline>();
+  s = pipeline->Init(*calib, tables.view, config, NowNs);
+  if (!s.ok()) return Fail(s.message());
+
+  std::vector<Row> rows;
+  int vis_objects[kVisibilityBins] = {}, vis_correct[kVisibilityBins] = {};
+  MissCauses causes;
+  auto result = std::make_unique<PipelineResult>();
+  LoadedImage left, right;
+  std::string scene_json;
+  for (const std::string& name : scenes) {
+    const std::string base = dir + "/" + name + "/";
+    SceneTruth truth;
+    s = ParseTruth(base + "truth.json", tables.view, &truth);
+    if (s.ok()) s = LoadImage((base + "left.png").c_str(), "left", &left);
+    if (s.ok()) s = LoadImage((base + "right.png").c_str(), "right", &right);
+    if (s.ok()) s = pipeline->Process(left.view, right.view, options.budget_ms, result.get());
+    if (!s.ok()) return Fail((name + ": " + s.message()).c_str());
+
+    const std::vector<RecognizedPose> found = testing_support::PosesOf(*result);
+    const MatchCounts m =
+        MatchToTruth(models, truth.objects, found, kMaxPositionErrorMm, kMaxRotationErrorDeg);
+    auto it = std::find_if(rows.begin(), rows.end(), [&](const Row& r) {
+      return r.background == truth.background && r.occlusion == truth.occlusion;
+    });
+    if (it == rows.end()) {
+      rows.push_back(Row{});
+      it = rows.end() - 1;
+      it->background = truth.background;
+      it->occlusion = truth.occlusion;
+    }
+    Row& row = *it;
+    ++row.scenes;
+    row.objects += static_cast<int>(truth.objects.size());
+    row.correct += m.correct;
+    row.missed += m.missed;
+    row.false_alarms += m.false_alarms;
+    row.t_err_mm.insert(row.t_err_mm.end(), m.translation_errors_mm.begin(),
+                        m.translation_errors_mm.end());
+    row.r_err_deg.insert(row.r_err_deg.end(), m.rotation_errors_deg.begin(),
+                         m.rotation_errors_deg.end());
+    row.time_ms.push_back(result->time.total_ms);
+    row.features_ms.push_back(result->time.features_ms);
+    row.stereo_ms.push_back(result->time.stereo_ms);
+    row.hashing_ms.push_back(result->time.hashing_ms);
+    row.verify_ms.push_back(result->time.verify_ms);
+    row.points2d.push_back(float(result->points2d[0] + result->points2d[1]) * 0.5f);
+    row.lines2d.push_back(float(result->lines2d[0] + result->lines2d[1]) * 0.5f);
+    row.points3d.push_back(float(result->points3d));
+    row.lines3d.push_back(float(result->lines3d));
+    for (size_t i = 0; i < truth.objects.size(); ++i) {
+      const int bin = VisibilityBin(truth.visible[i]);
+      ++vis_objects[bin];
+      vis_correct[bin] += m.truth_found[i] ? 1 : 0;
+    }
+    if (verbose) {
+      std::printf("%s: %d of %zu correct, %d false, %.1f ms\n", name.c_str(), m.correct,
+                  truth.objects.size(), m.false_alarms, result->time.total_ms);
+      for (const RecognizedObject& o : result->objects) {
+        const std::vector<RecognizedPose> one = {{o.model, o.cam_T_model}};
+        if (MatchToTruth(models, truth.objects, one, kMaxPositionErrorMm, kMaxRotationErrorDeg)
+                .correct == 1) {
+          continue;
+        }
+        std::printf("  %s: false %s at (%.1f, %.1f, %.1f) mm (vote %.2f, verify %.2f %.2f)\n",
+                    name.c_str(), models[o.model].name, o.cam_T_model.t_mm.x(),
+                    o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote, o.verify_score[0],
+                    o.verify_score[1]);
+      }
+    }
+    ExplainMisses(models, truth.objects, *result, *pipeline, name.c_str(), verbose, &causes,
+                  kMaxPositionErrorMm, kMaxRotationErrorDeg);
+    char buffer[256];
+    std::snprintf(buffer, sizeof(buffer),
+                  "%s\n    {\"scene\": \"%s\", \"objects\": %zu, \"correct\": %d, "
+                  "\"false_alarms\": %d, \"total_ms\": %.2f}",
+                  scene_json.empty() ? "" : ",", name.c_str(), truth.objects.size(), m.correct,
+                  m.false_alarms, result->time.total_ms);
+    scene_json += buffer;
+  }
+
+  std::printf(
+      "\nRecorded scenes %s: %zu scenes; correct = same model, within %.0f mm and %.0f deg "
+      "(symmetry-aware);\n2-D counts per image (mean of left and right), counts and times "
+      "medians over the row; pose errors\nmedians over the correct objects; table: %s.\n\n",
+      dir.c_str(), scenes.size(), kMaxPositionErrorMm, kMaxRotationErrorDeg,
+      table.present ? table.source.c_str() : "none");
+  std::printf("%-6s %-7s %6s %7s %7s %6s %6s %8s %8s %6s %6s %6s %6s %7s %7s\n", "backgr", "occlus",
+              "scenes", "objects", "correct", "missed", "false", "med ms", "worst ms", "2D pts",
+              "2D lin", "3D pts", "3D lin", "t mm", "R deg");
+  Row total;
+  total.background = "all";
+  std::string rows_json;
+  for (const Row& row : rows) {
+    PrintRow(row);
+    total.Add(row);
+    rows_json += (rows_json.empty() ? "\n    " : ",\n    ") + RowJson(row);
+  }
+  PrintRow(total);
+  const int reported = total.correct + total.false_alarms;
+  const double correct_pct = total.objects ? 100.0 * total.correct / total.objects : 0.0;
+  const double false_pct = reported ? 100.0 * total.false_alarms / reported : 0.0;
+  std::printf(
+      "\ncorrect %.1f %% of objects, false alarms %.1f %% of reported objects; median error "
+      "%.2f mm / %.2f deg;\nframe median %.1f ms, worst %.1f ms; median stage times: features "
+      "%.1f, stereo %.1f, hashing %.1f, verify %.1f ms\n",
+      correct_pct, false_pct, Median(total.t_err_mm), Median(total.r_err_deg),
+      Median(total.time_ms), Max(total.time_ms), Median(total.features_ms), Median(total.stereo_ms),
+      Median(total.hashing_ms), Median(total.verify_ms));
+  std::printf("recall by visibility:");
+  std::string vis_json;
+  for (int b = 0; b < kVisibilityBins; ++b) {
+    std::printf("%s %s %d / %d (%.1f %%)", b ? "," : "", kVisibilityNames[b], vis_correct[b],
+                vis_objects[b], vis_objects[b] ? 100.0 * vis_correct[b] / vis_objects[b] : 0.0);
+    char buffer[160];
+    std::snprintf(buffer, sizeof(buffer),
+                  "%s{\"visible\": \"%s\", \"objects\": %d, \"correct\": %d}", b ? ", " : "",
+                  kVisibilityNames[b], vis_objects[b], vis_correct[b]);
+    vis_json += buffer;
+  }
+  std::printf(
+      "\nmissed %d: at the true pose %d fail the image verification (edges too weak or hidden), "
+      "%d have under 30 %% 3-D support (stereo lost them), %d were not reached by the search\n",
+      total.missed, causes.no_edges, causes.no_3d, causes.not_searched);
+
+  if (json_path != nullptr) {
+    char summary[768];
+    std::snprintf(
+        summary, sizeof(summary),
+        "  \"summary\": {\"scenes\": %zu, \"objects\": %d, \"correct\": %d, \"missed\": %d, "
+        "\"false_alarms\": %d, \"correct_pct\": %.2f, \"false_alarm_pct\": %.2f, "
+        "\"median_t_err_mm\": %.3f, \"median_r_err_deg\": %.3f, \"median_ms\": %.2f, "
+        "\"worst_ms\": %.2f, \"miss_causes\": {\"no_edges\": %d, \"no_3d\": %d, "
+        "\"not_searched\": %d}},\n",
+        scenes.size(), total.objects, total.correct, total.missed, total.false_alarms, correct_pct,
+        false_pct, Median(total.t_err_mm), Median(total.r_err_deg), Median(total.time_ms),
+        Max(total.time_ms), causes.no_edges, causes.no_3d, causes.not_searched);
+    std::string json = "{\n  \"command\": \"" + CommandLine(argc, argv) + "\",\n";
+    json += "  \"table\": \"" + (table.present ? table.source : std::string("none")) + "\",\n";
+    json += summary;
+    json += "  \"visibility\": [" + vis_json + "],\n";
+    json += "  \"rows\": [" + rows_json + "\n  ],\n";
+    json += "  \"scenes\": [" + scene_json + "\n  ]\n}\n";
+    if (!WriteTextFile(json_path, json)) {
+      std::fprintf(stderr, "stereohash bench recorded: cannot write %s\n", json_path);
+      return 1;
+    }
+  }
+  return 0;
+}
+
+}  // namespace sh::tools

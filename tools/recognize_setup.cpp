@@ -1,0 +1,242 @@
+#include "tools/recognize_setup.hpp"
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "hal/sim/image_files.hpp"
+#include "recog/camera/calibration_yaml.hpp"
+#include "recog/camera/table_yaml.hpp"
+#include "recog/stereo/working_volume.hpp"
+
+namespace sh::tools {
+
+const char kRecognizeOptionsHelp[] =
+    "  --tables      hash table file (default: the built-in hash fn 5 tables)\n"
+    "  --table       table.yaml: pose of the table the objects stand on (left camera);\n"
+    "                bounds the working volume to the space over it\n"
+    "  --budget-ms   time limit for the frame (default 0: none)\n"
+    "  --background  force a detector preset: dark or light (default: automatic)\n";
+
+int64_t NowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+OptionResult ParseRecognizeOption(const char* command, const char* option, const char* value,
+                                  RecognizeOptions* options) {
+  if (std::strcmp(option, "--tables") == 0) {
+    options->tables_path = value;
+  } else if (std::strcmp(option, "--table") == 0) {
+    options->table_path = value;
+  } else if (std::strcmp(option, "--budget-ms") == 0) {
+    char* end = nullptr;
+    const double v = std::strtod(value, &end);
+    if (end == value || *end != '\0' || !std::isfinite(v) || v < 0 || v > 1e6) {
+      std::fprintf(stderr, "stereohash %s: --budget-ms needs a number 0..1e6, got %s\n", command,
+                   value);
+      return OptionResult::kBadValue;
+    }
+    options->budget_ms = static_cast<float>(v);
+  } else if (std::strcmp(option, "--background") == 0) {
+    if (std::strcmp(value, "dark") != 0 && std::strcmp(value, "light") != 0) {
+      std::fprintf(stderr, "stereohash %s: --background is dark or light, got %s\n", command,
+                   value);
+      return OptionResult::kBadValue;
+    }
+    options->background = value;
+  } else {
+    return OptionResult::kNotMine;
+  }
+  return OptionResult::kTaken;
+}
+
+namespace {
+
+// Reads a whole small text file; kOutOfRange past `limit` bytes.
+Status ReadSmallFile(const char* path, const char* what, size_t limit, std::vector<char>* text) {
+  std::FILE* f = std::fopen(path, "rb");
+  if (f == nullptr) {
+    return Status::Error(StatusCode::kNotFound, "cannot open %s %s: %s", what, path,
+                         std::strerror(errno));
+  }
+  text->assign(limit + 1, 0);
+  const size_t n = std::fread(text->data(), 1, text->size(), f);
+  const bool read_error = std::ferror(f) != 0;
+  std::fclose(f);
+  if (read_error) return Status::Error(StatusCode::kDataLoss, "cannot read %s %s", what, path);
+  if (n > limit) {
+    return Status::Error(StatusCode::kOutOfRange, "%s %s is larger than %zu bytes", what, path,
+                         limit);
+  }
+  text->resize(n);
+  return Status::Ok();
+}
+
+// A string as a JSON string literal's contents: quotes, backslashes and control characters
+// escaped.
+std::string JsonEscape(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char code[8];
+      std::snprintf(code, sizeof(code), "\\u%04x", c);
+      out += code;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Result<StereoCalibration> LoadCalibration(const char* path) {
+  std::vector<char> text;
+  SH_RETURN_IF_ERROR(ReadSmallFile(path, "calibration", kMaxCalibrationYamlBytes, &text));
+  Result<StereoCalibration> calib = ParseCalibrationYaml(text.data(), text.size());
+  if (!calib.ok()) {
+    return Status::Error(calib.status().code(), "calibration %s: %s", path,
+                         calib.status().message());
+  }
+  return calib;
+}
+
+Result<RigidTransform> LoadTablePose(const char* path) {
+  std::vector<char> text;
+  SH_RETURN_IF_ERROR(ReadSmallFile(path, "table file", kMaxTableYamlBytes, &text));
+  Result<RigidTransform> pose = ParseTableYaml(text.data(), text.size());
+  if (!pose.ok()) {
+    return Status::Error(pose.status().code(), "table file %s: %s", path, pose.status().message());
+  }
+  return pose;
+}
+
+Status LoadImage(const char* path, const char* which, LoadedImage* out) {
+  out->pixels.assign(kMaxImagePixels, 0);
+  const Result<hal::ImageInfo> info =
+      hal::ReadImageFile(path, hal::PixelFormat::kGray8, out->pixels.data(), out->pixels.size());
+  if (!info.ok()) {
+    return Status::Error(info.status().code(), "%s image %s: %s", which, path,
+                         info.status().message());
+  }
+  out->view = {out->pixels.data(), info->width, info->height, info->width};
+  return Status::Ok();
+}
+
+Status LoadTables(const char* path, LoadedTables* out) {
+  if (path != nullptr) {
+    const Status s = out->mapped.Open(path);
+    if (!s.ok()) return Status::Error(s.code(), "tables %s: %s", path, s.message());
+    out->view = out->mapped.view();
+    return Status::Ok();
+  }
+  const Result<TableView> builtin = OpenDefaultTable();
+  if (!builtin.ok()) {
+    return Status::Error(builtin.status().code(), "built-in tables: %s",
+                         builtin.status().message());
+  }
+  out->view = *builtin;
+  return Status::Ok();
+}
+
+PipelineConfig MakePipelineConfig(const RecognizeOptions& options, const TableChoice& table) {
+  PipelineConfig config = options.background != nullptr && options.background[0] == 'l'
+                              ? PipelineConfig::LightBackground()
+                              : PipelineConfig::DarkBackground();
+  if (table.present) config.stereo.volume = WorkingVolume::OverTable(table.left_T_table);
+  return config;
+}
+
+bool ApplyPipelineSetting(const char* setting, PipelineConfig* c) {
+  const char* eq = std::strchr(setting, '=');
+  if (eq == nullptr) return false;
+  const std::string name(setting, eq);
+  const float v = static_cast<float>(std::atof(eq + 1));
+  if (name == "verify.min_fraction") {
+    c->verify.min_fraction = v;
+  } else if (name == "verify.max_distance_px") {
+    c->verify.max_distance_px = v;
+  } else if (name == "verify.max_angle_deg") {
+    c->verify.max_angle_deg = v;
+  } else if (name == "verify.min_samples") {
+    c->verify.min_samples = static_cast<int>(v);
+  } else if (name == "recognizer.vote_threshold") {
+    c->recognizer.vote_threshold = v;
+  } else if (name == "recognizer.max_fruitless_bases") {
+    c->recognizer.max_fruitless_bases = static_cast<uint32_t>(v);
+  } else if (name == "recognizer.sigma_mm") {
+    c->recognizer.sigma_point_mm = c->recognizer.sigma_line_mm = v;
+  } else if (name == "recognizer.hypotheses_per_basis") {
+    c->recognizer.hypotheses_per_basis = static_cast<int>(v);
+  } else if (name == "stereo.epipolar_tolerance_px") {
+    c->stereo.epipolar_tolerance_px = v;
+  } else if (name == "features.corner_sigma_px") {
+    c->features.corners.sigma_px = v;
+  } else if (name == "features.corner_threshold") {
+    c->features.corners.threshold = v;
+  } else if (name == "features.canny_sigma_px") {
+    c->features.canny.sigma_px = v;
+  } else if (name == "features.canny_low") {
+    c->features.canny.low_threshold = v;
+  } else if (name == "features.canny_high") {
+    c->features.canny.high_threshold = v;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+std::string ResultJson(const TableView& tables, const PipelineResult& r, const TableChoice& table) {
+  std::string json = "{\"objects\": [";
+  char buffer[1024];
+  for (size_t i = 0; i < r.objects.size(); ++i) {
+    const RecognizedObject& o = r.objects[i];
+    const Eigen::Matrix3f& R = o.cam_T_model.R;
+    const Eigen::Vector3f& t = o.cam_T_model.t_mm;
+    std::snprintf(buffer, sizeof(buffer),
+                  "%s{\"model\": \"%s\", \"R\": [[%.7f, %.7f, %.7f], [%.7f, %.7f, %.7f], [%.7f, "
+                  "%.7f, %.7f]], \"t\": [%.4f, %.4f, %.4f], \"vote\": %.4f, \"verify\": [%.4f, "
+                  "%.4f]}",
+                  i ? ", " : "", tables.model(o.model).name, R(0, 0), R(0, 1), R(0, 2), R(1, 0),
+                  R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z(), o.vote,
+                  o.verify_score[0], o.verify_score[1]);
+    json += buffer;
+  }
+  std::snprintf(buffer, sizeof(buffer),
+                "], \"features\": {\"points2d\": [%u, %u], \"lines2d\": [%u, %u], \"points3d\": "
+                "%u, \"lines3d\": %u}, \"recognition\": {\"scene_bases_tried\": %u, "
+                "\"hypotheses\": %u, \"verifications\": %u, \"budget_exhausted\": %s}, ",
+                r.points2d[0], r.points2d[1], r.lines2d[0], r.lines2d[1], r.points3d, r.lines3d,
+                r.recognition.scene_bases_tried, r.recognition.hypotheses,
+                r.recognition.verifications, r.recognition.budget_exhausted ? "true" : "false");
+  json += buffer;
+  if (table.present) {
+    const Eigen::Matrix3f& R = table.left_T_table.R;
+    const Eigen::Vector3f& t = table.left_T_table.t_mm;
+    std::snprintf(buffer, sizeof(buffer),
+                  "\"table\": {\"source\": \"file\", \"file\": \"%s\", \"R\": [[%.7f, %.7f, "
+                  "%.7f], [%.7f, %.7f, %.7f], [%.7f, %.7f, %.7f]], \"t\": [%.4f, %.4f, %.4f]}, ",
+                  JsonEscape(table.source).c_str(), R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1),
+                  R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z());
+    json += buffer;
+  } else {
+    json += "\"table\": {\"source\": \"none\"}, ";
+  }
+  std::snprintf(buffer, sizeof(buffer),
+                "\"time_ms\": {\"features\": %.3f, \"stereo\": %.3f, \"hashing\": %.3f, "
+                "\"verify\": %.3f, \"total\": %.3f}}\n",
+                r.time.features_ms, r.time.stereo_ms, r.time.hashing_ms, r.time.verify_ms,
+                r.time.total_ms);
+  json += buffer;
+  return json;
+}
+
+}  // namespace sh::tools

@@ -1,0 +1,76 @@
+// What `stereohash recognize` and `stereohash bench recorded` share: the recognition options,
+// loading the calibration, table pose, images and hash tables, the pipeline configuration made
+// from them, and the JSON form of a result. One place, so that the bench runs the pipeline
+// exactly as `recognize` does.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "recog/base/status.hpp"
+#include "recog/camera/camera_model.hpp"
+#include "recog/geometry/rigid_transform.hpp"
+#include "recog/image/image.hpp"
+#include "recog/pipeline/pipeline.hpp"
+#include "tables/table_file.hpp"
+#include "tables/table_view.hpp"
+
+namespace sh::tools {
+
+struct RecognizeOptions {
+  const char* tables_path = nullptr;  // hash tables (default: the built-in hash fn 5 tables)
+  const char* table_path = nullptr;   // table.yaml: the table's pose in the left camera
+  float budget_ms = 0;                // 0: no time limit
+  const char* background = nullptr;   // "dark" or "light" preset; nullptr: automatic
+};
+
+// Help lines of the options above, for the commands' --help.
+extern const char kRecognizeOptionsHelp[];
+
+enum class OptionResult { kTaken, kNotMine, kBadValue };
+
+// One `--option value` of the recognition options; kBadValue prints a message naming `command`.
+OptionResult ParseRecognizeOption(const char* command, const char* option, const char* value,
+                                  RecognizeOptions* options);
+
+Result<StereoCalibration> LoadCalibration(const char* path);
+Result<RigidTransform> LoadTablePose(const char* path);
+
+struct LoadedImage {
+  std::vector<uint8_t> pixels;
+  ConstGrayView view;
+};
+// Reads a PNG or PGM (grey or colour, converted to grey); `which` ("left") goes into messages.
+Status LoadImage(const char* path, const char* which, LoadedImage* out);
+
+// The hash tables: a mapped file or the built-in ones.
+struct LoadedTables {
+  MappedTable mapped;
+  TableView view;
+};
+Status LoadTables(const char* path, LoadedTables* out);
+
+// The table pose in use and where it came from.
+struct TableChoice {
+  bool present = false;
+  RigidTransform left_T_table;
+  std::string source;  // file name, or empty
+};
+
+// The pipeline configuration for the options: the preset (or the automatic default) and, with
+// a table pose, the working volume over the table.
+PipelineConfig MakePipelineConfig(const RecognizeOptions& options, const TableChoice& table);
+
+// `--set name=value` of the bench commands: one of the settings worth exploring (verify.*,
+// recognizer.*, stereo.epipolar_tolerance_px, features.*). False for an unknown name.
+bool ApplyPipelineSetting(const char* setting, PipelineConfig* config);
+
+// {"objects": [...], "features": {...}, "recognition": {...}, "time_ms": {...}, "table": ...}
+std::string ResultJson(const TableView& tables, const PipelineResult& result,
+                       const TableChoice& table);
+
+int64_t NowNs();
+
+}  // namespace sh::tools

@@ -1,0 +1,32 @@
+#include "tools/report_util.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace sh::tools {
+
+float Median(std::vector<float> v) {
+  if (v.empty()) return 0.0f;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5f * (v[n / 2 - 1] + v[n / 2]);
+}
+
+float Max(const std::vector<float>& v) {
+  return v.empty() ? 0.0f : *std::max_element(v.begin(), v.end());
+}
+
+std::string CommandLine(int argc, char** argv) {
+  std::string s = "stereohash";
+  for (int i = 0; i < argc; ++i) s += std::string(" ") + argv[i];
+  return s;
+}
+
+bool WriteTextFile(const char* path, const std::string& text) {
+  std::FILE* f = std::fopen(path, "wb");
+  if (f == nullptr) return false;
+  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  return std::fclose(f) == 0 && ok;
+}
+
+}  // namespace sh::tools
