@@ -5,75 +5,16 @@
 #include <cstdint>
 #include <cstring>
 
+#include "recog/model/obj_text.hpp"
+
 namespace sh {
 namespace {
 
-// ---------------------------------------------------------------------------------------------
-// Tokenising. The text is not NUL-terminated, so every read is bounded by `end`.
-
-bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-bool IsDigit(char c) { return c >= '0' && c <= '9'; }
-
-void SkipSpaces(const char*& p, const char* end) {
-  while (p < end && IsSpace(*p)) ++p;
-}
-
-bool AtTokenEnd(const char* p, const char* end) { return p == end || IsSpace(*p); }
-
-// Parses a decimal floating-point number ([+-]digits[.digits][(e|E)[+-]digits]) without the
-// C library (strtod needs a NUL terminator and depends on the locale).
-enum class NumberError { kNone, kMissing, kMalformed, kNonFinite };
-
-NumberError ParseDouble(const char*& p, const char* end, double* value) {
-  SkipSpaces(p, end);
-  if (p == end) return NumberError::kMissing;
-  const char* start = p;
-  bool negative = false;
-  if (*p == '+' || *p == '-') negative = *p++ == '-';
-  if (p < end && (*p == 'n' || *p == 'N' || *p == 'i' || *p == 'I')) {
-    while (p < end && !IsSpace(*p)) ++p;
-    return NumberError::kNonFinite;
-  }
-  double mantissa = 0;
-  int exponent10 = 0;
-  int digits = 0;
-  while (p < end && IsDigit(*p)) {
-    mantissa = mantissa * 10 + (*p++ - '0');
-    ++digits;
-  }
-  if (p < end && *p == '.') {
-    ++p;
-    while (p < end && IsDigit(*p)) {
-      mantissa = mantissa * 10 + (*p++ - '0');
-      --exponent10;
-      ++digits;
-    }
-  }
-  if (digits == 0) {
-    p = start;
-    while (p < end && !IsSpace(*p)) ++p;
-    return NumberError::kMalformed;
-  }
-  if (p < end && (*p == 'e' || *p == 'E')) {
-    ++p;
-    bool exp_negative = false;
-    if (p < end && (*p == '+' || *p == '-')) exp_negative = *p++ == '-';
-    int e = 0;
-    int exp_digits = 0;
-    while (p < end && IsDigit(*p)) {
-      if (e < 100000) e = e * 10 + (*p - '0');  // saturate: anything this big is non-finite
-      ++p;
-      ++exp_digits;
-    }
-    if (exp_digits == 0) return NumberError::kMalformed;
-    exponent10 += exp_negative ? -e : e;
-  }
-  if (!AtTokenEnd(p, end)) return NumberError::kMalformed;
-  const double v = mantissa * std::pow(10.0, exponent10);
-  if (!std::isfinite(v)) return NumberError::kNonFinite;
-  *value = negative ? -v : v;
-  return NumberError::kNone;
-}
+// Tokenising (obj_text.hpp).
+using obj::IsSpace;
+using obj::NumberError;
+using obj::ParseDouble;
+using obj::SkipSpaces;
 
 // ---------------------------------------------------------------------------------------------
 // Working data of one parse (about 40 KB, on the stack; model loading is not per-frame).
@@ -140,26 +81,16 @@ Status ParseText(const char* text, size_t len, ObjMesh& mesh) {
         SkipSpaces(p, line_end);
         if (p == line_end) break;
         // Token "v", "v/vt", "v/vt/vn" or "v//vn": only v matters.
-        bool negative = false;
-        if (*p == '-' || *p == '+') negative = *p++ == '-';
-        long index = 0;
-        int digits = 0;
-        while (p < line_end && IsDigit(*p)) {
-          if (index < 1000000) index = index * 10 + (*p - '0');
-          ++p;
-          ++digits;
-        }
-        if (digits == 0 || (p < line_end && !IsSpace(*p) && *p != '/')) {
+        long index = 0, vt = 0;
+        if (obj::ParseFaceVertex(p, line_end, &index, &vt) != NumberError::kNone) {
           return Status::Error(StatusCode::kInvalidArgument,
                                "OBJ line %d: malformed face vertex index", line);
         }
-        while (p < line_end && !IsSpace(*p)) ++p;
-        // Negative indices count back from the latest vertex (-1 is the last one).
-        const long resolved = negative ? mesh.n_vertices - index : index - 1;
-        if (index == 0 || resolved < 0 || resolved >= mesh.n_vertices) {
+        const long resolved = obj::ResolveObjIndex(index, mesh.n_vertices);
+        if (resolved < 0) {
           return Status::Error(StatusCode::kInvalidArgument,
-                               "OBJ line %d: face refers to vertex %s%ld but %d are defined", line,
-                               negative ? "-" : "", index, mesh.n_vertices);
+                               "OBJ line %d: face refers to vertex %ld but %d are defined", line,
+                               index, mesh.n_vertices);
         }
         if (mesh.n_half_edges - first >= kMaxObjPolygonVertices ||
             mesh.n_half_edges >= kMaxObjHalfEdges) {
