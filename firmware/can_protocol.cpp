@@ -115,11 +115,7 @@ Status PositionToRaw(double mm, const char* axis, int32_t* raw) {
   return Status::Ok();
 }
 
-struct EncodedPose {
-  int32_t t_raw[3];
-  int16_t q_raw[4];
-  uint16_t score_raw;
-};
+}  // namespace
 
 Status EncodePose(const ObjectPose& pose, size_t index, EncodedPose* out) {
   if (pose.model_id > kMaxModelId) {
@@ -155,8 +151,6 @@ Status EncodePose(const ObjectPose& pose, size_t index, EncodedPose* out) {
   out->score_raw = static_cast<uint16_t>(std::lround(pose.score / kScorePerLsb));
   return Status::Ok();
 }
-
-}  // namespace
 
 Status CheckNodeId(uint8_t node_id) {
   if (node_id < kNodeIdMin || node_id > kNodeIdMax) {
@@ -441,6 +435,10 @@ Status EncodeResultSet(const ResultSet& set, uint8_t node_id, Vector<CanFrame>& 
     return Status::Error(StatusCode::kOutOfRange, "result status %u unknown",
                          static_cast<unsigned>(set.status));
   }
+  if (set.output_frame > kMaxOutputFrame) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "output frame %u unknown (0 camera, 1 table, 2 robot)", set.output_frame);
+  }
   const size_t needed = 2 + kObjectParts * set.object_count;
   if (frames.capacity() - frames.size() < needed) {
     return Status::Error(StatusCode::kResourceExhausted,
@@ -494,10 +492,11 @@ Status EncodeResultSet(const ResultSet& set, uint8_t node_id, Vector<CanFrame>& 
       (void)frames.push_back(f);
     }
   }
-  CanFrame end = MakeFrame(kCobResultEnd + node_id, 4);
+  CanFrame end = MakeFrame(kCobResultEnd + node_id, kResultEndLength);
   PutU16(&end.data[0], set.sequence);
   end.data[2] = set.object_count;
   end.data[3] = crc;
+  end.data[4] = set.output_frame;
   (void)frames.push_back(end);
   return Status::Ok();
 }
@@ -577,10 +576,12 @@ Result<bool> ResultAssembler::Feed(const CanFrame& frame) {
   if (frame.id == kCobResultEnd + node_id_) {
     if (!in_set_) return Status::Error(StatusCode::kDataLoss, "result end frame without a header");
     in_set_ = false;
-    if (frame.len != 4) {
-      return Status::Error(StatusCode::kInvalidArgument, "result end has %u bytes, expected 4",
-                           frame.len);
+    // 4 bytes from firmware that predates the output frame byte (camera frame).
+    if (frame.len != kResultEndLength && frame.len != 4) {
+      return Status::Error(StatusCode::kInvalidArgument, "result end has %u bytes, expected %u",
+                           frame.len, kResultEndLength);
     }
+    set_.output_frame = frame.len > 4 ? frame.data[4] : 0;
     if (GetU16(&frame.data[0]) != set_.sequence || frame.data[2] != set_.object_count ||
         next_object_frame_ != kObjectParts * set_.object_count) {
       return Status::Error(StatusCode::kDataLoss,

@@ -171,8 +171,24 @@ struct ResultSet {
   ResultStatus status = ResultStatus::kOk;
   uint32_t processing_time_us = 0;  // trigger to result; sent in 0.1 ms, saturating at 6553.5 ms
   uint8_t object_count = 0;
+  // Frame of the poses (end frame byte 4): 0 left camera, 1 table, 2 robot base. The field names
+  // of ObjectPose say camera; the pose is in this frame.
+  uint8_t output_frame = 0;
   ObjectPose objects[kMaxResultObjects];
 };
+
+// The stream's raw fields of one pose, as the object frames carry them (also the values of the
+// PDO answers and the dictionary's result records).
+struct EncodedPose {
+  int32_t t_raw[3];    // 0.01 mm
+  int16_t q_raw[4];    // Q2.14, w >= 0
+  uint16_t score_raw;  // 0.0001
+};
+// Range checks and rounding of one pose (`index` names the object in messages).
+Status EncodePose(const ObjectPose& pose, size_t index, EncodedPose* out);
+
+inline constexpr uint8_t kResultEndLength = 5;
+inline constexpr uint8_t kMaxOutputFrame = 2;  // sequence u16, count u8, CRC-8, output frame
 
 // Appends the frames of one set to `frames` (header, 4 per object, end frame) in transmission
 // order. Errors: kOutOfRange (count, model id, score, position), kInvalidArgument (non-unit or

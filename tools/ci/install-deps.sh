@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs what building and testing stereohash needs on Debian 12: the host toolchain and
 # libraries, the python peers used by the tests, clang for the fuzzers and, with --cross, the
-# aarch64 cross toolchain with arm64 multiarch libraries and qemu to run the board build.
-# Does nothing for packages already installed.
+# aarch64 cross toolchain with arm64 multiarch libraries and qemu to run the board build, and
+# node-canopen (npm `canopen`, pinned) for the CANopen manager tests. Does nothing for packages
+# already installed. Without network access to the npm registry the node-canopen tests skip.
 set -euo pipefail
 
 cross=0
@@ -20,6 +21,11 @@ if [ "$(id -u)" != 0 ]; then
   sudo_cmd=(sudo)
 fi
 
+# Node.js for the node-canopen peer: Debian's nodejs and npm unless a node is already there (a
+# NodeSource node ships its own npm and conflicts with Debian's).
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  host_packages+=(nodejs npm)
+fi
 packages=("${host_packages[@]}")
 if [ "$cross" = 1 ]; then
   if ! dpkg --print-foreign-architectures | grep -qx arm64; then
@@ -34,9 +40,27 @@ for p in "${packages[@]}"; do
 done
 if [ "${#missing[@]}" -eq 0 ]; then
   echo "install-deps: all ${#packages[@]} packages present"
-  exit 0
+else
+  echo "install-deps: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -q
+  "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
-echo "install-deps: installing ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-"${sudo_cmd[@]}" apt-get update -q
-"${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+
+# node-canopen, pinned, into the folder tests/node/CMakeLists.txt reads (STEREOHASH_NODE_MODULES).
+# Its dependency node-crc compiles a small addon with node-gyp (g++ and the node headers).
+canopen_version=6.2.1
+node_dir=${STEREOHASH_NODE_DIR:-$HOME/.cache/stereohash/node}
+installed=$(node -p "require('$node_dir/node_modules/canopen/package.json').version" 2>/dev/null || true)
+if [ "$installed" = "$canopen_version" ] && node -e "require('$node_dir/node_modules/canopen')" 2>/dev/null; then
+  echo "install-deps: node-canopen $canopen_version present in $node_dir"
+else
+  mkdir -p "$node_dir"
+  if npm install --prefix "$node_dir" --no-save --no-audit --no-fund "canopen@$canopen_version" &&
+     node -e "require('$node_dir/node_modules/canopen')"; then
+    echo "install-deps: node-canopen $canopen_version installed in $node_dir"
+  else
+    echo "install-deps: WARNING: node-canopen $canopen_version could not be installed (npm registry" \
+         "unreachable?); the node-canopen tests will skip" >&2
+  fi
+fi
