@@ -4,27 +4,11 @@
 #include <cstdint>
 #include <limits>
 
+#include "firmware/le_bytes.hpp"
 #include "recog/base/fixed_point.hpp"
 
 namespace sh::protocol {
 namespace {
-
-void PutU16(uint8_t* p, uint16_t v) {
-  p[0] = static_cast<uint8_t>(v);
-  p[1] = static_cast<uint8_t>(v >> 8);
-}
-void PutU32(uint8_t* p, uint32_t v) {
-  for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
-}
-uint16_t GetU16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | p[1] << 8); }
-uint32_t GetU32(const uint8_t* p) {
-  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
-         static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
-}
-// Two's complement reinterpretation; well defined through memcpy-free conversion in C++17 for
-// values in range because the unsigned value is converted modulo 2^N by the casts below.
-int16_t GetI16(const uint8_t* p) { return static_cast<int16_t>(GetU16(p)); }
-int32_t GetI32(const uint8_t* p) { return static_cast<int32_t>(GetU32(p)); }
 
 CanFrame MakeFrame(uint32_t id, uint8_t len) {
   CanFrame f;

@@ -1,7 +1,12 @@
 #include "firmware/canopen/lss_slave.hpp"
 
+#include "firmware/le_bytes.hpp"
+
 namespace sh::canopen {
 namespace {
+
+using protocol::GetU32;
+using protocol::PutU32;
 
 // Command specifiers (byte 0).
 constexpr uint8_t kSwitchGlobal = 0x04;
@@ -28,14 +33,6 @@ constexpr uint8_t kLssNodeIdOutOfRange = 1;
 constexpr uint8_t kLssBitTimingNotSupported = 1;
 constexpr uint8_t kLssStoreNotSupported = 1;
 constexpr uint8_t kLssStoreAccessError = 2;
-
-uint32_t GetU32(const uint8_t* p) {
-  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
-         static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
-}
-void PutU32(uint8_t* p, uint32_t v) {
-  for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
-}
 
 bool ValidNodeId(uint8_t id) { return id >= 1 && id <= 127; }
 

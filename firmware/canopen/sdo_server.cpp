@@ -2,8 +2,14 @@
 
 #include <cstring>
 
+#include "firmware/le_bytes.hpp"
+
 namespace sh::canopen {
 namespace {
+
+using protocol::GetU16;
+using protocol::GetU32;
+using protocol::PutU32;
 
 // Command specifiers (byte 0, bits 7..5) of client requests and server responses.
 constexpr uint8_t kCcsDownloadSegment = 0;
@@ -21,15 +27,6 @@ constexpr uint8_t kScsInitiateDownload = 3 << 5;
 constexpr uint8_t kScsAbort = 4 << 5;
 
 constexpr size_t kSegmentBytes = 7;
-
-uint16_t GetU16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | p[1] << 8); }
-uint32_t GetU32(const uint8_t* p) {
-  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
-         static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
-}
-void PutU32(uint8_t* p, uint32_t v) {
-  for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
-}
 
 }  // namespace
 
