@@ -420,8 +420,10 @@ Status EncodeResultSet(const ResultSet& set, uint8_t node_id, Vector<CanFrame>& 
                          static_cast<unsigned>(set.status));
   }
   if (set.output_frame > kMaxOutputFrame) {
-    return Status::Error(StatusCode::kOutOfRange,
-                         "output frame %u unknown (0 camera, 1 table, 2 robot)", set.output_frame);
+    return Status::Error(
+        StatusCode::kOutOfRange,
+        "output frame %u unknown (0 camera, 1 table, 2 robot base, 3 robot flange)",
+        set.output_frame);
   }
   const size_t needed = 2 + kObjectParts * set.object_count;
   if (frames.capacity() - frames.size() < needed) {

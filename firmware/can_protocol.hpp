@@ -171,8 +171,8 @@ struct ResultSet {
   ResultStatus status = ResultStatus::kOk;
   uint32_t processing_time_us = 0;  // trigger to result; sent in 0.1 ms, saturating at 6553.5 ms
   uint8_t object_count = 0;
-  // Frame of the poses (end frame byte 4): 0 left camera, 1 table, 2 robot base. The field names
-  // of ObjectPose say camera; the pose is in this frame.
+  // Frame of the poses (end frame byte 4): 0 left camera, 1 table, 2 robot base, 3 robot flange.
+  // The field names of ObjectPose say camera; the pose is in this frame.
   uint8_t output_frame = 0;
   ObjectPose objects[kMaxResultObjects];
 };
@@ -188,7 +188,7 @@ struct EncodedPose {
 Status EncodePose(const ObjectPose& pose, size_t index, EncodedPose* out);
 
 inline constexpr uint8_t kResultEndLength = 5;
-inline constexpr uint8_t kMaxOutputFrame = 2;  // sequence u16, count u8, CRC-8, output frame
+inline constexpr uint8_t kMaxOutputFrame = 3;  // sequence u16, count u8, CRC-8, output frame
 
 // Appends the frames of one set to `frames` (header, 4 per object, end frame) in transmission
 // order. Errors: kOutOfRange (count, model id, score, position), kInvalidArgument (non-unit or

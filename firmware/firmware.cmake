@@ -3,10 +3,13 @@
 add_library(stereohash_fw_core STATIC
   ${CMAKE_CURRENT_LIST_DIR}/fw_config.cpp
   ${CMAKE_CURRENT_LIST_DIR}/firmware_core.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/canopen_node.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/output_frame.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/node_id_file.cpp
   ${CMAKE_CURRENT_LIST_DIR}/data_source.cpp
   ${CMAKE_CURRENT_LIST_DIR}/realtime.cpp
   ${CMAKE_CURRENT_LIST_DIR}/sd_notify.cpp)
-target_link_libraries(stereohash_fw_core PUBLIC stereohash_can_protocol stereohash_hal_can
+target_link_libraries(stereohash_fw_core PUBLIC stereohash_can_protocol stereohash_canopen stereohash_hal_can
   stereohash_hal_gpio stereohash_hal_camera stereohash_tables stereohash_default_tables
   stereohash_camera stereohash_embedded_flags Threads::Threads)
 

@@ -6,6 +6,7 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "firmware/output_frame.hpp"
 #include "firmware/realtime.hpp"
 
 namespace sh::fw {
@@ -51,7 +52,8 @@ Status FirmwareCore::Start(const CoreConfig& config, const CoreDevices& devices)
                          "firmware core needs a CAN bus, a camera, a recognition and data");
   }
   SH_RETURN_IF_ERROR(CheckNodeId(config.node_id));
-  if (config.heartbeat_ms < 10 || config.capture_timeout_ms <= 0) {
+  if ((config.heartbeat_ms != 0 && config.heartbeat_ms < 10) || config.heartbeat_ms > 10000 ||
+      config.capture_timeout_ms <= 0) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "heartbeat period %u ms or capture timeout %d ms out of range",
                          config.heartbeat_ms, config.capture_timeout_ms);
@@ -59,8 +61,19 @@ Status FirmwareCore::Start(const CoreConfig& config, const CoreDevices& devices)
   config_ = config;
   dev_ = devices;
   node_ = config.node_id;
+  heartbeat_ms_ = config.heartbeat_ms;
   budget_ms_ = config.budget_ms;
   free_run_dhz_ = config.free_run_dhz;
+  model_mask_ = config.model_mask;
+  CanopenDeviceInfo info;
+  info.node_id = config.node_id;
+  info.serial_number = config.serial_number;
+  info.hardware_version = config.hardware_version;
+  info.output_frame = config.output_frame;
+  info.lss_store = devices.lss_store;
+  CanopenSettings settings = CurrentSettings();
+  settings.result_mode = config.result_mode;
+  canopen_.Init(info, settings);
   stop_ = false;
   stopping_ = false;
   queue_count_ = 0;
@@ -73,6 +86,7 @@ Status FirmwareCore::Start(const CoreConfig& config, const CoreDevices& devices)
   nmt_ = NmtState::kOperational;  // self-starting node
 
   LoadData();
+  canopen_.SetSettings(CurrentSettings());
   const Status camera = dev_.camera->Start();
   if (!camera.ok()) {
     Log("camera start failed: %s", camera.message());
@@ -139,6 +153,12 @@ void FirmwareCore::LoadData() {
   if (!table.ok() || !calib.ok()) return;
 
   model_count_ = table->model_count();
+  const char* names[canopen::kMaxModelNames] = {};
+  for (size_t m = 0; m < model_count_ && m < canopen::kMaxModelNames; ++m) {
+    names[m] = table->model(static_cast<uint32_t>(m)).name;
+  }
+  canopen_.SetModels(
+      names, model_count_ < canopen::kMaxModelNames ? model_count_ : canopen::kMaxModelNames);
   const uint32_t loaded = model_count_ >= 32 ? 0xFFFFFFFFu : (1u << model_count_) - 1;
   uint32_t mask = config_.model_mask & loaded;
   if (mask == 0) mask = loaded;
@@ -151,6 +171,7 @@ void FirmwareCore::LoadData() {
   }
   model_mask_ = mask;
   applied_mask_ = mask;
+  canopen_.SetSettings(CurrentSettings());
   Log("loaded %zu models, model mask 0x%x", model_count_, mask);
 }
 
@@ -171,6 +192,7 @@ void FirmwareCore::UpdateState() {
 
 void FirmwareCore::SetState(FirmwareState s) {
   const FirmwareState old = state_.exchange(s);
+  canopen_.SetDeviceStatus(static_cast<uint8_t>(s), faults_.load());
   if (old == s) return;
   SetOutputs();
   if (dev_.observer != nullptr) dev_.observer->OnStateChange(s);
@@ -187,7 +209,12 @@ void FirmwareCore::SetOutputs() {
 void FirmwareCore::RaiseFault(uint32_t bit, uint16_t code, uint32_t detail) {
   faults_ |= bit;
   UpdateState();
-  SendEmcy(code, detail);
+  SendEmcyFrame(canopen_.Raise(bit, code, detail));
+}
+
+void FirmwareCore::ClearConditions(uint32_t bits) {
+  canopen::EmcyMessage reset;
+  if (bits != 0 && canopen_.ClearConditions(bits, &reset)) SendEmcyFrame(reset);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -212,11 +239,18 @@ Status FirmwareCore::SendFrame(const CanFrame& frame) {
 }
 
 void FirmwareCore::SendEmcy(uint16_t code, uint32_t detail) {
+  canopen::EmcyMessage error, reset;
+  canopen_.Event(code, detail, &error, &reset);
+  SendEmcyFrame(error);
+  SendEmcyFrame(reset);
+}
+
+void FirmwareCore::SendEmcyFrame(const canopen::EmcyMessage& m) {
   Emcy e;
-  e.error_code = code;
-  e.error_register = ErrorRegisterFor(code);
+  e.error_code = m.code;
+  e.error_register = m.error_register;
   e.state = state_.load();
-  e.detail = detail;
+  e.detail = m.detail;
   const Result<CanFrame> frame = EncodeEmcy(e, node_);
   if (frame.ok()) (void)SendFrame(*frame);
   {
@@ -230,8 +264,9 @@ void FirmwareCore::SendAck(const CanFrame& command, const Status& status, uint32
                            bool use_value) {
   CommandAck ack = MakeCommandAck(command, status);
   if (use_value) ack.value = value;
+  canopen_.StoreAck(ack);
   const Result<CanFrame> frame = EncodeCommandAck(ack, node_);
-  if (frame.ok()) (void)SendFrame(*frame);
+  if (frame.ok()) SendIfValid(canopen::kTpdoAck, *frame);
   if (!status.ok()) {
     const Emcy e = MakeCommandRejectedEmcy(command, status, state_.load());
     SendEmcy(e.error_code, e.detail);
@@ -357,9 +392,9 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
     faults_ |= kFaultCamera;
     UpdateState();
     PublishResult(&set, nullptr);
-    SendEmcy(static_cast<uint16_t>(EmcyCode::kSensor),
-             kSensorCaptureFailed | static_cast<uint32_t>(captured.code()) << 16 |
-                 Saturate(after.timeouts, 0xFFFF));
+    RaiseFault(kFaultCamera, static_cast<uint16_t>(EmcyCode::kSensor),
+               kSensorCaptureFailed | static_cast<uint32_t>(captured.code()) << 16 |
+                   Saturate(after.timeouts, 0xFFFF));
     return;
   }
   const uint64_t unpaired = (after.left_unpaired_drops + after.right_unpaired_drops) -
@@ -390,6 +425,9 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
     set.object_count = 0;
     set.status = ResultStatus::kInternalError;
   }
+  if (config_.output_frame != canopen::OutputFrame::kCamera) {
+    TransformResultSet(config_.out_T_camera, &set);
+  }
   set.processing_time_us =
       Saturate(static_cast<uint64_t>(MonotonicNs() - trigger.trigger_ns) / 1000, 0xFFFFFFFFu);
   busy_ = false;
@@ -406,6 +444,7 @@ void FirmwareCore::PublishResult(ResultSet* set, const hal::StereoFrame* frame) 
   if (nmt_.load() != NmtState::kOperational) return;  // results only when operational
   static Vector<CanFrame, kMaxResultFrames> frames;   // worker thread only
   set->sequence = sequence_;
+  set->output_frame = static_cast<uint8_t>(config_.output_frame);
   frames.clear();
   Status encoded = EncodeResultSet(*set, node_, frames);
   if (!encoded.ok()) {
@@ -417,9 +456,19 @@ void FirmwareCore::PublishResult(ResultSet* set, const hal::StereoFrame* frame) 
     encoded = EncodeResultSet(*set, node_, frames);
   }
   ++sequence_;
+  // The dictionary holds the set before its header is on the bus, so a PDO-mode request that
+  // follows the header is answered from this set.
+  (void)canopen_.StoreResult(*set, frames[frames.size() - 1].data[3]);
+  // Header, then the stream's object and end frames, each if its PDO is valid (result mode).
+  const bool send_header = canopen_.TpdoValid(canopen::kTpdoHeader);
+  const bool send_objects = canopen_.TpdoValid(canopen::kTpdoStreamObject);
+  const bool send_end = canopen_.TpdoValid(canopen::kTpdoStreamEnd);
   {
     std::lock_guard<std::mutex> lock(send_mutex_);  // frames of one set back to back
-    for (const CanFrame& f : frames) {
+    for (size_t i = 0; i < frames.size(); ++i) {
+      const bool last = i + 1 == frames.size();
+      if (!(i == 0 ? send_header : last ? send_end : send_objects)) continue;
+      const CanFrame& f = frames[i];
       const Status s = dev_.can->Send(f);
       if (s.ok()) continue;
       {
@@ -447,6 +496,7 @@ void FirmwareCore::PublishResult(ResultSet* set, const hal::StereoFrame* frame) 
 
 void FirmwareCore::ClearFault(const CanFrame& frame) {
   const uint32_t bits = faults_.load();
+  const uint32_t before = bits;
   if (bits == 0) {
     SendAck(frame, Status::Ok(), 0, true);
     return;
@@ -470,9 +520,9 @@ void FirmwareCore::ClearFault(const CanFrame& frame) {
   }
   faults_ &= ~kFaultCanTxDropped;
   UpdateState();
+  const uint32_t cleared = before & ~faults_.load();
   if (faults_.load() == 0) {
     SendAck(frame, Status::Ok(), 0, true);
-    SendEmcy(static_cast<uint16_t>(EmcyCode::kNoError), 0);
     Log("fault cleared");
   } else {
     SendAck(frame,
@@ -480,6 +530,8 @@ void FirmwareCore::ClearFault(const CanFrame& frame) {
                           faults_.load()),
             0, true);
   }
+  // Error reset (EMCY 0x0000) with the register of what remains: 0 when all cleared.
+  ClearConditions(cleared);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -499,6 +551,19 @@ void FirmwareCore::CanRxLoop() {
 }
 
 void FirmwareCore::HandleFrame(const CanFrame& frame) {
+  {
+    // SDO, LSS and PDO-mode requests; what they ask of the core comes back in `events`.
+    Vector<CanFrame, kCanopenMaxReplies> replies;
+    CanopenEvents events;
+    if (canopen_.HandleFrame(frame, nmt_.load(), MonotonicNs(), replies, &events)) {
+      // Settings take effect before the SDO confirmation leaves; what a command or a new node
+      // id sends follows it.
+      ApplyCanopenSettings(events);
+      for (const CanFrame& f : replies) (void)SendFrame(f);
+      HandleCanopenEvents(events);
+      return;
+    }
+  }
   if (frame.id == kCobNmt && !frame.extended) {
     const Result<NmtRequest> nmt = DecodeNmt(frame, node_);
     if (!nmt.ok() || !nmt->addressed) return;
@@ -513,19 +578,83 @@ void FirmwareCore::HandleFrame(const CanFrame& frame) {
         nmt_ = NmtState::kPreOperational;
         break;
       case NmtCommand::kResetNode:
-      case NmtCommand::kResetCommunication: {
-        const Result<CanFrame> boot = EncodeBootUp(node_);
-        if (boot.ok()) (void)SendFrame(*boot);
-        nmt_ = NmtState::kOperational;
+        ResetCommunication(true);
         break;
-      }
+      case NmtCommand::kResetCommunication:
+        ResetCommunication(false);
+        break;
     }
     SetOutputs();
     return;
   }
   if (frame.id != kCobCommand + node_ || frame.extended) return;
   if (nmt_.load() != NmtState::kOperational) return;  // as in CANopen: RPDOs only when operational
+  if (!canopen_.RpdoValid(canopen::kRpdoCommand)) return;  // switched off by the manager
+  canopen_.StoreCommand(frame);
   HandleCommand(frame);
+}
+
+void FirmwareCore::ApplyCanopenSettings(const CanopenEvents& events) {
+  if (events.heartbeat_changed) {
+    heartbeat_ms_ = canopen_.settings().heartbeat_ms;
+    heartbeat_changed_ = true;
+  }
+  if (events.settings_changed) {
+    const CanopenSettings s = canopen_.settings();
+    budget_ms_ = s.budget_ms;
+    model_mask_ = s.model_mask;
+    free_run_dhz_ = s.free_run_dhz;
+    cv_.notify_all();
+  }
+}
+
+void FirmwareCore::HandleCanopenEvents(const CanopenEvents& events) {
+  if (events.has_command && nmt_.load() == NmtState::kOperational) {
+    HandleCommand(events.command);
+  }
+  if (events.node_id_changed) ResetCommunication(false);
+  if (events.rpdo_length_error) {
+    SendEmcy(static_cast<uint16_t>(EmcyCode::kPdoLengthError), events.rpdo_detail);
+  }
+}
+
+CanopenSettings FirmwareCore::CurrentSettings() const {
+  CanopenSettings s = canopen_.settings();
+  s.heartbeat_ms = static_cast<uint16_t>(heartbeat_ms_.load());
+  s.budget_ms = budget_ms_.load();
+  s.model_mask = model_mask_.load();
+  s.free_run_dhz = free_run_dhz_.load();
+  return s;
+}
+
+void FirmwareCore::ResetCommunication(bool reset_node) {
+  if (reset_node) {
+    // Reset node also returns the application's settings to their configured values.
+    CanopenSettings power_on = canopen_.settings();
+    power_on.heartbeat_ms = static_cast<uint16_t>(config_.heartbeat_ms);
+    power_on.budget_ms = config_.budget_ms;
+    power_on.free_run_dhz = config_.free_run_dhz;
+    power_on.result_mode = config_.result_mode;
+    const uint32_t loaded = model_count_ >= 32 ? 0xFFFFFFFFu : (1u << model_count_) - 1;
+    power_on.model_mask = (config_.model_mask & loaded) != 0 ? config_.model_mask & loaded : loaded;
+    budget_ms_ = power_on.budget_ms;
+    free_run_dhz_ = power_on.free_run_dhz;
+    model_mask_ = power_on.model_mask;
+    node_ = canopen_.ResetNode(power_on);
+    cv_.notify_all();
+  } else {
+    node_ = canopen_.ResetCommunication();
+  }
+  heartbeat_ms_ = canopen_.settings().heartbeat_ms;
+  heartbeat_changed_ = true;
+  const Result<CanFrame> boot = EncodeBootUp(node_);
+  if (boot.ok()) (void)SendFrame(*boot);
+  nmt_ = NmtState::kOperational;  // self-starting
+  Log("%s: node id %u", reset_node ? "reset node" : "reset communication", node_.load());
+}
+
+void FirmwareCore::SendIfValid(int tpdo, const CanFrame& frame) {
+  if (canopen_.TpdoValid(tpdo)) (void)SendFrame(frame);
 }
 
 void FirmwareCore::HandleCommand(const CanFrame& frame) {
@@ -553,15 +682,18 @@ void FirmwareCore::HandleCommand(const CanFrame& frame) {
     case CommandCode::kSelectModels: {
       const Status s = CheckModelMask(cmd->model_mask, model_count_);
       if (s.ok()) model_mask_ = cmd->model_mask;
+      canopen_.SetSettings(CurrentSettings());
       SendAck(frame, s, 0, false);
       return;
     }
     case CommandCode::kSetTimeBudget:
       budget_ms_ = cmd->time_budget_ms;
+      canopen_.SetSettings(CurrentSettings());
       SendAck(frame, Status::Ok(), 0, false);
       return;
     case CommandCode::kSetFreeRunRate:
       free_run_dhz_ = cmd->free_run_rate_dhz;
+      canopen_.SetSettings(CurrentSettings());
       cv_.notify_all();
       SendAck(frame, Status::Ok(), 0, false);
       return;
@@ -606,7 +738,9 @@ void FirmwareCore::GpioLoop() {
 
 void FirmwareCore::HeartbeatLoop() {
   PrefaultStack();
-  const int64_t period = int64_t{config_.heartbeat_ms} * 1'000'000;
+  // The tick: the heartbeat period, or 100 ms for the health checks when 0x1017 is 0 (off).
+  const auto period_of = [](uint32_t ms) { return int64_t{ms != 0 ? ms : 100} * 1'000'000; };
+  int64_t period = period_of(heartbeat_ms_.load());
   int64_t next = MonotonicNs() + period;
   hal::CanStats last = dev_.can->stats();
   bool bus_off_reported = false;  // the fault bit was seen; recovery EMCY pending
@@ -615,18 +749,27 @@ void FirmwareCore::HeartbeatLoop() {
   const int64_t alive_tolerance_ns =
       (int64_t{config_.capture_timeout_ms} + protocol::kTimeBudgetMaxMs + 2000) * 1'000'000ll;
   while (!stopping_.load()) {
-    // Sleep in short slices so Stop() is quick.
-    while (!stopping_.load() && MonotonicNs() < next) {
+    // Sleep in short slices so Stop() is quick, a new heartbeat time applies at once and stale
+    // SDO transfers are aborted on time.
+    while (!stopping_.load() && MonotonicNs() < next && !heartbeat_changed_.load()) {
+      CanFrame abort;
+      if (canopen_.Poll(MonotonicNs(), &abort)) (void)SendFrame(abort);
       SleepNs(next - MonotonicNs() < 20'000'000 ? next - MonotonicNs() : 20'000'000);
     }
     if (stopping_.load()) break;
+    if (heartbeat_changed_.exchange(false)) {
+      period = period_of(heartbeat_ms_.load());
+      next = MonotonicNs();
+    }
     next += period;
     if (next < MonotonicNs()) next = MonotonicNs() + period;
 
-    const Result<CanFrame> hb = EncodeHeartbeat(node_, nmt_.load());
-    if (hb.ok() && SendFrame(*hb).ok()) {
-      std::lock_guard<std::mutex> c(counters_mutex_);
-      ++counters_.heartbeats;
+    if (heartbeat_ms_.load() != 0) {
+      const Result<CanFrame> hb = EncodeHeartbeat(node_, nmt_.load());
+      if (hb.ok() && SendFrame(*hb).ok()) {
+        std::lock_guard<std::mutex> c(counters_mutex_);
+        ++counters_.heartbeats;
+      }
     }
 
     // CAN health.
@@ -636,22 +779,29 @@ void FirmwareCore::HeartbeatLoop() {
     UpdateState();  // picks up fault bits set by SendFrame
     if ((faults_.load() & kFaultCanBusOff) && bus != hal::CanBusState::kBusOff &&
         !bus_off_reported) {
+      // The fault condition starts now, as its EMCY can be sent; clear-fault ends it.
       bus_off_reported = true;
-      SendEmcy(static_cast<uint16_t>(EmcyCode::kRecoveredFromBusOff),
-               Saturate(now.bus_off_events, 0xFFFFFFFFu));
+      SendEmcyFrame(canopen_.Raise(kFaultCanBusOff,
+                                   static_cast<uint16_t>(EmcyCode::kRecoveredFromBusOff),
+                                   Saturate(now.bus_off_events, 0xFFFFFFFFu)));
     }
     if (!(faults_.load() & kFaultCanBusOff)) bus_off_reported = false;
     if (bus == hal::CanBusState::kErrorPassive && !passive_reported) {
       passive_reported = true;
-      SendEmcy(static_cast<uint16_t>(EmcyCode::kCanErrorPassive), 0);
+      SendEmcyFrame(canopen_.Raise(kWarningCanErrorPassive,
+                                   static_cast<uint16_t>(EmcyCode::kCanErrorPassive), 0));
     }
-    if (bus == hal::CanBusState::kErrorActive) passive_reported = false;
+    if (bus == hal::CanBusState::kErrorActive && passive_reported) {
+      passive_reported = false;
+      ClearConditions(kWarningCanErrorPassive);
+    }
     if ((faults_.load() & kFaultCanTxDropped) && !tx_drop_reported &&
         bus != hal::CanBusState::kBusOff) {
       tx_drop_reported = true;
       UpdateState();
-      SendEmcy(static_cast<uint16_t>(EmcyCode::kCommunication),
-               Saturate(now.tx_dropped_queue_full, 0xFFFFFFFFu));
+      SendEmcyFrame(canopen_.Raise(kFaultCanTxDropped,
+                                   static_cast<uint16_t>(EmcyCode::kCommunication),
+                                   Saturate(now.tx_dropped_queue_full, 0xFFFFFFFFu)));
     }
     if (!(faults_.load() & kFaultCanTxDropped)) tx_drop_reported = false;
     if (now.rx_dropped_overflow > last.rx_dropped_overflow) {

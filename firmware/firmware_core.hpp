@@ -9,10 +9,12 @@
 // Threads (created in Start(), the only allocation after the objects exist):
 //   worker    - waits for triggers (queue from CAN and GPIO, or the free-run clock) and runs
 //               strobe + capture + recognition + result publication;
-//   can_rx    - NMT and commands: acks at once, queues triggers, applies settings;
+//   can_rx    - NMT, commands, and the CANopen services (SDO, LSS, PDO-mode requests, through
+//               CanopenNode): acks at once, queues triggers, applies settings;
 //   gpio      - rising edges of the trigger input into the trigger queue;
-//   heartbeat - heartbeat at its own period (also in fault), CAN health (bus-off, overrun) and
-//               the liveness callback (systemd watchdog).
+//   heartbeat - heartbeat at its own period (also in fault; 0x1017 may change or stop it), CAN
+//               health (bus-off, overrun), SDO timeouts and the liveness callback (systemd
+//               watchdog).
 #pragma once
 
 #include <atomic>
@@ -22,6 +24,7 @@
 #include <thread>
 
 #include "firmware/can_protocol.hpp"
+#include "firmware/canopen_node.hpp"
 #include "firmware/recognition.hpp"
 #include "hal/camera.hpp"
 #include "hal/can.hpp"
@@ -62,7 +65,8 @@ inline constexpr uint32_t kSensorCaptureFailed = 1u << 24;   // | StatusCode << 
 inline constexpr uint32_t kSensorUnpairedFrames = 2u << 24;  // | unpaired drops in this capture
 inline constexpr uint32_t kSensorStartFailed = 3u << 24;     // | StatusCode << 16
 
-// Fault causes (bits); the fault state holds while any is set.
+// Fault causes (bits); the fault state holds while any is set. Each is also an error condition
+// of the CANopen error register, as are the warnings, which leave the state alone.
 enum FaultBits : uint32_t {
   kFaultTables = 1u << 0,
   kFaultCalibration = 1u << 1,
@@ -71,16 +75,25 @@ enum FaultBits : uint32_t {
   kFaultCanTxDropped = 1u << 4,
   kFaultRecognition = 1u << 5,
 };
+enum WarningBits : uint32_t {
+  kWarningCanErrorPassive = 1u << 16,
+};
 
 struct CoreConfig {
   uint8_t node_id = 1;
-  uint32_t heartbeat_ms = 200;
+  uint32_t heartbeat_ms = 200;  // 0 = no heartbeat (0x1017 may set it later)
   int capture_timeout_ms = 500;
   uint16_t budget_ms = 1000;
   uint16_t free_run_dhz = 0;
   uint32_t model_mask = 0xFFFFFFFFu;  // masked to the loaded models at boot
   int strobe_min_us = 0;              // strobe held at least this long (illumination settle)
   int sched_fifo_priority = 0;        // worker thread; 0 = normal
+  canopen::ResultMode result_mode = canopen::ResultMode::kStream;
+  // Poses are reported in this frame: out_T_camera maps the left camera into it.
+  canopen::OutputFrame output_frame = canopen::OutputFrame::kCamera;
+  RigidTransform out_T_camera;
+  uint32_t serial_number = 0;         // 0x1018 sub 4 and the LSS identity
+  const char* hardware_version = "";  // 0x1009
 };
 
 struct CoreDevices {
@@ -89,7 +102,8 @@ struct CoreDevices {
   hal::StereoCamera* camera = nullptr;
   Recognition* recognition = nullptr;
   DataSource* data = nullptr;
-  CoreObserver* observer = nullptr;  // may be null
+  CoreObserver* observer = nullptr;        // may be null
+  canopen::LssStore* lss_store = nullptr;  // may be null: LSS store is answered "not supported"
 };
 
 struct CoreCounters {
@@ -129,6 +143,9 @@ class FirmwareCore {
   uint32_t model_mask() const { return model_mask_.load(); }
   size_t loaded_models() const { return model_count_; }
   uint16_t next_sequence() const { return sequence_; }
+  uint8_t node_id() const { return node_.load(); }
+  uint32_t heartbeat_ms() const { return heartbeat_ms_.load(); }
+  const CanopenNode& canopen() const { return canopen_; }
 
   // Same path as a CAN trigger with request id 0 / a GPIO edge (tests, demo). With `accepted_ack`
   // the OK ack of that command is sent before the worker can see the trigger, so a PLC always
@@ -154,8 +171,18 @@ class FirmwareCore {
   void HandleCommand(const hal::CanFrame& frame);
   void ClearFault(const hal::CanFrame& frame);
 
+  // A fault or warning condition becomes active: its EMCY with the error register.
   void RaiseFault(uint32_t bit, uint16_t code, uint32_t detail);
+  // Conditions that ended: the error reset EMCY (0x0000) with the register that remains.
+  void ClearConditions(uint32_t bits);
+  // An error without lasting cause: its EMCY followed by the error reset.
   void SendEmcy(uint16_t code, uint32_t detail);
+  void SendEmcyFrame(const canopen::EmcyMessage& m);
+  void ApplyCanopenSettings(const CanopenEvents& events);
+  void HandleCanopenEvents(const CanopenEvents& events);
+  void ResetCommunication(bool reset_node);
+  CanopenSettings CurrentSettings() const;
+  void SendIfValid(int tpdo, const hal::CanFrame& frame);
   void SendAck(const hal::CanFrame& command, const Status& status, uint32_t value_override,
                bool use_override);
   Status SendFrame(const hal::CanFrame& frame);
@@ -165,7 +192,10 @@ class FirmwareCore {
 
   CoreConfig config_;
   CoreDevices dev_;
-  uint8_t node_ = 1;
+  std::atomic<uint8_t> node_{1};  // changes with LSS + reset communication
+  std::atomic<uint32_t> heartbeat_ms_{200};
+  std::atomic<bool> heartbeat_changed_{false};
+  CanopenNode canopen_;
 
   std::atomic<FirmwareState> state_{FirmwareState::kInit};
   std::atomic<protocol::NmtState> nmt_{protocol::NmtState::kPreOperational};

@@ -131,7 +131,56 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
   }
   if (is("can_interface")) return string_key(c->can_interface, sizeof(c->can_interface));
   if (is("node_id")) return int_key(protocol::kNodeIdMin, protocol::kNodeIdMax, &c->node_id);
-  if (is("heartbeat_ms")) return int_key(10, 10000, &c->heartbeat_ms);
+  if (is("heartbeat_ms")) {
+    // 0 switches the heartbeat off (CiA 301); below 10 ms it would flood the bus.
+    if (!ParseInt(value, 0, 10000, &n) || (n > 0 && n < 10)) {
+      return LineError(line, key, "expected 0 (off) or 10..10000", value);
+    }
+    c->heartbeat_ms = static_cast<uint32_t>(n);
+    return Status::Ok();
+  }
+  if (is("result_mode")) {
+    const char* names[] = {"stream", "pdo", "both"};
+    for (uint8_t m = 0; m < 3; ++m) {
+      if (!std::strcmp(value, names[m])) {
+        c->result_mode = m;
+        return Status::Ok();
+      }
+    }
+    return LineError(line, key, "expected stream, pdo or both", value);
+  }
+  if (is("serial_number")) return int_key(0, 0xFFFFFFFFll, &c->serial_number);
+  if (is("lss_store")) {
+    c->lss_store_set = true;
+    return string_key(c->lss_store_path, sizeof(c->lss_store_path));
+  }
+  if (is("camera")) {
+    if (!std::strcmp(value, "directory")) {
+      c->camera = CameraSource::kDirectory;
+    } else if (!std::strcmp(value, "libcamera") || !std::strcmp(value, "sim")) {
+      c->camera = CameraSource::kBackend;
+    } else {
+      return LineError(line, key, "expected libcamera, sim or directory", value);
+    }
+    return Status::Ok();
+  }
+  if (is("camera_directory")) return string_key(c->camera_directory, sizeof(c->camera_directory));
+  if (is("table_file")) return string_key(c->table_file, sizeof(c->table_file));
+  if (is("output_frame")) {
+    if (!std::strcmp(value, "camera")) {
+      c->output_frame = OutputFrameKey::kCamera;
+    } else if (!std::strcmp(value, "table")) {
+      c->output_frame = OutputFrameKey::kTable;
+    } else if (!std::strcmp(value, "robot")) {
+      c->output_frame = OutputFrameKey::kRobot;
+    } else {
+      return LineError(line, key, "expected camera, table or robot", value);
+    }
+    return Status::Ok();
+  }
+  if (is("handeye")) return string_key(c->handeye_path, sizeof(c->handeye_path));
+  if (is("record_dir")) return string_key(c->record_dir, sizeof(c->record_dir));
+  if (is("record_max")) return int_key(1, kMaxRecordPairs, &c->record_max);
   if (is("camera_left_id")) return string_key(c->camera_left_id, sizeof(c->camera_left_id));
   if (is("camera_right_id")) return string_key(c->camera_right_id, sizeof(c->camera_right_id));
   if (is("camera_left_index")) return int_key(0, 15, &c->camera_left_index);
@@ -168,6 +217,7 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
     if (!ParseVec3(value, v)) return LineError(line, key, "expected three numbers (mm)", value);
     std::memcpy(is("volume_min_mm") ? c->volume_min_mm : c->volume_max_mm, v, sizeof(v));
     c->volume_set = true;
+    c->volume_is_sim_default = false;
     return Status::Ok();
   }
   if (is("volume_frame")) return choice_key("camera", "table", &c->volume_in_table_frame);
@@ -231,6 +281,7 @@ FwConfig SimDefaults() {
   c.mlock = false;               // a desktop simulator need not pin its memory
   // The box over the rendered table an integrator would configure (render::kTableVolume*).
   c.volume_set = true;
+  c.volume_is_sim_default = true;
   c.volume_in_table_frame = true;
   std::memcpy(c.volume_min_mm, render::kTableVolumeMinMm, sizeof(c.volume_min_mm));
   std::memcpy(c.volume_max_mm, render::kTableVolumeMaxMm, sizeof(c.volume_max_mm));
@@ -319,7 +370,27 @@ Status ValidateConfig(const FwConfig& c) {
                          "keys 'camera_left_index'/'camera_right_index': both are %d",
                          c.camera_left_index);
   }
-  if (c.volume_in_table_frame && !c.table_pose_set && c.backend != Backend::kSim) {
+  if (c.table_file[0] != '\0' && c.table_pose_set) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "key 'table_file' and 'table_rotation_deg'/'table_origin_mm' both give "
+                         "the table pose: keep one");
+  }
+  const bool table_known = c.table_pose_set || c.table_file[0] != '\0';
+  if (c.output_frame == OutputFrameKey::kTable && !table_known && c.backend != Backend::kSim) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "key 'output_frame = table' needs the table pose: 'table_file' or "
+                         "'table_rotation_deg' and 'table_origin_mm'");
+  }
+  if (c.output_frame == OutputFrameKey::kRobot && c.handeye_path[0] == '\0') {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "key 'output_frame = robot' needs 'handeye', the file written by "
+                         "stereohash calibrate-handeye");
+  }
+  if (c.camera == CameraSource::kDirectory && c.camera_directory[0] == '\0') {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "key 'camera = directory' needs 'camera_directory'");
+  }
+  if (c.volume_in_table_frame && !table_known && c.backend != Backend::kSim) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "key 'volume_frame = table' needs the table pose: 'table_rotation_deg' "
                          "and 'table_origin_mm'");

@@ -14,6 +14,7 @@ namespace sh::fw {
 inline constexpr size_t kConfigPathMax = 256;
 inline constexpr size_t kConfigNameMax = 64;
 inline constexpr size_t kMaxConfigFileBytes = size_t{64} * 1024;
+inline constexpr int kMaxRecordPairs = 10000;  // record_max limit
 
 enum class Backend : uint8_t { kLinux, kSim };
 enum class RecognitionKind : uint8_t {
@@ -22,12 +23,23 @@ enum class RecognitionKind : uint8_t {
 };
 // Simulated camera faults, injected from the start (tests inject them at run time instead).
 enum class SimCameraFault : uint8_t { kNone, kRightSilent, kDropRight };
+// Where the images come from: the backend's cameras (libcamera on the board, the rendered
+// scenes in the simulator) or recorded stereo pairs played from a directory.
+enum class CameraSource : uint8_t { kBackend, kDirectory };
+// Frame of the reported poses (CAN output frame byte: 0, 1, and 2 or 3 after the hand-eye file).
+enum class OutputFrameKey : uint8_t { kCamera, kTable, kRobot };
 
 struct FwConfig {
   Backend backend = Backend::kSim;
   char can_interface[16] = "can0";
   uint8_t node_id = 1;
-  uint32_t heartbeat_ms = 200;  // 10..10000
+  uint32_t heartbeat_ms = 200;  // 0 (off) or 10..10000
+  uint8_t result_mode = 0;      // canopen::ResultMode: 0 stream, 1 pdo, 2 both
+  uint32_t serial_number = 0;   // 0x1018 sub 4; 0 = derived from /etc/machine-id
+  // LSS store: the node id file written by the LSS "store configuration" service and read at
+  // boot (it overrides node_id). "" = store not supported.
+  char lss_store_path[kConfigPathMax] = "";
+  bool lss_store_set = false;
 
   // Cameras (linux backend): libcamera ids take precedence over indices.
   char camera_left_id[kConfigNameMax] = "";
@@ -37,6 +49,8 @@ struct FwConfig {
   int camera_width = 1280;
   int camera_height = 800;
   int capture_timeout_ms = 500;
+  CameraSource camera = CameraSource::kBackend;
+  char camera_directory[kConfigPathMax] = "";  // camera = directory: recorded-scenes layout
 
   // Data. calibration: empty = the simulator's built-in rig (sim only). tables: "builtin" = the
   // tables linked into the binary, else a table blob file.
@@ -45,10 +59,11 @@ struct FwConfig {
   char models_dir[kConfigPathMax] = "";  // OBJ models for the simulator renderer; "" = default
 
   RecognitionKind recognition = RecognitionKind::kPipeline;
-  uint16_t budget_ms = 1000;          // kTimeBudgetMinMs..kTimeBudgetMaxMs
-  uint16_t free_run_dhz = 0;          // 0.1 Hz, 0 = off
-  uint32_t model_mask = 0xFFFFFFFFu;  // masked to the loaded models at boot
-  bool volume_set = false;            // working volume box, mm, in volume_frame
+  uint16_t budget_ms = 1000;           // kTimeBudgetMinMs..kTimeBudgetMaxMs
+  uint16_t free_run_dhz = 0;           // 0.1 Hz, 0 = off
+  uint32_t model_mask = 0xFFFFFFFFu;   // masked to the loaded models at boot
+  bool volume_set = false;             // working volume box, mm, in volume_frame
+  bool volume_is_sim_default = false;  // the box over the rendered table (SimDefaults)
   float volume_min_mm[3] = {-1000, -1000, 100};
   float volume_max_mm[3] = {1000, 1000, 3000};
   // The box's frame: the left camera, or the table (conveyor) whose pose in the left camera is
@@ -60,6 +75,14 @@ struct FwConfig {
   float table_origin_mm[3] = {0, 0, 0};
   bool light_background = false;  // pipeline preset; `background` key, in sim: sim_background
   bool background_set = false;
+  // table.yaml (R_table, t_table) instead of table_rotation_deg / table_origin_mm.
+  char table_file[kConfigPathMax] = "";
+  OutputFrameKey output_frame = OutputFrameKey::kCamera;
+  char handeye_path[kConfigPathMax] = "";  // output_frame = robot: from calibrate-handeye
+
+  // Recording of triggered pairs with their results (record_dir "" = off).
+  char record_dir[kConfigPathMax] = "";
+  int record_max = 100;  // the last N pairs are kept
 
   // GPIO (linux backend; -1 = not wired).
   char gpio_chip[kConfigNameMax] = "gpiochip0";

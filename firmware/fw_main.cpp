@@ -11,6 +11,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -20,15 +21,20 @@
 #include "firmware/demo_client.hpp"
 #include "firmware/firmware_core.hpp"
 #include "firmware/fw_config.hpp"
+#include "firmware/node_id_file.hpp"
 #include "firmware/realtime.hpp"
 #include "firmware/sd_notify.hpp"
 #include "firmware/sim_world.hpp"
 #include "hal/can_log.hpp"
 #include "hal/linux/socketcan_bus.hpp"
 #include "hal/sim/can_sim_bus.hpp"
+#include "hal/sim/directory_camera.hpp"
 #include "hal/sim/gpio_sim.hpp"
 #include "hal/sim/sim_camera.hpp"
 #include "hal/sim/socketcand_server.hpp"
+#include "recog/base/crc32.hpp"
+#include "recog/camera/handeye_yaml.hpp"
+#include "recog/camera/table_yaml.hpp"
 #ifdef STEREOHASH_FW_HAVE_PIPELINE
 #include "firmware/pipeline_recognition.hpp"
 #endif
@@ -43,6 +49,10 @@ namespace {
 
 using namespace sh;
 using namespace sh::fw;
+
+// Where LSS stores the node id on the board unless `lss_store` says otherwise (the systemd unit's
+// StateDirectory).
+constexpr const char* kDefaultNodeIdFile = "/var/lib/stereohash/node-id";
 
 volatile sig_atomic_t g_stop = 0;
 void OnSignal(int) { g_stop = 1; }
@@ -77,8 +87,9 @@ void DefaultModelsDir(char* out, size_t capacity) {
 // stdout reporting of the simulator and the systemd watchdog.
 class Reporter final : public CoreObserver {
  public:
-  Reporter(const SimWorld* world, const FileDataSource* data, SdNotifier* notifier, bool print)
-      : world_(world), data_(data), notifier_(notifier), print_(print) {}
+  Reporter(const SimWorld* world, const FileDataSource* data, SdNotifier* notifier, bool print,
+           canopen::OutputFrame frame)
+      : world_(world), data_(data), notifier_(notifier), print_(print), frame_(frame) {}
 
   void PrintModels() {
     if (!print_) return;
@@ -118,8 +129,9 @@ class Reporter final : public CoreObserver {
     if (!print_) return;
     std::printf(
         "RESULT {\"sequence\": %u, \"request_id\": %u, \"status\": %u, "
-        "\"processing_time_us\": %u, \"objects\": [",
-        set.sequence, set.request_id, static_cast<unsigned>(set.status), set.processing_time_us);
+        "\"processing_time_us\": %u, \"output_frame\": \"%s\", \"objects\": [",
+        set.sequence, set.request_id, static_cast<unsigned>(set.status), set.processing_time_us,
+        canopen::OutputFrameName(frame_));
     for (int i = 0; i < set.object_count; ++i) {
       const protocol::ObjectPose& p = set.objects[i];
       std::printf(
@@ -130,11 +142,14 @@ class Reporter final : public CoreObserver {
           p.cam_q_model[3]);
     }
     std::printf("]");
+    if (frame != nullptr) {
+      std::printf(", \"frame\": %u, \"pair_index\": %llu", frame->left_sequence,
+                  static_cast<unsigned long long>(frame->pair_index));
+    }
     if (frame != nullptr && world_ != nullptr) {
       const int scene = world_->SceneOfFrame(frame->left_sequence);
       const render::GeneratedScene& g = world_->scene(scene);
-      std::printf(", \"frame\": %u, \"pair_index\": %llu, \"scene\": %d, \"truth\": [",
-                  frame->left_sequence, static_cast<unsigned long long>(frame->pair_index), scene);
+      std::printf(", \"scene\": %d, \"truth\": [", scene);
       for (size_t i = 0; i < g.scene.objects.size(); ++i) {
         const RigidTransform& T = g.left_T_model[i];
         std::printf("%s{\"model_id\": %d, \"t_mm\": [%.6f, %.6f, %.6f], \"R\": [", i ? ", " : "",
@@ -169,12 +184,46 @@ class Reporter final : public CoreObserver {
   const FileDataSource* data_;
   SdNotifier* notifier_;
   bool print_;
+  canopen::OutputFrame frame_;
   int table_ids_[render::kMaxModelFiles] = {};
 };
 
 int Fail(const char* what, const Status& s) {
   std::fprintf(stderr, "stereohash-fw: %s: %s\n", what, s.message());
   return 1;
+}
+
+// A small text file (table pose, hand-eye) into `text`; kOutOfRange if it does not fit.
+Status ReadTextFile(const char* path, char* text, size_t capacity, size_t* length) {
+  std::FILE* f = std::fopen(path, "rb");
+  if (f == nullptr) {
+    return Status::Error(StatusCode::kNotFound, "cannot open %s: %s", path, std::strerror(errno));
+  }
+  const size_t n = std::fread(text, 1, capacity, f);
+  const bool more = std::fgetc(f) != EOF;
+  std::fclose(f);
+  if (more)
+    return Status::Error(StatusCode::kOutOfRange, "%s is larger than %zu bytes", path, capacity);
+  *length = n;
+  return Status::Ok();
+}
+
+bool FileExists(const char* path) { return access(path, R_OK) == 0; }
+
+// dir/name into out; false if it does not fit.
+bool JoinPath(char* out, size_t capacity, const char* dir, const char* name) {
+  const int n = std::snprintf(out, capacity, "%s/%s", dir, name);
+  return n >= 0 && static_cast<size_t>(n) < capacity;
+}
+
+// A serial number that differs between boards without configuration: CRC-32 of the machine id
+// systemd keeps in /etc/machine-id (0 if there is none).
+uint32_t MachineSerial() {
+  char id[64] = {};
+  size_t n = 0;
+  if (!ReadTextFile("/etc/machine-id", id, sizeof(id) - 1, &n).ok()) return 0;
+  while (n > 0 && (id[n - 1] == '\n' || id[n - 1] == ' ')) --n;
+  return n > 0 ? Crc32(id, n) : 0;
 }
 
 }  // namespace
@@ -233,6 +282,49 @@ int main(int argc, char** argv) {
     if (!s.ok()) std::fprintf(stderr, "stereohash-fw: %s\n", s.message());
   }
   const bool is_sim = config.backend == Backend::kSim;
+  const bool replay = config.camera == CameraSource::kDirectory;
+  if (replay) {
+    // A recorded set (scene folders with left/right, calib.yaml and table.yaml beside them)
+    // brings its own calibration and table pose unless the configuration names others.
+    char table_yaml[kConfigPathMax];
+    if ((config.calibration_path[0] == '\0' &&
+         !JoinPath(config.calibration_path, sizeof(config.calibration_path),
+                   config.camera_directory, "calib.yaml")) ||
+        !JoinPath(table_yaml, sizeof(table_yaml), config.camera_directory, "table.yaml")) {
+      return Fail("configuration",
+                  Status::Error(StatusCode::kInvalidArgument, "camera_directory %s is too long",
+                                config.camera_directory));
+    }
+    if (config.table_file[0] == '\0' && !config.table_pose_set && FileExists(table_yaml)) {
+      std::memcpy(config.table_file, table_yaml, sizeof(config.table_file));
+    }
+    if (config.recognition == RecognitionKind::kTruth) {
+      return Fail("configuration", Status::Error(StatusCode::kInvalidArgument,
+                                                 "recognition = truth needs the rendered scenes, "
+                                                 "not camera = directory"));
+    }
+  }
+
+  // --- node id stored by LSS, serial number ------------------------------------------------
+  static char node_id_path[kConfigPathMax];
+  std::snprintf(node_id_path, sizeof(node_id_path), "%s",
+                config.lss_store_set ? config.lss_store_path
+                : is_sim             ? ""
+                                     : kDefaultNodeIdFile);
+  static std::unique_ptr<NodeIdFile> node_id_file;
+  if (node_id_path[0] != '\0') {
+    node_id_file = std::make_unique<NodeIdFile>(node_id_path);
+    const Result<uint8_t> stored = ReadNodeIdFile(node_id_path);
+    if (stored.ok()) {
+      std::fprintf(stderr, "stereohash-fw: node id %u (stored by LSS in %s)\n", *stored,
+                   node_id_path);
+      config.node_id = *stored;
+    } else if (stored.status().code() != StatusCode::kNotFound) {
+      std::fprintf(stderr, "stereohash-fw: %s; using node_id %u\n", stored.status().message(),
+                   config.node_id);
+    }
+  }
+  const uint32_t serial_number = config.serial_number != 0 ? config.serial_number : MachineSerial();
 
   // --- backends ---------------------------------------------------------------------------
   static hal::SimCanBus sim_bus;
@@ -246,11 +338,18 @@ int main(int argc, char** argv) {
   hal::Gpio* gpio = nullptr;
   hal::StereoCamera* camera = nullptr;
 
-  const uint32_t rx_ids[] = {protocol::kCobNmt, protocol::kCobCommand + config.node_id};
+  // No receive filter: LSS may give the node another id at run time, and the core takes only the
+  // identifiers of its current id (NMT, LSS, RPDOs, SDO) from what arrives.
+  static std::unique_ptr<hal::DirectoryCamera> directory_camera;
+  if (replay) {
+    hal::DirectoryCameraConfig dc;
+    dc.directory = config.camera_directory;
+    dc.loop = true;  // each trigger plays the next pair, from the first again after the last
+    directory_camera = std::make_unique<hal::DirectoryCamera>(dc);
+  }
   if (is_sim) {
     hal::SimCanEndpointConfig ep;
     ep.name = config.can_interface;
-    for (uint32_t id : rx_ids) ep.filter_ids[ep.filter_count++] = id;
     Result<hal::SimCanEndpoint*> fw_ep = sim_bus.AddEndpoint(ep);
     if (!fw_ep.ok()) return Fail("sim CAN", fw_ep.status());
     can = *fw_ep;
@@ -268,42 +367,49 @@ int main(int argc, char** argv) {
     } else {
       DefaultModelsDir(models_dir, sizeof(models_dir));
     }
-    SimWorldConfig wc;
-    wc.models_dir = models_dir;
-    wc.seed = config.sim_seed;
-    wc.scenes = config.sim_scenes;
-    wc.objects = config.sim_objects;
-    wc.light_background = config.sim_light_background;
-    const Status built = world.Build(wc);
-    if (!built.ok()) return Fail("simulator scenes", built);
-    hal::SimCameraConfig cc;
-    if (config.sim_camera_fault == SimCameraFault::kRightSilent) cc.right_stop_after = 3;
-    if (config.sim_camera_fault == SimCameraFault::kDropRight) cc.drop_right_every = 3;
-    sim_camera = std::make_unique<hal::SimCamera>(&world, cc);
-    camera = sim_camera.get();
+    if (replay) {
+      camera = directory_camera.get();
+    } else {
+      SimWorldConfig wc;
+      wc.models_dir = models_dir;
+      wc.seed = config.sim_seed;
+      wc.scenes = config.sim_scenes;
+      wc.objects = config.sim_objects;
+      wc.light_background = config.sim_light_background;
+      const Status built = world.Build(wc);
+      if (!built.ok()) return Fail("simulator scenes", built);
+      hal::SimCameraConfig cc;
+      if (config.sim_camera_fault == SimCameraFault::kRightSilent) cc.right_stop_after = 3;
+      if (config.sim_camera_fault == SimCameraFault::kDropRight) cc.drop_right_every = 3;
+      sim_camera = std::make_unique<hal::SimCamera>(&world, cc);
+      camera = sim_camera.get();
+    }
     gpio = &sim_gpio;
   } else {
     hal::SocketCanConfig sc;
     sc.interface = config.can_interface;
-    for (uint32_t id : rx_ids) sc.filter_ids[sc.filter_count++] = id;
     const Status s = socketcan.Open(sc);
     if (!s.ok()) return Fail("CAN", s);
     can = &socketcan;
+    if (replay) {
+      camera = directory_camera.get();
+    } else {
 #ifdef STEREOHASH_FW_HAVE_LIBCAMERA
-    hal::LibcameraStereoConfig lc;
-    lc.left_id = config.camera_left_id;
-    lc.right_id = config.camera_right_id;
-    lc.left_index = config.camera_left_index;
-    lc.right_index = config.camera_right_index;
-    lc.width = config.camera_width;
-    lc.height = config.camera_height;
-    static std::unique_ptr<hal::LibcameraStereoCamera> lcam;
-    lcam = std::make_unique<hal::LibcameraStereoCamera>(lc);
-    camera = lcam.get();
+      hal::LibcameraStereoConfig lc;
+      lc.left_id = config.camera_left_id;
+      lc.right_id = config.camera_right_id;
+      lc.left_index = config.camera_left_index;
+      lc.right_index = config.camera_right_index;
+      lc.width = config.camera_width;
+      lc.height = config.camera_height;
+      static std::unique_ptr<hal::LibcameraStereoCamera> lcam;
+      lcam = std::make_unique<hal::LibcameraStereoCamera>(lc);
+      camera = lcam.get();
 #else
-    return Fail("camera",
-                Status::Error(StatusCode::kUnimplemented, "this build has no libcamera backend"));
+      return Fail("camera",
+                  Status::Error(StatusCode::kUnimplemented, "this build has no libcamera backend"));
 #endif
+    }
     const bool gpio_wired = config.gpio_trigger_line >= 0 || config.gpio_ready_line >= 0 ||
                             config.gpio_busy_line >= 0 || config.gpio_strobe_line >= 0;
     if (gpio_wired) {
@@ -343,7 +449,56 @@ int main(int argc, char** argv) {
   // --- data and recognition --------------------------------------------------------------
   static std::unique_ptr<FileDataSource> data;
   data = std::make_unique<FileDataSource>(config.tables_path, config.calibration_path,
-                                          is_sim ? &world.calibration() : nullptr);
+                                          is_sim && !replay ? &world.calibration() : nullptr);
+
+  // The table (conveyor) pose: table.yaml, the two config keys, or the rendered rig's table.
+  bool table_known = false;
+  RigidTransform left_T_table;
+  if (config.table_file[0] != '\0') {
+    static char text[kMaxTableYamlBytes];
+    size_t n = 0;
+    Status read = ReadTextFile(config.table_file, text, sizeof(text), &n);
+    if (!read.ok()) return Fail("table_file", read);
+    const Result<RigidTransform> pose = ParseTableYaml(text, n);
+    if (!pose.ok()) {
+      return Fail("table_file", Status::Error(pose.status().code(), "%s: %s", config.table_file,
+                                              pose.status().message()));
+    }
+    left_T_table = *pose;
+    table_known = true;
+  } else if (config.table_pose_set) {
+    left_T_table = TablePose(config);
+    table_known = true;
+  } else if (is_sim && !replay) {
+    left_T_table = world.scene(0).scene.left_T_table;
+    table_known = true;
+  }
+
+  // The frame of the reported poses.
+  canopen::OutputFrame output_frame = canopen::OutputFrame::kCamera;
+  RigidTransform out_T_camera;
+  if (config.output_frame == OutputFrameKey::kTable) {
+    if (!table_known) {
+      return Fail("configuration", Status::Error(StatusCode::kInvalidArgument,
+                                                 "output_frame = table needs the table pose "
+                                                 "(table_file or table_rotation_deg/_origin_mm)"));
+    }
+    output_frame = canopen::OutputFrame::kTable;
+    out_T_camera = left_T_table.Inverse();
+  } else if (config.output_frame == OutputFrameKey::kRobot) {
+    static char text[kMaxHandEyeYamlBytes];
+    size_t n = 0;
+    Status read = ReadTextFile(config.handeye_path, text, sizeof(text), &n);
+    if (!read.ok()) return Fail("handeye", read);
+    const Result<HandEye> hand_eye = ParseHandEyeYaml(text, n);
+    if (!hand_eye.ok()) {
+      return Fail("handeye", Status::Error(hand_eye.status().code(), "%s: %s", config.handeye_path,
+                                           hand_eye.status().message()));
+    }
+    output_frame = hand_eye->eye_in_hand ? canopen::OutputFrame::kRobotFlange
+                                         : canopen::OutputFrame::kRobotBase;
+    out_T_camera = hand_eye->robot_T_camera;
+  }
   data->InjectCorruptTables(config.sim_corrupt_tables && is_sim);
 
   static std::unique_ptr<Recognition> recognition;
@@ -355,17 +510,16 @@ int main(int argc, char** argv) {
     PipelineRecognitionConfig pc;
     pc.light_background =
         config.background_set ? config.light_background : is_sim && config.sim_light_background;
-    pc.volume_set = config.volume_set;
+    // The simulator's default box belongs to the rendered table; a replayed set is bounded
+    // like `stereohash recognize --table` bounds it, over its own table.
+    pc.volume_set = config.volume_set && !(replay && config.volume_is_sim_default);
     for (int k = 0; k < 3; ++k) {
       pc.volume_min_mm[k] = config.volume_min_mm[k];
       pc.volume_max_mm[k] = config.volume_max_mm[k];
     }
     pc.volume_in_table_frame = config.volume_in_table_frame;
-    if (config.table_pose_set) {
-      pc.left_T_table = TablePose(config);
-    } else if (is_sim) {
-      pc.left_T_table = world.scene(0).scene.left_T_table;  // the rendered rig's table
-    }
+    pc.volume_over_table = !pc.volume_set && table_known;
+    pc.left_T_table = left_T_table;
     recognition = std::make_unique<PipelineRecognition>(&pipeline, pc);
 #else
     return Fail("recognition", Status::Error(StatusCode::kUnimplemented,
@@ -380,8 +534,8 @@ int main(int argc, char** argv) {
   }
   PrefaultStack();
 
-  static Reporter reporter(is_sim ? &world : nullptr, data.get(), &notifier,
-                           is_sim && config.sim_print_truth);
+  static Reporter reporter(is_sim && !replay ? &world : nullptr, data.get(), &notifier,
+                           is_sim && config.sim_print_truth, output_frame);
   if (demo) {
     static const char* names[32] = {};
     static Model name_models[1];
@@ -406,7 +560,13 @@ int main(int argc, char** argv) {
   cc.free_run_dhz = config.free_run_dhz;
   cc.model_mask = config.model_mask;
   cc.sched_fifo_priority = config.sched_fifo_priority;
+  cc.result_mode = static_cast<canopen::ResultMode>(config.result_mode);
+  cc.output_frame = output_frame;
+  cc.out_T_camera = out_T_camera;
+  cc.serial_number = serial_number;
+  cc.hardware_version = is_sim ? "stereohash simulator" : "stereohash vision board";
   CoreDevices devices;
+  devices.lss_store = node_id_file.get();
   devices.can = can;
   devices.gpio = gpio;
   devices.camera = camera;

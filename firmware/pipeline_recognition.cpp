@@ -19,6 +19,8 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const TableView
     config.stereo.volume = config_.volume_in_table_frame
                                ? WorkingVolume::InFrame(config_.left_T_table, min_mm, max_mm)
                                : WorkingVolume::InLeftCamera(min_mm, max_mm);
+  } else if (config_.volume_over_table) {
+    config.stereo.volume = WorkingVolume::OverTable(config_.left_T_table);
   }
   config.recognizer.model_mask = model_mask;
   return pipeline_->Init(calib, table, config, &MonotonicNs);

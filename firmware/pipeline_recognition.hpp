@@ -12,6 +12,9 @@ struct PipelineRecognitionConfig {
   float volume_min_mm[3] = {0, 0, 0};
   float volume_max_mm[3] = {0, 0, 0};
   bool volume_in_table_frame = false;
+  // No box given but a table pose known: the space over the table (WorkingVolume::OverTable),
+  // as `stereohash recognize --table` bounds it.
+  bool volume_over_table = false;
   RigidTransform left_T_table;  // table (conveyor) frame -> left camera, mm
 };
 

@@ -94,8 +94,11 @@ enum class ResultMode : uint8_t {
   kBoth = 2,    // both (commissioning: a PLC maps the PDOs while a logger records the stream)
 };
 
-// Frame the poses are reported in (0x2000 sub 5, 0x2100 sub 6, end frame byte 4).
-enum class OutputFrame : uint8_t { kCamera = 0, kTable = 1, kRobot = 2 };
+// Frame the poses are reported in (0x2000 sub 5, 0x2100 sub 6, end frame byte 4): the left
+// camera, the table (conveyor), the robot base (cameras fixed in the cell, eye-to-hand) or the
+// robot flange (cameras on the robot, eye-in-hand: the robot multiplies with its flange pose at
+// the time of the trigger).
+enum class OutputFrame : uint8_t { kCamera = 0, kTable = 1, kRobotBase = 2, kRobotFlange = 3 };
 const char* OutputFrameName(OutputFrame frame);
 
 // COB-ID bits of the PDO communication parameters (CiA 301 7.5.2.35).
@@ -309,7 +312,7 @@ inline constexpr OdRow kOdTable[] = {
     Sub(0x2000, 2, "Model mask", U32, RW, 0xFFFFFFFF),
     Sub(0x2000, 3, "Free-run rate 0.1 Hz", U16, RW, 0).Limits(0, protocol::kFreeRunRateMaxDeciHz),
     Sub(0x2000, 4, "Result mode", U8, RW, 0).Limits(0, 2),
-    Sub(0x2000, 5, "Output frame", U8, RO, 0).Limits(0, 2),
+    Sub(0x2000, 5, "Output frame", U8, RO, 0).Limits(0, protocol::kMaxOutputFrame),
     Array(0x2001, "Model names"),
     Sub(0x2001, 1, "Model", VS, RO).Text("").Repeat(kMaxModelNames, 0),  // name of model id n
     Var(0x2002, "Loaded model count", U8, RO, 0),

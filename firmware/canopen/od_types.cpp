@@ -111,8 +111,10 @@ const char* OutputFrameName(OutputFrame frame) {
       return "camera";
     case OutputFrame::kTable:
       return "table";
-    case OutputFrame::kRobot:
-      return "robot";
+    case OutputFrame::kRobotBase:
+      return "robot_base";
+    case OutputFrame::kRobotFlange:
+      return "robot_flange";
   }
   return "unknown";
 }

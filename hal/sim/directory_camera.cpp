@@ -18,13 +18,21 @@ namespace sh::hal {
 namespace {
 
 bool IsDirectory(const std::string& path) {
-  struct stat st;
+  struct stat st {};
   return stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
 
+// The file name, with its folder when the name alone ("left.png" of a scene folder) does not
+// say which pair it is.
 const char* BaseName(const std::string& path) {
   const size_t slash = path.rfind('/');
-  return path.c_str() + (slash == std::string::npos ? 0 : slash + 1);
+  const char* name = path.c_str() + (slash == std::string::npos ? 0 : slash + 1);
+  const bool generic = !std::strncmp(name, "left.", 5) || !std::strncmp(name, "right.", 6);
+  if (generic && slash != std::string::npos && slash > 0) {
+    const size_t parent = path.rfind('/', slash - 1);
+    return path.c_str() + (parent == std::string::npos ? 0 : parent + 1);
+  }
+  return name;
 }
 
 const char* SideName(int side) { return side == 0 ? "left" : "right"; }
@@ -82,6 +90,40 @@ Status ListFiles(const std::string& dir, std::vector<std::string>* names) {
   return Status::Ok();
 }
 
+std::string JoinPath(const std::string& dir, const std::string& name) {
+  std::string path = dir;
+  path.append("/").append(name);
+  return path;
+}
+
+// The image file `side` ("left", "right") of a scene folder: side.png or side.pgm, "" if none.
+std::string SceneImage(const std::string& folder, const char* side) {
+  for (const char* ext : {".png", ".pgm"}) {
+    std::string path = folder;
+    path.append("/").append(side).append(ext);
+    struct stat st {};
+    if (stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) return path;
+  }
+  return "";
+}
+
+// Folders of `dir` (not hidden).
+Status ListFolders(const std::string& dir, std::vector<std::string>* names) {
+  DIR* d = opendir(dir.c_str());
+  if (d == nullptr) {
+    return Status::Error(StatusCode::kUnavailable, "cannot open recording directory %s: %s",
+                         dir.c_str(), std::strerror(errno));
+  }
+  while (const dirent* e = readdir(d)) {
+    const std::string name = e->d_name;
+    std::string path = dir;
+    path.append("/").append(name);
+    if (name[0] != '.' && IsDirectory(path)) names->push_back(name);
+  }
+  closedir(d);
+  return Status::Ok();
+}
+
 // "left_0001.pgm" -> "0001" for prefix "left"; accepts "left0001", "left_0001", "left-0001".
 bool StripPrefix(const std::string& name, const char* prefix, std::string* key) {
   const size_t n = std::strlen(prefix);
@@ -110,10 +152,10 @@ Status DirectoryFrameSource::Scan() {
   if (IsDirectory(left_dir) && IsDirectory(right_dir)) {
     std::vector<std::string> names;
     SH_RETURN_IF_ERROR(ListFiles(left_dir, &names));
-    for (const std::string& n : names) left_by_key[n] = left_dir + "/" + n;
+    for (const std::string& n : names) left_by_key[n] = JoinPath(left_dir, n);
     names.clear();
     SH_RETURN_IF_ERROR(ListFiles(right_dir, &names));
-    for (const std::string& n : names) right_by_key[n] = right_dir + "/" + n;
+    for (const std::string& n : names) right_by_key[n] = JoinPath(right_dir, n);
   } else {
     std::vector<std::string> names;
     SH_RETURN_IF_ERROR(ListFiles(directory_, &names));
@@ -123,6 +165,20 @@ Status DirectoryFrameSource::Scan() {
         left_by_key[key] = directory_ + "/" + n;
       } else if (StripPrefix(n, "right", &key)) {
         right_by_key[key] = directory_ + "/" + n;
+      }
+    }
+    if (left_by_key.empty() && right_by_key.empty()) {
+      // Recorded-scenes layout: one folder per pair with left.png and right.png (and whatever
+      // else, truth.json, result.json, which playback ignores).
+      std::vector<std::string> folders;
+      SH_RETURN_IF_ERROR(ListFolders(directory_, &folders));
+      for (const std::string& f : folders) {
+        std::string folder = directory_;
+        folder.append("/").append(f);
+        const std::string left = SceneImage(folder, "left");
+        const std::string right = SceneImage(folder, "right");
+        if (!left.empty()) left_by_key[f] = left;
+        if (!right.empty()) right_by_key[f] = right;
       }
     }
   }
@@ -142,8 +198,9 @@ Status DirectoryFrameSource::Scan() {
   }
   if (pairs_.empty()) {
     return Status::Error(StatusCode::kNotFound,
-                         "no left/right image pairs in %s (left_N.png + right_N.png or left/ + "
-                         "right/ folders; .png or .pgm)",
+                         "no left/right image pairs in %s (left_N.png + right_N.png, left/ + "
+                         "right/ folders, or one folder per pair with left.png + right.png; .png "
+                         "or .pgm)",
                          directory_.c_str());
   }
   std::sort(pairs_.begin(), pairs_.end(),
@@ -155,7 +212,7 @@ Status DirectoryFrameSource::AllocateBuffers() {
   size_t largest = 1;
   for (const PathPair& p : pairs_) {
     for (const std::string* path : {&p.left, &p.right}) {
-      struct stat st;
+      struct stat st {};
       if (stat(path->c_str(), &st) != 0) {
         return Status::Error(StatusCode::kNotFound, "recording: cannot stat %s: %s",
                              BaseName(*path), std::strerror(errno));

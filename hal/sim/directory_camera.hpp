@@ -3,6 +3,8 @@
 // Layouts (detected in this order):
 //   <dir>/left/<name>.png   with <dir>/right/<name>.png
 //   <dir>/left_<key>.png    with <dir>/right_<key>.png   ("left<key>"/"left-<key>" also accepted)
+//   <dir>/<key>/left.png    with <dir>/<key>/right.png   (recorded scenes: calib.yaml beside the
+//                                                        scene folders; firmware recordings)
 // Pairs play in natural order of <name>/<key> (numbers compare by value: 2 before 10). Files are
 // PNG or binary PGM (.png/.pgm, decoded by hal/sim/image_files; colour is converted to grey);
 // other files are ignored. All frames must have the size of the first readable pair; a left file

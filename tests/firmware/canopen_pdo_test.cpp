@@ -23,7 +23,7 @@ protocol::ResultSet TwoObjects() {
   set.request_id = 77;
   set.status = protocol::ResultStatus::kTimeBudgetHit;
   set.processing_time_us = 92'049;
-  set.output_frame = static_cast<uint8_t>(OutputFrame::kRobot);
+  set.output_frame = static_cast<uint8_t>(OutputFrame::kRobotBase);
   set.object_count = 2;
   set.objects[0].model_id = 3;
   set.objects[0].instance = 0;
@@ -68,7 +68,7 @@ TEST_F(CanopenPdo, HeaderAndEndTpdosEqualTheStreamEncoding) {
   ExpectSameFrame(Pack(kTpdoHeader), frames[0]);
   ExpectSameFrame(Pack(kTpdoStreamEnd), end);
   EXPECT_EQ(end.len, protocol::kResultEndLength);
-  EXPECT_EQ(end.data[4], static_cast<uint8_t>(OutputFrame::kRobot));
+  EXPECT_EQ(end.data[4], static_cast<uint8_t>(OutputFrame::kRobotBase));
   // The stream object frame's mapping describes its 8 bytes.
   EXPECT_EQ(TpdoLength(*od_, kTpdoStreamObject), 8u);
   EXPECT_EQ(TpdoCobId(*od_, kTpdoStreamObject), frames[1].id);
@@ -125,7 +125,7 @@ TEST_F(CanopenPdo, AnswersCarryTheStreamsRawPoseOfTheRequestedObject) {
   EXPECT_EQ(i16(&qq.data[0]), e.q_raw[2]);
   EXPECT_EQ(i16(&qq.data[2]), e.q_raw[3]);
   EXPECT_EQ(qq.data[4], 2);  // object count of the set
-  EXPECT_EQ(qq.data[5], static_cast<uint8_t>(OutputFrame::kRobot));
+  EXPECT_EQ(qq.data[5], static_cast<uint8_t>(OutputFrame::kRobotBase));
   EXPECT_EQ(qq.data[6], 9);  // counter again: first and last frame agree
 
   EXPECT_EQ(results_.Answer(10, 1), AnswerStatus::kOk);

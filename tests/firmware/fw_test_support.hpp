@@ -69,11 +69,8 @@ class FakeRecognition final : public Recognition {
 class Rig {
  public:
   explicit Rig(const hal::SimCameraConfig& camera_config = {}) {
-    hal::SimCanEndpointConfig fw_config;
-    fw_config.filter_ids[0] = kCobNmt;
-    fw_config.filter_ids[1] = kCobCommand + kNode;
-    fw_config.filter_count = 2;
-    fw = *bus.AddEndpoint(fw_config);
+    // No filter, as on the board: the core picks its identifiers (they follow LSS changes).
+    fw = *bus.AddEndpoint(hal::SimCanEndpointConfig{});
     hal::SimCanEndpointConfig plc_config;
     plc_config.name = "plc";
     plc = *bus.AddEndpoint(plc_config);
@@ -94,6 +91,7 @@ class Rig {
     d.camera = camera.get();
     d.recognition = &recognition;
     d.data = data.get();
+    d.lss_store = lss_store;
     const Status s = core.Start(config, d);
     ASSERT_TRUE(s.ok()) << s.message();
   }
@@ -225,6 +223,7 @@ class Rig {
   StereoCalibration calib;
   std::unique_ptr<FileDataSource> data;
   CoreConfig config;
+  canopen::LssStore* lss_store = nullptr;
   FirmwareCore core;
   ResultAssembler assembler{kNode};
   int broken_sets = 0;

@@ -148,6 +148,43 @@ TEST(CameraDirectory, SubfolderLayoutAndLooping) {
   }
 }
 
+TEST(CameraDirectory, SceneFolderLayoutOfRecordedSetsPlaysInNaturalOrder) {
+  // The recorded-scenes format: calib.yaml beside scene folders holding left/right and truth.
+  TempDir dir;
+  WriteFile(dir.path() + "/calib.yaml", "%YAML:1.0\n");
+  for (int k : {10, 2, 1}) {
+    const std::string scene = dir.Sub("scene" + std::to_string(k));
+    WritePgm(scene + "/left.pgm", 6, 5, 10 * k);
+    WritePgm(scene + "/right.pgm", 6, 5, 10 * k + 1);
+    WriteFile(scene + "/truth.json", "{}");
+  }
+  dir.Sub("empty_folder");
+  DirectoryCamera cam(Config(dir, /*loop=*/true));
+  ASSERT_TRUE(cam.Start().ok());
+  EXPECT_EQ(cam.frame_count(), 3u);
+  const int order[] = {1, 2, 10, 1};
+  for (int k : order) {
+    StereoFrame f;
+    ASSERT_TRUE(cam.Capture(&f, 100).ok());
+    EXPECT_EQ(ValueShown(f.left), 10 * k);
+    EXPECT_EQ(ValueShown(f.right), 10 * k + 1);
+  }
+}
+
+TEST(CameraDirectory, SceneFolderWithoutRightImageIsNamed) {
+  TempDir dir;
+  const std::string a = dir.Sub("scene1");
+  WritePgm(a + "/left.pgm", 6, 5, 0);
+  WritePgm(a + "/right.pgm", 6, 5, 1);
+  const std::string b = dir.Sub("scene2");
+  WritePgm(b + "/left.pgm", 6, 5, 0);
+  DirectoryCamera cam(Config(dir));
+  const Status s = cam.Start();
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::strstr(s.message(), "scene2/left.pgm has no right partner"), nullptr)
+      << s.message();
+}
+
 TEST(CameraDirectory, PlaysPngRecordings) {
   TempDir dir;
   const std::string l = dir.Sub("left");
