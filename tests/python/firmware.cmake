@@ -18,4 +18,24 @@ if(TARGET stereohash-fw)
       set_tests_properties(python_firmware_e2e_${_kind} PROPERTIES LABELS host_only)
     endif()
   endforeach()
+  # The PDO result mode seen by a PLC that maps only the fixed PDOs: 50 sets through the
+  # pipeline with the stream beside it (every answered pose equals the stream's, every
+  # ground-truth object found), and the PDO mode alone reporting the ground truth.
+  function(stereohash_add_pdo_e2e mode kind)
+    if(kind STREQUAL "pipeline" AND NOT TARGET stereohash_fw_pipeline)
+      return()
+    endif()
+    add_test(NAME python_firmware_e2e_${mode}_${kind}
+             COMMAND /usr/bin/python3 ${CMAKE_CURRENT_FUNCTION_LIST_DIR}/test_firmware_e2e.py
+                     --firmware $<TARGET_FILE:stereohash-fw>
+                     --dbc ${PROJECT_SOURCE_DIR}/firmware/stereohash.dbc
+                     --triggers 50 --recognition ${kind} --result-mode ${mode} ${ARGN})
+    set_tests_properties(python_firmware_e2e_${mode}_${kind} PROPERTIES TIMEOUT 600
+                         SKIP_RETURN_CODE 77)
+    if(CMAKE_CROSSCOMPILING)
+      set_tests_properties(python_firmware_e2e_${mode}_${kind} PROPERTIES LABELS host_only)
+    endif()
+  endfunction()
+  stereohash_add_pdo_e2e(both pipeline --min-recall 1.0)
+  stereohash_add_pdo_e2e(pdo truth)
 endif()

@@ -7,6 +7,11 @@ from firmware/stereohash.dbc (independently of the C++ decoders), checks sequenc
 frame counts and CRC-8 (no frame lost), compares the decoded poses with what the firmware encoded
 and with the renderer's ground truth (modulo model symmetries), and reports the errors and the
 trigger-to-last-frame latency (median, p99).
+
+With --result-mode pdo or both the PLC reads the poses the way a PLC with a fixed PDO image does:
+after each result header it asks for object 0, 1, ... through RPDO2 (a request counter and the
+object index) and takes the answer from TPDO5..8 once both copies of the counter came back. In
+mode both the stream runs beside it and every answered pose must equal the stream's.
 """
 import argparse
 import json
@@ -130,7 +135,8 @@ class FirmwareEndToEndTest(unittest.TestCase):
         fw = Firmware(ARGS.firmware, "\n".join([
             "node_id = %d" % NODE, "heartbeat_ms = 100", "sim_port = 0", "sim_seed = 7",
             "sim_scenes = 5", "sim_objects = 3", "budget_ms = 2000",
-            "recognition = %s" % recognition, "sim_wait_for_client = true", ""]))
+            "recognition = %s" % recognition, "sim_wait_for_client = true",
+            "result_mode = %s" % ARGS.result_mode, ""]))
         try:
             time.sleep(0.2)
             if fw.proc.poll() is not None:
@@ -143,7 +149,40 @@ class FirmwareEndToEndTest(unittest.TestCase):
         finally:
             fw.stop()
 
+    counter = 0
+
+    def request_object(self, plc, sequence, count, index):
+        """The PDO handshake for one object: RPDO2 out, TPDO5..8 back; fields as RO_* names."""
+        self.counter = (self.counter + 1) & 0xFF
+        counter = self.counter
+        sent = time.time()
+        plc.send("SH_ObjectRequest", {"REQ_Counter": counter, "REQ_ObjectIndex": index})
+        frames = plc.receive_until(
+            lambda n, v, m: n == "SH_AnswerQuat" and v["AN_CounterEnd"] == counter, timeout=10)
+        self.handshake_ms.append((time.time() - sent) * 1000.0)
+        answer = {}
+        for name, values, _ in frames:
+            if name in ("SH_AnswerHeader", "SH_AnswerPosition", "SH_AnswerZQuat",
+                        "SH_AnswerQuat"):
+                answer[name] = values
+        self.assertEqual(len(answer), 4, "answer incomplete: %s" % sorted(answer))
+        head, quat = answer["SH_AnswerHeader"], answer["SH_AnswerQuat"]
+        self.assertEqual(head["AN_Counter"], counter, "first and last frame of one answer")
+        self.assertEqual(head["AN_Status"], 0)
+        self.assertEqual(head["AN_ObjectIndex"], index)
+        self.assertEqual(head["AN_SequenceLow"], sequence & 0xFF, "answer from another set")
+        self.assertEqual(quat["AN_ObjectCount"], count)
+        pos, zq = answer["SH_AnswerPosition"], answer["SH_AnswerZQuat"]
+        return {"RO_ModelId": head["AN_ModelId"], "RO_Instance": head["AN_Instance"],
+                "RO_Score": head["AN_Score"], "RO_PositionX": pos["AN_PositionX"],
+                "RO_PositionY": pos["AN_PositionY"], "RO_PositionZ": zq["AN_PositionZ"],
+                "RO_QuatW": zq["AN_QuatW"], "RO_QuatX": zq["AN_QuatX"],
+                "RO_QuatY": quat["AN_QuatY"], "RO_QuatZ": quat["AN_QuatZ"]}
+
     def run_session(self, fw, plc, recognition):
+        mode = ARGS.result_mode
+        self.handshake_ms = []
+        stream_vs_pdo_mm, stream_vs_pdo_deg = [], []
         startup = plc.receive_until(
             lambda n, v, m: n == "SH_Heartbeat" and v["HB_NmtState"] == 5, timeout=60)
         hb = [v["HB_NmtState"] for n, v, _ in startup if n == "SH_Heartbeat"]
@@ -160,8 +199,13 @@ class FirmwareEndToEndTest(unittest.TestCase):
         for request_id in range(1, ARGS.triggers + 1):
             sent = time.time()
             plc.send("SH_Command", {"CMD_Code": 1, "CMD_TriggerRequestId": request_id})
-            frames = plc.receive_until(
-                lambda n, v, m: n == "SH_ResultEnd", timeout=30)
+            if mode == "pdo":  # the header closes what the PLC waits for; no stream follows
+                frames = plc.receive_until(
+                    lambda n, v, m: n == "SH_ResultHeader" and v["RH_RequestId"] == request_id,
+                    timeout=30)
+            else:
+                frames = plc.receive_until(
+                    lambda n, v, m: n == "SH_ResultEnd", timeout=30)
             arrived = time.time()
             heartbeats += sum(1 for n, _, _ in frames if n == "SH_Heartbeat")
             emcys = [v for n, v, _ in frames if n == "SH_Emcy"]
@@ -181,24 +225,42 @@ class FirmwareEndToEndTest(unittest.TestCase):
                 self.assertEqual(sequence, (last_sequence + 1) & 0xFFFF, "sequence gap")
             last_sequence = sequence
             count = int(header["RH_ObjectCount"])
-            self.assertEqual(len(set_frames), 2 + 4 * count, "frames lost in set %d" % sequence)
-            self.assertEqual(int(end["RE_Sequence"]), sequence)
-            self.assertEqual(int(end["RE_ObjectCount"]), count)
-            crc = 0
-            for _, _, msg in set_frames[:-1]:
-                crc = crc8(msg.data, crc)
-            self.assertEqual(int(end["RE_Crc8"]), crc)
+            objects = {}
+            if mode != "pdo":
+                self.assertEqual(len(set_frames), 2 + 4 * count,
+                                 "frames lost in set %d" % sequence)
+                self.assertEqual(int(end["RE_Sequence"]), sequence)
+                self.assertEqual(int(end["RE_ObjectCount"]), count)
+                self.assertEqual(int(end["RE_OutputFrame"]), 0, "camera frame")
+                crc = 0
+                for _, _, msg in set_frames[:-1]:
+                    crc = crc8(msg.data, crc)
+                self.assertEqual(int(end["RE_Crc8"]), crc)
+                for k, (_, values, _) in enumerate(set_frames[1:-1]):
+                    self.assertEqual(values["RO_ObjectIndex"], k // 4)
+                    self.assertEqual(values["RO_Part"], k % 4)
+                    objects.setdefault(k // 4, {}).update(values)
             latencies_ms.append((arrived - sent) * 1000.0)
             processing_ms.append(header["RH_ProcessingTime"])
+            if mode != "stream":
+                # The PLC's view: only the PDOs. In mode both, each pose equals the stream's.
+                answered = {i: self.request_object(plc, sequence, count, i) for i in range(count)}
+                for i, got in answered.items():
+                    if mode == "both":
+                        ref = objects[i]
+                        self.assertEqual(got["RO_ModelId"], ref["RO_ModelId"])
+                        self.assertEqual(got["RO_Instance"], ref["RO_Instance"])
+                        stream_vs_pdo_mm.append(math.dist(
+                            [got["RO_Position" + a] for a in "XYZ"],
+                            [ref["RO_Position" + a] for a in "XYZ"]))
+                        Rg = quat_to_matrix(*[got["RO_Quat" + a] for a in "WXYZ"])
+                        Rr = quat_to_matrix(*[ref["RO_Quat" + a] for a in "WXYZ"])
+                        stream_vs_pdo_deg.append(angle_deg(matmul(transpose(Rg), Rr)))
+                objects = answered
 
             report = fw.result(request_id)
             self.assertEqual(report["sequence"], sequence)
             self.assertEqual(len(report["objects"]), count)
-            objects = {}
-            for k, (_, values, _) in enumerate(set_frames[1:-1]):
-                self.assertEqual(values["RO_ObjectIndex"], k // 4)
-                self.assertEqual(values["RO_Part"], k % 4)
-                objects.setdefault(k // 4, {}).update(values)
             truth = report.get("truth", [])
             truth_objects += len(truth)
             used = set()
@@ -261,6 +323,15 @@ class FirmwareEndToEndTest(unittest.TestCase):
             frames = plc.receive_until(lambda n, v, m: n == "SH_Heartbeat", timeout=15.0)
             heartbeats += sum(1 for n, _, _ in frames if n == "SH_Heartbeat")
         print("  heartbeats seen during the run: %d" % heartbeats)
+        if self.handshake_ms:
+            print("  PDO handshake (request -> last answer frame): %d objects, median %.1f ms, "
+                  "max %.1f ms" % (len(self.handshake_ms), statistics.median(self.handshake_ms),
+                                   max(self.handshake_ms)))
+        if stream_vs_pdo_mm:
+            print("  PDO answers vs stream: position max %.4f mm, rotation max %.4f deg"
+                  % (max(stream_vs_pdo_mm), max(stream_vs_pdo_deg)))
+            self.assertLessEqual(max(stream_vs_pdo_mm), 1.0)
+            self.assertLessEqual(max(stream_vs_pdo_deg), 1.0)
         sys.stdout.flush()
         self.assertEqual(len(latencies_ms), ARGS.triggers)
         self.assertGreater(heartbeats, 0)
@@ -275,6 +346,8 @@ def main():
     parser.add_argument("--dbc", required=True)
     parser.add_argument("--triggers", type=int, default=50)
     parser.add_argument("--recognition", default="pipeline", choices=("pipeline", "truth"))
+    parser.add_argument("--result-mode", default="stream", choices=("stream", "pdo", "both"),
+                        help="how the PLC reads the poses: the stream, or PDO requests")
     parser.add_argument("--max-position-error-mm", type=float, default=5.0)
     parser.add_argument("--max-rotation-error-deg", type=float, default=3.0)
     parser.add_argument("--min-recall", type=float, default=0.8)
