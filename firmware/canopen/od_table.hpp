@@ -222,7 +222,7 @@ inline constexpr OdRow kOdTable[] = {
     Sub(0x1003, 0, "Number of errors", U8, RW, 0).Limits(0, kErrorHistoryDepth),
     Sub(0x1003, 1, "Standard error field", U32, RO).Repeat(kErrorHistoryDepth, 1),
     Var(0x1008, "Manufacturer device name", VS, CO).Text(kDeviceName),
-    Var(0x1009, "Manufacturer hardware version", VS, CO).Text(""),
+    Var(0x1009, "Manufacturer hardware version", VS, RO).Text(""),  // board or simulator
     Var(0x100A, "Manufacturer software version", VS, CO).Text(kSoftwareVersion),
     Var(0x1014, "COB-ID EMCY", U32, RO, 0x80).PlusNodeId(),
     // 0 = no heartbeat; 1..9 ms are refused (a heartbeat faster than 10 ms floods the bus).
