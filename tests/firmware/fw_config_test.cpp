@@ -75,6 +75,12 @@ TEST(FwConfig, ErrorsNameLineAndKey) {
       {"mlock = maybe\n", "expected true or false"},
       {"can_interface =\n", "missing value"},
       {"= 3\n", "missing key"},
+      {"heartbeat_ms = 5\n", "expected 0 (off) or 10..10000"},
+      {"result_mode = fast\n", "expected stream, pdo or both"},
+      {"output_frame = world\n", "expected camera, table or robot"},
+      {"camera = usb\n", "expected libcamera, sim or directory"},
+      {"serial_number = -1\n", "key 'serial_number'"},
+      {"record_max = 0\n", "key 'record_max'"},
   };
   for (const BadCase& bad : cases) {
     FwConfig c;
@@ -82,6 +88,46 @@ TEST(FwConfig, ErrorsNameLineAndKey) {
     EXPECT_FALSE(s.ok()) << bad.text;
     EXPECT_NE(std::strstr(s.message(), bad.expected), nullptr)
         << "text: " << bad.text << " message: " << s.message();
+  }
+}
+
+TEST(FwConfig, CommissioningKeys) {
+  FwConfig c;
+  const Status s = Parse(
+      "heartbeat_ms = 0\n"
+      "result_mode = both\n"
+      "serial_number = 0x1234ABCD\n"
+      "lss_store = /var/lib/stereohash/node-id\n"
+      "camera = directory\n"
+      "camera_directory = /data/recorded\n"
+      "output_frame = robot\n"
+      "handeye = /etc/stereohash/handeye.yaml\n",
+      &c);
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(c.heartbeat_ms, 0u);
+  EXPECT_EQ(c.result_mode, 2);
+  EXPECT_EQ(c.serial_number, 0x1234ABCDu);
+  EXPECT_TRUE(c.lss_store_set);
+  EXPECT_EQ(c.camera, CameraSource::kDirectory);
+  EXPECT_STREQ(c.camera_directory, "/data/recorded");
+  EXPECT_EQ(c.output_frame, OutputFrameKey::kRobot);
+  EXPECT_TRUE(ValidateConfig(c).ok());
+
+  const struct {
+    const char* text;
+    const char* expected;
+  } bad[] = {
+      {"output_frame = robot\n", "needs 'handeye'"},
+      {"camera = directory\n", "needs 'camera_directory'"},
+      {"table_file = t.yaml\ntable_origin_mm = 0 0 500\n", "both give the table pose"},
+      {"backend = linux\ncalibration = c.yaml\noutput_frame = table\n", "needs the table pose"},
+  };
+  for (const auto& b : bad) {
+    FwConfig v;
+    ASSERT_TRUE(Parse(b.text, &v).ok()) << b.text;
+    const Status r = ValidateConfig(v);
+    EXPECT_FALSE(r.ok()) << b.text;
+    EXPECT_NE(std::strstr(r.message(), b.expected), nullptr) << r.message();
   }
 }
 
