@@ -210,6 +210,19 @@ Status ReadTextFile(const char* path, char* text, size_t capacity, size_t* lengt
 
 bool FileExists(const char* path) { return access(path, R_OK) == 0; }
 
+// A small YAML file (table pose, hand-eye) read and parsed; errors name the file. Boot only.
+template <typename T, size_t kBytes>
+Result<T> LoadYamlFile(const char* path, Result<T> (*parse)(const char*, size_t)) {
+  static char text[kBytes];
+  size_t n = 0;
+  SH_RETURN_IF_ERROR(ReadTextFile(path, text, sizeof(text), &n));
+  Result<T> parsed = parse(text, n);
+  if (!parsed.ok()) {
+    return Status::Error(parsed.status().code(), "%s: %s", path, parsed.status().message());
+  }
+  return parsed;
+}
+
 // dir/name into out; false if it does not fit.
 bool JoinPath(char* out, size_t capacity, const char* dir, const char* name) {
   const int n = std::snprintf(out, capacity, "%s/%s", dir, name);
@@ -455,15 +468,9 @@ int main(int argc, char** argv) {
   bool table_known = false;
   RigidTransform left_T_table;
   if (config.table_file[0] != '\0') {
-    static char text[kMaxTableYamlBytes];
-    size_t n = 0;
-    Status read = ReadTextFile(config.table_file, text, sizeof(text), &n);
-    if (!read.ok()) return Fail("table_file", read);
-    const Result<RigidTransform> pose = ParseTableYaml(text, n);
-    if (!pose.ok()) {
-      return Fail("table_file", Status::Error(pose.status().code(), "%s: %s", config.table_file,
-                                              pose.status().message()));
-    }
+    const Result<RigidTransform> pose =
+        LoadYamlFile<RigidTransform, kMaxTableYamlBytes>(config.table_file, &ParseTableYaml);
+    if (!pose.ok()) return Fail("table_file", pose.status());
     left_T_table = *pose;
     table_known = true;
   } else if (config.table_pose_set) {
@@ -486,15 +493,9 @@ int main(int argc, char** argv) {
     output_frame = canopen::OutputFrame::kTable;
     out_T_camera = left_T_table.Inverse();
   } else if (config.output_frame == OutputFrameKey::kRobot) {
-    static char text[kMaxHandEyeYamlBytes];
-    size_t n = 0;
-    Status read = ReadTextFile(config.handeye_path, text, sizeof(text), &n);
-    if (!read.ok()) return Fail("handeye", read);
-    const Result<HandEye> hand_eye = ParseHandEyeYaml(text, n);
-    if (!hand_eye.ok()) {
-      return Fail("handeye", Status::Error(hand_eye.status().code(), "%s: %s", config.handeye_path,
-                                           hand_eye.status().message()));
-    }
+    const Result<HandEye> hand_eye =
+        LoadYamlFile<HandEye, kMaxHandEyeYamlBytes>(config.handeye_path, &ParseHandEyeYaml);
+    if (!hand_eye.ok()) return Fail("handeye", hand_eye.status());
     output_frame = hand_eye->eye_in_hand ? canopen::OutputFrame::kRobotFlange
                                          : canopen::OutputFrame::kRobotBase;
     out_T_camera = hand_eye->robot_T_camera;
