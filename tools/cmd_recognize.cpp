@@ -11,6 +11,7 @@
 #include "tools/command.hpp"
 #include "tools/overlay.hpp"
 #include "tools/recognize_setup.hpp"
+#include "tools/recorded_pair.hpp"
 #include "tools/report_util.hpp"
 
 namespace sh::tools {
@@ -25,6 +26,9 @@ void PrintHelp() {
       "and prints their poses: x_cam = R x_model + t, model and left-camera millimetres.\n"
       "  --json        write {\"objects\": [...], \"features\": {...}, \"time_ms\": {...}, ...}\n"
       "  --overlay     write left | right with the recognised models' visible edges (RGB PNG)\n"
+      "  --scene DIR   a recorded pair instead of --left/--right: DIR/left.png and right.png (or\n"
+      "                .pgm) of a recorded-scenes set or a firmware recording; --calib and\n"
+      "                --table default to calib.yaml and table.yaml beside DIR\n"
       "%s",
       kRecognizeOptionsHelp);
 }
@@ -72,6 +76,7 @@ int RunRecognize(int argc, char** argv) {
   const char* right_path = nullptr;
   const char* json_path = nullptr;
   const char* overlay_path = nullptr;
+  const char* scene_dir = nullptr;
   RecognizeOptions options;
   for (int i = 1; i < argc; ++i) {
     const char *arg = nullptr, *value = nullptr;
@@ -92,15 +97,33 @@ int RunRecognize(int argc, char** argv) {
       json_path = value;
     } else if (std::strcmp(arg, "--overlay") == 0) {
       overlay_path = value;
+    } else if (std::strcmp(arg, "--scene") == 0) {
+      scene_dir = value;
     } else {
       std::fprintf(stderr, "stereohash recognize: bad option or value: %s %s (see --help)\n", arg,
                    value);
       return 2;
     }
   }
+  RecordedPair recorded;
+  if (scene_dir != nullptr) {
+    if (left_path != nullptr || right_path != nullptr) {
+      std::fprintf(stderr, "stereohash recognize: --scene replaces --left and --right\n");
+      return 2;
+    }
+    const Status found = FindRecordedPair(scene_dir, &recorded);
+    if (!found.ok()) return Fail("%s", found.message());
+    left_path = recorded.left.c_str();
+    right_path = recorded.right.c_str();
+    if (calib_path == nullptr) calib_path = recorded.calib.c_str();
+    if (options.table_path == nullptr && !recorded.table.empty()) {
+      options.table_path = recorded.table.c_str();
+    }
+  }
   if (calib_path == nullptr || left_path == nullptr || right_path == nullptr) {
     std::fprintf(stderr,
-                 "stereohash recognize: --calib, --left and --right are required (see --help)\n");
+                 "stereohash recognize: --calib with --left and --right, or --scene, are required "
+                 "(see --help)\n");
     return 2;
   }
 

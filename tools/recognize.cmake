@@ -3,6 +3,7 @@
 target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/cmd_recognize.cpp
                                   ${CMAKE_CURRENT_LIST_DIR}/recognize_setup.cpp
                                   ${CMAKE_CURRENT_LIST_DIR}/report_util.cpp
-                                  ${CMAKE_CURRENT_LIST_DIR}/overlay.cpp)
+                                  ${CMAKE_CURRENT_LIST_DIR}/overlay.cpp
+                                  ${CMAKE_CURRENT_LIST_DIR}/recorded_pair.cpp)
 target_link_libraries(stereohash PRIVATE stereohash_pipeline stereohash_image_files
                       stereohash_default_tables stereohash_tables stereohash_camera)

@@ -195,7 +195,9 @@ bool ApplyPipelineSetting(const char* setting, PipelineConfig* c) {
 }
 
 std::string ResultJson(const TableView& tables, const PipelineResult& r, const TableChoice& table) {
-  std::string json = "{\"objects\": [";
+  // The frame of the poses, as the firmware's results name it: recognize reports the left
+  // camera's.
+  std::string json = "{\"frame\": \"camera\", \"objects\": [";
   char buffer[1024];
   for (size_t i = 0; i < r.objects.size(); ++i) {
     const RecognizedObject& o = r.objects[i];

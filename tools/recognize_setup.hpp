@@ -67,7 +67,8 @@ PipelineConfig MakePipelineConfig(const RecognizeOptions& options, const TableCh
 // recognizer.*, stereo.epipolar_tolerance_px, features.*). False for an unknown name.
 bool ApplyPipelineSetting(const char* setting, PipelineConfig* config);
 
-// {"objects": [...], "features": {...}, "recognition": {...}, "time_ms": {...}, "table": ...}
+// {"frame": "camera", "objects": [...], "features": {...}, "recognition": {...}, "time_ms": {...},
+// "table": ...}
 std::string ResultJson(const TableView& tables, const PipelineResult& result,
                        const TableChoice& table);
 

@@ -285,5 +285,40 @@ TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
   EXPECT_EQ(RunTool("bench recorded " + set + " --background purple").exit_code, 2);
 }
 
+TEST_F(RecognizeToolTest, ReadsARecordedPairWithTheSetsCalibrationAndTable) {
+  // Recorded-scenes layout: calib.yaml and table.yaml beside the scene folder.
+  const std::string set = Path("set");
+  ASSERT_EQ(std::system(("mkdir -p " + set + "/scene1 && cp " + Path("left.png") + " " +
+                         Path("right.png") + " " + set + "/scene1/ && cp " + Path("calib.yaml") +
+                         " " + Path("table.yaml") + " " + set + "/")
+                            .c_str()),
+            0);
+  ToolRun r = RunTool("recognize --scene " + set + "/scene1 --json " + Path("scene.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) + " --table " +
+              Path("table.yaml") + " --json " + Path("pair.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  Json scene, pair;
+  ASSERT_TRUE(JsonReader(ReadText(Path("scene.json"))).Parse(&scene));
+  ASSERT_TRUE(JsonReader(ReadText(Path("pair.json"))).Parse(&pair));
+  EXPECT_EQ(scene["frame"].text, "camera");
+  ASSERT_EQ(scene["objects"].size(), pair["objects"].size());
+  ASSERT_GT(scene["objects"].size(), 0u);
+  for (size_t i = 0; i < scene["objects"].size(); ++i) {
+    EXPECT_EQ(scene["objects"][i]["model"].text, pair["objects"][i]["model"].text);
+    EXPECT_EQ(PoseOf(scene["objects"][i]).t_mm, PoseOf(pair["objects"][i]).t_mm);
+  }
+  // Without a calib.yaml beside it the calibration must be given.
+  ASSERT_EQ(std::system(("rm " + set + "/calib.yaml").c_str()), 0);
+  r = RunTool("recognize --scene " + set + "/scene1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("no calib.yaml beside"), std::string::npos) << r.output;
+  r = RunTool("recognize --scene " + set + "/missing");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("has no left.png"), std::string::npos) << r.output;
+  r = RunTool("recognize --scene " + set + "/scene1 --left " + Path("left.png"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+}
+
 }  // namespace
 }  // namespace sh

@@ -39,3 +39,12 @@ if(TARGET stereohash-fw)
   stereohash_add_pdo_e2e(both pipeline --min-recall 1.0)
   stereohash_add_pdo_e2e(pdo truth)
 endif()
+# Replay: stereohash-fw with camera = directory on a rendered set gives the poses that
+# `stereohash recognize --scene` gives on the same pairs.
+if(TARGET stereohash-fw AND TARGET stereohash AND TARGET stereohash_fw_pipeline)
+  add_test(NAME python_firmware_replay
+           COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_replay.py
+                   --firmware $<TARGET_FILE:stereohash-fw> --stereohash $<TARGET_FILE:stereohash>
+                   --scenes 4)
+  set_tests_properties(python_firmware_replay PROPERTIES TIMEOUT 600)
+endif()

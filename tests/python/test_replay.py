@@ -1,0 +1,200 @@
+#!/usr/bin/python3
+"""Replay of a recorded scene set through stereohash-fw gives the poses `stereohash recognize`
+gives on the same pairs.
+
+The firmware runs in simulation with `camera = directory` on the set (recorded-scenes layout:
+calib.yaml and table.yaml beside scene folders with left.png and right.png) and free-runs, so
+each capture plays the next pair; its RESULT lines are compared, pair by pair, with
+`stereohash recognize --scene SET/<scene> --json` (same background preset, no time limit). Both
+must report the same objects at the same poses (position within --max-position-mm, rotation
+within --max-rotation-deg).
+
+Without --set, a set of --scenes scenes is rendered with `stereohash render` first (CI has no
+recorded sets). Prints one line per scene and a summary.
+"""
+import argparse
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import unittest
+
+ARGS = None
+
+
+def matrix_to_quat(R):
+    """Unit quaternion (w, x, y, z) of a rotation matrix (Shepperd's method, renormalised)."""
+    trace = R[0][0] + R[1][1] + R[2][2]
+    if trace > 0:
+        s = math.sqrt(trace + 1.0) * 2
+        q = [0.25 * s, (R[2][1] - R[1][2]) / s, (R[0][2] - R[2][0]) / s, (R[1][0] - R[0][1]) / s]
+    elif R[0][0] > R[1][1] and R[0][0] > R[2][2]:
+        s = math.sqrt(1.0 + R[0][0] - R[1][1] - R[2][2]) * 2
+        q = [(R[2][1] - R[1][2]) / s, 0.25 * s, (R[0][1] + R[1][0]) / s, (R[0][2] + R[2][0]) / s]
+    elif R[1][1] > R[2][2]:
+        s = math.sqrt(1.0 + R[1][1] - R[0][0] - R[2][2]) * 2
+        q = [(R[0][2] - R[2][0]) / s, (R[0][1] + R[1][0]) / s, 0.25 * s, (R[1][2] + R[2][1]) / s]
+    else:
+        s = math.sqrt(1.0 + R[2][2] - R[0][0] - R[1][1]) * 2
+        q = [(R[1][0] - R[0][1]) / s, (R[0][2] + R[2][0]) / s, (R[1][2] + R[2][1]) / s, 0.25 * s]
+    n = math.sqrt(sum(c * c for c in q))
+    return [c / n for c in q]
+
+
+def rotation_between_deg(a, b):
+    """Angle of the rotation between two unit quaternions, well conditioned near 0."""
+    n = math.sqrt(sum(c * c for c in a))
+    a = [c / n for c in a]
+    dot = abs(sum(x * y for x, y in zip(a, b)))
+    # |q_a^-1 q_b| vector part, from the identity |v|^2 = 1 - w^2 evaluated stably
+    cross = math.sqrt(max(0.0, sum((a[0] * b[i] - b[0] * a[i]) ** 2 for i in (1, 2, 3)) +
+                          sum((a[j] * b[k] - a[k] * b[j]) ** 2
+                              for j, k in ((1, 2), (2, 3), (1, 3)))))
+    return math.degrees(2 * math.atan2(cross, dot))
+
+
+def render_set(stereohash, directory, scenes):
+    seed = 0
+    for k in range(scenes):
+        out = os.path.join(directory, "scene%02d" % k)
+        while True:  # seeds whose objects cannot be placed are skipped, as the simulator does
+            seed += 1
+            done = subprocess.run([stereohash, "render", "--out", out, "--seed", str(seed),
+                                   "--objects", "3"], stdout=subprocess.DEVNULL,
+                                  stderr=subprocess.DEVNULL)
+            if done.returncode == 0:
+                break
+            if seed > 100:
+                raise RuntimeError("stereohash render placed no scene in 100 seeds")
+        for name in ("calib.yaml", "table.yaml"):
+            shared = os.path.join(directory, name)
+            if not os.path.exists(shared):
+                shutil.copy(os.path.join(out, name), shared)
+            os.remove(os.path.join(out, name))
+
+
+def scene_folders(directory):
+    folders = [f for f in os.listdir(directory)
+               if os.path.isfile(os.path.join(directory, f, "left.png"))]
+
+    def natural(name):  # the firmware plays folders in natural order: scene2 before scene10
+        parts, digits = [], ""
+        for c in name + "\0":
+            if c.isdigit():
+                digits += c
+                continue
+            if digits:
+                parts.append((0, int(digits), ""))
+                digits = ""
+            parts.append((1, 0, c))
+        return parts
+    return sorted(folders, key=natural)
+
+
+class ReplayTest(unittest.TestCase):
+    def test_replay_matches_recognize(self):
+        work = tempfile.mkdtemp(prefix="stereohash_replay_")
+        try:
+            directory = ARGS.set
+            if directory is None:
+                directory = os.path.join(work, "set")
+                os.makedirs(directory)
+                render_set(ARGS.stereohash, directory, ARGS.scenes)
+            scenes = scene_folders(directory)
+            self.assertTrue(scenes, "no scene folders in %s" % directory)
+            firmware_results = self.run_firmware(directory, len(scenes), work)
+            self.compare(directory, scenes, firmware_results, work)
+        finally:
+            shutil.rmtree(work, ignore_errors=True)
+
+    def run_firmware(self, directory, count, work):
+        config = os.path.join(work, "fw.conf")
+        with open(config, "w") as f:
+            f.write("\n".join([
+                "camera = directory", "camera_directory = %s" % directory,
+                "background = %s" % ARGS.background, "budget_ms = 10000",
+                "free_run_dhz = 300", "heartbeat_ms = 1000", "sim_port = 0", ""]))
+        proc = subprocess.Popen([ARGS.firmware, "--sim", "--config", config],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                bufsize=1)
+        results, stderr = [], []
+        threading.Thread(target=lambda: stderr.extend(proc.stderr), daemon=True).start()
+        deadline = time.time() + ARGS.timeout
+        try:
+            for line in proc.stdout:
+                if line.startswith("MODELS "):
+                    self.model_names = json.loads(line.split(" ", 1)[1])["names"]
+                if line.startswith("RESULT "):
+                    results.append(json.loads(line.split(" ", 1)[1]))
+                    if len(results) == count:
+                        break
+                if time.time() > deadline:
+                    break
+        finally:
+            proc.terminate()
+            try:
+                proc.wait(20)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+        self.assertEqual(len(results), count,
+                         "firmware results: %d of %d\n%s" % (len(results), count,
+                                                             "".join(stderr[-20:])))
+        return results
+
+    def compare(self, directory, scenes, firmware_results, work):
+        worst_mm = worst_deg = 0.0
+        objects = 0
+        for k, scene in enumerate(scenes):
+            fw = firmware_results[k]
+            self.assertEqual(fw["status"], 0, "%s: firmware status %d" % (scene, fw["status"]))
+            self.assertEqual(fw["output_frame"], "camera")
+            out = os.path.join(work, "%s.json" % scene)
+            subprocess.run([ARGS.stereohash, "recognize", "--scene",
+                            os.path.join(directory, scene), "--json", out,
+                            "--background", ARGS.background], check=True,
+                           stdout=subprocess.DEVNULL)
+            with open(out) as f:
+                ref = json.load(f)
+            self.assertEqual(ref["frame"], "camera")
+            names = self.model_names
+            fw_objects = [(names[o["model_id"]], o["t_mm"], o["q_wxyz"]) for o in fw["objects"]]
+            ref_objects = [(o["model"], o["t"], matrix_to_quat(o["R"])) for o in ref["objects"]]
+            self.assertEqual(sorted(n for n, _, _ in fw_objects),
+                             sorted(n for n, _, _ in ref_objects), "%s: models differ" % scene)
+            for name, t, R in fw_objects:
+                best = min(((math.dist(t, rt), rotation_between_deg(R, rR))
+                            for rn, rt, rR in ref_objects if rn == name), key=lambda e: e[0])
+                worst_mm = max(worst_mm, best[0])
+                worst_deg = max(worst_deg, best[1])
+                objects += 1
+            print("  %s: %d objects" % (scene, len(fw_objects)))
+        print("replay of %s: %d pairs, %d objects, largest difference to recognize %.4f mm, "
+              "%.4f deg" % (ARGS.set or "a rendered set", len(scenes), objects, worst_mm,
+                            worst_deg))
+        sys.stdout.flush()
+        self.assertLessEqual(worst_mm, ARGS.max_position_mm)
+        self.assertLessEqual(worst_deg, ARGS.max_rotation_deg)
+
+
+def main():
+    global ARGS
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--firmware", required=True)
+    parser.add_argument("--stereohash", required=True, help="the stereohash host program")
+    parser.add_argument("--set", help="recorded scene set (default: render one)")
+    parser.add_argument("--scenes", type=int, default=4, help="scenes to render without --set")
+    parser.add_argument("--background", default="dark", choices=("dark", "light"))
+    parser.add_argument("--max-position-mm", type=float, default=0.01)
+    parser.add_argument("--max-rotation-deg", type=float, default=0.01)
+    parser.add_argument("--timeout", type=float, default=300)
+    ARGS, rest = parser.parse_known_args()
+    unittest.main(argv=[sys.argv[0]] + rest, verbosity=2)
+
+
+if __name__ == "__main__":
+    main()

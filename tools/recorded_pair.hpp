@@ -1,0 +1,21 @@
+// A recorded stereo pair on disk: a scene folder of a recorded-scenes set (../shared/scenes
+// layout) or of a firmware recording (record_dir), with the set's calib.yaml and table.yaml one
+// level up.
+#pragma once
+
+#include <string>
+
+#include "recog/base/status.hpp"
+
+namespace sh::tools {
+
+struct RecordedPair {
+  std::string left, right;  // DIR/left.png or .pgm, DIR/right.png or .pgm
+  std::string calib;        // DIR/../calib.yaml (must exist)
+  std::string table;        // DIR/../table.yaml, "" if there is none
+};
+
+// kNotFound naming what is missing.
+Status FindRecordedPair(const char* scene_dir, RecordedPair* out);
+
+}  // namespace sh::tools
