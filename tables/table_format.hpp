@@ -26,7 +26,9 @@ namespace sh {
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "blobs are read in place: little-endian");
 
 inline constexpr char kTableMagic[8] = {'S', 'H', 'T', 'A', 'B', 'L', 'E', '\0'};
-inline constexpr uint16_t kTableFormatVersion = 1;
+// Version 2: Model records sized for 128 corners, 192 edges, 64 faces of up to 64 corners and
+// 96 symmetries (version 1: 32, 48, 24, 15, 24).
+inline constexpr uint16_t kTableFormatVersion = 2;
 inline constexpr size_t kSectionAlignment = 64;
 
 // Capacities the recogniser's scratch memory is sized for; the loader refuses larger tables.

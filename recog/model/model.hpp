@@ -11,11 +11,14 @@
 
 namespace sh {
 
-inline constexpr int kMaxModelCorners = 32;
-inline constexpr int kMaxModelEdges = 48;
-inline constexpr int kMaxModelFaces = 24;
-inline constexpr int kMaxFaceVertices = 15;
-inline constexpr int kMaxModelSymmetries = 24;
+// Sized for a 48-sided prism (a can: 96 corners, 144 edges, 50 faces, two 48-gon caps, and a
+// dihedral symmetry group of 96 rotations) with room for somewhat finer outlines. Corner
+// indices are stored as uint8_t, edge indices elsewhere too: both capacities stay below 256.
+inline constexpr int kMaxModelCorners = 128;
+inline constexpr int kMaxModelEdges = 192;
+inline constexpr int kMaxModelFaces = 64;
+inline constexpr int kMaxFaceVertices = 64;
+inline constexpr int kMaxModelSymmetries = 96;
 inline constexpr int kMaxModelNameLength = 31;
 
 struct ModelEdge {
@@ -53,6 +56,7 @@ struct Model {
 };
 
 static_assert(std::is_trivially_copyable_v<Model>);
+static_assert(kMaxModelCorners <= 256 && kMaxModelEdges <= 256, "indices are uint8_t");
 static_assert(std::is_standard_layout_v<Model>);
 
 }  // namespace sh

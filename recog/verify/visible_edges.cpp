@@ -5,18 +5,18 @@
 namespace sh {
 namespace {
 
-static_assert(kMaxModelFaces <= 32, "front-face sets are 32-bit masks");
+static_assert(kMaxModelFaces <= 64, "front-face sets are 64-bit masks");
 static_assert(kMaxSamplesPerEdge <= 0xffff, "sample indices are uint16_t");
 static_assert(kMaxOccluders <= 32, "relevant occluders are a 32-bit mask");
 
 // Faces whose outward side contains the point c (model frame): the faces c can see.
-uint32_t FrontFaceMask(const Model& m, const Eigen::Vector3d& c) {
-  uint32_t mask = 0;
+uint64_t FrontFaceMask(const Model& m, const Eigen::Vector3d& c) {
+  uint64_t mask = 0;
   for (int f = 0; f < m.n_faces; ++f) {
     const ModelFace& face = m.faces[f];
     const double side =
         face.normal[0] * c.x() + face.normal[1] * c.y() + face.normal[2] * c.z() - face.offset_mm;
-    if (side > 0.0) mask |= 1u << f;
+    if (side > 0.0) mask |= uint64_t{1} << f;
   }
   return mask;
 }
@@ -49,7 +49,7 @@ bool PointInFace(const Model& m, const ModelFace& face, const double h[3]) {
 // True if the segment from the camera centre c to the point x (both in the model's frame) meets
 // one of the faces in `mask` more than kOcclusionToleranceMm before x. Only faces that face c
 // can be entered by the ray; back faces are where it leaves the solid, after a front face.
-bool RayBlocked(const Model& m, uint32_t mask, const Eigen::Vector3d& c, const Eigen::Vector3d& x) {
+bool RayBlocked(const Model& m, uint64_t mask, const Eigen::Vector3d& c, const Eigen::Vector3d& x) {
   const Eigen::Vector3d d = x - c;
   const double length = d.norm();
   if (!(length > kOcclusionToleranceMm)) return false;
@@ -96,7 +96,7 @@ struct Occluder {
   const Model* model = nullptr;
   Eigen::Matrix3d occ_R_cam;
   Eigen::Vector3d occ_t_cam;  // also the camera centre in the occluder's frame
-  uint32_t front_mask = 0;
+  uint64_t front_mask = 0;
   Eigen::Vector3d centre_cam;  // bounding sphere, camera frame
   double radius2 = 0;
   RayBox box;
@@ -253,12 +253,12 @@ Status ComputeVisibleEdges(const ViewCamera& camera, const PosedModel& object,
 
   const RigidTransform cam_T_model = camera.cam_T_left * object.cam_T_model;
   const Eigen::Vector3d centre_model = cam_T_model.Inverse().t_mm.cast<double>();
-  const uint32_t front = FrontFaceMask(m, centre_model);
+  const uint64_t front = FrontFaceMask(m, centre_model);
   const CameraIntrinsics& cam = camera.intrinsics;
   // Ray boxes of the front faces (all corners are in front of the camera, checked above).
   RayBox face_box[kMaxModelFaces];
   for (int f = 0; f < m.n_faces; ++f) {
-    if (!(front & (1u << f))) continue;
+    if (!(front & (uint64_t{1} << f))) continue;
     for (int k = 0; k < m.faces[f].n_vertices; ++k) {
       face_box[f].Add(cam_T_model * m.corner(m.faces[f].vertices[k]));
     }
@@ -267,7 +267,7 @@ Status ComputeVisibleEdges(const ViewCamera& camera, const PosedModel& object,
   *out = VisibleEdgeSet{};
   for (int e = 0; e < m.n_edges; ++e) {
     const ModelEdge& edge = m.edges[e];
-    const uint32_t adjacent = (1u << edge.face0) | (1u << edge.face1);
+    const uint64_t adjacent = (uint64_t{1} << edge.face0) | (uint64_t{1} << edge.face1);
     if (!(front & adjacent)) continue;  // both faces turned away: hidden
     ++out->n_candidate_edges;
 
@@ -292,10 +292,10 @@ Status ComputeVisibleEdges(const ViewCamera& camera, const PosedModel& object,
     edge_box.Add(ve.a_cam_mm);
     edge_box.Add(ve.b_cam_mm);
     const float edge_far_z = std::max(ve.a_cam_mm.z(), ve.b_cam_mm.z());
-    uint32_t self_mask = 0;
+    uint64_t self_mask = 0;
     for (int f = 0; f < m.n_faces; ++f) {
-      if ((front & ~adjacent & (1u << f)) && face_box[f].MayHide(edge_box, edge_far_z)) {
-        self_mask |= 1u << f;
+      if ((front & ~adjacent & (uint64_t{1} << f)) && face_box[f].MayHide(edge_box, edge_far_z)) {
+        self_mask |= uint64_t{1} << f;
       }
     }
     uint32_t relevant_occluders = 0;

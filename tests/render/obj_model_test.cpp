@@ -190,9 +190,9 @@ TEST(ObjModel, RejectsBadInputWithClearMessages) {
 }
 
 TEST(ObjModel, RejectsModelsBeyondTheRecordCapacity) {
-  // A 40-sided prism has 80 corners and 120 edges.
+  // A 63-sided prism has 65 faces (126 corners, 189 edges).
   std::string text;
-  const int n = 40;
+  const int n = 63;
   for (int z : {0, 10}) {
     for (int i = 0; i < n; ++i) {
       const double a = 2 * M_PI * i / n;
@@ -210,7 +210,7 @@ TEST(ObjModel, RejectsModelsBeyondTheRecordCapacity) {
     text += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(n + b) + " " +
             std::to_string(n + a) + "\n";
   }
-  const Result<Model> m = ParseObjModel(text.data(), text.size(), "prism40");
+  const Result<Model> m = ParseObjModel(text.data(), text.size(), "prism63");
   ASSERT_FALSE(m.ok());
   EXPECT_EQ(m.status().code(), StatusCode::kResourceExhausted);
   EXPECT_NE(std::string(m.status().message()).find("more than"), std::string::npos);

@@ -37,6 +37,23 @@ TEST(ModelSymmetry, GroupOrdersMatchTheReferenceObjects) {
   }
 }
 
+TEST(ModelSymmetry, TheCanKeepsTheWholeDihedralGroupOfItsFortyEightSides) {
+  Result<Model> can = LoadModelFile("models/colour/can.obj");
+  ASSERT_TRUE(can.ok()) << can.status().message();
+  EXPECT_EQ(can->n_corners, 96);
+  EXPECT_EQ(can->n_edges, 144);
+  EXPECT_EQ(can->n_faces, 50);
+  const auto group = FindSymmetries(*can);
+  EXPECT_EQ(group.size(), 96u);  // D48: 48 turns about the axis, 48 half-turns across it
+  StoreSymmetries(*can, group);
+  EXPECT_EQ(can->n_symmetries, 96);
+  for (int k = 0; k < can->n_symmetries; ++k) {
+    const Eigen::Matrix3f R = can->symmetry(k);
+    EXPECT_TRUE((R * R.transpose()).isIdentity(1e-4f)) << k;
+    EXPECT_NEAR(R.determinant(), 1.0f, 1e-4f) << k;
+  }
+}
+
 TEST(TableCounts, ThreePointBasesMatchTheThesis) {
   for (HashFunction hf : {HashFunction::kThreePointsFirst, HashFunction::kThreePointsCentroid}) {
     const TableBuildReport r = Build(hf);

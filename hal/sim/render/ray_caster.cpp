@@ -13,6 +13,7 @@ constexpr float kEpsilonMm = 1e-3f;
 
 Status RayCaster::Prepare(const RenderScene& scene, const Model* models, int n_models) {
   n_objects_ = 0;
+  n_poly_ = 0;
   for (const SceneObject& so : scene.objects) {
     if (so.model_index >= n_models) {
       return Status::Error(StatusCode::kInvalidArgument,
@@ -53,9 +54,16 @@ Status RayCaster::Prepare(const RenderScene& scene, const Model* models, int n_m
       face.u = static_cast<uint8_t>((drop + 1) % 3);
       face.v = static_cast<uint8_t>((drop + 2) % 3);
       face.n = mf.n_vertices;
+      if (n_poly_ + mf.n_vertices > kMaxRenderFaceVertices) {
+        return Status::Error(StatusCode::kResourceExhausted,
+                             "render: the objects have more than %d face corners in total",
+                             kMaxRenderFaceVertices);
+      }
+      face.first = static_cast<uint16_t>(n_poly_);
       for (int k = 0; k < mf.n_vertices; ++k) {
-        face.poly[k][0] = corners[mf.vertices[k]][face.u];
-        face.poly[k][1] = corners[mf.vertices[k]][face.v];
+        poly_[n_poly_][0] = corners[mf.vertices[k]][face.u];
+        poly_[n_poly_][1] = corners[mf.vertices[k]][face.v];
+        ++n_poly_;
       }
     }
     ++n_objects_;
@@ -84,9 +92,10 @@ bool RayCaster::HitsFace(const Face& f, const Eigen::Vector3f& o, const Eigen::V
   const float pu = o[f.u] + t * d[f.u], pv = o[f.v] + t * d[f.v];
   // Crossing-number point-in-polygon test.
   bool inside = false;
+  const float(*poly)[2] = poly_ + f.first;
   for (int i = 0, j = f.n - 1; i < f.n; j = i++) {
-    const float ui = f.poly[i][0], vi = f.poly[i][1];
-    const float uj = f.poly[j][0], vj = f.poly[j][1];
+    const float ui = poly[i][0], vi = poly[i][1];
+    const float uj = poly[j][0], vj = poly[j][1];
     if ((vi > pv) != (vj > pv) && pu < (uj - ui) * (pv - vi) / (vj - vi) + ui) inside = !inside;
   }
   if (inside) *t_out = t;

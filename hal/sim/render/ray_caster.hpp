@@ -13,6 +13,8 @@
 namespace sh::render {
 
 inline constexpr int kTableHit = 0xff;  // Hit::object for the table plane
+// Face corners of all objects together (a can has 288, the reference polyhedra at most 60).
+inline constexpr int kMaxRenderFaceVertices = 8192;
 inline constexpr int kNoHit = 0xfe;
 
 struct Hit {
@@ -41,7 +43,7 @@ class RayCaster {
     float offset = 0;      // normal . x = offset on the face plane
     uint8_t u = 0, v = 1;  // table axes kept for the 2-D point-in-polygon test
     uint8_t n = 0;
-    float poly[kMaxFaceVertices][2];
+    uint16_t first = 0;  // polygon corners: poly_[first .. first + n)
   };
   struct Object {
     Eigen::Vector3f centre;
@@ -58,6 +60,8 @@ class RayCaster {
 
   int n_objects_ = 0;
   Object objects_[kMaxRenderObjects];
+  int n_poly_ = 0;
+  float poly_[kMaxRenderFaceVertices][2];
 };
 
 }  // namespace sh::render
