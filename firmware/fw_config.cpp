@@ -10,6 +10,7 @@
 
 #include "firmware/can_protocol.hpp"
 #include "hal/sim/render/scene_generator.hpp"
+#include "recog/pipeline/worker_pool.hpp"
 
 namespace sh::fw {
 namespace {
@@ -230,9 +231,14 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
     return Status::Ok();
   }
   if (is("background")) {
+    if (std::strcmp(value, "auto") == 0) {
+      c->background_set = false;  // thresholds measured from each image
+      return Status::Ok();
+    }
     c->background_set = true;
     return choice_key("dark", "light", &c->light_background);
   }
+  if (is("threads")) return int_key(0, kMaxPoolThreads, &c->threads);
   if (is("gpio_chip")) return string_key(c->gpio_chip, sizeof(c->gpio_chip));
   if (is("gpio_trigger_line")) return int_key(-1, 1023, &c->gpio_trigger_line);
   if (is("gpio_ready_line")) return int_key(-1, 1023, &c->gpio_ready_line);

@@ -509,8 +509,12 @@ int main(int argc, char** argv) {
 #ifdef STEREOHASH_FW_HAVE_PIPELINE
     static Pipeline pipeline;  // tens of MiB: static storage, locked and pre-faulted below
     PipelineRecognitionConfig pc;
+    // The board measures its thresholds unless a preset is configured; the simulator keeps the
+    // preset of the background it renders unless `background` says otherwise.
+    pc.automatic = !config.background_set && !is_sim;
     pc.light_background =
         config.background_set ? config.light_background : is_sim && config.sim_light_background;
+    pc.threads = config.threads;
     // The simulator's default box belongs to the rendered table; a replayed set is bounded
     // like `stereohash recognize --table` bounds it, over its own table.
     pc.volume_set = config.volume_set && !(replay && config.volume_is_sim_default);
@@ -521,6 +525,10 @@ int main(int argc, char** argv) {
     pc.volume_in_table_frame = config.volume_in_table_frame;
     pc.volume_over_table = !pc.volume_set && table_known;
     pc.left_T_table = left_T_table;
+    // The table the objects stand on, for rejecting hypotheses that sink into it: a configured
+    // pose only. The simulator's scenes tilt the rig differently, so scene 0's table bounds the
+    // volume but is not every scene's support plane.
+    pc.table_known = table_known && (config.table_file[0] != '\0' || config.table_pose_set);
     recognition = std::make_unique<PipelineRecognition>(&pipeline, pc);
 #else
     return Fail("recognition", Status::Error(StatusCode::kUnimplemented,

@@ -8,9 +8,15 @@ namespace sh::fw {
 
 Status PipelineRecognition::Init(const StereoCalibration& calib, const TableView& table,
                                  uint32_t model_mask) {
-  // The presets chosen on rendered scenes (detectors, verification, search), not bare defaults.
-  PipelineConfig config = config_.light_background ? PipelineConfig::LightBackground()
-                                                   : PipelineConfig::DarkBackground();
+  // The automatic default or a preset (detectors, verification, search), not bare defaults.
+  PipelineConfig config = config_.automatic          ? PipelineConfig::Automatic()
+                          : config_.light_background ? PipelineConfig::LightBackground()
+                                                     : PipelineConfig::DarkBackground();
+  config.threads = config_.threads;
+  if (config_.table_known) {
+    config.table.known = true;
+    config.table.left_T_table = config_.left_T_table;
+  }
   if (config_.volume_set) {
     const Eigen::Vector3f min_mm(config_.volume_min_mm[0], config_.volume_min_mm[1],
                                  config_.volume_min_mm[2]);

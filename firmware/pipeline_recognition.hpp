@@ -7,7 +7,10 @@
 namespace sh::fw {
 
 struct PipelineRecognitionConfig {
-  bool light_background = false;  // detector preset: dark objects on a light table
+  bool automatic = true;          // thresholds measured from each image (no preset)
+  bool light_background = false;  // without `automatic`: the light-table preset
+  int threads = 0;                // worker threads, the calling one included; 0 = all cores
+  bool table_known = false;       // left_T_table is the table the objects stand on
   bool volume_set = false;        // working volume box, in the left camera or the table frame
   float volume_min_mm[3] = {0, 0, 0};
   float volume_max_mm[3] = {0, 0, 0};

@@ -67,13 +67,21 @@ PipelineConfig PipelineConfigFor(bool dark) {
 
 // Scenario of scene i of a row: 4 or 5 objects, camera 300..600 mm from the table centre
 // (closer, a 40 cm spread no longer fits the 756 x 581 px view), objects over 40 cm.
-render::ScenarioParams ScenarioFor(const SceneRow& row, int i) {
-  render::ScenarioParams p;
+// Another camera (`--camera`) narrows the spread in proportion to its field of view when that
+// is narrower than the thesis camera's.
+render::ScenarioParams ScenarioFor(const SceneRow& row, int i,
+                                   const render::ScenarioParams& camera) {
+  render::ScenarioParams p = camera;
   p.background = row.bg;
   p.occlusion = row.occ;
   p.n_objects = 4 + (i % 2);
   p.camera_distance_mm = 300.0f + 300.0f * static_cast<float>((i * 7) % 10) / 9.0f;
   p.spread_mm = 400.0f;
+  if (p.custom_camera) {
+    const double view = std::min(p.camera.width / p.camera.fx, p.camera.height / p.camera.fy);
+    constexpr double kThesisView = 581.0 / 1136.4;  // narrower side over the focal length
+    p.spread_mm = static_cast<float>(400.0 * std::min(1.0, view / kThesisView));
+  }
   return p;
 }
 
@@ -125,7 +133,8 @@ int RunBenchScenes(int argc, char** argv) {
   const char* only = nullptr;         // restrict to one background
   int seed_offset = 0;                // another set of scenes (the presets were chosen on offset 0)
   std::vector<const char*> settings;  // name=value overrides of the presets
-  const char* preset = nullptr;       // detector preset for every row (default: by background)
+  const char* preset = nullptr;       // detector preset (default: automatic)
+  render::ScenarioParams camera;      // --camera: another camera than the thesis's
   for (int i = 2; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
     // Options with a numeric value all end by consuming it (++i): the same body on purpose.
@@ -146,6 +155,9 @@ int RunBenchScenes(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--seed-offset") == 0 && has_value &&
                ParseInt(argv[i + 1], 0, 1000000000, &seed_offset)) {
       ++i;
+    } else if (std::strcmp(argv[i], "--camera") == 0 && has_value &&
+               render::NamedCamera(argv[i + 1], &camera)) {
+      ++i;
     } else if (std::strcmp(argv[i], "--only") == 0 && has_value) {
       only = argv[++i];
     } else if (std::strcmp(argv[i], "--verbose") == 0) {
@@ -156,14 +168,16 @@ int RunBenchScenes(int argc, char** argv) {
                ParseInt(argv[i + 1], 1, 100000, &fruitless)) {
       ++i;
     } else if (std::strcmp(argv[i], "--features") == 0 && has_value &&
-               (std::strcmp(argv[i + 1], "dark") == 0 || std::strcmp(argv[i + 1], "light") == 0)) {
+               (std::strcmp(argv[i + 1], "dark") == 0 || std::strcmp(argv[i + 1], "light") == 0 ||
+                std::strcmp(argv[i + 1], "row") == 0)) {
       preset = argv[++i];
     } else {
-      std::fprintf(stderr,
-                   "usage: stereohash bench scenes [--scenes-per-row N] [--json OUT] "
-                   "[--budget-ms MS] [--min-fraction F] [--fruitless N] [--features dark|light] "
-                   "[--set NAME=VALUE] [--only dark|light] [--seed-offset N] [--verbose] "
-                   "[--no-table-volume] [--models DIR]\n");
+      std::fprintf(
+          stderr,
+          "usage: stereohash bench scenes [--scenes-per-row N] [--json OUT] "
+          "[--budget-ms MS] [--min-fraction F] [--fruitless N] [--features dark|light|row] "
+          "[--set NAME=VALUE] [--only dark|light] [--seed-offset N] [--verbose] "
+          "[--no-table-volume] [--camera thesis|wide|tele|hd] [--models DIR]\n");
       return 2;
     }
   }
@@ -194,8 +208,14 @@ int RunBenchScenes(int argc, char** argv) {
   for (int r = 0; r < 6; ++r) {
     SceneRow& row = rows[r];
     if (only != nullptr && std::strcmp(only, row.background) != 0) continue;
-    PipelineConfig config = PipelineConfigFor(row.bg == render::Background::kDark);
-    if (preset != nullptr) config = PipelineConfigFor(preset[0] == 'd');
+    // The product's default (thresholds measured per image), or a preset when asked for:
+    // `--features dark|light` for every row, `--features row` by the row's background.
+    PipelineConfig config = PipelineConfig::Automatic();
+    if (preset != nullptr && std::strcmp(preset, "row") == 0) {
+      config = PipelineConfigFor(row.bg == render::Background::kDark);
+    } else if (preset != nullptr) {
+      config = PipelineConfigFor(preset[0] == 'd');
+    }
     if (min_fraction >= 0) config.verify.min_fraction = min_fraction;
     if (fruitless > 0) config.recognizer.max_fruitless_bases = static_cast<uint32_t>(fruitless);
     for (const char* setting : settings) {
@@ -207,7 +227,7 @@ int RunBenchScenes(int argc, char** argv) {
     for (int i = 0, attempt = 0; i < per_row && attempt < 4 * per_row; ++attempt) {
       // Seeds whose objects cannot be placed for the scenario are skipped (reported).
       const uint64_t seed = uint64_t(seed_offset) + uint64_t{1000} * (r + 1) + attempt;
-      st = testing_support::RenderPair(seed, ScenarioFor(row, i), models, pair.get());
+      st = testing_support::RenderPair(seed, ScenarioFor(row, i, camera), models, pair.get());
       if (!st.ok()) {
         std::fprintf(stderr, "scene %s/%s seed %llu skipped: %s\n", row.background, row.occlusion,
                      static_cast<unsigned long long>(seed), st.message());
@@ -219,6 +239,8 @@ int RunBenchScenes(int argc, char** argv) {
       if (table_volume) {
         scene_config.stereo.volume = WorkingVolume::InFrame(pair->generated.scene.left_T_table,
                                                             kTableVolumeMin, kTableVolumeMax);
+        scene_config.table.known = true;
+        scene_config.table.left_T_table = pair->generated.scene.left_T_table;
       }
       st = pipeline->Init(pair->generated.calib, *table, scene_config, NowNs);
       if (st.ok())
@@ -524,7 +546,7 @@ int RunBench(int argc, char** argv) {
       stderr,
       "usage: stereohash bench scenes [--scenes-per-row N] [--json OUT] [--budget-ms MS]\n"
       "                               [--set NAME=VALUE] [--only dark|light] [--seed-offset N]\n"
-      "                               [--features dark|light] [--verbose]\n"
+      "                               [--features dark|light|row] [--verbose]\n"
       "       stereohash bench synthetic [--scenes N] [--features N] [--json OUT]\n"
       "       stereohash bench recorded DIR [--json OUT] [--verbose] [--no-table] [options]\n"
       "scenes:    rendered stereo pairs (dark/light x no/some/severe occlusion) through the whole\n"

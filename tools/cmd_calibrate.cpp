@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "recog/camera/calibration_yaml.hpp"
+#include "tools/chessboard.hpp"
 #include "tools/command.hpp"
 
 namespace sh::tools {
@@ -41,16 +42,6 @@ std::vector<std::string> Glob(const char* pattern) {
   }
   globfree(&g);
   return paths;
-}
-
-bool FindBoard(const cv::Mat& gray, cv::Size board, std::vector<cv::Point2f>* corners) {
-  if (!cv::findChessboardCorners(gray, board, *corners,
-                                 cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE)) {
-    return false;
-  }
-  cv::cornerSubPix(gray, *corners, cv::Size(11, 11), cv::Size(-1, -1),
-                   cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01));
-  return true;
 }
 
 CameraIntrinsics ToIntrinsics(const cv::Mat& K, const cv::Mat& D, cv::Size size) {
@@ -188,15 +179,15 @@ int RunCalibrate(int argc, char** argv) {
     } else if (std::strcmp(a, "--out") == 0 && has_value) {
       out = argv[++i];
     } else if (std::strcmp(a, "--board") == 0 && has_value) {
-      char tail = '\0';
-      if (std::sscanf(argv[++i], "%dx%d%c", &cols, &rows, &tail) != 2 || cols < 2 || rows < 2) {
+      cv::Size board;
+      if (!ParseBoardSize(argv[++i], &board)) {
         std::fprintf(stderr, "calibrate: --board wants <cols>x<rows> inner corners, e.g. 9x6\n");
         return 2;
       }
+      cols = board.width;
+      rows = board.height;
     } else if (std::strcmp(a, "--square-mm") == 0 && has_value) {
-      char* end = nullptr;
-      square_mm = std::strtod(argv[++i], &end);
-      if (end == argv[i] || *end != '\0' || !(square_mm > 0.0) || !std::isfinite(square_mm)) {
+      if (!ParseSquareMm(argv[++i], &square_mm)) {
         std::fprintf(stderr, "calibrate: --square-mm wants a positive size in millimetres\n");
         return 2;
       }

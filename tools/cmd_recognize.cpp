@@ -22,6 +22,7 @@ void PrintHelp() {
       "usage: stereohash recognize --calib CALIB.yaml --left L.png --right R.png\n"
       "                            [--json OUT.json] [--overlay OUT.png] [--tables TABLES.bin]\n"
       "                            [--table TABLE.yaml] [--budget-ms N] [--background dark|light]\n"
+      "                            [--threads N]\n"
       "Recognises the reference objects in a calibrated stereo pair (PNG or PGM, grey or colour)\n"
       "and prints their poses: x_cam = R x_model + t, model and left-camera millimetres.\n"
       "  --json        write {\"objects\": [...], \"features\": {...}, \"time_ms\": {...}, ...}\n"
@@ -60,6 +61,13 @@ void PrintTable(const TableView& table, const PipelineResult& r) {
       "3-D lines %u%s\n",
       r.points2d[0], r.points2d[1], r.lines2d[0], r.lines2d[1], r.points3d, r.lines3d,
       r.points3d_truncated || r.lines3d_truncated ? " (scene capacity reached)" : "");
+  const DetectionChoice* d = r.detection;
+  std::printf(
+      "detection: %s; noise %.2f / %.2f grey levels, Canny thresholds %.2f-%.2f / %.2f-%.2f, "
+      "corner threshold %.2g / %.2g\n",
+      d[0].adaptive ? "automatic" : "preset", d[0].noise_sigma, d[1].noise_sigma, d[0].canny_low,
+      d[0].canny_high, d[1].canny_low, d[1].canny_high, d[0].corner_threshold,
+      d[1].corner_threshold);
   std::printf("recognition: %u of %u scene bases tried, %u hypotheses, %u verified, %u accepted\n",
               r.recognition.scene_bases_tried, r.recognition.scene_bases_available,
               r.recognition.hypotheses, r.recognition.verifications, r.recognition.accepted);

@@ -25,6 +25,7 @@ void PrintHelp() {
       "usage: stereohash render --out DIR [--seed N] [--objects N] [--background dark|light]\n"
       "                         [--occlusion none|some|severe] [--distance-mm MM]\n"
       "                         [--baseline-mm MM] [--noise SIGMA] [--models DIR]\n"
+      "                         [--camera thesis|wide|tele|hd]\n"
       "Renders reference objects lying on a table, seen by a calibrated stereo pair, and writes\n"
       "DIR/left.png, DIR/right.png, DIR/calib.yaml (OpenCV FileStorage: K1 D1 K2 D2 R T, mm),\n"
       "DIR/table.yaml (R_table, t_table: x_left = R_table x_table + t_table, table z up)\n"
@@ -107,6 +108,8 @@ int RunRender(int argc, char** argv) {
       params.camera_distance_mm = static_cast<float>(number);
     } else if (std::strcmp(arg, "--baseline-mm") == 0 && numeric) {
       params.baseline_mm = static_cast<float>(number);
+    } else if (std::strcmp(arg, "--camera") == 0 && render::NamedCamera(value, &params)) {
+      // another camera than the thesis's (scene_generator.hpp)
     } else if (std::strcmp(arg, "--noise") == 0 && numeric) {
       params.noise_sigma = static_cast<float>(number);
     } else if (std::strcmp(arg, "--background") == 0 &&

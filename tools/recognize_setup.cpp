@@ -19,7 +19,8 @@ const char kRecognizeOptionsHelp[] =
     "  --table       table.yaml: pose of the table the objects stand on (left camera);\n"
     "                bounds the working volume to the space over it\n"
     "  --budget-ms   time limit for the frame (default 0: none)\n"
-    "  --background  force a detector preset: dark or light (default: automatic)\n";
+    "  --background  force a detector preset: dark or light (default: automatic)\n"
+    "  --threads     worker threads, the calling one included (default 0: all cores)\n";
 
 int64_t NowNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -42,6 +43,15 @@ OptionResult ParseRecognizeOption(const char* command, const char* option, const
       return OptionResult::kBadValue;
     }
     options->budget_ms = static_cast<float>(v);
+  } else if (std::strcmp(option, "--threads") == 0) {
+    char* end = nullptr;
+    const long v = std::strtol(value, &end, 10);
+    if (end == value || *end != '\0' || v < 0 || v > kMaxPoolThreads) {
+      std::fprintf(stderr, "stereohash %s: --threads needs a number 0..%d, got %s\n", command,
+                   kMaxPoolThreads, value);
+      return OptionResult::kBadValue;
+    }
+    options->threads = static_cast<int>(v);
   } else if (std::strcmp(option, "--background") == 0) {
     if (std::strcmp(value, "dark") != 0 && std::strcmp(value, "light") != 0) {
       std::fprintf(stderr, "stereohash %s: --background is dark or light, got %s\n", command,
@@ -148,10 +158,15 @@ Status LoadTables(const char* path, LoadedTables* out) {
 }
 
 PipelineConfig MakePipelineConfig(const RecognizeOptions& options, const TableChoice& table) {
-  PipelineConfig config = options.background != nullptr && options.background[0] == 'l'
-                              ? PipelineConfig::LightBackground()
-                              : PipelineConfig::DarkBackground();
-  if (table.present) config.stereo.volume = WorkingVolume::OverTable(table.left_T_table);
+  PipelineConfig config = options.background == nullptr  ? PipelineConfig::Automatic()
+                          : options.background[0] == 'l' ? PipelineConfig::LightBackground()
+                                                         : PipelineConfig::DarkBackground();
+  if (table.present) {
+    config.stereo.volume = WorkingVolume::OverTable(table.left_T_table);
+    config.table.known = true;
+    config.table.left_T_table = table.left_T_table;
+  }
+  config.threads = options.threads;
   return config;
 }
 
@@ -188,6 +203,14 @@ bool ApplyPipelineSetting(const char* setting, PipelineConfig* c) {
     c->features.canny.low_threshold = v;
   } else if (name == "features.canny_high") {
     c->features.canny.high_threshold = v;
+  } else if (name == "features.adaptive") {
+    c->features.adaptive = v != 0.0f;
+  } else if (name == "features.edge_snr") {
+    c->features.edge_snr = v;
+  } else if (name == "features.corner_snr") {
+    c->features.corner_contrast_snr = v;
+  } else if (name == "features.corner_min_contrast") {
+    c->features.corner_min_contrast = v;
   } else {
     return false;
   }
@@ -219,6 +242,15 @@ std::string ResultJson(const TableView& tables, const PipelineResult& r, const T
                 r.points2d[0], r.points2d[1], r.lines2d[0], r.lines2d[1], r.points3d, r.lines3d,
                 r.recognition.scene_bases_tried, r.recognition.hypotheses,
                 r.recognition.verifications, r.recognition.budget_exhausted ? "true" : "false");
+  json += buffer;
+  const DetectionChoice* d = r.detection;
+  std::snprintf(buffer, sizeof(buffer),
+                "\"detection\": {\"mode\": \"%s\", \"noise_sigma\": [%.3f, %.3f], "
+                "\"canny_thresholds\": [[%.3f, %.3f], [%.3f, %.3f]], \"corner_threshold\": "
+                "[%.3g, %.3g]}, ",
+                d[0].adaptive ? "automatic" : "preset", d[0].noise_sigma, d[1].noise_sigma,
+                d[0].canny_low, d[0].canny_high, d[1].canny_low, d[1].canny_high,
+                d[0].corner_threshold, d[1].corner_threshold);
   json += buffer;
   if (table.present) {
     const Eigen::Matrix3f& R = table.left_T_table.R;

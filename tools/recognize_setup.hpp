@@ -24,6 +24,7 @@ struct RecognizeOptions {
   const char* table_path = nullptr;   // table.yaml: the table's pose in the left camera
   float budget_ms = 0;                // 0: no time limit
   const char* background = nullptr;   // "dark" or "light" preset; nullptr: automatic
+  int threads = 0;                    // worker threads, the caller included; 0: all cores
 };
 
 // Help lines of the options above, for the commands' --help.

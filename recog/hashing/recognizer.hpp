@@ -84,6 +84,10 @@ struct RecognizedObject {
   // samples, matched features): ranks verified hypotheses of different models against each
   // other, where fractions favour a model that fits inside another (a wedge on a cube).
   float verify_evidence = 0.0f;
+  // The pose before the pipeline's final fit to the image edges (equal to cam_T_model when that
+  // fit is off or did not improve it), for reporting both.
+  RigidTransform cam_T_model_features;
+  bool edge_refined = false;
 };
 
 // Decides whether a refined hypothesis is a real object. The stereo pipeline verifies against

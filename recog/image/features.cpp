@@ -1,6 +1,27 @@
 #include "recog/image/features.hpp"
 
+#include <cmath>
+
+#include "recog/image/noise.hpp"
+
 namespace sh {
+
+namespace {
+
+// Standard deviation of the Canny gradient component (G1 along one axis, G0 along the other)
+// for white noise of unit variance: the root of the sums of the squared taps.
+float GradientNoiseGain(float sigma_px) {
+  GaussianKernel g0, g1;
+  if (!MakeGaussianKernel(sigma_px, 0, g0).ok() || !MakeGaussianKernel(sigma_px, 1, g1).ok()) {
+    return 0.0f;
+  }
+  double s0 = 0.0, s1 = 0.0;
+  for (int k = 0; k <= g0.radius; ++k) s0 += (k == 0 ? 1.0 : 2.0) * g0.taps[k] * g0.taps[k];
+  for (int k = 0; k <= g1.radius; ++k) s1 += (k == 0 ? 1.0 : 2.0) * g1.taps[k] * g1.taps[k];
+  return static_cast<float>(std::sqrt(s0 * s1));
+}
+
+}  // namespace
 
 FeatureConfig FeatureConfig::DarkBackground() {
   FeatureConfig c;
@@ -34,7 +55,38 @@ Status ValidateFeatureConfig(const FeatureConfig& config) {
   return Status::Ok();
 }
 
-Status ExtractFeatures(const ConstGrayView& image, const FeatureConfig& config,
+Status ChooseDetection(const ConstGrayView& image, const FeatureConfig& config,
+                       FeatureConfig* effective, DetectionChoice* chosen) {
+  *effective = config;
+  *chosen = DetectionChoice{};
+  if (config.adaptive) {
+    if (!(config.edge_snr > 0 && config.canny_low_floor > 0 && config.canny_high_ratio >= 1 &&
+          config.corner_contrast_snr > 0 && config.corner_min_contrast > 0 &&
+          config.corner_min_contrast < 256)) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "adaptive detection needs positive factors, a high/low ratio >= 1 and "
+                           "a minimum corner contrast in (0, 256)");
+    }
+    const NoiseEstimate noise = EstimateNoise(image);
+    chosen->noise_sigma = noise.sigma;
+    const float gradient_noise = noise.sigma * GradientNoiseGain(config.canny.sigma_px);
+    effective->canny.low_threshold =
+        std::fmax(config.canny_low_floor, config.edge_snr * gradient_noise);
+    effective->canny.high_threshold = config.canny_high_ratio * effective->canny.low_threshold;
+    // Corner strength grows with the cube of the contrast; 1.0 is a right angle of contrast 255.
+    const float contrast = std::fmin(
+        255.0f, std::fmax(config.corner_min_contrast, config.corner_contrast_snr * noise.sigma));
+    const float c = contrast / 255.0f;
+    effective->corners.threshold = c * c * c;
+  }
+  chosen->adaptive = config.adaptive;
+  chosen->canny_low = effective->canny.low_threshold;
+  chosen->canny_high = effective->canny.high_threshold;
+  chosen->corner_threshold = effective->corners.threshold;
+  return Status::Ok();
+}
+
+Status ExtractFeatures(const ConstGrayView& image, const FeatureConfig& requested,
                        FeatureWorkspace& workspace, ImageFeatures& features) {
   features.corners.clear();
   features.lines.clear();
@@ -42,7 +94,10 @@ Status ExtractFeatures(const ConstGrayView& image, const FeatureConfig& config,
   features.corner_stats = CornerStats{};
   features.canny_stats = CannyStats{};
   features.hough_stats = HoughStats{};
+  features.chosen = DetectionChoice{};
   SH_RETURN_IF_ERROR(ValidateGrayImage(image, "ExtractFeatures"));
+  FeatureConfig config;
+  SH_RETURN_IF_ERROR(ChooseDetection(image, requested, &config, &features.chosen));
   SH_RETURN_IF_ERROR(ValidateFeatureConfig(config));
   if (config.detect_corners) {
     SH_RETURN_IF_ERROR(DetectCorners(image, config.corners, workspace.filter, features.corners,

@@ -20,6 +20,22 @@ struct FeatureConfig {
   bool detect_corners = true;
   bool detect_lines = true;  // Canny always runs (verification needs the edge map)
 
+  // Thresholds measured from each image instead of fixed ones (the pipeline's default). The
+  // image's noise level (noise.hpp) sets them, so that an edge or a corner is kept when it
+  // stands out of the noise by the factors below, whatever the camera's gain, the lighting and
+  // the table: a grey object on a grey table keeps its edges, a bright one on a dark table is
+  // not flooded by noise. canny.low/high_threshold and corners.threshold are then replaced:
+  //   Canny low  = max(canny_low_floor, edge_snr x the gradient noise at canny.sigma_px),
+  //   Canny high = canny_high_ratio x low,
+  //   corners    = strength of a right-angle corner of contrast
+  //                max(corner_min_contrast, corner_contrast_snr x noise sigma).
+  bool adaptive = false;
+  float edge_snr = 5.5f;
+  float canny_low_floor = 0.5f;  // grey levels per pixel
+  float canny_high_ratio = 2.5f;
+  float corner_contrast_snr = 10.0f;
+  float corner_min_contrast = 12.0f;  // grey levels
+
   // Bright objects on a dark background: high contrast, few distracting edges, so a large corner
   // scale (sigma_c 6 px) suppresses spurious corners and a fine Canny scale (1 px) localises.
   static FeatureConfig DarkBackground();
@@ -36,6 +52,14 @@ struct FeatureWorkspace {
   HoughWorkspace hough;
 };
 
+// What the detectors used on one image (with `adaptive`: what they measured and chose).
+struct DetectionChoice {
+  bool adaptive = false;
+  float noise_sigma = 0.0f;  // measured sensor noise, grey levels (adaptive only)
+  float canny_low = 0.0f, canny_high = 0.0f;
+  float corner_threshold = 0.0f;
+};
+
 struct ImageFeatures {
   Vector<Corner2D, kMaxCorners2d> corners;  // by decreasing strength
   Vector<Line2D, kMaxLines2d> lines;        // in extraction order (decreasing votes)
@@ -43,9 +67,15 @@ struct ImageFeatures {
   CornerStats corner_stats;
   CannyStats canny_stats;
   HoughStats hough_stats;
+  DetectionChoice chosen;
 };
 
 Status ValidateFeatureConfig(const FeatureConfig& config);
+
+// The detector settings for one image: `config` itself, or with `adaptive` the thresholds
+// measured from the image. `chosen` records them.
+Status ChooseDetection(const ConstGrayView& image, const FeatureConfig& config,
+                       FeatureConfig* effective, DetectionChoice* chosen);
 
 // Runs the detectors on one grey image. On failure the outputs are empty and the Status names
 // the problem (empty or oversized image, bad configuration).

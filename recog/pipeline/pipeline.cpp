@@ -52,10 +52,23 @@ PipelineConfig PipelineConfig::LightBackground() {
   return c;
 }
 
+PipelineConfig PipelineConfig::Automatic() {
+  PipelineConfig c = CommonPreset();
+  c.features.adaptive = true;
+  // 1.5 px: the low-contrast edges of dark objects on their shadows survive (light preset), and
+  // with noise-relative thresholds the finer scale does not admit noise.
+  c.features.canny.sigma_px = 1.5f;
+  c.recognizer.max_fruitless_bases = 150;
+  return c;
+}
+
 void EdgeMapVerifier::Reset(const StereoCalibration* calib, const TableView* table,
                             ConstEdgeMapView left, ConstEdgeMapView right,
-                            const VerifyConfig* config, int64_t (*now_ns)()) {
+                            const VerifyConfig* config, const TableConstraint* support,
+                            int64_t (*now_ns)()) {
   calib_ = calib;
+  support_ = support;
+  below_table_ = 0;
   table_ = table;
   left_ = left;
   right_ = right;
@@ -67,6 +80,20 @@ void EdgeMapVerifier::Reset(const StereoCalibration* calib, const TableView* tab
 
 bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>& accepted,
                              RecognizedObject& candidate) {
+  if (support_ != nullptr && support_->known) {
+    // Height of the lowest model corner over the table top (table z axis, left camera frame).
+    const RigidTransform& T = support_->left_T_table;
+    const Eigen::Vector3f up = T.R.col(2);
+    const float top = up.dot(T.t_mm);
+    float lowest = 1e30f;
+    for (int i = 0; i < model.n_corners; ++i) {
+      lowest = std::min(lowest, up.dot(candidate.cam_T_model * model.corner(i)) - top);
+    }
+    if (lowest < -support_->max_below_mm) {
+      ++below_table_;
+      return false;
+    }
+  }
   const int64_t start = now_ns_ ? now_ns_() : 0;
   // Occluders: the accepted objects, or the kMaxOccluders whose centres are nearest to the
   // candidate when there are more (far objects cannot hide it anyway in a table scene).
@@ -123,6 +150,7 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
   SH_RETURN_IF_ERROR(CheckVerifyConfig(config.verify));
   SH_RETURN_IF_ERROR(stereo_.Configure(calib, config.stereo));
   SH_RETURN_IF_ERROR(recognizer_.Init(table, config.recognizer));
+  SH_RETURN_IF_ERROR(pool_.Start(config.threads));
   calib_ = calib;
   table_ = table;
   config_ = config;
@@ -148,6 +176,12 @@ Status Pipeline::CheckImage(const ConstGrayView& image, const CameraIntrinsics& 
   return Status::Ok();
 }
 
+void Pipeline::ExtractOne(void* self, int image) {
+  Pipeline& p = *static_cast<Pipeline*>(self);
+  p.frame_status_[image] = ExtractFeatures(p.frame_images_[image], p.config_.features,
+                                           p.workspace_[image], p.features_[image]);
+}
+
 float Pipeline::MsSince(int64_t start_ns) const {
   // Nanoseconds to milliseconds; frame times fit a float's 24 bits many times over.
   return now_ns_ ? static_cast<float>(now_ns_() - start_ns) * 1e-6f : 0.0f;
@@ -165,11 +199,13 @@ Status Pipeline::Process(ConstGrayView left, ConstGrayView right, float budget_m
   SH_RETURN_IF_ERROR(CheckImage(right, calib_.right, "right"));
   const int64_t t0 = now_ns_ ? now_ns_() : 0;
 
-  // 1. Per-image features.
-  const ConstGrayView images[2] = {left, right};
+  // 1. Per-image features, the two images in parallel when the pool has two threads.
+  frame_images_[0] = left;
+  frame_images_[1] = right;
+  pool_.ParallelFor(2, &Pipeline::ExtractOne, this);
   size_t n_points[2], n_lines[2];
   for (int i = 0; i < 2; ++i) {
-    const Status s = ExtractFeatures(images[i], config_.features, workspace_[i], features_[i]);
+    const Status& s = frame_status_[i];
     if (!s.ok()) {
       return Status::Error(s.code(), "%s image: %s", i == 0 ? "left" : "right", s.message());
     }
@@ -177,6 +213,7 @@ Status Pipeline::Process(ConstGrayView left, ConstGrayView right, float budget_m
     n_lines[i] = ToStereoLines(features_[i].lines, stereo_lines_[i]);
     out->points2d[i] = static_cast<uint32_t>(n_points[i]);
     out->lines2d[i] = static_cast<uint32_t>(n_lines[i]);
+    out->detection[i] = features_[i].chosen;
   }
   const int64_t t1 = now_ns_ ? now_ns_() : 0;
   out->time.features_ms = MsSince(t0);
@@ -200,7 +237,7 @@ Status Pipeline::Process(ConstGrayView left, ConstGrayView right, float budget_m
 
   // 3-5. Hashing, pose refinement and verification against both edge maps.
   verifier_.Reset(&calib_, &table_, AsConst(features_[0].edges), AsConst(features_[1].edges),
-                  &config_.verify, now_ns_);
+                  &config_.verify, &config_.table, now_ns_);
   Budget budget;
   if (budget_ms > 0 && now_ns_ != nullptr) {
     // The budget covers the whole frame: recognition gets what features and stereo left.
@@ -210,13 +247,49 @@ Status Pipeline::Process(ConstGrayView left, ConstGrayView right, float budget_m
   s = recognizer_.Recognize(scene_, verifier_, budget, out->objects, &out->recognition);
   if (!s.ok()) return s;
   out->verify_errors = verifier_.errors();
+  out->below_table = verifier_.below_table();
+  const int64_t t3 = now_ns_ ? now_ns_() : 0;
   if (now_ns_) {
     const float recognize_ms = MsSince(t2);
     out->time.verify_ms = static_cast<float>(verifier_.elapsed_ns()) * 1e-6f;
     out->time.hashing_ms = std::max(0.0f, recognize_ms - out->time.verify_ms);
+  }
+
+  // 6. The last fit: each accepted pose to the edge pixels of both images.
+  RefineOnEdges(out);
+  if (now_ns_) {
+    out->time.refine_ms = MsSince(t3);
     out->time.total_ms = MsSince(t0);
   }
   return Status::Ok();
+}
+
+void Pipeline::RefineOnEdges(PipelineResult* out) {
+  for (RecognizedObject& o : out->objects) {
+    o.cam_T_model_features = o.cam_T_model;
+    o.edge_refined = false;
+  }
+  if (!config_.edge_refine) return;
+  for (size_t i = 0; i < out->objects.size(); ++i) {
+    RecognizedObject& o = out->objects[i];
+    PosedModel occluders[kMaxOccluders];
+    size_t n_occluders = 0;
+    for (size_t j = 0; j < out->objects.size() && n_occluders < kMaxOccluders; ++j) {
+      if (j == i) continue;
+      occluders[n_occluders++] = {&table_.model(out->objects[j].model),
+                                  out->objects[j].cam_T_model};
+    }
+    EdgeRefineResult r;
+    RigidTransform pose = o.cam_T_model;
+    const Status s = RefinePoseOnEdges(
+        calib_, AsConst(features_[0].edges), AsConst(features_[1].edges), table_.model(o.model),
+        occluders, n_occluders, config_.edge_refine_config, &pose, &r);
+    // An error (never seen: the model and maps were checked) keeps the feature pose.
+    if (s.ok() && r.refined) {
+      o.cam_T_model = pose;
+      o.edge_refined = true;
+    }
+  }
 }
 
 ConstEdgeMapView Pipeline::left_edges() const { return AsConst(features_[0].edges); }

@@ -12,13 +12,25 @@
 #include "recog/hashing/recognizer.hpp"
 #include "recog/image/features.hpp"
 #include "recog/image/image.hpp"
+#include "recog/pipeline/worker_pool.hpp"
 #include "recog/scene/scene.hpp"
 #include "recog/stereo/sloppy_stereo.hpp"
 #include "recog/stereo/stereo_features.hpp"
+#include "recog/verify/edge_refine.hpp"
 #include "recog/verify/verify.hpp"
 #include "tables/table_view.hpp"
 
 namespace sh {
+
+// The table the objects stand on, when the installation knows its pose (table.yaml): a
+// hypothesis that sinks into it deeper than max_below_mm is rejected before verification.
+struct TableConstraint {
+  bool known = false;
+  RigidTransform left_T_table;  // table frame: z up, top at z = 0
+  // Bottom corners triangulate a little below the top, and a tilted object leaning on another
+  // may touch the table with an edge: 5 mm is several times the stereo depth error.
+  float max_below_mm = 5.0f;
+};
 
 struct PipelineConfig {
   FeatureConfig features = FeatureConfig::DarkBackground();
@@ -27,18 +39,28 @@ struct PipelineConfig {
   SloppyStereoConfig stereo;
   RecognizerConfig recognizer;
   VerifyConfig verify;
+  TableConstraint table;
+  // Final fit of every accepted pose to the edge pixels of both images (edge_refine.hpp).
+  bool edge_refine = true;
+  EdgeRefineConfig edge_refine_config;
+  // Threads of the pipeline's worker pool, the calling thread included: the left and right
+  // features are extracted in parallel when there are two or more. 0: all online cores.
+  int threads = 0;
 
   // Presets for the two kinds of scene (thesis 5.3): the detectors' preset plus recognition and
   // verification settings measured on rendered scenes (docs/pipeline.md).
   static PipelineConfig DarkBackground();
   static PipelineConfig LightBackground();
+  // The default: no preset to pick. Detector thresholds measured from each image
+  // (FeatureConfig::adaptive), the Canny scale of the light preset, the longer search.
+  static PipelineConfig Automatic();
 };
 
 // Milliseconds; zero when no clock was given. hashing_ms covers voting and pose refinement
-// (recognition minus the verifier's own time), verify_ms the verifier calls, so the four stages
-// add up to total_ms up to bookkeeping.
+// (recognition minus the verifier's own time), verify_ms the verifier calls, refine_ms the final
+// fit to the image edges, so the five stages add up to total_ms up to bookkeeping.
 struct PipelineTimings {
-  float features_ms = 0, stereo_ms = 0, hashing_ms = 0, verify_ms = 0, total_ms = 0;
+  float features_ms = 0, stereo_ms = 0, hashing_ms = 0, verify_ms = 0, refine_ms = 0, total_ms = 0;
 };
 
 struct PipelineResult {
@@ -48,11 +70,14 @@ struct PipelineResult {
   uint32_t points3d = 0, lines3d = 0;
   RecognitionStats recognition;
   PipelineTimings time;
+  DetectionChoice detection[2];  // detector settings used on the left and right image
   // Stereo output reached the Scene's capacity (kMaxScenePoints / kMaxSceneLines): recognition
   // ran on the truncated scene.
   bool points3d_truncated = false, lines3d_truncated = false;
   // Verifier calls that returned an error (treated as rejections; normally 0).
   uint32_t verify_errors = 0;
+  // Hypotheses rejected for sinking into the known table (PipelineConfig::table).
+  uint32_t below_table = 0;
 };
 
 // The verifier of the stereo pipeline: projects the refined hypothesis into both images and
@@ -62,21 +87,25 @@ struct PipelineResult {
 class EdgeMapVerifier : public HypothesisVerifier {
  public:
   void Reset(const StereoCalibration* calib, const TableView* table, ConstEdgeMapView left,
-             ConstEdgeMapView right, const VerifyConfig* config, int64_t (*now_ns)());
+             ConstEdgeMapView right, const VerifyConfig* config, const TableConstraint* support,
+             int64_t (*now_ns)());
   bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
               RecognizedObject& candidate) override;
 
   int64_t elapsed_ns() const { return elapsed_ns_; }
   uint32_t errors() const { return errors_; }
+  uint32_t below_table() const { return below_table_; }
 
  private:
   const StereoCalibration* calib_ = nullptr;
   const TableView* table_ = nullptr;
   ConstEdgeMapView left_{}, right_{};
   const VerifyConfig* config_ = nullptr;
+  const TableConstraint* support_ = nullptr;
   int64_t (*now_ns_)() = nullptr;
   int64_t elapsed_ns_ = 0;
   uint32_t errors_ = 0;
+  uint32_t below_table_ = 0;
 };
 
 class Pipeline {
@@ -101,6 +130,7 @@ class Pipeline {
   const TableView& table() const;
   const StereoCalibration& calibration() const;
   const PipelineConfig& config() const { return config_; }
+  int threads() const { return pool_.threads(); }
   const ImageFeatures& left_features() const { return features_[0]; }
   const ImageFeatures& right_features() const { return features_[1]; }
 
@@ -108,6 +138,9 @@ class Pipeline {
   Status CheckImage(const ConstGrayView& image, const CameraIntrinsics& cam,
                     const char* which) const;
   float MsSince(int64_t start_ns) const;
+  void RefineOnEdges(PipelineResult* out);
+
+  static void ExtractOne(void* self, int image);
 
   bool initialised_ = false;
   StereoCalibration calib_;
@@ -125,6 +158,11 @@ class Pipeline {
   Scene scene_;
   Recognizer recognizer_;  // ~3 MB of vote and candidate tables
   EdgeMapVerifier verifier_;
+  WorkerPool pool_;  // started at Init
+
+  // Per-frame state of the parallel feature extraction (one slot per image).
+  ConstGrayView frame_images_[2];
+  Status frame_status_[2];
 };
 
 }  // namespace sh

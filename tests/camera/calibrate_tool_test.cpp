@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "recog/camera/calibration_yaml.hpp"
+#include "recog/camera/table_yaml.hpp"
 #include "recog/stereo/triangulation.hpp"
 
 namespace sh {
@@ -45,8 +46,9 @@ bool SampleImagesPresent() {
 }
 
 // Runs the tool; returns its exit status and stdout (stderr merged).
-int RunTool(const std::string& args, std::string* output) {
-  const std::string command = std::string(STEREOHASH_EXE) + " calibrate " + args + " 2>&1";
+int RunTool(const std::string& args, std::string* output, const char* command_name = "calibrate") {
+  const std::string command =
+      std::string(STEREOHASH_EXE) + " " + command_name + " " + args + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return -1;
   char buf[512];
@@ -199,6 +201,110 @@ TEST(CalibrateTool, BadArgumentsGiveClearErrors) {
   output.clear();
   EXPECT_EQ(RunTool("--left a --right b --board 9x6 --out x", &output), 2);
   EXPECT_NE(output.find("required"), std::string::npos) << output;
+}
+
+// A chessboard of kBoard inner corners lying on a table, seen by an undistorted stereo pair:
+// each image is the board texture warped by the homography of its camera.
+cv::Mat RenderBoard(const CameraIntrinsics& cam, const RigidTransform& cam_T_table) {
+  const int px_per_square = 40, margin = 1;  // texture: squares plus a white margin square
+  const int cols = kBoard.width + 1 + 2 * margin, rows = kBoard.height + 1 + 2 * margin;
+  cv::Mat texture(rows * px_per_square, cols * px_per_square, CV_8U, cv::Scalar(230));
+  for (int r = margin; r < rows - margin; ++r) {
+    for (int c = margin; c < cols - margin; ++c) {
+      if ((r + c) % 2 == 0) {
+        texture(cv::Rect(c * px_per_square, r * px_per_square, px_per_square, px_per_square)) = 25;
+      }
+    }
+  }
+  // Texture pixel (u, v) -> table point (mm): the first inner corner is the table origin.
+  const double mm_per_px = kSquareMm / px_per_square;
+  const double origin_px = (margin + 1) * px_per_square;
+  cv::Matx33d table_from_texture(mm_per_px, 0, -origin_px * mm_per_px, 0, mm_per_px,
+                                 -origin_px * mm_per_px, 0, 0, 1);
+  // Table plane (z = 0) -> image: K [r1 r2 t].
+  const Eigen::Matrix3f& R = cam_T_table.R;
+  const Eigen::Vector3f& t = cam_T_table.t_mm;
+  cv::Matx33d Rt(R(0, 0), R(0, 1), t.x(), R(1, 0), R(1, 1), t.y(), R(2, 0), R(2, 1), t.z());
+  cv::Matx33d K(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
+  cv::Mat image;
+  cv::warpPerspective(texture, image, cv::Mat(K * Rt * table_from_texture),
+                      cv::Size(cam.width, cam.height), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+                      cv::Scalar(120));
+  return image;
+}
+
+TEST(CalibrateTableTool, RecoversTheTablePoseOfARenderedBoard) {
+  StereoCalibration calib;
+  for (CameraIntrinsics* c : {&calib.left, &calib.right}) {
+    c->width = 756, c->height = 581;
+    c->fx = c->fy = 1136.4, c->cx = 377.5, c->cy = 290.0;
+  }
+  calib.right_R_left = Eigen::AngleAxisd(0.25, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  calib.right_t_left_mm = Eigen::Vector3d(-118.0, -2.0, 15.0);
+  // The table 450 mm in front, tilted 35 deg about the camera x axis, z towards the camera.
+  RigidTransform left_T_table;
+  left_T_table.R = (Eigen::AngleAxisf(float(M_PI) - 0.6f, Eigen::Vector3f::UnitX()) *
+                    Eigen::AngleAxisf(0.2f, Eigen::Vector3f::UnitZ()))
+                       .toRotationMatrix();
+  left_T_table.t_mm = Eigen::Vector3f(-110.0f, 60.0f, 430.0f);
+  RigidTransform right_T_left;
+  right_T_left.R = calib.right_R_left.cast<float>();
+  right_T_left.t_mm = calib.right_t_left_mm.cast<float>();
+
+  const std::string left = TempPath("table_left.png"), right = TempPath("table_right.png");
+  const std::string yaml = TempPath("table_calib.yaml"), out = TempPath("table.yaml");
+  ASSERT_TRUE(cv::imwrite(left, RenderBoard(calib.left, left_T_table)));
+  ASSERT_TRUE(cv::imwrite(right, RenderBoard(calib.right, right_T_left * left_T_table)));
+  char text[8192];
+  const Result<size_t> n = WriteCalibrationYaml(calib, text, sizeof(text));
+  ASSERT_TRUE(n.ok());
+  std::ofstream(yaml) << std::string(text, *n);
+
+  std::string output;
+  const std::string args = "--calib " + yaml + " --left " + left + " --right " + right +
+                           " --board 9x6 --square-mm 25 --out " + out;
+  ASSERT_EQ(RunTool(args, &output, "calibrate-table"), 0) << output;
+  std::ifstream in(out);
+  const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const Result<RigidTransform> pose = ParseTableYaml(written.data(), written.size());
+  ASSERT_TRUE(pose.ok()) << pose.status().message();
+  // The table's origin is the corner OpenCV lists first: one of the board's four outer inner
+  // corners. The normal is the rendering's; the axes in the plane may turn with the board.
+  float nearest = 1e9f;
+  for (float x : {0.0f, 8 * float(kSquareMm)}) {
+    for (float y : {0.0f, 5 * float(kSquareMm)}) {
+      nearest = std::min(nearest, (pose->t_mm - left_T_table * Eigen::Vector3f(x, y, 0)).norm());
+    }
+  }
+  EXPECT_LT(nearest, 1.0f) << output;
+  EXPECT_GT(pose->R.col(2).dot(left_T_table.R.col(2)), std::cos(0.3f * float(M_PI) / 180.0f))
+      << output;
+  // Points of the table plane lie at z = 0 in the measured frame too.
+  const Eigen::Vector3f on_table = left_T_table * Eigen::Vector3f(80, 40, 0);
+  EXPECT_LT(std::fabs((pose->Inverse() * on_table).z()), 0.5f);
+
+  output.clear();
+  EXPECT_EQ(RunTool("--calib " + yaml + " --left " + left + " --right " + right +
+                        " --board 9x6 --square-mm 40 --out " + out,
+                    &output, "calibrate-table"),
+            1)
+      << output;
+  EXPECT_NE(output.find("square"), std::string::npos) << output;
+  output.clear();
+  EXPECT_EQ(RunTool("--calib " + yaml + " --left " + left +
+                        " --right /nonexistent.png "
+                        "--board 9x6 --square-mm 25 --out " +
+                        out,
+                    &output, "calibrate-table"),
+            1);
+  EXPECT_NE(output.find("/nonexistent.png"), std::string::npos) << output;
+  output.clear();
+  EXPECT_EQ(RunTool("--calib " + yaml + " --left " + left, &output, "calibrate-table"), 2);
+  EXPECT_NE(output.find("required"), std::string::npos) << output;
+  std::remove(left.c_str());
+  std::remove(right.c_str());
+  std::remove(yaml.c_str());
+  std::remove(out.c_str());
 }
 
 }  // namespace

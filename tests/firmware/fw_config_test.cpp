@@ -197,6 +197,23 @@ TEST(FwConfig, TablePoseMapsTableAxesIntoTheCamera) {
       (TablePose(c).R * Eigen::Vector3f::UnitX()).isApprox(Eigen::Vector3f::UnitY(), 1e-5f));
 }
 
+TEST(FwConfig, ThreadsAndAutomaticDetection) {
+  FwConfig c;
+  EXPECT_FALSE(c.background_set);  // automatic by default
+  EXPECT_EQ(c.threads, 0);         // all cores
+  ASSERT_TRUE(Parse("threads = 2\nbackground = light\n", &c).ok());
+  EXPECT_EQ(c.threads, 2);
+  EXPECT_TRUE(c.background_set);
+  EXPECT_TRUE(c.light_background);
+  FwConfig a;
+  ASSERT_TRUE(Parse("background = auto\n", &a).ok());
+  EXPECT_FALSE(a.background_set);
+  FwConfig bad;
+  EXPECT_FALSE(Parse("threads = 99\n", &bad).ok());
+  EXPECT_FALSE(Parse("threads = -1\n", &bad).ok());
+  EXPECT_FALSE(Parse("background = grey\n", &bad).ok());
+}
+
 TEST(FwConfig, MissingFileIsNotFound) {
   FwConfig c;
   const Status s = LoadConfigFile("/nonexistent/stereohash.conf", &c);

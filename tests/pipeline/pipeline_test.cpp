@@ -164,7 +164,9 @@ TEST_F(PipelineTest, TimingsAddUpAndResultsRepeat) {
   EXPECT_GT(a.time.stereo_ms, 0.0f);
   EXPECT_GT(a.time.hashing_ms, 0.0f);
   EXPECT_GE(a.time.verify_ms, 0.0f);
-  const float stages = a.time.features_ms + a.time.stereo_ms + a.time.hashing_ms + a.time.verify_ms;
+  EXPECT_GE(a.time.refine_ms, 0.0f);
+  const float stages = a.time.features_ms + a.time.stereo_ms + a.time.hashing_ms +
+                       a.time.verify_ms + a.time.refine_ms;
   EXPECT_LE(stages, a.time.total_ms * 1.001f + 0.01f);
   EXPECT_GE(stages, a.time.total_ms * 0.9f);
   EXPECT_FALSE(a.recognition.budget_exhausted);

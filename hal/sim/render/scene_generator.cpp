@@ -1,5 +1,7 @@
 #include "hal/sim/render/scene_generator.hpp"
 
+#include <cstring>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -124,11 +126,24 @@ struct Rig {
 
 // A converging pair: the rig centre sits `distance` from the table origin, tilted by `tilt`
 // from the vertical, both cameras aimed at the origin, baseline along the table x axis.
-Rig MakeRig(float distance_mm, float baseline_mm, float tilt_rad) {
+Rig MakeRig(const ScenarioParams& params, float tilt_rad) {
+  const float distance_mm = params.camera_distance_mm, baseline_mm = params.baseline_mm;
   Rig rig;
-  // 12.5 mm lens / 11 um pixels = 1136.4 px; the right camera differs slightly, as real ones do.
-  rig.calib.left = ThesisCamera(1136.4, 379.2, 289.6, -0.10, 0.06, 0.0002, -0.0001);
-  rig.calib.right = ThesisCamera(1131.8, 375.9, 292.3, -0.095, 0.05, -0.0001, 0.0002);
+  if (params.custom_camera) {
+    rig.calib.left = params.camera;
+    rig.calib.right = params.camera;
+    rig.calib.right.fx *= 0.996;
+    rig.calib.right.fy *= 0.996;
+    rig.calib.right.cx -= 3.3;
+    rig.calib.right.cy += 2.7;
+    rig.calib.right.k1 *= 0.95;
+    rig.calib.right.k2 *= 0.95;
+  } else {
+    // 12.5 mm lens / 11 um pixels = 1136.4 px; the right camera differs slightly, as real ones
+    // do.
+    rig.calib.left = ThesisCamera(1136.4, 379.2, 289.6, -0.10, 0.06, 0.0002, -0.0001);
+    rig.calib.right = ThesisCamera(1131.8, 375.9, 292.3, -0.095, 0.05, -0.0001, 0.0002);
+  }
   const Eigen::Vector3f centre(0, -distance_mm * std::sin(tilt_rad),
                                distance_mm * std::cos(tilt_rad));
   const Eigen::Vector3f across = Eigen::Vector3f::UnitX();
@@ -204,6 +219,31 @@ float FaceArea(const Model& m, int f) {
 
 }  // namespace
 
+bool NamedCamera(const char* name, ScenarioParams* params) {
+  CameraIntrinsics c;
+  if (std::strcmp(name, "thesis") == 0) {
+    params->custom_camera = false;
+    return true;
+  } else if (std::strcmp(name, "wide") == 0) {
+    c.width = 1024, c.height = 768;
+    c.fx = 760.0, c.fy = 758.5, c.cx = 531.0, c.cy = 371.5;
+    c.k1 = -0.26, c.k2 = 0.08, c.p1 = 0.0008, c.p2 = -0.0006, c.k3 = -0.01;
+  } else if (std::strcmp(name, "tele") == 0) {
+    c.width = 640, c.height = 480;
+    c.fx = 1500.0, c.fy = 1500.0, c.cx = 315.5, c.cy = 243.0;
+    c.k1 = 0.05, c.k2 = 0.0;
+  } else if (std::strcmp(name, "hd") == 0) {
+    c.width = 1280, c.height = 1024;
+    c.fx = 1700.0, c.fy = 1702.0, c.cx = 648.0, c.cy = 505.0;
+    c.k1 = -0.12, c.k2 = 0.05, c.p1 = -0.0005, c.p2 = 0.0004;
+  } else {
+    return false;
+  }
+  params->custom_camera = true;
+  params->camera = c;
+  return true;
+}
+
 int StableFaces(const Model& model, int* faces) {
   Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
   for (int i = 0; i < model.n_corners; ++i) centroid += model.corner(i);
@@ -266,7 +306,7 @@ Result<GeneratedScene> GenerateScene(uint64_t seed, const ScenarioParams& params
 
   Rng rng(Mix64(seed) ^ 0x5ce7e5ce7e5ce7e5ull);
   const float tilt = rng.Uniform(12.0f, 22.0f) * kPi / 180.0f;
-  const Rig rig = MakeRig(params.camera_distance_mm, params.baseline_mm, tilt);
+  const Rig rig = MakeRig(params, tilt);
 
   // How tightly objects are packed, and how many overlapping pairs the left image must show.
   float spread_factor = 1.0f, gap_mm = 15.0f;

@@ -33,7 +33,18 @@ struct ScenarioParams {
   float spread_mm = 400.0f;           // side of the square the objects are scattered over
   float baseline_mm = 120.0f;
   float noise_sigma = 1.5f;  // grey levels
+  // Another camera than the thesis's for both eyes (size, focal length, principal point,
+  // distortion); the right one then differs from it as real ones do (focal length -0.4 %,
+  // principal point shifted by a few pixels, distortion -5 %). Off: the thesis pair.
+  bool custom_camera = false;
+  CameraIntrinsics camera;
 };
+
+// Cameras other than the thesis's, for scenes that test that nothing is fitted to one lens:
+// "thesis" (the default pair), "wide" (1024 x 768, f 760 px, strong barrel distortion,
+// off-centre), "tele" (640 x 480, f 1500 px, mild pincushion), "hd" (1280 x 1024, f 1700 px,
+// moderate barrel, tangential terms). False for an unknown name.
+bool NamedCamera(const char* name, ScenarioParams* params);
 
 struct GeneratedScene {
   RenderScene scene;

@@ -1,0 +1,37 @@
+#include "tools/chessboard.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace sh::tools {
+
+bool FindBoard(const cv::Mat& gray, cv::Size board, std::vector<cv::Point2f>* corners) {
+  if (!cv::findChessboardCorners(gray, board, *corners,
+                                 cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE)) {
+    return false;
+  }
+  cv::cornerSubPix(gray, *corners, cv::Size(11, 11), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01));
+  return true;
+}
+
+bool ParseBoardSize(const char* text, cv::Size* board) {
+  int cols = 0, rows = 0;
+  char tail = '\0';
+  if (std::sscanf(text, "%dx%d%c", &cols, &rows, &tail) != 2 || cols < 2 || rows < 2) return false;
+  *board = cv::Size(cols, rows);
+  return true;
+}
+
+bool ParseSquareMm(const char* text, double* square_mm) {
+  char* end = nullptr;
+  const double v = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !(v > 0.0) || !std::isfinite(v)) return false;
+  *square_mm = v;
+  return true;
+}
+
+}  // namespace sh::tools
