@@ -72,10 +72,10 @@ void PrintTable(const TableView& table, const PipelineResult& r) {
               r.recognition.scene_bases_tried, r.recognition.scene_bases_available,
               r.recognition.hypotheses, r.recognition.verifications, r.recognition.accepted);
   std::printf(
-      "time: features %.1f ms, stereo %.1f ms, hashing %.1f ms, verify %.1f ms, total "
-      "%.1f ms%s\n",
-      r.time.features_ms, r.time.stereo_ms, r.time.hashing_ms, r.time.verify_ms, r.time.total_ms,
-      r.recognition.budget_exhausted ? " (budget exhausted)" : "");
+      "time: features %.1f ms, stereo %.1f ms, hashing %.1f ms, verify %.1f ms, edge fit %.1f "
+      "ms, total %.1f ms%s\n",
+      r.time.features_ms, r.time.stereo_ms, r.time.hashing_ms, r.time.verify_ms, r.time.refine_ms,
+      r.time.total_ms, r.recognition.budget_exhausted ? " (budget exhausted)" : "");
 }
 
 int RunRecognize(int argc, char** argv) {
@@ -162,7 +162,8 @@ int RunRecognize(int argc, char** argv) {
   if (!s.ok()) return Fail("%s", s.message());
 
   PrintTable(tables.view, *result);
-  if (json_path != nullptr && !WriteTextFile(json_path, ResultJson(tables.view, *result, table))) {
+  if (json_path != nullptr &&
+      !WriteTextFile(json_path, ResultJson(tables.view, *result, table, pipeline->threads()))) {
     return Fail("cannot write %s: %s", json_path, std::strerror(errno));
   }
   if (overlay_path != nullptr) {

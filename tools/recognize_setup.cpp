@@ -217,7 +217,8 @@ bool ApplyPipelineSetting(const char* setting, PipelineConfig* c) {
   return true;
 }
 
-std::string ResultJson(const TableView& tables, const PipelineResult& r, const TableChoice& table) {
+std::string ResultJson(const TableView& tables, const PipelineResult& r, const TableChoice& table,
+                       int threads) {
   // The frame of the poses, as the firmware's results name it: recognize reports the left
   // camera's.
   std::string json = "{\"frame\": \"camera\", \"objects\": [";
@@ -266,9 +267,9 @@ std::string ResultJson(const TableView& tables, const PipelineResult& r, const T
   }
   std::snprintf(buffer, sizeof(buffer),
                 "\"time_ms\": {\"features\": %.3f, \"stereo\": %.3f, \"hashing\": %.3f, "
-                "\"verify\": %.3f, \"total\": %.3f}}\n",
+                "\"verify\": %.3f, \"refine\": %.3f, \"total\": %.3f}, \"threads\": %d}\n",
                 r.time.features_ms, r.time.stereo_ms, r.time.hashing_ms, r.time.verify_ms,
-                r.time.total_ms);
+                r.time.refine_ms, r.time.total_ms, threads);
   json += buffer;
   return json;
 }

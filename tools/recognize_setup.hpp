@@ -71,7 +71,7 @@ bool ApplyPipelineSetting(const char* setting, PipelineConfig* config);
 // {"frame": "camera", "objects": [...], "features": {...}, "recognition": {...}, "time_ms": {...},
 // "table": ...}
 std::string ResultJson(const TableView& tables, const PipelineResult& result,
-                       const TableChoice& table);
+                       const TableChoice& table, int threads);
 
 int64_t NowNs();
 

@@ -136,7 +136,14 @@ TEST_F(RecognizeToolTest, JsonMatchesTheRenderedTruth) {
   EXPECT_GT(f["lines3d"].number, 0);
   EXPECT_EQ(f["points3d"].type, Json::kNumber);
   const Json& t = out["time_ms"];
-  for (const char* stage : {"features", "stereo", "hashing", "verify"}) {
+  EXPECT_EQ(out["detection"]["mode"].text, "automatic");
+  ASSERT_EQ(out["detection"]["noise_sigma"].size(), 2u);
+  // The renderer's sensor noise is 1.5 grey levels (plus the rounding to 8 bits).
+  EXPECT_NEAR(out["detection"]["noise_sigma"][0].number, 1.55, 0.2);
+  EXPECT_GT(out["detection"]["canny_thresholds"][1][1].number,
+            out["detection"]["canny_thresholds"][1][0].number);
+  EXPECT_GE(out["threads"].number, 1);
+  for (const char* stage : {"features", "stereo", "hashing", "verify", "refine"}) {
     EXPECT_EQ(t[stage].type, Json::kNumber) << stage;
     EXPECT_GE(t[stage].number, 0.0) << stage;
     EXPECT_LE(t[stage].number, t["total"].number + 1e-3) << stage;
@@ -240,6 +247,32 @@ TEST_F(RecognizeToolTest, TableFileBoundsTheVolumeAndIsReported) {
   EXPECT_EQ(b.exit_code, 1) << b.output;
   EXPECT_NE(b.output.find("bad_table.yaml"), std::string::npos) << b.output;
   EXPECT_NE(b.output.find("R_table"), std::string::npos) << b.output;
+}
+
+// One or two threads give the same objects and poses: the parallel features are the same.
+TEST_F(RecognizeToolTest, ThreadsDoNotChangeTheResult) {
+  Json one, two;
+  for (const char* n : {"1", "2"}) {
+    const ToolRun r =
+        RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) + " --threads " +
+                n + " --json " + Path(n[0] == '1' ? "t1.json" : "t2.json"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  ASSERT_TRUE(JsonReader(ReadText(Path("t1.json"))).Parse(&one));
+  ASSERT_TRUE(JsonReader(ReadText(Path("t2.json"))).Parse(&two));
+  EXPECT_EQ(one["threads"].number, 1);
+  EXPECT_EQ(two["threads"].number, 2);
+  ASSERT_EQ(one["objects"].size(), two["objects"].size());
+  for (size_t i = 0; i < one["objects"].size(); ++i) {
+    EXPECT_EQ(one["objects"][i]["model"].text, two["objects"][i]["model"].text);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(one["objects"][i]["t"][k].number, two["objects"][i]["t"][k].number);
+    }
+  }
+  EXPECT_EQ(
+      RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) + " --threads 99")
+          .exit_code,
+      2);
 }
 
 // `bench recorded` on a folder in the recorded-set layout made of two rendered scenes.
