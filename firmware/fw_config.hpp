@@ -74,7 +74,7 @@ struct FwConfig {
   float table_rotation_deg[3] = {0, 0, 0};
   float table_origin_mm[3] = {0, 0, 0};
   bool light_background = false;  // pipeline preset; `background` key, in sim: sim_background
-  bool background_set = false;  // `background = dark|light`; `auto` (default) measures
+  bool background_set = false;    // `background = dark|light`; `auto` (default) measures
   int threads = 0;  // pipeline worker threads, the calling one included; 0 = all cores
   // table.yaml (R_table, t_table) instead of table_rotation_deg / table_origin_mm.
   char table_file[kConfigPathMax] = "";
@@ -122,7 +122,6 @@ Status ParseConfig(const char* text, size_t length, FwConfig* config);
 
 // Reads and parses a file (at most kMaxConfigFileBytes) on top of *config, then validates.
 Status LoadConfigFile(const char* path, FwConfig* config);
-
 
 // The table (conveyor) frame in the left camera from table_rotation_deg / table_origin_mm:
 // x_left = R(rotation vector) x_table + origin.
