@@ -40,8 +40,7 @@ Result<TableView> FileDataSource::LoadTable() {
   }
   Result<TableView> view = TableView::Open(blob, size);
   if (!view.ok()) {
-    return Status::Error(view.status().code(), "%s tables: %s", builtin ? "built-in" : tables_path_,
-                         view.status().message());
+    return view.status().WithContext("%s tables", builtin ? "built-in" : tables_path_);
   }
   table_ = *view;
   return table_;
@@ -72,8 +71,7 @@ Result<StereoCalibration> FileDataSource::LoadCalibration() {
   }
   Result<StereoCalibration> calib = ParseCalibrationYaml(text, n);
   if (!calib.ok()) {
-    return Status::Error(calib.status().code(), "%s: %s", calibration_path_,
-                         calib.status().message());
+    return calib.status().WithContext("%s", calibration_path_);
   }
   return calib;
 }

@@ -1,35 +1,40 @@
 # stereohash-fw: the board program (also the host simulator). The core and simulator pieces are
 # libraries so the tests drive them in-process; Linux backends are linked where they were found.
-add_library(stereohash_fw_core STATIC
-  ${CMAKE_CURRENT_LIST_DIR}/fw_config.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/firmware_core.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/canopen_node.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/output_frame.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/node_id_file.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/data_source.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/realtime.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/sd_notify.cpp)
-target_link_libraries(stereohash_fw_core PUBLIC stereohash_can_protocol stereohash_canopen stereohash_hal_can
-  stereohash_hal_gpio stereohash_hal_camera stereohash_tables stereohash_default_tables
-  stereohash_camera stereohash_embedded_flags Threads::Threads)
+stereohash_module(stereohash_fw_core
+  SOURCES fw_config.cpp firmware_core.cpp canopen_node.cpp output_frame.cpp node_id_file.cpp
+          data_source.cpp realtime.cpp sd_notify.cpp
+  HEADERS fw_config.hpp firmware_core.hpp canopen_node.hpp output_frame.hpp node_id_file.hpp
+          data_source.hpp recognition.hpp realtime.hpp sd_notify.hpp
+  PUBLIC stereohash_can_protocol stereohash_canopen stereohash_hal_can stereohash_hal_gpio
+         stereohash_hal_camera stereohash_tables stereohash_default_tables stereohash_camera
+         stereohash_geometry stereohash_base stereohash_embedded_flags Threads::Threads
+  PRIVATE stereohash_pipeline)
 
-add_library(stereohash_fw_sim STATIC ${CMAKE_CURRENT_LIST_DIR}/sim_world.cpp)
-target_link_libraries(stereohash_fw_sim PUBLIC stereohash_fw_core stereohash_render
-  stereohash_hal_camera_sim stereohash_hal_can_sim stereohash_hal_gpio_sim)
+# The simulator's pieces of the firmware: ground-truth recognition and the simulator's defaults.
+stereohash_module(stereohash_fw_sim
+  SOURCES truth_recognition.cpp sim_config.cpp
+  HEADERS truth_recognition.hpp
+  PUBLIC stereohash_fw_core stereohash_sim_world stereohash_hal_camera_sim stereohash_hal_can_sim
+         stereohash_hal_gpio_sim stereohash_model_files
+  PRIVATE stereohash_can_protocol)
 
-add_executable(stereohash-fw ${CMAKE_CURRENT_LIST_DIR}/fw_main.cpp
-                             ${CMAKE_CURRENT_LIST_DIR}/demo_client.cpp)
-target_link_libraries(stereohash-fw PRIVATE stereohash_fw_sim stereohash_hal_socketcan)
+add_executable(stereohash-fw fw_main.cpp demo_client.cpp)
+target_link_libraries(stereohash-fw PRIVATE stereohash_fw_sim stereohash_fw_core
+                      stereohash_hal_socketcan stereohash_hal_can_sim stereohash_hal_gpio_sim
+                      stereohash_hal_camera_sim stereohash_hal_can stereohash_sim_world
+                      stereohash_can_protocol stereohash_canopen stereohash_camera stereohash_model
+                      stereohash_base stereohash_warnings)
+stereohash_headers(stereohash-fw PRIVATE demo_client.hpp)
+stereohash_register(stereohash-fw program)
 target_compile_definitions(stereohash-fw PRIVATE
   STEREOHASH_FW_SOURCE_MODELS_DIR="${PROJECT_SOURCE_DIR}/models")
-if(TARGET stereohash_pipeline)
-  add_library(stereohash_fw_pipeline STATIC ${CMAKE_CURRENT_LIST_DIR}/pipeline_recognition.cpp)
-  target_link_libraries(stereohash_fw_pipeline PUBLIC stereohash_fw_core stereohash_pipeline)
-  target_link_libraries(stereohash-fw PRIVATE stereohash_fw_pipeline)
-  target_compile_definitions(stereohash-fw PRIVATE STEREOHASH_FW_HAVE_PIPELINE=1)
-else()
-  message(STATUS "stereohash-fw: no recognition pipeline in this tree; only recognition = truth")
-endif()
+
+stereohash_module(stereohash_fw_pipeline
+  SOURCES pipeline_recognition.cpp
+  HEADERS pipeline_recognition.hpp
+  PUBLIC stereohash_fw_core stereohash_pipeline)
+target_link_libraries(stereohash-fw PRIVATE stereohash_fw_pipeline)
+target_compile_definitions(stereohash-fw PRIVATE STEREOHASH_FW_HAVE_PIPELINE=1)
 if(TARGET stereohash_hal_camera_libcamera)
   target_link_libraries(stereohash-fw PRIVATE stereohash_hal_camera_libcamera)
   target_compile_definitions(stereohash-fw PRIVATE STEREOHASH_FW_HAVE_LIBCAMERA=1)

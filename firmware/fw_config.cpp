@@ -9,7 +9,6 @@
 #include <type_traits>
 
 #include "firmware/can_protocol.hpp"
-#include "hal/sim/render/scene_generator.hpp"
 #include "recog/pipeline/worker_pool.hpp"
 
 namespace sh::fw {
@@ -279,20 +278,6 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
 }
 
 }  // namespace
-
-FwConfig SimDefaults() {
-  FwConfig c;
-  c.backend = Backend::kSim;
-  c.calibration_path[0] = '\0';  // the renderer's rig
-  c.mlock = false;               // a desktop simulator need not pin its memory
-  // The box over the rendered table an integrator would configure (render::kTableVolume*).
-  c.volume_set = true;
-  c.volume_is_sim_default = true;
-  c.volume_in_table_frame = true;
-  std::memcpy(c.volume_min_mm, render::kTableVolumeMinMm, sizeof(c.volume_min_mm));
-  std::memcpy(c.volume_max_mm, render::kTableVolumeMaxMm, sizeof(c.volume_max_mm));
-  return c;
-}
 
 Status ParseConfig(const char* text, size_t length, FwConfig* config) {
   SeenKeys seen;

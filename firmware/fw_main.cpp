@@ -24,7 +24,7 @@
 #include "firmware/node_id_file.hpp"
 #include "firmware/realtime.hpp"
 #include "firmware/sd_notify.hpp"
-#include "firmware/sim_world.hpp"
+#include "firmware/truth_recognition.hpp"
 #include "hal/can_log.hpp"
 #include "hal/linux/socketcan_bus.hpp"
 #include "hal/sim/can_sim_bus.hpp"
@@ -87,8 +87,8 @@ void DefaultModelsDir(char* out, size_t capacity) {
 // stdout reporting of the simulator and the systemd watchdog.
 class Reporter final : public CoreObserver {
  public:
-  Reporter(const SimWorld* world, const FileDataSource* data, SdNotifier* notifier, bool print,
-           canopen::OutputFrame frame)
+  Reporter(const render::SimWorld* world, const FileDataSource* data, SdNotifier* notifier,
+           bool print, canopen::OutputFrame frame)
       : world_(world), data_(data), notifier_(notifier), print_(print), frame_(frame) {}
 
   void PrintModels() {
@@ -122,7 +122,7 @@ class Reporter final : public CoreObserver {
     }
     std::printf("]}\n");
     std::fflush(stdout);
-    if (world_ != nullptr) MapRenderModelsToTable(*world_, t, table_ids_);
+    if (world_ != nullptr) MapWorldModelsToTable(*world_, t, table_ids_);
   }
 
   void OnResult(const protocol::ResultSet& set, const hal::StereoFrame* frame) override {
@@ -180,12 +180,12 @@ class Reporter final : public CoreObserver {
   void OnAlive() override { (void)notifier_->Notify("WATCHDOG=1"); }
 
  private:
-  const SimWorld* world_;
+  const render::SimWorld* world_;
   const FileDataSource* data_;
   SdNotifier* notifier_;
   bool print_;
   canopen::OutputFrame frame_;
-  int table_ids_[render::kMaxModelFiles] = {};
+  int table_ids_[kMaxFolderModels] = {};
 };
 
 int Fail(const char* what, const Status& s) {
@@ -217,9 +217,7 @@ Result<T> LoadYamlFile(const char* path, Result<T> (*parse)(const char*, size_t)
   size_t n = 0;
   SH_RETURN_IF_ERROR(ReadTextFile(path, text, sizeof(text), &n));
   Result<T> parsed = parse(text, n);
-  if (!parsed.ok()) {
-    return Status::Error(parsed.status().code(), "%s: %s", path, parsed.status().message());
-  }
+  if (!parsed.ok()) return parsed.status().WithContext("%s", path);
   return parsed;
 }
 
@@ -344,7 +342,7 @@ int main(int argc, char** argv) {
   static hal::SocketcandServer socketcand;
   static hal::SocketCanBus socketcan;
   static hal::SimGpio sim_gpio;
-  static SimWorld world;
+  static render::SimWorld world;
   static std::unique_ptr<hal::SimCamera> sim_camera;
   static DemoClient demo_client;
   hal::CanBus* can = nullptr;
@@ -383,7 +381,7 @@ int main(int argc, char** argv) {
     if (replay) {
       camera = directory_camera.get();
     } else {
-      SimWorldConfig wc;
+      render::SimWorldConfig wc;
       wc.models_dir = models_dir;
       wc.seed = config.sim_seed;
       wc.scenes = config.sim_scenes;

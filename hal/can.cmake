@@ -3,18 +3,17 @@
 # plus a socketcand TCP server for host tools).
 find_package(Threads REQUIRED)
 
-add_library(stereohash_hal_can STATIC
-  ${CMAKE_CURRENT_SOURCE_DIR}/can_frame.cpp
-  ${CMAKE_CURRENT_SOURCE_DIR}/can_log.cpp)
-target_link_libraries(stereohash_hal_can PUBLIC stereohash_base)
+stereohash_module(stereohash_hal_can
+  SOURCES can_frame.cpp can_log.cpp
+  HEADERS can.hpp can_log.hpp
+  PUBLIC stereohash_base)
 
-add_library(stereohash_hal_socketcan STATIC
-  ${CMAKE_CURRENT_SOURCE_DIR}/linux/socketcan_bus.cpp
-  ${CMAKE_CURRENT_SOURCE_DIR}/linux/socketcan_errors.cpp)
-target_link_libraries(stereohash_hal_socketcan PUBLIC stereohash_hal_can)
+stereohash_module(stereohash_hal_socketcan
+  SOURCES linux/socketcan_bus.cpp linux/socketcan_errors.cpp
+  HEADERS linux/socketcan_bus.hpp linux/socketcan_errors.hpp
+  PUBLIC stereohash_hal_can)
 
-add_library(stereohash_hal_can_sim STATIC
-  ${CMAKE_CURRENT_SOURCE_DIR}/sim/can_sim_bus.cpp
-  ${CMAKE_CURRENT_SOURCE_DIR}/sim/socketcand_text.cpp
-  ${CMAKE_CURRENT_SOURCE_DIR}/sim/socketcand_server.cpp)
-target_link_libraries(stereohash_hal_can_sim PUBLIC stereohash_hal_can Threads::Threads)
+stereohash_module(stereohash_hal_can_sim
+  SOURCES sim/can_sim_bus.cpp sim/socketcand_text.cpp sim/socketcand_server.cpp
+  HEADERS sim/can_sim_bus.hpp sim/socketcand_text.hpp sim/socketcand_server.hpp
+  PUBLIC stereohash_hal_can Threads::Threads)

@@ -1,23 +1,74 @@
 #include "tables/model_files.hpp"
 
+#include <dirent.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
 #include "recog/model/obj_model.hpp"
 
 namespace sh {
+namespace {
+
+Status ReadText(const std::string& path, long limit, std::string* text) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    return Status::Error(StatusCode::kNotFound, "cannot open '%s': %s", path.c_str(),
+                         std::strerror(errno));
+  }
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  *text = buffer.str();
+  if (long(text->size()) > limit) {
+    return Status::Error(StatusCode::kResourceExhausted, "'%s' is larger than %ld bytes",
+                         path.c_str(), limit);
+  }
+  return Status::Ok();
+}
+
+bool IsObjName(const char* name) {
+  const size_t len = std::strlen(name);
+  return len > 4 && std::strcmp(name + len - 4, ".obj") == 0;
+}
+
+Status ParseManifest(const std::string& path, const std::string& text,
+                     std::vector<std::string>* names) {
+  std::istringstream lines(text);
+  std::string line;
+  int number = 0;
+  while (std::getline(lines, line)) {
+    ++number;
+    line = line.substr(0, line.find('#'));
+    const size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue;
+    const std::string name = line.substr(first, line.find_last_not_of(" \t\r") + 1 - first);
+    if (name.find_first_of(" \t/") != std::string::npos || name.size() > kMaxModelNameLength) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "%s line %d: '%s' is not a model name (no spaces or '/', at most %d "
+                           "characters)",
+                           path.c_str(), number, name.c_str(), int(kMaxModelNameLength));
+    }
+    if (std::find(names->begin(), names->end(), name) != names->end()) {
+      return Status::Error(StatusCode::kInvalidArgument, "%s line %d: model '%s' listed twice",
+                           path.c_str(), number, name.c_str());
+    }
+    names->push_back(name);
+  }
+  return Status::Ok();
+}
+
+}  // namespace
 
 Result<Model> LoadModelFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::Error(StatusCode::kNotFound, "cannot open model file '%s'", path.c_str());
-  std::ostringstream text;
-  text << in.rdbuf();
-  const std::string s = text.str();
+  std::string text;
+  SH_RETURN_IF_ERROR(ReadText(path, kMaxObjFileBytes, &text));
   std::string stem = path.substr(path.find_last_of('/') + 1);
   stem = stem.substr(0, stem.find_last_of('.'));
-  Result<Model> model = ParseObjModel(s.data(), s.size(), stem.c_str());
-  if (!model.ok())
-    return Status::Error(model.status().code(), "%s: %s", path.c_str(), model.status().message());
+  Result<Model> model = ParseObjModel(text.data(), text.size(), stem.c_str());
+  if (!model.ok()) return model.status().WithContext("%s", path.c_str());
   return model;
 }
 
@@ -25,16 +76,58 @@ Status LoadModels(const std::string& dir, const std::vector<std::string>& names,
                   std::vector<Model>* models) {
   models->clear();
   for (const std::string& name : names) {
-    Result<Model> m = LoadModelFile(dir + "/" + name + ".obj");
+    std::string path = dir;
+    path.append("/").append(name).append(".obj");
+    Result<Model> m = LoadModelFile(path);
     if (!m.ok()) return m.status();
     models->push_back(*m);
   }
   return Status::Ok();
 }
 
-Status LoadReferenceModels(const std::string& dir, std::vector<Model>* models) {
-  return LoadModels(dir, {std::begin(kReferenceModelNames), std::end(kReferenceModelNames)},
-                    models);
+Status ModelFolderNames(const std::string& dir, std::vector<std::string>* names) {
+  names->clear();
+  const std::string manifest = dir + "/" + kModelManifestName;
+  std::ifstream probe(manifest);
+  if (probe) {
+    std::string text;
+    SH_RETURN_IF_ERROR(ReadText(manifest, 1 << 16, &text));
+    SH_RETURN_IF_ERROR(ParseManifest(manifest, text, names));
+  } else {
+    DIR* d = opendir(dir.c_str());
+    if (d == nullptr) {
+      return Status::Error(StatusCode::kNotFound, "models: cannot open directory %s: %s",
+                           dir.c_str(), std::strerror(errno));
+    }
+    while (const dirent* entry = readdir(d)) {
+      if (IsObjName(entry->d_name)) {
+        names->emplace_back(entry->d_name, std::strlen(entry->d_name) - 4);
+      }
+    }
+    closedir(d);
+    std::sort(names->begin(), names->end());
+  }
+  if (names->empty()) {
+    return Status::Error(StatusCode::kNotFound, "models: no models in %s", dir.c_str());
+  }
+  if (int(names->size()) > kMaxFolderModels) {
+    return Status::Error(StatusCode::kResourceExhausted, "models: %zu models in %s, at most %d",
+                         names->size(), dir.c_str(), kMaxFolderModels);
+  }
+  return Status::Ok();
+}
+
+Status LoadModelFolder(const std::string& dir, std::vector<Model>* models) {
+  std::vector<std::string> names;
+  SH_RETURN_IF_ERROR(ModelFolderNames(dir, &names));
+  return LoadModels(dir, names, models);
+}
+
+int FindModelByName(const std::vector<Model>& models, const char* name) {
+  for (size_t i = 0; i < models.size(); ++i) {
+    if (std::strcmp(models[i].name, name) == 0) return int(i);
+  }
+  return -1;
 }
 
 }  // namespace sh

@@ -1,4 +1,6 @@
-// Loading model OBJ files from disk (host tools and firmware start-up, never per frame).
+// Loading model folders from disk (host tools, the build step that bakes the default tables and
+// the simulator's world at boot; never per frame). One loader, so that a folder gives the same
+// model order, and so the same model ids, to everything that reads it.
 #pragma once
 
 #include <string>
@@ -9,10 +11,11 @@
 
 namespace sh {
 
-// The six reference objects in the order the thesis lists them; their index is the model id
-// reported over CAN.
-inline const char* const kReferenceModelNames[] = {"cube", "hexagon",  "wedge",
-                                                   "star", "pentagon", "trapezium"};
+// The manifest of a model folder: model names (OBJ file stems) in model-id order.
+inline constexpr const char* kModelManifestName = "models.txt";
+// Most models one folder may hold, and the largest OBJ file read.
+inline constexpr int kMaxFolderModels = 32;
+inline constexpr long kMaxObjFileBytes = 1 << 20;
 
 // Reads one OBJ file; the model is named after the file stem.
 Result<Model> LoadModelFile(const std::string& path);
@@ -21,7 +24,14 @@ Result<Model> LoadModelFile(const std::string& path);
 Status LoadModels(const std::string& dir, const std::vector<std::string>& names,
                   std::vector<Model>* models);
 
-// The reference set from `dir` (the repository's models/ folder).
-Status LoadReferenceModels(const std::string& dir, std::vector<Model>* models);
+// The names a folder's manifest lists (comments after '#', blank lines skipped), or, for a
+// folder without a manifest, the stems of its *.obj files in file-name order.
+Status ModelFolderNames(const std::string& dir, std::vector<std::string>* names);
+
+// Every model of a folder, in the order of ModelFolderNames (model i has id i).
+Status LoadModelFolder(const std::string& dir, std::vector<Model>* models);
+
+// Index of the model called `name`, or -1.
+int FindModelByName(const std::vector<Model>& models, const char* name);
 
 }  // namespace sh

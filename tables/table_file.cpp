@@ -38,7 +38,7 @@ Status MappedTable::Open(const char* path) {
   Result<TableView> view = TableView::Open(data, size_t(st.st_size));
   if (!view.ok()) {
     munmap(data, size_t(st.st_size));
-    return Status::Error(view.status().code(), "%s: %s", path, view.status().message());
+    return view.status().WithContext("%s", path);
   }
   data_ = data;
   size_ = size_t(st.st_size);

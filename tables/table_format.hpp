@@ -38,6 +38,36 @@ inline constexpr uint32_t kMaxTablePointEntries = 65536;
 inline constexpr uint32_t kMaxTableLineEntries = 65536;
 inline constexpr uint32_t kMaxTableBins = 262144;
 
+// The five 3-D hash functions (thesis table 5.1; the frames are in recog/hashing/basis.hpp). A
+// table holds the hash arrays of one of them.
+enum class HashFunction : uint8_t {
+  kThreePointsFirst = 1,
+  kThreePointsCentroid = 2,
+  kTwoLines = 3,
+  kLinePointFoot = 4,
+  kLinePointMidway = 5,
+};
+
+inline bool IsValidHashFunction(int hf) { return hf >= 1 && hf <= 5; }
+inline bool UsesThreePoints(HashFunction hf) {
+  return hf == HashFunction::kThreePointsFirst || hf == HashFunction::kThreePointsCentroid;
+}
+inline bool UsesLinePoint(HashFunction hf) {
+  return hf == HashFunction::kLinePointFoot || hf == HashFunction::kLinePointMidway;
+}
+
+// Geometric limits on bases, stored in the table header: scene bases outside them are not tried,
+// model bases outside them are not stored.
+struct BasisLimits {
+  float min_point_line_mm = 20.0f;  // line+point: point-line distance window (thesis 4.3)
+  float max_point_line_mm = 70.0f;
+  float min_line_angle_deg = 37.0f;     // two lines: smallest angle between them
+  float max_line_distance_mm = 70.0f;   // two lines: longest common perpendicular
+  float min_point_spacing_mm = 5.0f;    // three points: shortest side
+  float max_point_spacing_mm = 80.0f;   // three points: longest side (about the largest model)
+  float min_triangle_height_mm = 3.0f;  // three points: distance of p2 from line p0-p1
+};
+
 // A uniform grid of cubic bins over a box.
 struct GridGeometry {
   float min_mm[3];  // corner of bin (0, 0, 0)

@@ -10,7 +10,6 @@
 #include <cstdint>
 
 #include "recog/base/status.hpp"
-#include "recog/hashing/basis.hpp"
 #include "tables/table_format.hpp"
 
 namespace sh {

@@ -1,4 +1,5 @@
-// Build-time generator of the linked-in default tables: tablegen <models dir> <hash fn> <out>.
+// Build-time generator of the linked-in default tables: tablegen <models dir> <hash fn> <out>,
+// the models in the order of the folder's manifest (tables/model_files.hpp).
 #include <cstdio>
 #include <cstdlib>
 
@@ -11,7 +12,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::vector<sh::Model> models;
-  const sh::Status loaded = sh::LoadReferenceModels(argv[1], &models);
+  const sh::Status loaded = sh::LoadModelFolder(argv[1], &models);
   if (!loaded.ok()) {
     std::fprintf(stderr, "tablegen: %s\n", loaded.message());
     return 1;

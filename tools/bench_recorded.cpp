@@ -18,10 +18,10 @@
 #include <vector>
 
 #include "recog/pipeline/pipeline.hpp"
-#include "tests/pipeline/mini_json.hpp"
-#include "tests/pipeline/rendered_eval.hpp"
-#include "tests/support/synthetic_scene.hpp"
 #include "tools/command.hpp"
+#include "tools/eval/mini_json.hpp"
+#include "tools/eval/rendered_eval.hpp"
+#include "tools/eval/synthetic_scene.hpp"
 #include "tools/miss_causes.hpp"
 #include "tools/recognize_setup.hpp"
 #include "tools/report_util.hpp"
@@ -98,18 +98,17 @@ Status ParseTruth(const std::string& path, const TableView& tables, SceneTruth* 
   if (!ReadText(path, &text)) {
     return Status::Error(StatusCode::kNotFound, "cannot read %s", path.c_str());
   }
-  testing_support::Json json;
-  if (!testing_support::JsonReader(text).Parse(&json) ||
-      json.type != testing_support::Json::kObject) {
+  Json json;
+  if (!JsonReader(text).Parse(&json) || json.type != Json::kObject) {
     return Status::Error(StatusCode::kInvalidArgument, "%s is not a JSON object", path.c_str());
   }
   out->background = json["background"].text;
   out->occlusion = json["occlusion"].text;
-  const testing_support::Json& objects = json["objects"];
-  if (objects.type != testing_support::Json::kArray) {
+  const Json& objects = json["objects"];
+  if (objects.type != Json::kArray) {
     return Status::Error(StatusCode::kInvalidArgument, "%s: no \"objects\" list", path.c_str());
   }
-  for (const testing_support::Json& o : objects.items) {
+  for (const Json& o : objects.items) {
     int model = -1;
     for (uint32_t m = 0; m < tables.model_count(); ++m) {
       if (o["model"].text == tables.model(m).name) model = static_cast<int>(m);
@@ -118,8 +117,8 @@ Status ParseTruth(const std::string& path, const TableView& tables, SceneTruth* 
       return Status::Error(StatusCode::kInvalidArgument, "%s: model '%s' is not in the tables",
                            path.c_str(), o["model"].text.c_str());
     }
-    const testing_support::Json& R = o["R"];
-    const testing_support::Json& t = o["t"];
+    const Json& R = o["R"];
+    const Json& t = o["t"];
     if (R.size() != 3 || t.size() != 3) {
       return Status::Error(StatusCode::kInvalidArgument, "%s: object without a 3x3 R and a t",
                            path.c_str());
@@ -133,7 +132,7 @@ Status ParseTruth(const std::string& path, const TableView& tables, SceneTruth* 
       for (int c = 0; c < 3; ++c) truth.cam_T_model.R(r, c) = static_cast<float>(R[r][c].number);
       truth.cam_T_model.t_mm(r) = static_cast<float>(t[r].number);
     }
-    const testing_support::Json& visible = o["visible"];
+    const Json& visible = o["visible"];
     const float v = visible.size() == 2
                         ? static_cast<float>(0.5 * (visible[0].number + visible[1].number))
                         : 1.0f;
@@ -307,7 +306,7 @@ int RunBenchRecorded(int argc, char** argv) {
     if (s.ok()) s = pipeline->Process(left.view, right.view, options.budget_ms, result.get());
     if (!s.ok()) return Fail((name + ": " + s.message()).c_str());
 
-    const std::vector<RecognizedPose> found = testing_support::PosesOf(*result);
+    const std::vector<RecognizedPose> found = PosesOf(*result);
     const MatchCounts m =
         MatchToTruth(models, truth.objects, found, kMaxPositionErrorMm, kMaxRotationErrorDeg);
     auto it = std::find_if(rows.begin(), rows.end(), [&](const Row& r) {

@@ -13,18 +13,18 @@
 #include <string>
 #include <vector>
 
-#include "hal/sim/render/scene_generator.hpp"
+#include "hal/sim/world/scene_generator.hpp"
 #include "recog/hashing/recognizer.hpp"
 #include "recog/pipeline/pipeline.hpp"
 #include "recog/verify/verify.hpp"
 #include "tables/model_files.hpp"
 #include "tables/table_builder.hpp"
 #include "tables/table_file.hpp"
-#include "tests/pipeline/rendered_eval.hpp"
-#include "tests/support/synthetic_scene.hpp"
-#include "tests/support/truth_pose_fit.hpp"
 #include "tools/bench_recorded.hpp"
 #include "tools/command.hpp"
+#include "tools/eval/rendered_eval.hpp"
+#include "tools/eval/synthetic_scene.hpp"
+#include "tools/eval/truth_pose_fit.hpp"
 #include "tools/miss_causes.hpp"
 #include "tools/recognize_setup.hpp"
 #include "tools/report_util.hpp"
@@ -188,14 +188,14 @@ int RunBenchScenes(int argc, char** argv) {
     std::fprintf(stderr, "stereohash bench: %s\n", table.status().message());
     return 1;
   }
-  testing_support::RenderModels models;
-  Status st = testing_support::LoadRenderModels(models_dir, *table, &models);
+  RenderModels models;
+  Status st = LoadRenderModels(models_dir, *table, &models);
   if (!st.ok()) {
     std::fprintf(stderr, "stereohash bench: %s\n", st.message());
     return 1;
   }
   auto pipeline = std::make_unique<Pipeline>();
-  auto pair = std::make_unique<testing_support::RenderedPair>();
+  auto pair = std::make_unique<RenderedPair>();
   SceneRow rows[] = {
       {"dark", "none", render::Background::kDark, render::Occlusion::kNone},
       {"dark", "some", render::Background::kDark, render::Occlusion::kSome},
@@ -227,7 +227,7 @@ int RunBenchScenes(int argc, char** argv) {
     for (int i = 0, attempt = 0; i < per_row && attempt < 4 * per_row; ++attempt) {
       // Seeds whose objects cannot be placed for the scenario are skipped (reported).
       const uint64_t seed = uint64_t(seed_offset) + uint64_t{1000} * (r + 1) + attempt;
-      st = testing_support::RenderPair(seed, ScenarioFor(row, i, camera), models, pair.get());
+      st = RenderPair(seed, ScenarioFor(row, i, camera), models, pair.get());
       if (!st.ok()) {
         std::fprintf(stderr, "scene %s/%s seed %llu skipped: %s\n", row.background, row.occlusion,
                      static_cast<unsigned long long>(seed), st.message());
@@ -251,8 +251,7 @@ int RunBenchScenes(int argc, char** argv) {
         ++row.failed;
         continue;
       }
-      const MatchCounts m =
-          MatchToTruth(models.table, pair->truth, testing_support::PosesOf(result));
+      const MatchCounts m = MatchToTruth(models.table, pair->truth, PosesOf(result));
       if (verbose) PrintErrors(models.table, pair->truth, result, seed);
       char label[32];
       std::snprintf(label, sizeof(label), "seed %llu", static_cast<unsigned long long>(seed));
@@ -401,7 +400,7 @@ int RunBenchSynthetic(int argc, char** argv) {
   }
   std::printf("command: %s\n", CommandLine(argc, argv).c_str());
   std::vector<Model> obj_models;
-  Status st = LoadReferenceModels(models_dir, &obj_models);
+  Status st = LoadModelFolder(models_dir, &obj_models);
   if (!st.ok()) {
     std::fprintf(stderr, "stereohash bench: %s\n", st.message());
     return 1;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "hal/sim/image_files.hpp"
 #include "recog/pipeline/pipeline.hpp"
 #include "tools/command.hpp"
 #include "tools/overlay.hpp"
@@ -170,7 +171,7 @@ int RunRecognize(int argc, char** argv) {
     std::vector<uint8_t> rgb;
     int w = 0, h = 0;
     s = BuildOverlay(*pipeline, *result, left.view, right.view, &rgb, &w, &h);
-    if (s.ok()) s = WriteRgbPng(overlay_path, rgb.data(), w, h);
+    if (s.ok()) s = hal::WritePngRgb(overlay_path, rgb.data(), w, h, 3 * w);
     if (!s.ok()) return Fail("overlay %s: %s", overlay_path, s.message());
   }
   return 0;

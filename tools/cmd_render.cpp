@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "hal/sim/image_files.hpp"
-#include "hal/sim/render/model_directory.hpp"
-#include "hal/sim/render/renderer.hpp"
-#include "hal/sim/render/scene_generator.hpp"
+#include "hal/sim/world/renderer.hpp"
+#include "hal/sim/world/scene_generator.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
+#include "tables/model_files.hpp"
 #include "tools/command.hpp"
 
 namespace sh::tools {
@@ -134,15 +134,14 @@ int RunRender(int argc, char** argv) {
     return 2;
   }
 
-  static Model models[render::kMaxModelFiles];
-  const Result<int> n_models =
-      render::LoadModelDirectory(models_dir, models, render::kMaxModelFiles);
-  if (!n_models.ok()) {
-    std::fprintf(stderr, "stereohash render: %s\n", n_models.status().message());
+  std::vector<Model> model_set;
+  const Status loaded = LoadModelFolder(models_dir, &model_set);
+  if (!loaded.ok()) {
+    std::fprintf(stderr, "stereohash render: %s\n", loaded.message());
     return 1;
   }
   const Result<render::GeneratedScene> scene =
-      render::GenerateScene(seed, params, models, *n_models);
+      render::GenerateScene(seed, params, model_set.data(), int(model_set.size()));
   if (!scene.ok()) {
     std::fprintf(stderr, "stereohash render: %s\n", scene.status().message());
     return 1;
@@ -151,7 +150,7 @@ int RunRender(int argc, char** argv) {
   std::vector<uint8_t> left(size_t(cam.width) * cam.height), right(left.size());
   const auto start = std::chrono::steady_clock::now();
   const Status rendered =
-      render::RenderStereo(scene->scene, models, *n_models, scene->calib,
+      render::RenderStereo(scene->scene, model_set.data(), int(model_set.size()), scene->calib,
                            GrayView{left.data(), cam.width, cam.height, cam.width},
                            GrayView{right.data(), cam.width, cam.height, cam.width});
   const double render_ms =
@@ -187,7 +186,7 @@ int RunRender(int argc, char** argv) {
   if (st.ok()) st = WriteText(dir + "/table.yaml", std::string(table_yaml.data(), *table_size));
   if (st.ok()) {
     st = WriteText(dir + "/truth.json",
-                   TruthJson(*scene, models, seed, params, background, occlusion));
+                   TruthJson(*scene, model_set.data(), seed, params, background, occlusion));
   }
   if (!st.ok()) {
     std::fprintf(stderr, "stereohash render: %s\n", st.message());

@@ -117,11 +117,8 @@ int RunBuild(int argc, char** argv) {
     return 2;
   }
   std::vector<Model> models;
-  const std::vector<std::string> list =
-      names.empty() ? std::vector<std::string>(std::begin(kReferenceModelNames),
-                                               std::end(kReferenceModelNames))
-                    : Split(names);
-  const Status loaded = LoadModels(models_dir, list, &models);
+  const Status loaded = names.empty() ? LoadModelFolder(models_dir, &models)
+                                      : LoadModels(models_dir, Split(names), &models);
   if (!loaded.ok()) {
     std::fprintf(stderr, "stereohash tables build: %s\n", loaded.message());
     return 1;
@@ -148,7 +145,7 @@ int RunBuild(int argc, char** argv) {
 
 int CompareWithThesis(const std::string& models_dir) {
   std::vector<Model> models;
-  const Status loaded = LoadReferenceModels(models_dir, &models);
+  const Status loaded = LoadModelFolder(models_dir, &models);
   if (!loaded.ok()) {
     std::fprintf(stderr, "stereohash tables info: %s\n", loaded.message());
     return 1;

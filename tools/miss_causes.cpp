@@ -3,15 +3,15 @@
 #include <cstdio>
 
 #include "recog/verify/verify.hpp"
-#include "tests/pipeline/rendered_eval.hpp"
-#include "tests/support/truth_pose_fit.hpp"
+#include "tools/eval/rendered_eval.hpp"
+#include "tools/eval/truth_pose_fit.hpp"
 
 namespace sh::tools {
 
 void ExplainMisses(const std::vector<Model>& models, const std::vector<TruthObject>& truth,
                    const PipelineResult& result, const Pipeline& pipeline, const char* label,
                    bool verbose, MissCauses* causes, float max_t_mm, float max_r_deg) {
-  const std::vector<RecognizedPose> found = testing_support::PosesOf(result);
+  const std::vector<RecognizedPose> found = PosesOf(result);
   const MatchCounts matched = MatchToTruth(models, truth, found, max_t_mm, max_r_deg);
   for (size_t i = 0; i < truth.size(); ++i) {
     if (matched.truth_found[i]) continue;

@@ -7,7 +7,7 @@
 
 #include "recog/model/model.hpp"
 #include "recog/pipeline/pipeline.hpp"
-#include "tests/support/synthetic_scene.hpp"
+#include "tools/eval/synthetic_scene.hpp"
 
 namespace sh::tools {
 

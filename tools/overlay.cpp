@@ -1,11 +1,8 @@
 #include "tools/overlay.hpp"
 
-#include <cerrno>
 #include <cstdio>
 #include <cstring>
 
-#include "hal/sim/deflate.hpp"
-#include "recog/base/crc32.hpp"
 #include "recog/verify/view_camera.hpp"
 
 namespace sh::tools {
@@ -97,53 +94,7 @@ Eigen::Vector3f ModelCentre(const Model& m) {
   return m.n_corners ? Eigen::Vector3f(c / static_cast<float>(m.n_corners)) : c;
 }
 
-void PutBe32(std::vector<uint8_t>* out, uint32_t v) {
-  for (int shift = 24; shift >= 0; shift -= 8) out->push_back(static_cast<uint8_t>(v >> shift));
-}
-
-void PutChunk(std::vector<uint8_t>* out, const char type[4], const uint8_t* data, size_t size) {
-  PutBe32(out, static_cast<uint32_t>(size));
-  const size_t start = out->size();
-  out->insert(out->end(), type, type + 4);
-  out->insert(out->end(), data, data + size);
-  PutBe32(out, Crc32(out->data() + start, size + 4));
-}
-
 }  // namespace
-
-Status WriteRgbPng(const char* path, const uint8_t* rgb, int width, int height) {
-  if (width <= 0 || height <= 0 || width > (1 << 15) || height > (1 << 15)) {
-    return Status::Error(StatusCode::kOutOfRange, "PNG: cannot write a %d x %d image", width,
-                         height);
-  }
-  // Filter type 0 (none) before every row.
-  const size_t row = size_t(width) * 3;
-  std::vector<uint8_t> raw(size_t(height) * (row + 1), 0);
-  for (int y = 0; y < height; ++y) std::memcpy(&raw[y * (row + 1) + 1], rgb + y * row, row);
-  std::vector<uint8_t> z(hal::ZlibDeflateBound(raw.size()));
-  const Result<size_t> z_size = hal::ZlibDeflate(raw.data(), raw.size(), z.data(), z.size());
-  if (!z_size.ok()) return z_size.status();
-  std::vector<uint8_t> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  uint8_t ihdr[13] = {};
-  for (int i = 0; i < 4; ++i) {
-    ihdr[i] = static_cast<uint8_t>(uint32_t(width) >> (24 - 8 * i));
-    ihdr[4 + i] = static_cast<uint8_t>(uint32_t(height) >> (24 - 8 * i));
-  }
-  ihdr[8] = 8;  // bit depth
-  ihdr[9] = 2;  // colour type RGB
-  PutChunk(&png, "IHDR", ihdr, sizeof(ihdr));
-  PutChunk(&png, "IDAT", z.data(), *z_size);
-  PutChunk(&png, "IEND", nullptr, 0);
-  std::FILE* f = std::fopen(path, "wb");
-  if (f == nullptr) {
-    return Status::Error(StatusCode::kNotFound, "cannot create %s: %s", path, std::strerror(errno));
-  }
-  const bool ok = std::fwrite(png.data(), 1, png.size(), f) == png.size();
-  if (std::fclose(f) != 0 || !ok) {
-    return Status::Error(StatusCode::kUnavailable, "cannot write %s", path);
-  }
-  return Status::Ok();
-}
 
 int TextWidth(const char* text, int scale) {
   const int n = static_cast<int>(std::strlen(text));

@@ -27,8 +27,4 @@ Rgb8 ObjectColour(int i);
 Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, ConstGrayView left,
                     ConstGrayView right, std::vector<uint8_t>* rgb, int* width, int* height);
 
-// Writes packed RGB rows as a PNG of any size (the simulator's encoder stops at the largest
-// camera frame; a side-by-side overlay is twice as wide).
-Status WriteRgbPng(const char* path, const uint8_t* rgb, int width, int height);
-
 }  // namespace sh::tools

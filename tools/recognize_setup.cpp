@@ -112,10 +112,7 @@ Result<StereoCalibration> LoadCalibration(const char* path) {
   std::vector<char> text;
   SH_RETURN_IF_ERROR(ReadSmallFile(path, "calibration", kMaxCalibrationYamlBytes, &text));
   Result<StereoCalibration> calib = ParseCalibrationYaml(text.data(), text.size());
-  if (!calib.ok()) {
-    return Status::Error(calib.status().code(), "calibration %s: %s", path,
-                         calib.status().message());
-  }
+  if (!calib.ok()) return calib.status().WithContext("calibration %s", path);
   return calib;
 }
 
@@ -123,9 +120,7 @@ Result<RigidTransform> LoadTablePose(const char* path) {
   std::vector<char> text;
   SH_RETURN_IF_ERROR(ReadSmallFile(path, "table file", kMaxTableYamlBytes, &text));
   Result<RigidTransform> pose = ParseTableYaml(text.data(), text.size());
-  if (!pose.ok()) {
-    return Status::Error(pose.status().code(), "table file %s: %s", path, pose.status().message());
-  }
+  if (!pose.ok()) return pose.status().WithContext("table file %s", path);
   return pose;
 }
 
@@ -133,10 +128,7 @@ Status LoadImage(const char* path, const char* which, LoadedImage* out) {
   out->pixels.assign(kMaxImagePixels, 0);
   const Result<hal::ImageInfo> info =
       hal::ReadImageFile(path, hal::PixelFormat::kGray8, out->pixels.data(), out->pixels.size());
-  if (!info.ok()) {
-    return Status::Error(info.status().code(), "%s image %s: %s", which, path,
-                         info.status().message());
-  }
+  if (!info.ok()) return info.status().WithContext("%s image %s", which, path);
   out->view = {out->pixels.data(), info->width, info->height, info->width};
   return Status::Ok();
 }
@@ -144,15 +136,12 @@ Status LoadImage(const char* path, const char* which, LoadedImage* out) {
 Status LoadTables(const char* path, LoadedTables* out) {
   if (path != nullptr) {
     const Status s = out->mapped.Open(path);
-    if (!s.ok()) return Status::Error(s.code(), "tables %s: %s", path, s.message());
+    if (!s.ok()) return s.WithContext("tables %s", path);
     out->view = out->mapped.view();
     return Status::Ok();
   }
   const Result<TableView> builtin = OpenDefaultTable();
-  if (!builtin.ok()) {
-    return Status::Error(builtin.status().code(), "built-in tables: %s",
-                         builtin.status().message());
-  }
+  if (!builtin.ok()) return builtin.status().WithContext("built-in tables");
   out->view = *builtin;
   return Status::Ok();
 }

@@ -1,5 +1,6 @@
 # `stereohash render`: simulated stereo pairs for tests, benchmarks and demos.
 target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/cmd_render.cpp)
-target_link_libraries(stereohash PRIVATE stereohash_render stereohash_image_files stereohash_camera)
+target_link_libraries(stereohash PRIVATE stereohash_sim_world stereohash_image_files stereohash_camera
+                      stereohash_model_files)
 target_compile_definitions(stereohash PRIVATE
   STEREOHASH_DEFAULT_MODELS_DIR="${PROJECT_SOURCE_DIR}/models")

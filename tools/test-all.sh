@@ -1,10 +1,17 @@
 #!/usr/bin/env bash
 # The whole test suite: host build with every unit, integration and peer (python-can,
-# canmatrix, OpenCV) test; the libFuzzer targets replaying and extending their corpora; and the
-# aarch64 board build, cross-compiled, with its tests run under qemu-aarch64.
+# canmatrix, OpenCV) test; the unit, pipeline and firmware tests again under AddressSanitizer with
+# UndefinedBehaviorSanitizer and under ThreadSanitizer; clang-tidy; the libFuzzer targets
+# replaying and extending their corpora; and the aarch64 board build, cross-compiled, with its
+# tests run under qemu-aarch64. Prints how long each part took.
 #
 #   tools/test-all.sh            everything (installs its own dependencies)
 #   tools/test-all.sh --no-cross skip the aarch64 part
+#   STEREOHASH_TIDY_BASE=REV     clang-tidy on the sources changed since REV (default HEAD~10, the
+#                                latest landings; "all": every source)
+#   STEREOHASH_TIDY_STRICT=1     clang-tidy findings fail the run
+#   STEREOHASH_CI_BUDGET_S=S     time budget (default 4800): a sanitizer part starts only while
+#                                25 minutes of it are left
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -15,7 +22,18 @@ jobs=$(nproc)
 
 if [ "$cross" = 1 ]; then tools/ci/install-deps.sh --cross; else tools/ci/install-deps.sh; fi
 
-section() { printf '\n==== %s (%s)\n' "$1" "$(date -u +%H:%M:%S)"; }
+run_start=$(date +%s)
+durations=()
+part=""
+part_start=$(date +%s)
+section() {
+  local now
+  now=$(date +%s)
+  [ -n "$part" ] && durations+=("$(printf '%-28s %5d s' "$part" $((now - part_start)))")
+  part=$1
+  part_start=$now
+  printf '\n==== %s (%s)\n' "$1" "$(date -u +%H:%M:%S)"
+}
 
 section "host build"
 cmake --preset host-release >/dev/null
@@ -23,6 +41,12 @@ cmake --build --preset host-release -j "$jobs"
 
 section "host tests"
 ctest --preset host-release -j "$jobs" --timeout 900
+
+section "clang-tidy"
+tidy_base=${STEREOHASH_TIDY_BASE:-HEAD~10}
+[ "$tidy_base" = all ] && tidy_base=""
+git rev-parse --verify -q "${tidy_base:-HEAD}" >/dev/null || tidy_base=""
+tools/ci/clang-tidy.sh build/host-release $tidy_base
 
 section "fuzzers"
 cmake --preset fuzz >/dev/null
@@ -53,4 +77,24 @@ if [ "$cross" = 1 ]; then
   done
   [ -f build/aarch64-release/firmware/stereohash-fw ] && aarch64-linux-gnu-size build/aarch64-release/firmware/stereohash-fw
 fi
+# The sanitizer builds run the gtest suites (label unit: unit, pipeline and firmware tests). They
+# come last, each only while the run stays inside its time budget (CI allows 90 minutes).
+budget_s=${STEREOHASH_CI_BUDGET_S:-4800}
+sanitized() {
+  local elapsed=$(($(date +%s) - run_start))
+  if [ "$elapsed" -gt $((budget_s - 1500)) ]; then
+    printf '\n==== %s skipped: %d s of the %d s budget used\n' "$2" "$elapsed" "$budget_s"
+    durations+=("$(printf '%-28s %5s' "$2" skipped)")
+    return
+  fi
+  section "$2 build"
+  cmake --preset "$1" >/dev/null
+  cmake --build --preset "$1" -j "$jobs"
+  section "$2 tests"
+  ctest --preset "$1" -j "$jobs" --timeout 1800
+}
+sanitized host-asan "ASan+UBSan"
+sanitized host-tsan "TSan"
+
 section "done"
+printf '%s\n' "${durations[@]}"

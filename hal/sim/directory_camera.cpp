@@ -267,10 +267,7 @@ Status DirectoryFrameSource::Decode(int side, const std::string& path, Decoded* 
   close(fd);
   const Result<ImageInfo> info = DecodeImage(file_buffer_.get(), size, PixelFormat::kGray8,
                                              decode_[side].get(), kMaxImagePixels);
-  if (!info.ok()) {
-    return Status::Error(info.status().code(), "%s %s: %s", SideName(side), BaseName(path),
-                         info.status().message());
-  }
+  if (!info.ok()) return info.status().WithContext("%s %s", SideName(side), BaseName(path));
   out->width = info->width;
   out->height = info->height;
   return Status::Ok();
@@ -300,8 +297,7 @@ Status DirectoryFrameSource::Open(int* width, int* height) {
     }
     if (first_error.ok()) first_error = s;
   }
-  return Status::Error(first_error.code(), "recording has no readable pair; first problem: %s",
-                       first_error.message());
+  return first_error.WithContext("recording has no readable pair; first problem");
 }
 
 Status DirectoryFrameSource::Render(uint64_t frame_index, GrayView left, GrayView right) {

@@ -5,16 +5,12 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "hal/sim/deflate.hpp"
-#include "hal/sim/inflate.hpp"
-#include "recog/base/crc32.hpp"
+#include <png.h>
 
 namespace sh::hal {
 namespace {
 
 constexpr uint8_t kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-constexpr int kMaxPngChannels = 4;
-constexpr size_t kMaxRowBytes = size_t{kMaxImageWidth} * kMaxPngChannels;
 
 // malloc'd buffer released on scope exit (host-side file handling only).
 struct HeapBuffer {
@@ -58,15 +54,18 @@ void StorePixel(uint8_t* out, PixelFormat format, uint8_t r, uint8_t g, uint8_t 
   }
 }
 
+// libpng's simplified API image, released on scope exit (the library reports errors through
+// the structure, without longjmp through our frames).
+struct PngImage {
+  PngImage() { image.version = PNG_IMAGE_VERSION; }
+  ~PngImage() { png_image_free(&image); }
+  PngImage(const PngImage&) = delete;
+  PngImage& operator=(const PngImage&) = delete;
+  png_image image{};
+};
+
 uint32_t ReadBe32(const uint8_t* p) {
   return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | p[3];
-}
-
-void WriteBe32(uint8_t* p, uint32_t v) {
-  p[0] = static_cast<uint8_t>(v >> 24);
-  p[1] = static_cast<uint8_t>(v >> 16);
-  p[2] = static_cast<uint8_t>(v >> 8);
-  p[3] = static_cast<uint8_t>(v);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -113,200 +112,6 @@ Status PgmHeaderNumber(const uint8_t* data, size_t size, size_t* pos, const char
   return Status::Ok();
 }
 
-// ---------------------------------------------------------------------------------------------
-// PNG
-
-struct PngHeader {
-  int width = 0, height = 0;
-  int color_type = 0;
-  int channels = 0;  // samples per pixel in the file
-  int palette_size = 0;
-  uint8_t palette[256][3] = {};
-};
-
-// Walks the consecutive IDAT chunks as the pieces of one zlib stream.
-class IdatSource final : public ByteSource {
- public:
-  IdatSource(const uint8_t* data, size_t size, size_t first_chunk)
-      : data_(data), size_(size), next_(first_chunk) {}
-  size_t Next(const uint8_t** piece) override {
-    // Chunk framing and CRCs were verified before decoding started.
-    if (done_ || next_ + 12 > size_ || std::memcmp(data_ + next_ + 4, "IDAT", 4) != 0) {
-      done_ = true;
-      return 0;
-    }
-    const size_t length = ReadBe32(data_ + next_);
-    *piece = data_ + next_ + 8;
-    next_ += 12 + length;
-    return length;
-  }
-
- private:
-  const uint8_t* data_;
-  size_t size_;
-  size_t next_;
-  bool done_ = false;
-};
-
-uint8_t Paeth(int a, int b, int c) {
-  const int p = a + b - c;
-  const int pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
-  if (pa <= pb && pa <= pc) return static_cast<uint8_t>(a);
-  if (pb <= pc) return static_cast<uint8_t>(b);
-  return static_cast<uint8_t>(c);
-}
-
-// Undoes the per-row filters and converts finished rows into the caller's format.
-class PngRowSink final : public ByteSink {
- public:
-  PngRowSink(const PngHeader& header, PixelFormat format, uint8_t* pixels)
-      : header_(header),
-        format_(format),
-        pixels_(pixels),
-        row_bytes_(size_t(header.width) * size_t(header.channels)) {}
-
-  Status Write(const uint8_t* data, size_t size) override {
-    for (size_t i = 0; i < size; ++i) {
-      if (row_ == header_.height) {
-        return Status::Error(StatusCode::kInvalidArgument, "PNG: image data is longer than %d rows",
-                             header_.height);
-      }
-      if (filled_ < 0) {
-        filter_ = data[i];
-        if (filter_ > 4) {
-          return Status::Error(StatusCode::kInvalidArgument, "PNG: row %d has filter type %d", row_,
-                               filter_);
-        }
-        filled_ = 0;
-        continue;
-      }
-      cur_[filled_++] = data[i];
-      if (size_t(filled_) == row_bytes_) SH_RETURN_IF_ERROR(FinishRow());
-    }
-    return Status::Ok();
-  }
-
-  int rows_done() const { return row_; }
-
- private:
-  Status FinishRow() {
-    const int bpp = header_.channels;  // bytes per pixel at 8 bits per sample
-    for (size_t x = 0; x < row_bytes_; ++x) {
-      const int a = x >= size_t(bpp) ? cur_[x - bpp] : 0;
-      const int b = prev_[x];
-      const int c = x >= size_t(bpp) ? prev_[x - bpp] : 0;
-      int predicted = 0;
-      switch (filter_) {
-        case 0:
-          predicted = 0;
-          break;
-        case 1:
-          predicted = a;
-          break;
-        case 2:
-          predicted = b;
-          break;
-        case 3:
-          predicted = (a + b) >> 1;
-          break;
-        case 4:
-          predicted = Paeth(a, b, c);
-          break;
-      }
-      cur_[x] = static_cast<uint8_t>(cur_[x] + predicted);
-    }
-    const int out_channels = Channels(format_);
-    uint8_t* out = pixels_ + size_t(row_) * size_t(header_.width) * size_t(out_channels);
-    for (int x = 0; x < header_.width; ++x, out += out_channels) {
-      const uint8_t* s = cur_ + size_t(x) * size_t(bpp);
-      switch (header_.color_type) {
-        case 0:  // grey
-        case 4:  // grey + alpha
-          StorePixel(out, format_, s[0], s[0], s[0]);
-          break;
-        case 2:  // RGB
-        case 6:  // RGBA
-          StorePixel(out, format_, s[0], s[1], s[2]);
-          break;
-        case 3:  // palette
-          if (s[0] >= header_.palette_size) {
-            return Status::Error(StatusCode::kInvalidArgument,
-                                 "PNG: palette index %d out of range (%d entries)", s[0],
-                                 header_.palette_size);
-          }
-          StorePixel(out, format_, header_.palette[s[0]][0], header_.palette[s[0]][1],
-                     header_.palette[s[0]][2]);
-          break;
-      }
-    }
-    std::memcpy(prev_, cur_, row_bytes_);
-    filled_ = -1;
-    ++row_;
-    return Status::Ok();
-  }
-
-  const PngHeader& header_;
-  PixelFormat format_;
-  uint8_t* pixels_;
-  size_t row_bytes_;
-  int row_ = 0;
-  int filled_ = -1;  // -1: expecting the filter-type byte of the next row
-  int filter_ = 0;
-  uint8_t prev_[kMaxRowBytes] = {};  // the row above the first row is zeros
-  uint8_t cur_[kMaxRowBytes] = {};
-};
-
-Status ParseIhdr(const uint8_t* d, uint32_t length, PngHeader* h) {
-  if (length != 13) {
-    return Status::Error(StatusCode::kInvalidArgument, "PNG: IHDR has %u bytes, expected 13",
-                         length);
-  }
-  const uint32_t w = ReadBe32(d), ht = ReadBe32(d + 4);
-  const int depth = d[8];
-  h->color_type = d[9];
-  if (w == 0 || ht == 0) {
-    return Status::Error(StatusCode::kInvalidArgument, "PNG: image has zero size (%u x %u)", w, ht);
-  }
-  if (w > uint32_t(kMaxImageWidth) || ht > uint32_t(kMaxImageHeight)) {
-    return Status::Error(StatusCode::kOutOfRange, "PNG: image %u x %u exceeds the %d x %d limit", w,
-                         ht, kMaxImageWidth, kMaxImageHeight);
-  }
-  h->width = static_cast<int>(w);
-  h->height = static_cast<int>(ht);
-  switch (h->color_type) {
-    case 0:
-      h->channels = 1;
-      break;
-    case 2:
-      h->channels = 3;
-      break;
-    case 3:
-      h->channels = 1;
-      break;
-    case 4:
-      h->channels = 2;
-      break;
-    case 6:
-      h->channels = 4;
-      break;
-    default:
-      return Status::Error(StatusCode::kInvalidArgument, "PNG: invalid colour type %d",
-                           h->color_type);
-  }
-  if (depth != 8) {
-    return Status::Error(StatusCode::kUnimplemented,
-                         "PNG: bit depth %d not supported (8 bits per sample only)", depth);
-  }
-  if (d[10] != 0 || d[11] != 0) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "PNG: unknown compression (%d) or filter method (%d)", d[10], d[11]);
-  }
-  if (d[12] != 0) {
-    return Status::Error(StatusCode::kUnimplemented, "PNG: interlaced images not supported");
-  }
-  return Status::Ok();
-}
-
 Status WriteFile(const char* path, const uint8_t* data, size_t size) {
   std::FILE* f = std::fopen(path, "wb");
   if (f == nullptr) {
@@ -319,14 +124,6 @@ Status WriteFile(const char* path, const uint8_t* data, size_t size) {
                          std::strerror(written != size ? write_errno : errno));
   }
   return Status::Ok();
-}
-
-size_t PngChunk(uint8_t* out, const char* type, const uint8_t* data, uint32_t length) {
-  WriteBe32(out, length);
-  std::memcpy(out + 4, type, 4);
-  if (length > 0 && data != out + 8) std::memmove(out + 8, data, length);
-  WriteBe32(out + 8 + length, Crc32(out + 4, 4 + size_t{length}));
-  return 12 + size_t{length};
 }
 
 }  // namespace
@@ -392,85 +189,57 @@ Result<ImageInfo> DecodePng(const uint8_t* data, size_t size, PixelFormat format
   if (data == nullptr || size < 8 || std::memcmp(data, kPngSignature, 8) != 0) {
     return Status::Error(StatusCode::kInvalidArgument, "PNG: missing PNG signature");
   }
-  PngHeader header;
-  size_t pos = 8;
-  size_t first_idat = 0;
-  bool seen_ihdr = false, seen_iend = false, idat_ended = false;
-  // Pass 1: frame every chunk, verify CRCs, read the header and palette, locate the data.
-  while (!seen_iend) {
-    if (size - pos < 12) {
-      return Status::Error(StatusCode::kDataLoss, "PNG: truncated at byte %zu (no IEND chunk)",
-                           pos);
+  // Our size limits first, from the IHDR fields (libpng would refuse huge images with its own
+  // limits, under another code).
+  if (size >= 24 && std::memcmp(data + 12, "IHDR", 4) == 0) {
+    const uint32_t w = ReadBe32(data + 16), h = ReadBe32(data + 20);
+    if (w > uint32_t(kMaxImageWidth) || h > uint32_t(kMaxImageHeight)) {
+      return Status::Error(StatusCode::kOutOfRange, "PNG: image %u x %u exceeds the %d x %d limit",
+                           w, h, kMaxImageWidth, kMaxImageHeight);
     }
-    const uint32_t length = ReadBe32(data + pos);
-    const uint8_t* type = data + pos + 4;
-    for (int i = 0; i < 4; ++i) {
-      const bool letter = (type[i] >= 'A' && type[i] <= 'Z') || (type[i] >= 'a' && type[i] <= 'z');
-      if (!letter) {
-        return Status::Error(StatusCode::kInvalidArgument, "PNG: invalid chunk type at byte %zu",
-                             pos);
-      }
-    }
-    if (length > 0x7fffffffu || size - pos - 12 < length) {
-      return Status::Error(StatusCode::kDataLoss, "PNG: chunk %.4s of %u bytes is truncated",
-                           reinterpret_cast<const char*>(type), length);
-    }
-    const uint8_t* body = type + 4;
-    const uint32_t stored_crc = ReadBe32(body + length);
-    const uint32_t crc = Crc32(type, 4 + size_t{length});
-    if (crc != stored_crc) {
-      return Status::Error(StatusCode::kDataLoss, "PNG: CRC mismatch in chunk %.4s",
-                           reinterpret_cast<const char*>(type));
-    }
-    const bool is_idat = std::memcmp(type, "IDAT", 4) == 0;
-    if (!seen_ihdr && std::memcmp(type, "IHDR", 4) != 0) {
-      return Status::Error(StatusCode::kInvalidArgument, "PNG: first chunk is not IHDR");
-    }
-    if (std::memcmp(type, "IHDR", 4) == 0) {
-      if (seen_ihdr) return Status::Error(StatusCode::kInvalidArgument, "PNG: second IHDR chunk");
-      SH_RETURN_IF_ERROR(ParseIhdr(body, length, &header));
-      seen_ihdr = true;
-    } else if (std::memcmp(type, "PLTE", 4) == 0) {
-      if (length % 3 != 0 || length == 0 || length > 768) {
-        return Status::Error(StatusCode::kInvalidArgument, "PNG: PLTE chunk of %u bytes", length);
-      }
-      header.palette_size = static_cast<int>(length / 3);
-      std::memcpy(header.palette, body, length);
-    } else if (is_idat) {
-      if (idat_ended) {
-        return Status::Error(StatusCode::kInvalidArgument, "PNG: IDAT chunks are not consecutive");
-      }
-      if (first_idat == 0) first_idat = pos;
-    } else if (std::memcmp(type, "IEND", 4) == 0) {
-      seen_iend = true;
-    } else if (type[0] >= 'A' && type[0] <= 'Z') {
-      return Status::Error(StatusCode::kUnimplemented, "PNG: unknown critical chunk %.4s",
-                           reinterpret_cast<const char*>(type));
-    }
-    if (first_idat != 0 && !is_idat) idat_ended = true;
-    pos += 12 + size_t{length};
   }
-  if (first_idat == 0) return Status::Error(StatusCode::kDataLoss, "PNG: no IDAT chunk");
-  if (header.color_type == 3 && header.palette_size == 0) {
-    return Status::Error(StatusCode::kInvalidArgument, "PNG: palette image without PLTE chunk");
+  PngImage image;
+  if (!png_image_begin_read_from_memory(&image.image, data, size)) {
+    return Status::Error(StatusCode::kInvalidArgument, "PNG: %s", image.image.message);
   }
-  SH_RETURN_IF_ERROR(CheckSize("PNG", header.width, header.height, format, capacity));
-
-  // Pass 2: decompress and unfilter straight into the caller's buffer.
-  IdatSource source(data, size, first_idat);
-  PngRowSink sink(header, format, pixels);
-  const Status inflated = ZlibInflate(source, sink);
-  if (!inflated.ok()) {
-    return Status::Error(inflated.code(), "PNG image data: %s", inflated.message());
+  if (image.image.format & PNG_FORMAT_FLAG_LINEAR) {
+    // libpng would convert 16-bit samples to 8-bit sRGB with a gamma curve: not what a camera's
+    // raw grey levels mean.
+    return Status::Error(StatusCode::kUnimplemented,
+                         "PNG: bit depth 16 not supported (8 bits per sample only)");
   }
-  if (sink.rows_done() != header.height) {
-    return Status::Error(StatusCode::kDataLoss, "PNG: image data ends after %d of %d rows",
-                         sink.rows_done(), header.height);
+  const int width = static_cast<int>(image.image.width);
+  const int height = static_cast<int>(image.image.height);
+  SH_RETURN_IF_ERROR(CheckSize("PNG", width, height, format, capacity));
+  // Colour or grey as the file holds it, with alpha kept (straight, not premultiplied, for 8-bit
+  // output) so that it can be ignored rather than composited; the grey conversion is ours.
+  const bool colour = (image.image.format & PNG_FORMAT_FLAG_COLOR) != 0;
+  const bool alpha = (image.image.format & PNG_FORMAT_FLAG_ALPHA) != 0;
+  const int file_channels = (colour ? 3 : 1) + (alpha ? 1 : 0);
+  image.image.format = colour ? PNG_FORMAT_RGBA : PNG_FORMAT_GA;
+  const int read_channels = colour ? 4 : 2;
+  HeapBuffer decoded(size_t(width) * size_t(height) * size_t(read_channels));
+  if (decoded.data == nullptr) {
+    return Status::Error(StatusCode::kResourceExhausted, "PNG: no memory");
+  }
+  if (!png_image_finish_read(&image.image, nullptr, decoded.data, 0, nullptr)) {
+    return Status::Error(StatusCode::kDataLoss, "PNG image data: %s", image.image.message);
+  }
+  const size_t n = size_t(width) * size_t(height);
+  const int out_channels = Channels(format);
+  for (size_t i = 0; i < n; ++i) {
+    const uint8_t* px = decoded.data + i * size_t(read_channels);
+    if (colour) {
+      StorePixel(pixels + i * size_t(out_channels), format, px[0], px[1], px[2]);
+    } else {
+      StorePixel(pixels + i * size_t(out_channels), format, px[0], px[0], px[0]);
+    }
   }
   ImageInfo info;
-  info.width = header.width;
-  info.height = header.height;
-  info.file_channels = header.color_type == 3 ? 3 : header.channels;
+  info.width = width;
+  info.height = height;
+  // A palette file reports 3 channels (its entries are colours), as RGB.
+  info.file_channels = file_channels;
   return info;
 }
 
@@ -514,15 +283,17 @@ Result<ImageInfo> ReadImageFile(const char* path, PixelFormat format, uint8_t* p
                          length);
   }
   Result<ImageInfo> info = DecodeImage(buffer.data, got, format, pixels, capacity);
-  if (!info.ok()) {
-    return Status::Error(info.status().code(), "%s: %s", path, info.status().message());
-  }
+  if (!info.ok()) return info.status().WithContext("%s", path);
   return info;
 }
 
 size_t EncodedPngBound(int width, int height, int channels) {
-  const size_t raw = size_t(height) * (1 + size_t(width) * size_t(channels));
-  return 8 + (12 + 13) + 12 + ZlibDeflateBound(raw) + 12;
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = static_cast<png_uint_32>(width);
+  image.height = static_cast<png_uint_32>(height);
+  image.format = channels == 1 ? PNG_FORMAT_GRAY : PNG_FORMAT_RGB;
+  return PNG_IMAGE_PNG_SIZE_MAX(image);
 }
 
 Result<size_t> EncodePng(const uint8_t* pixels, int width, int height, int stride_bytes,
@@ -544,62 +315,16 @@ Result<size_t> EncodePng(const uint8_t* pixels, int width, int height, int strid
                          "PNG: output buffer of %zu bytes below the bound of %zu", capacity,
                          EncodedPngBound(width, height, channels));
   }
-  // Filter each row with the filter minimising the sum of |residual| (the usual heuristic).
-  const size_t raw_size = size_t(height) * (1 + row_bytes);
-  HeapBuffer raw(raw_size);
-  if (raw.data == nullptr) return Status::Error(StatusCode::kResourceExhausted, "PNG: no memory");
-  for (int y = 0; y < height; ++y) {
-    const uint8_t* cur = pixels + size_t(y) * size_t(stride_bytes);
-    const uint8_t* prev = y > 0 ? cur - stride_bytes : nullptr;
-    uint8_t* dst = raw.data + size_t(y) * (1 + row_bytes);
-    long best_cost = -1;
-    for (int filter = 0; filter <= 4; ++filter) {
-      long cost = 0;
-      for (size_t x = 0; x < row_bytes; ++x) {
-        const int a = x >= size_t(channels) ? cur[x - channels] : 0;
-        const int b = prev ? prev[x] : 0;
-        const int c = prev && x >= size_t(channels) ? prev[x - channels] : 0;
-        const int predicted = filter == 0   ? 0
-                              : filter == 1 ? a
-                              : filter == 2 ? b
-                              : filter == 3 ? (a + b) >> 1
-                                            : Paeth(a, b, c);
-        const int8_t residual = static_cast<int8_t>(cur[x] - predicted);
-        cost += std::abs(int{residual});
-      }
-      if (best_cost < 0 || cost < best_cost) {
-        best_cost = cost;
-        dst[0] = static_cast<uint8_t>(filter);
-      }
-    }
-    const int filter = dst[0];
-    for (size_t x = 0; x < row_bytes; ++x) {
-      const int a = x >= size_t(channels) ? cur[x - channels] : 0;
-      const int b = prev ? prev[x] : 0;
-      const int c = prev && x >= size_t(channels) ? prev[x - channels] : 0;
-      const int predicted = filter == 0   ? 0
-                            : filter == 1 ? a
-                            : filter == 2 ? b
-                            : filter == 3 ? (a + b) >> 1
-                                          : Paeth(a, b, c);
-      dst[1 + x] = static_cast<uint8_t>(cur[x] - predicted);
-    }
+  PngImage image;
+  image.image.width = static_cast<png_uint_32>(width);
+  image.image.height = static_cast<png_uint_32>(height);
+  image.image.format = channels == 1 ? PNG_FORMAT_GRAY : PNG_FORMAT_RGB;
+  png_alloc_size_t size = capacity;
+  // The stride is in components, which are bytes here.
+  if (!png_image_write_to_memory(&image.image, out, &size, 0, pixels, stride_bytes, nullptr)) {
+    return Status::Error(StatusCode::kInternal, "PNG: %s", image.image.message);
   }
-
-  std::memcpy(out, kPngSignature, 8);
-  size_t pos = 8;
-  uint8_t ihdr[13];
-  WriteBe32(ihdr, static_cast<uint32_t>(width));
-  WriteBe32(ihdr + 4, static_cast<uint32_t>(height));
-  ihdr[8] = 8;                         // bits per sample
-  ihdr[9] = channels == 1 ? 0 : 2;     // grey or RGB
-  ihdr[10] = ihdr[11] = ihdr[12] = 0;  // deflate, adaptive filters, no interlace
-  pos += PngChunk(out + pos, "IHDR", ihdr, 13);
-  const Result<size_t> z = ZlibDeflate(raw.data, raw_size, out + pos + 8, capacity - pos - 8 - 16);
-  if (!z.ok()) return z.status();
-  pos += PngChunk(out + pos, "IDAT", out + pos + 8, static_cast<uint32_t>(*z));
-  pos += PngChunk(out + pos, "IEND", nullptr, 0);
-  return pos;
+  return size_t(size);
 }
 
 Status WritePgm(const char* path, ConstGrayView image) {
@@ -625,14 +350,23 @@ Status WritePngFile(const char* path, const uint8_t* pixels, int width, int heig
   if (pixels == nullptr || width <= 0 || height <= 0) {
     return Status::Error(StatusCode::kInvalidArgument, "PNG: empty image for %s", path);
   }
-  const size_t bound = EncodedPngBound(width, height, channels);
-  HeapBuffer buffer(bound);
-  if (buffer.data == nullptr)
-    return Status::Error(StatusCode::kResourceExhausted, "PNG: no memory");
-  const Result<size_t> size =
-      EncodePng(pixels, width, height, stride_bytes, channels, buffer.data, bound);
-  if (!size.ok()) return size.status();
-  return WriteFile(path, buffer.data, *size);
+  if (width > kMaxPngWriteSide || height > kMaxPngWriteSide) {
+    return Status::Error(StatusCode::kOutOfRange, "PNG: cannot write a %d x %d image", width,
+                         height);
+  }
+  if (stride_bytes < width * channels) {
+    return Status::Error(StatusCode::kInvalidArgument, "PNG: stride %d below row size %d",
+                         stride_bytes, width * channels);
+  }
+  PngImage image;
+  image.image.width = static_cast<png_uint_32>(width);
+  image.image.height = static_cast<png_uint_32>(height);
+  image.image.format = channels == 1 ? PNG_FORMAT_GRAY : PNG_FORMAT_RGB;
+  if (!png_image_write_to_file(&image.image, path, 0, pixels, stride_bytes, nullptr)) {
+    return Status::Error(StatusCode::kUnavailable, "cannot write %s: %s", path,
+                         image.image.message);
+  }
+  return Status::Ok();
 }
 }  // namespace
 

@@ -1,6 +1,8 @@
-// Image files for the host simulator: binary PGM (P5, 8-bit) and PNG (8-bit grey, grey+alpha,
-// RGB, RGBA, palette; non-interlaced). Decoders read from memory into the caller's buffer and
-// refuse anything they cannot represent with a Status; they never read or write out of bounds.
+// Image files for the simulator's recorded-pair camera and the host tools: binary PGM (P5, 8-bit,
+// read and written here) and PNG through Debian's libpng (8-bit grey, grey+alpha, RGB, RGBA,
+// palette, interlaced or not; 16-bit refused). Decoders read from memory into the caller's buffer
+// and refuse anything they cannot represent with a Status; they never read or write out of
+// bounds.
 #pragma once
 
 #include <cstddef>
@@ -44,7 +46,9 @@ size_t EncodedPngBound(int width, int height, int channels);
 Result<size_t> EncodePng(const uint8_t* pixels, int width, int height, int stride_bytes,
                          int channels, uint8_t* out, size_t capacity);
 
-// Writers (grey PNG/PGM from a view; RGB PNG from packed or strided 3-byte pixels).
+// Writers (grey PNG/PGM from a view; RGB PNG from packed or strided 3-byte pixels). PNG files
+// may be larger than a camera frame (side-by-side overlays), up to kMaxPngWriteSide a side.
+inline constexpr int kMaxPngWriteSide = 1 << 15;
 Status WritePgm(const char* path, ConstGrayView image);
 Status WritePng(const char* path, ConstGrayView image);
 Status WritePngRgb(const char* path, const uint8_t* rgb, int width, int height, int stride_bytes);

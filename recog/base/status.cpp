@@ -1,6 +1,7 @@
 #include "recog/base/status.hpp"
 
 #include <cstdio>
+#include <cstdlib>
 
 namespace sh {
 
@@ -41,5 +42,24 @@ Status Status::Error(StatusCode code, const char* fmt, ...) {
   va_end(args);
   return s;
 }
+
+Status Status::WithContext(const char* fmt, ...) const {
+  if (ok()) return *this;
+  char prefix[kMaxMessage];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(prefix, sizeof(prefix), fmt, args);
+  va_end(args);
+  return Error(code_, "%s: %s", prefix, message_);
+}
+
+namespace internal {
+
+void CheckFailed(const char* file, int line, const char* what) {
+  std::fprintf(stderr, "%s:%d: check failed: %s\n", file, line, what);
+  std::abort();
+}
+
+}  // namespace internal
 
 }  // namespace sh

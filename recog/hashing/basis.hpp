@@ -16,42 +16,15 @@
 #include <cstdint>
 
 #include "recog/geometry/rigid_transform.hpp"
+#include "tables/table_format.hpp"  // HashFunction, BasisLimits: the table format's vocabulary
 
 namespace sh {
-
-enum class HashFunction : uint8_t {
-  kThreePointsFirst = 1,
-  kThreePointsCentroid = 2,
-  kTwoLines = 3,
-  kLinePointFoot = 4,
-  kLinePointMidway = 5,
-};
-
-inline bool IsValidHashFunction(int hf) { return hf >= 1 && hf <= 5; }
-inline bool UsesThreePoints(HashFunction hf) {
-  return hf == HashFunction::kThreePointsFirst || hf == HashFunction::kThreePointsCentroid;
-}
-inline bool UsesLinePoint(HashFunction hf) {
-  return hf == HashFunction::kLinePointFoot || hf == HashFunction::kLinePointMidway;
-}
 
 // An infinite line through `point` with unit `direction`; the sign of direction matters for
 // frames (it picks one of the frames a line basis allows).
 struct BasisLine3 {
   Eigen::Vector3f point;
   Eigen::Vector3f direction;
-};
-
-// Geometric limits on bases. Scene bases outside them are not tried; model bases outside them
-// are not stored.
-struct BasisLimits {
-  float min_point_line_mm = 20.0f;  // line+point: point-line distance window (thesis 4.3)
-  float max_point_line_mm = 70.0f;
-  float min_line_angle_deg = 37.0f;     // two lines: smallest angle between them
-  float max_line_distance_mm = 70.0f;   // two lines: longest common perpendicular
-  float min_point_spacing_mm = 5.0f;    // three points: shortest side
-  float max_point_spacing_mm = 80.0f;   // three points: longest side (about the largest model)
-  float min_triangle_height_mm = 3.0f;  // three points: distance of p2 from line p0-p1
 };
 
 // Frame of three points (hash fns 1, 2). Returns false for a degenerate triangle.

@@ -26,8 +26,9 @@ struct RefineConfig {
   int rounds = 2;            // select, estimate, select again, estimate again
 };
 
-// Model feature -> scene feature index (or -1) after refinement.
-struct Correspondences {
+// Model feature -> scene feature index (or -1) after refinement. The arrays are written for every
+// corner and edge of the model by whoever fills the struct, so they are not zeroed on creation.
+struct Correspondences {  // NOLINT(cppcoreguidelines-pro-type-member-init)
   int16_t point_of_corner[kMaxModelCorners];
   int16_t line_of_edge[kMaxModelEdges];
   int matched_points = 0;

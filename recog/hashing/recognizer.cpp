@@ -45,13 +45,6 @@ inline bool RowRangeInBall(const GridGeometry& g, const Eigen::Vector3f& c, floa
   return BinRange(g, 0, c.x(), std::sqrt(rest), x_lo, x_hi);
 }
 
-uint32_t NextRandom(uint32_t& state) {  // xorshift32: deterministic on every platform
-  state ^= state << 13;
-  state ^= state >> 17;
-  state ^= state << 5;
-  return state;
-}
-
 }  // namespace
 
 bool SceneSupportVerifier::Verify(const Model& model, const Vector<RecognizedObject>& accepted,
@@ -121,216 +114,18 @@ void Recognizer::PrepareScene(const Scene& scene) {
     line_active_[i] = l.a_mm.allFinite() && l.b_mm.allFinite() && length > 1.0f;
     line_dir_[i] =
         line_active_[i] ? Eigen::Vector3f((l.b_mm - l.a_mm) / length) : Eigen::Vector3f::UnitX();
-    positions[size_t{2} * i] = l.a_mm;
-    positions[size_t{2} * i + 1] = l.b_mm;
   }
-  endpoint_grid_.Build(positions, 2 * nl, 5.0f);
-  FindIncidentLines();
-  FindLineEndJoins();
+  state_ = {&scene, point_active_, line_active_, line_dir_, &point_grid_};
+  topology_.Build(state_, config_.connect_tolerance_mm, config_.junction_reach_mm, grid_scratch_);
   std::memset(used_left_point_, 0, sizeof(used_left_point_));
   std::memset(used_right_point_, 0, sizeof(used_right_point_));
   std::memset(used_left_line_, 0, sizeof(used_left_line_));
   std::memset(used_right_line_, 0, sizeof(used_right_line_));
-  GenerateCandidates();
-}
-
-// A corner of a polyhedron is where edges end: a scene point is a junction when some scene
-// line passes within connect_tolerance_mm of it and one of that line's supported ends lies
-// within junction_reach_mm (edges are rarely detected right up to the corner).
-void Recognizer::FindIncidentLines() {
-  const Scene& s = *scene_;
-  const float tol = config_.connect_tolerance_mm;
-  for (size_t j = 0; j < s.points.size(); ++j) {
-    incident_count_[j] = 0;
-    if (!point_active_[j]) continue;
-    const Eigen::Vector3f& p = s.points[j].p_mm;
-    endpoint_grid_.ForEachNear(p, config_.junction_reach_mm, [&](int item) {
-      const int m = item / 2;
-      if (incident_count_[j] == kMaxIncidentLines || !line_active_[m]) return;
-      for (int k = 0; k < incident_count_[j]; ++k) {
-        if (incident_[j][k] == m) return;
-      }
-      if (PointLineDistance({s.lines[m].a_mm, line_dir_[m]}, p) > tol) return;
-      incident_[j][incident_count_[j]++] = int16_t(m);
-    });
-  }
-}
-
-bool Recognizer::IsJunction(int point) const { return incident_count_[point] > 0; }
-
-// True if the infinite lines meet (closest approach within 1.5 connect tolerances); `t_first`
-// receives the meeting point's parameter along the first line.
-bool Recognizer::LinesMeet(int first, int second, float* t_first) const {
-  const Scene& s = *scene_;
-  const Eigen::Vector3f &u = line_dir_[first], &v = line_dir_[second];
-  const Eigen::Vector3f w = s.lines[first].a_mm - s.lines[second].a_mm;
-  const float b = u.dot(v), d = u.dot(w), e = v.dot(w);
-  const float denom = 1.0f - b * b;
-  if (denom < 0.05f) return false;  // nearly parallel: no corner
-  const float t0 = (b * e - d) / denom, t1 = (e - b * d) / denom;
-  const Eigen::Vector3f gap = (s.lines[first].a_mm + t0 * u) - (s.lines[second].a_mm + t1 * v);
-  const float tol = 1.5f * config_.connect_tolerance_mm;
-  *t_first = t0;
-  return gap.squaredNorm() <= tol * tol;
-}
-
-// How many of a line's two ends are corners where another line ends too.
-void Recognizer::FindLineEndJoins() {
-  const Scene& s = *scene_;
-  const float reach = config_.junction_reach_mm;
-  for (size_t i = 0; i < s.lines.size(); ++i) {
-    line_end_joins_[i] = 0;
-    if (!line_active_[i]) continue;
-    const float length = s.lines[i].length_mm();
-    for (int end = 0; end < 2; ++end) {
-      bool joined = false;
-      endpoint_grid_.ForEachNear(end ? s.lines[i].b_mm : s.lines[i].a_mm, reach, [&](int item) {
-        const int m = item / 2;
-        float t = 0.0f;
-        if (joined || m == int(i) || !line_active_[m] || !LinesMeet(int(i), m, &t)) return;
-        joined = end ? std::fabs(t - length) <= reach : std::fabs(t) <= reach;
-      });
-      line_end_joins_[i] += joined;
-    }
-  }
-}
-
-// True if an edge runs from the basis line to the point: a line incident to the point meets
-// the basis line near the basis line's supported segment (corner-edge-corner, the typical
-// pattern of a polyhedron's outline).
-bool Recognizer::Connected(int line, int point) const {
-  const float reach = config_.junction_reach_mm;
-  const float length = scene_->lines[line].length_mm();
-  for (int k = 0; k < incident_count_[point]; ++k) {
-    const int m = incident_[point][k];
-    float t = 0.0f;
-    if (m != line && LinesMeet(line, m, &t) && t >= -reach && t <= length + reach) return true;
-  }
-  return false;
-}
-
-void Recognizer::GenerateCandidates() {
-  candidate_count_ = 0;
-  all_candidates_generated_ = false;
-  if (config_.order == BasisOrder::kQuality) {
-    AppendCandidates(true);
-    // Best first; equal scores keep scene order (deterministic). std::sort with the index as
-    // tie-break, not std::stable_sort, which may allocate a temporary buffer.
-    uint32_t* order = order_scratch_;
-    SceneBasis* sorted = sorted_scratch_;
-    for (uint32_t i = 0; i < candidate_count_; ++i) order[i] = i;
-    std::sort(order, order + candidate_count_, [this](uint32_t a, uint32_t b) {
-      if (candidate_score_[a] != candidate_score_[b])
-        return candidate_score_[a] > candidate_score_[b];
-      return a < b;
-    });
-    for (uint32_t i = 0; i < candidate_count_; ++i) sorted[i] = candidates_[order[i]];
-    std::copy(sorted, sorted + candidate_count_, candidates_);
-  } else {
-    AppendCandidates(false);
-    all_candidates_generated_ = true;
-    if (config_.order == BasisOrder::kRandom) {
-      uint32_t state = config_.random_seed ? config_.random_seed : 1u;
-      for (uint32_t i = candidate_count_; i > 1; --i)
-        std::swap(candidates_[i - 1], candidates_[NextRandom(state) % i]);
-    }
-  }
-}
-
-void Recognizer::AppendCandidates(bool connected_only) {
-  const Scene& s = *scene_;
-  const HashFunction hf = table_.hash_function();
-  const BasisLimits limits = table_.limits();
-  const int np = int(s.points.size()), nl = int(s.lines.size());
-  auto add = [this](uint16_t a, uint16_t b, uint16_t c, float score) {
-    if (candidate_count_ >= kMaxSceneBases) return false;
-    candidates_[candidate_count_] = SceneBasis{{a, b, c}};
-    candidate_score_[candidate_count_++] = score;
-    return true;
-  };
-  if (UsesLinePoint(hf)) {
-    for (int i = 0; i < nl; ++i) {
-      if (!line_active_[i]) continue;
-      const BasisLine3 line{s.lines[i].a_mm, line_dir_[i]};
-      const float length = s.lines[i].length_mm();
-      // A basis point of the same object lies within an object's size of the supported
-      // segment (every model corner is within max_point_spacing_mm of every point of every
-      // edge); farther points are not paired, whatever their distance to the infinite line.
-      const Eigen::Vector3f mid = 0.5f * (s.lines[i].a_mm + s.lines[i].b_mm);
-      const float reach = 0.5f * length + limits.max_point_spacing_mm;
-      for (int j = 0; j < np; ++j) {
-        if (!point_active_[j] || (s.points[j].p_mm - mid).squaredNorm() > reach * reach) continue;
-        const float d = PointLineDistance(line, s.points[j].p_mm);
-        if (d < limits.min_point_line_mm || d > limits.max_point_line_mm) continue;
-        // First pass: bases with structural evidence (a connecting edge, or at least a
-        // corner-like point); second pass: the rest.
-        const bool junction = IsJunction(j);
-        if (junction != connected_only) continue;
-        // Object edges end in corners at both ends, object corners join two or three edges,
-        // and an edge joins the basis line to the basis point; clutter rarely has all three.
-        const float score = (Connected(i, j) ? 40.0f : 0.0f) +
-                            15.0f * float(std::min<int>(incident_count_[j], 3)) +
-                            20.0f * float(line_end_joins_[i]) + std::min(length, 60.0f) / 6.0f;
-        if (!add(uint16_t(i), uint16_t(j), 0, score)) return;
-      }
-    }
-  } else if (hf == HashFunction::kTwoLines) {
-    const float cos_limit = std::cos(limits.min_line_angle_deg * float(M_PI) / 180.0f);
-    const float tol2 = config_.connect_tolerance_mm * config_.connect_tolerance_mm;
-    for (int i = 0; i < nl; ++i) {
-      if (!line_active_[i]) continue;
-      for (int j = 0; j < nl; ++j) {
-        if (j == i || !line_active_[j]) continue;
-        if (std::fabs(line_dir_[i].dot(line_dir_[j])) > cos_limit) continue;
-        const SceneLine &a = s.lines[i], &b = s.lines[j];
-        const bool connected =
-            std::min({(a.a_mm - b.a_mm).squaredNorm(), (a.a_mm - b.b_mm).squaredNorm(),
-                      (a.b_mm - b.a_mm).squaredNorm(), (a.b_mm - b.b_mm).squaredNorm()}) <= tol2;
-        if (connected != connected_only) continue;
-        RigidTransform unused;
-        if (!TwoLineFrame({a.a_mm, line_dir_[i]}, {b.a_mm, line_dir_[j]}, limits, &unused))
-          continue;
-        const float score = std::min(a.length_mm(), 60.0f) + std::min(b.length_mm(), 60.0f);
-        if (!add(uint16_t(i), uint16_t(j), 0, score)) return;
-      }
-    }
-  } else {
-    const float max_side = limits.max_point_spacing_mm;
-    for (int i = 0; i < np; ++i) {
-      if (!point_active_[i]) continue;
-      const Eigen::Vector3f& pi = s.points[i].p_mm;
-      const bool junction_i = IsJunction(i);
-      if (connected_only && !junction_i) continue;
-      bool full = false;
-      point_grid_.ForEachNear(pi, max_side, [&](int j) {
-        if (full || j == i || !point_active_[j]) return;
-        const Eigen::Vector3f& pj = s.points[j].p_mm;
-        point_grid_.ForEachNear(pi, max_side, [&](int k) {
-          if (full || k == i || k == j || !point_active_[k]) return;
-          const Eigen::Vector3f& pk = s.points[k].p_mm;
-          const bool connected = junction_i && IsJunction(j) && IsJunction(k);
-          if (connected != connected_only) return;
-          RigidTransform unused;
-          if (!ThreePointFrame(table_.hash_function(), pi, pj, pk, limits, &unused)) return;
-          // Corners joined by edges first: a line incident to both ends of a side.
-          auto joined = [this](int a, int b) {
-            for (int x = 0; x < incident_count_[a]; ++x) {
-              for (int y = 0; y < incident_count_[b]; ++y) {
-                if (incident_[a][x] == incident_[b][y]) return 1;
-              }
-            }
-            return 0;
-          };
-          const float score =
-              40.0f * float(joined(i, j) + joined(i, k) + joined(j, k)) +
-              5.0f * float(incident_count_[i] + incident_count_[j] + incident_count_[k]) +
-              0.01f * ((pj - pi).norm() + (pk - pi).norm());
-          full = !add(uint16_t(i), uint16_t(j), uint16_t(k), score);
-        });
-      });
-      if (full) return;
-    }
-  }
+  BasisCandidates::Policy policy;
+  policy.order = config_.order;
+  policy.random_seed = config_.random_seed;
+  policy.connect_tolerance_mm = config_.connect_tolerance_mm;
+  candidates_.Generate(state_, topology_, table_.hash_function(), table_.limits(), policy);
 }
 
 bool Recognizer::SceneBasisFrame(const SceneBasis& b, RigidTransform* basis_T_cam,
@@ -586,7 +381,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
   PrepareScene(scene);
   uint32_t cursor = 0;
   uint32_t fruitless = 0;
-  uint32_t generated = candidate_count_;
+  uint32_t generated = candidates_.count();
   Vector<Hypothesis, kMaxHypothesesPerBasis> hypotheses;
   RefineInput refine_in;
   refine_in.scene = &scene;
@@ -602,15 +397,11 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
       stats.budget_exhausted = true;
       break;
     }
-    if (cursor == candidate_count_) {
-      if (all_candidates_generated_) break;
-      // Connected bases are used up: continue with all remaining ones.
-      candidate_count_ = 0;
+    if (cursor == candidates_.count()) {
+      if (!candidates_.NextPass()) break;
       cursor = 0;
-      AppendCandidates(false);
-      all_candidates_generated_ = true;
-      generated += candidate_count_;
-      if (candidate_count_ == 0) break;
+      generated += candidates_.count();
+      if (candidates_.count() == 0) break;
     }
     const SceneBasis basis = candidates_[cursor++];
     if (!BasisActive(basis)) continue;

@@ -209,9 +209,7 @@ Status Pipeline::Process(ConstGrayView left, ConstGrayView right, float budget_m
   size_t n_points[2], n_lines[2];
   for (int i = 0; i < 2; ++i) {
     const Status& s = frame_status_[i];
-    if (!s.ok()) {
-      return Status::Error(s.code(), "%s image: %s", i == 0 ? "left" : "right", s.message());
-    }
+    if (!s.ok()) return s.WithContext("%s image", i == 0 ? "left" : "right");
     n_points[i] = ToStereoPoints(features_[i].corners, stereo_points_[i]);
     n_lines[i] = ToStereoLines(features_[i].lines, stereo_lines_[i]);
     out->points2d[i] = static_cast<uint32_t>(n_points[i]);

@@ -7,32 +7,12 @@
 #include <string>
 
 #include "recog/camera/calibration_yaml.hpp"
+#include "tests/support/calibrations.hpp"
 
 namespace sh {
 namespace {
 
-StereoCalibration RandomCalibration(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  StereoCalibration c;
-  CameraIntrinsics* cams[2] = {&c.left, &c.right};
-  for (CameraIntrinsics* cam : cams) {
-    cam->width = 1280;
-    cam->height = 1024;
-    cam->fx = 1200.0 + 100.0 * u(rng);
-    cam->fy = cam->fx * (1.0 + 0.01 * u(rng));
-    cam->cx = 640.0 + 20.0 * u(rng);
-    cam->cy = 512.0 + 20.0 * u(rng);
-    cam->k1 = 0.3 * u(rng);
-    cam->k2 = 0.1 * u(rng);
-    cam->p1 = 0.002 * u(rng);
-    cam->p2 = 0.002 * u(rng);
-    cam->k3 = 0.05 * u(rng);
-  }
-  const Eigen::Vector3d axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
-  c.right_R_left = Eigen::AngleAxisd(0.2 * u(rng), axis).toRotationMatrix();
-  c.right_t_left_mm = Eigen::Vector3d(-120.0 + 10.0 * u(rng), 5.0 * u(rng), 5.0 * u(rng));
-  return c;
-}
+using testing::RandomCalibration;
 
 cv::Mat CameraMatrix(const CameraIntrinsics& c) {
   return (cv::Mat_<double>(3, 3) << c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1);

@@ -8,31 +8,14 @@
 #include <string>
 
 #include "recog/camera/calibration_check.hpp"
+#include "tests/support/calibrations.hpp"
 
 namespace sh {
 namespace {
 
+// 640 x 480 rigs: the cases below edit "image_width: 640" and "image_height: 480".
 StereoCalibration RandomCalibration(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  StereoCalibration c;
-  CameraIntrinsics* cams[2] = {&c.left, &c.right};
-  for (CameraIntrinsics* cam : cams) {
-    cam->width = 640;
-    cam->height = 480;
-    cam->fx = 600.0 + 100.0 * u(rng);
-    cam->fy = cam->fx * (1.0 + 0.01 * u(rng));
-    cam->cx = 320.0 + 20.0 * u(rng);
-    cam->cy = 240.0 + 20.0 * u(rng);
-    cam->k1 = 0.3 * u(rng);
-    cam->k2 = 0.1 * u(rng);
-    cam->p1 = 0.002 * u(rng);
-    cam->p2 = 0.002 * u(rng);
-    cam->k3 = 0.05 * u(rng);
-  }
-  const Eigen::Vector3d axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
-  c.right_R_left = Eigen::AngleAxisd(0.2 * u(rng), axis).toRotationMatrix();
-  c.right_t_left_mm = Eigen::Vector3d(-120.0 + 10.0 * u(rng), 5.0 * u(rng), 5.0 * u(rng));
-  return c;
+  return testing::RandomCalibration(rng, 640, 480);
 }
 
 std::string Write(const StereoCalibration& c) {

@@ -12,9 +12,9 @@
 #include "firmware/canopen/od_table.hpp"
 #include "firmware/canopen/pdo.hpp"
 #include "firmware/le_bytes.hpp"
-#include "tests/firmware/fw_test_support.hpp"
+#include "tests/support/firmware_doubles.hpp"
 
-namespace sh::fw::testing {
+namespace sh::testing {
 namespace {
 
 using canopen::kCobIdInvalid;
@@ -362,4 +362,4 @@ TEST(FirmwareCanopen, PosesAreReportedInTheConfiguredFrame) {
 }
 
 }  // namespace
-}  // namespace sh::fw::testing
+}  // namespace sh::testing

@@ -2,9 +2,9 @@
 // board must survive, injected through the simulator backends.
 #include <gtest/gtest.h>
 
-#include "tests/firmware/fw_test_support.hpp"
+#include "tests/support/firmware_doubles.hpp"
 
-namespace sh::fw::testing {
+namespace sh::testing {
 namespace {
 
 // After a fault: clear-fault brings the no-error EMCY and the ready state back, and a trigger
@@ -312,4 +312,4 @@ TEST(FirmwareCore, NmtStopSilencesCommandsUntilStarted) {
 }
 
 }  // namespace
-}  // namespace sh::fw::testing
+}  // namespace sh::testing

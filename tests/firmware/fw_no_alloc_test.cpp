@@ -7,19 +7,19 @@
 #include <cstdlib>
 #include <new>
 
-#include "firmware/sim_world.hpp"
-#include "tests/firmware/fw_test_support.hpp"
+#include "firmware/truth_recognition.hpp"
 #include "tests/support/counting_allocator.hpp"
+#include "tests/support/firmware_doubles.hpp"
 #ifdef STEREOHASH_FW_HAVE_PIPELINE
 #include "firmware/pipeline_recognition.hpp"
 #endif
 
-namespace sh::fw::testing {
+namespace sh::testing {
 namespace {
 
 TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
-  static SimWorld world;
-  SimWorldConfig wc;
+  static render::SimWorld world;
+  render::SimWorldConfig wc;
   wc.models_dir = STEREOHASH_FW_SOURCE_MODELS_DIR;
   wc.scenes = 3;
   wc.objects = 3;
@@ -87,7 +87,7 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
 
   constexpr int kTriggers = 100;
   int sets = 0, with_objects = 0, ok_status = 0;
-  const uint64_t allocations_before = sh::testing_support::HeapAllocations();
+  const uint64_t allocations_before = sh::testing::HeapAllocations();
   for (int i = 0; i < kTriggers; ++i) {
     if (i % 4 == 3) {
       gpio.FireTrigger();
@@ -101,7 +101,7 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
       ok_status += set.status == ResultStatus::kOk;
     }
   }
-  const uint64_t allocations = sh::testing_support::HeapAllocations() - allocations_before;
+  const uint64_t allocations = sh::testing::HeapAllocations() - allocations_before;
   core.Stop();
   EXPECT_EQ(sets, kTriggers);
   EXPECT_EQ(allocations, 0u) << "heap allocations during " << kTriggers
@@ -112,4 +112,4 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
 }
 
 }  // namespace
-}  // namespace sh::fw::testing
+}  // namespace sh::testing

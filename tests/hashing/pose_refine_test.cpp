@@ -6,12 +6,12 @@
 #include <memory>
 
 #include "recog/hashing/scene_grid.hpp"
-#include "tests/hashing/fixtures.hpp"
+#include "tests/support/tables_fixture.hpp"
 
 namespace sh {
 namespace {
 
-using testing_support::ModelsOf;
+using testing::ModelsOf;
 
 TEST(SegmentLineDistance, IsThePointToLineDistanceAveragedOverTheSegment) {
   // Numerical average of the squared distance from points of the segment to the line.

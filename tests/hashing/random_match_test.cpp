@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <random>
 
-#include "tests/hashing/fixtures.hpp"
+#include "tests/support/tables_fixture.hpp"
 
 namespace sh {
 namespace {
@@ -31,13 +31,13 @@ double ExpectedRelativeVote(int M, int t, int S, double sigma_mm, double volume_
 }
 
 TEST(RandomMatches, AverageVoteFollowsTheBinomialModel) {
-  auto table = testing_support::BuildTable(HashFunction::kThreePointsCentroid);
+  auto table = testing::BuildTable(HashFunction::kThreePointsCentroid);
   RecognizerConfig config;
   config.sigma_point_mm = 5.0f;
   config.vote_threshold = 0.0f;
   config.order = BasisOrder::kFileOrder;
-  auto recognizer = testing_support::MakeRecognizer(table->view, config);
-  const std::vector<Model> models = testing_support::ModelsOf(table->view);
+  auto recognizer = testing::MakeRecognizer(table->view, config);
+  const std::vector<Model> models = testing::ModelsOf(table->view);
   const int bases[] = {42, 110, 20, 684, 72, 168};
   std::mt19937 rng(2024);
   std::uniform_real_distribution<float> ux(0, 100), uz(0, 70);

@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <new>
 
-#include "tests/hashing/fixtures.hpp"
 #include "tests/support/counting_allocator.hpp"
+#include "tests/support/tables_fixture.hpp"
 
 namespace sh {
 namespace {
@@ -15,8 +15,8 @@ namespace {
 TEST(RecognizerAllocations, NoneAfterInitialisation) {
   auto view = OpenDefaultTable();
   ASSERT_TRUE(view.ok());
-  const std::vector<Model> models = testing_support::ModelsOf(*view);
-  auto recognizer = testing_support::MakeRecognizer(*view);
+  const std::vector<Model> models = testing::ModelsOf(*view);
+  auto recognizer = testing::MakeRecognizer(*view);
   std::vector<std::unique_ptr<SyntheticScene>> scenes;
   SyntheticSceneParams p;
   p.total_features = 1000;
@@ -28,18 +28,18 @@ TEST(RecognizerAllocations, NoneAfterInitialisation) {
   SceneSupportVerifier verifier;
   RecognitionStats stats;
   size_t found = 0;
-  const uint64_t before = testing_support::HeapAllocations();
+  const uint64_t before = testing::HeapAllocations();
   for (const auto& s : scenes) {
     ASSERT_TRUE(recognizer->Recognize(s->scene, verifier, Budget{}, objects, &stats).ok());
     found += objects.size();
   }
-  const uint64_t after = testing_support::HeapAllocations();
+  const uint64_t after = testing::HeapAllocations();
   EXPECT_EQ(after - before, 0u) << "heap allocations during recognition";
   EXPECT_GT(found, 0u);  // the scenes were actually recognised, not skipped
   // The counter works: an allocation here is seen.
-  const uint64_t probe_before = testing_support::HeapAllocations();
+  const uint64_t probe_before = testing::HeapAllocations();
   auto* probe = new int(1);
-  const uint64_t probe_after = testing_support::HeapAllocations();
+  const uint64_t probe_after = testing::HeapAllocations();
   delete probe;
   EXPECT_EQ(probe_after, probe_before + 1);
 }

@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "tables/table_file.hpp"
-#include "tests/hashing/fixtures.hpp"
+#include "tests/support/tables_fixture.hpp"
 
 namespace sh {
 namespace {
@@ -18,7 +18,7 @@ struct Fixture {
   std::unique_ptr<Recognizer> recognizer;
   Fixture() {
     view = *OpenDefaultTable();
-    models = testing_support::ModelsOf(view);
+    models = testing::ModelsOf(view);
     recognizer = std::make_unique<Recognizer>();
     (void)recognizer->Init(view, RecognizerConfig{});
   }

@@ -4,15 +4,15 @@
 
 #include <Eigen/Geometry>
 
-#include "tests/hashing/fixtures.hpp"
+#include "tests/support/tables_fixture.hpp"
 
 namespace sh {
 namespace {
 
-using testing_support::BuildTable;
-using testing_support::MakeRecognizer;
-using testing_support::ModelsOf;
-using testing_support::Poses;
+using testing::BuildTable;
+using testing::MakeRecognizer;
+using testing::ModelsOf;
+using testing::Poses;
 
 class RecognizerTest : public ::testing::Test {
  protected:

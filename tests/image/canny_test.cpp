@@ -6,13 +6,13 @@
 #include <memory>
 #include <vector>
 
-#include "tests/image/synthetic_image.hpp"
+#include "tests/support/synthetic_image.hpp"
 
 namespace sh {
 namespace {
 
-using test::Point2;
-using test::Polygon;
+using testing::Point2;
+using testing::Polygon;
 
 struct Side {
   Point2 a, b;
@@ -36,8 +36,8 @@ struct Buffers {
 class CannySceneTest : public ::testing::TestWithParam<float> {};
 
 TEST_P(CannySceneTest, EdgePixelsLieOnTheSidesWithPerpendicularGradient) {
-  const std::vector<Polygon> polys = test::TestScene(756, 581, 190.0);
-  test::SyntheticImage synth(756, 581, 40.0);
+  const std::vector<Polygon> polys = testing::TestScene(756, 581, 190.0);
+  testing::SyntheticImage synth(756, 581, 40.0);
   for (const Polygon& p : polys) synth.Fill(p);
   synth.Blur(0.7);
   synth.AddNoise(2.0, 11);
@@ -68,7 +68,7 @@ TEST_P(CannySceneTest, EdgePixelsLieOnTheSidesWithPerpendicularGradient) {
       size_t nearest = 0;
       double d = 1e9;
       for (size_t i = 0; i < sides.size(); ++i) {
-        const double di = test::SegmentDistance({double(x), double(y)}, sides[i].a, sides[i].b);
+        const double di = testing::SegmentDistance({double(x), double(y)}, sides[i].a, sides[i].b);
         if (di < d) {
           d = di;
           nearest = i;

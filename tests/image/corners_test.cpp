@@ -7,13 +7,13 @@
 #include <memory>
 #include <vector>
 
-#include "tests/image/synthetic_image.hpp"
+#include "tests/support/synthetic_image.hpp"
 
 namespace sh {
 namespace {
 
-using test::Point2;
-using test::Polygon;
+using testing::Point2;
+using testing::Polygon;
 
 std::vector<Polygon> SmallScene(double intensity) {
   return {
@@ -30,7 +30,7 @@ struct Scene {
 
 Scene MakeScene(double background, double object, double noise, uint32_t seed) {
   Scene s;
-  test::SyntheticImage synth(340, 230, background);
+  testing::SyntheticImage synth(340, 230, background);
   for (const Polygon& p : SmallScene(object)) {
     synth.Fill(p);
     s.vertices.insert(s.vertices.end(), p.vertices.begin(), p.vertices.end());
@@ -120,8 +120,8 @@ TEST(Corners, ReducedLargeScalesMatchTheFullResolutionReference) {
   auto scratch = std::make_unique<FilterScratch>();
   const int w = 756, h = 581;
   for (const bool dark : {true, false}) {
-    test::SyntheticImage synth(w, h, dark ? 30.0 : 190.0);
-    for (const Polygon& p : test::TestScene(w, h, dark ? 200.0 : 90.0)) synth.Fill(p, 4);
+    testing::SyntheticImage synth(w, h, dark ? 30.0 : 190.0);
+    for (const Polygon& p : testing::TestScene(w, h, dark ? 200.0 : 90.0)) synth.Fill(p, 4);
     synth.Blur(0.8);
     synth.AddNoise(2.0, dark ? 21 : 22);
     std::vector<uint8_t> px;
@@ -170,7 +170,7 @@ TEST(Corners, StrengthScalesWithContrastCubed) {
   config.refine_to_vertex = false;
   float strength[2];
   for (int i = 0; i < 2; ++i) {
-    test::SyntheticImage synth(120, 120, 20);
+    testing::SyntheticImage synth(120, 120, 20);
     synth.Fill({{{60, 60}, {200, 60}, {200, 200}, {60, 200}}, 20.0 + (i + 1) * 100.0});
     std::vector<uint8_t> px;
     Vector<Corner2D, kMaxCorners2d> corners;
@@ -200,7 +200,7 @@ TEST(Corners, RelativeThresholdKeepsOnlyTheStrongest) {
 
 TEST(Corners, NoiseFillsTheOutputWithTheStrongestMaxima) {
   auto scratch = std::make_unique<FilterScratch>();
-  test::SyntheticImage synth(kMaxImageWidth, kMaxImageHeight, 0);
+  testing::SyntheticImage synth(kMaxImageWidth, kMaxImageHeight, 0);
   synth.FillUniformNoise(5);
   std::vector<uint8_t> px;
   const ConstGrayView img = synth.ToGray(px);

@@ -6,19 +6,19 @@
 #include <memory>
 #include <vector>
 
-#include "tests/image/synthetic_image.hpp"
+#include "tests/support/synthetic_image.hpp"
 
 namespace sh {
 namespace {
 
-using test::Point2;
-using test::Polygon;
+using testing::Point2;
+using testing::Polygon;
 
 // Both presets find every vertex and side of the scene they are meant for.
 void CheckPreset(const FeatureConfig& config, double background, double object) {
   const int w = 756, h = 581;
-  const std::vector<Polygon> polys = test::TestScene(w, h, object);
-  test::SyntheticImage synth(w, h, background);
+  const std::vector<Polygon> polys = testing::TestScene(w, h, object);
+  testing::SyntheticImage synth(w, h, background);
   for (const Polygon& p : polys) synth.Fill(p);
   synth.Blur(0.8);
   synth.AddNoise(2.0, 5);
@@ -78,7 +78,7 @@ TEST(Features, RefusesOversizedAndEmptyImagesWithEmptyOutput) {
 }
 
 TEST(Features, UniformNoiseAtFullSizeStaysWithinCapacity) {
-  test::SyntheticImage synth(kMaxImageWidth, kMaxImageHeight, 0);
+  testing::SyntheticImage synth(kMaxImageWidth, kMaxImageHeight, 0);
   synth.FillUniformNoise(9);
   std::vector<uint8_t> px;
   const ConstGrayView img = synth.ToGray(px);

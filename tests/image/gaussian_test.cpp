@@ -7,7 +7,7 @@
 #include <memory>
 #include <vector>
 
-#include "tests/image/synthetic_image.hpp"
+#include "tests/support/synthetic_image.hpp"
 
 namespace sh {
 namespace {
@@ -85,8 +85,8 @@ TEST(GaussianKernel, RejectsBadSigmaAndOrder) {
 }
 
 TEST(GaussianFilter, MatchesDoublePrecisionReference) {
-  test::SyntheticImage synth(97, 83, 40.0);
-  for (const test::Polygon& p : test::TestScene(97, 83, 210.0)) synth.Fill(p);
+  testing::SyntheticImage synth(97, 83, 40.0);
+  for (const testing::Polygon& p : testing::TestScene(97, 83, 210.0)) synth.Fill(p);
   synth.AddNoise(8.0, 7);
   std::vector<uint8_t> pixels;
   const ConstGrayView img = synth.ToGray(pixels);

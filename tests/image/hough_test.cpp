@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "recog/image/canny.hpp"
-#include "tests/image/synthetic_image.hpp"
+#include "tests/support/synthetic_image.hpp"
 
 namespace sh {
 namespace {
 
-using test::Point2;
-using test::Polygon;
+using testing::Point2;
+using testing::Polygon;
 
 struct Side {
   Point2 a, b;
@@ -61,8 +61,8 @@ class HoughSceneTest : public ::testing::TestWithParam<std::pair<int, int>> {};
 
 TEST_P(HoughSceneTest, FindsEverySideOnceWithSubpixelAccuracy) {
   const auto [w, h] = GetParam();
-  const std::vector<Polygon> polys = test::TestScene(w, h, 190.0);
-  test::SyntheticImage synth(w, h, 40.0);
+  const std::vector<Polygon> polys = testing::TestScene(w, h, 190.0);
+  testing::SyntheticImage synth(w, h, 40.0);
   for (const Polygon& p : polys) synth.Fill(p);
   synth.Blur(0.7);
   synth.AddNoise(2.0, 21);
@@ -130,7 +130,7 @@ INSTANTIATE_TEST_SUITE_P(Sizes, HoughSceneTest,
 TEST(Hough, EachEdgePixelSupportsAtMostOneLine) {
   // Crossing lines: the pixels at the crossings must go to one line only.
   const int w = 300, h = 300;
-  test::SyntheticImage synth(w, h, 30.0);
+  testing::SyntheticImage synth(w, h, 30.0);
   synth.Fill({{{40, 40}, {260, 60}, {250, 70}, {35, 50}}, 200});      // thin bar
   synth.Fill({{{140, 10}, {150, 12}, {130, 290}, {120, 288}}, 200});  // crossing bar
   synth.Fill({{{20, 200}, {280, 120}, {285, 135}, {25, 215}}, 200});  // another
@@ -171,7 +171,7 @@ TEST(Hough, EachEdgePixelSupportsAtMostOneLine) {
 
 TEST(Hough, LineGeometryIsConsistent) {
   const int w = 200, h = 150;
-  test::SyntheticImage synth(w, h, 30.0);
+  testing::SyntheticImage synth(w, h, 30.0);
   synth.Fill({{{30.2, 20.7}, {170.4, 40.1}, {150.9, 130.3}, {20.5, 110.6}}, 210});
   std::vector<uint8_t> px;
   Workspaces ws;

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "recog/image/features.hpp"
-#include "tests/image/synthetic_image.hpp"
+#include "tests/support/synthetic_image.hpp"
 
 namespace sh {
 namespace {
@@ -20,8 +20,8 @@ const Frame& SceneFrame(int w, int h) {
   static Frame frames[2];
   Frame& f = frames[w == 756 ? 0 : 1];
   if (f.pixels.empty()) {
-    test::SyntheticImage synth(w, h, 35.0);
-    for (const test::Polygon& p : test::TestScene(w, h, 190.0)) synth.Fill(p, 4);
+    testing::SyntheticImage synth(w, h, 35.0);
+    for (const testing::Polygon& p : testing::TestScene(w, h, 190.0)) synth.Fill(p, 4);
     synth.Blur(0.8);
     synth.AddNoise(2.0, 1);
     f.view = synth.ToGray(f.pixels);

@@ -10,8 +10,8 @@
 
 #include "recog/pipeline/pipeline.hpp"
 #include "tables/table_file.hpp"
-#include "tests/pipeline/rendered_eval.hpp"
 #include "tests/support/counting_allocator.hpp"
+#include "tools/eval/rendered_eval.hpp"
 
 namespace sh {
 namespace {
@@ -24,15 +24,15 @@ int64_t FakeClock() {
 TEST(PipelineAllocations, NoneWhileProcessing) {
   auto table = OpenDefaultTable();
   ASSERT_TRUE(table.ok());
-  testing_support::RenderModels models;
-  ASSERT_TRUE(testing_support::LoadRenderModels(STEREOHASH_MODELS_DIR, *table, &models).ok());
-  std::vector<std::unique_ptr<testing_support::RenderedPair>> pairs;
+  RenderModels models;
+  ASSERT_TRUE(LoadRenderModels(STEREOHASH_MODELS_DIR, *table, &models).ok());
+  std::vector<std::unique_ptr<RenderedPair>> pairs;
   for (render::Background bg : {render::Background::kDark, render::Background::kLight}) {
     render::ScenarioParams p;
     p.background = bg;
     p.n_objects = 4;
-    pairs.push_back(std::make_unique<testing_support::RenderedPair>());
-    ASSERT_TRUE(testing_support::RenderPair(31, p, models, pairs.back().get()).ok());
+    pairs.push_back(std::make_unique<RenderedPair>());
+    ASSERT_TRUE(RenderPair(31, p, models, pairs.back().get()).ok());
   }
   auto pipeline = std::make_unique<Pipeline>();
   static PipelineResult result;
@@ -41,7 +41,7 @@ TEST(PipelineAllocations, NoneWhileProcessing) {
   for (const auto& pair : pairs) {
     // Init (start-up, not per frame) with each scene's own calibration, outside the count.
     ASSERT_TRUE(pipeline->Init(pair->generated.calib, *table, PipelineConfig{}, FakeClock).ok());
-    const long before = testing_support::HeapAllocations();
+    const long before = testing::HeapAllocations();
     for (int repeat = 0; repeat < 2; ++repeat) {
       const Status s = pipeline->Process(pair->left_view(), pair->right_view(), 1000.0f, &result);
       ASSERT_TRUE(s.ok()) << s.message();
@@ -49,13 +49,13 @@ TEST(PipelineAllocations, NoneWhileProcessing) {
     }
     // Errors are reported without allocating too.
     ASSERT_FALSE(pipeline->Process(ConstGrayView{}, pair->right_view(), 0, &result).ok());
-    during += testing_support::HeapAllocations() - before;
+    during += testing::HeapAllocations() - before;
   }
   EXPECT_EQ(during, 0) << "heap allocations while processing frames";
   EXPECT_GT(found, 0u);  // the frames were actually recognised
-  const long probe_before = testing_support::HeapAllocations();
+  const long probe_before = testing::HeapAllocations();
   auto* probe = new int(1);
-  const long probe_after = testing_support::HeapAllocations();
+  const long probe_after = testing::HeapAllocations();
   delete probe;
   EXPECT_EQ(probe_after, probe_before + 1);
 }

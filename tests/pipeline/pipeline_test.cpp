@@ -10,13 +10,10 @@
 #include <memory>
 
 #include "tables/table_file.hpp"
-#include "tests/pipeline/rendered_eval.hpp"
+#include "tools/eval/rendered_eval.hpp"
 
 namespace sh {
 namespace {
-
-using testing_support::RenderedPair;
-using testing_support::RenderModels;
 
 int64_t NowNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -37,7 +34,7 @@ class PipelineTest : public ::testing::Test {
     ASSERT_TRUE(t.ok()) << t.status().message();
     table_ = new TableView(*t);
     models_ = new RenderModels();
-    const Status s = testing_support::LoadRenderModels(STEREOHASH_MODELS_DIR, *table_, models_);
+    const Status s = LoadRenderModels(STEREOHASH_MODELS_DIR, *table_, models_);
     ASSERT_TRUE(s.ok()) << s.message();
     pipeline_ = new Pipeline();  // tens of MiB: one for the whole suite
   }
@@ -59,8 +56,7 @@ class PipelineTest : public ::testing::Test {
   // A dark-table scene with some occlusion; null (and a test failure) if it cannot be rendered.
   static std::unique_ptr<RenderedPair> RenderDark(uint64_t seed) {
     auto pair = std::make_unique<RenderedPair>();
-    const Status s = testing_support::RenderPair(seed, Scenario(render::Background::kDark),
-                                                 *models_, pair.get());
+    const Status s = RenderPair(seed, Scenario(render::Background::kDark), *models_, pair.get());
     if (!s.ok()) {
       ADD_FAILURE() << "seed " << seed << ": " << s.message();
       return nullptr;
@@ -90,12 +86,11 @@ TEST_F(PipelineTest, RecognisesRenderedScenes) {
   PipelineResult result;
   for (render::Background bg : {render::Background::kDark, render::Background::kLight}) {
     for (uint64_t seed : {11u, 12u, 13u}) {
-      ASSERT_TRUE(testing_support::RenderPair(seed, Scenario(bg), *models_, pair.get()).ok());
+      ASSERT_TRUE(RenderPair(seed, Scenario(bg), *models_, pair.get()).ok());
       ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, ConfigFor(bg), NowNs).ok());
       const Status s = pipeline_->Process(pair->left_view(), pair->right_view(), 0, &result);
       ASSERT_TRUE(s.ok()) << s.message();
-      const MatchCounts m =
-          MatchToTruth(models_->table, pair->truth, testing_support::PosesOf(result));
+      const MatchCounts m = MatchToTruth(models_->table, pair->truth, PosesOf(result));
       objects += static_cast<int>(pair->truth.size());
       correct += m.correct;
       false_alarms += m.false_alarms;
@@ -129,7 +124,7 @@ TEST_F(PipelineTest, WholeObjectWinsOverASmallerModelFittingPartOfIt) {
   p.n_objects = 5;
   p.camera_distance_mm = 300.0f + 300.0f * 7.0f / 9.0f;
   auto pair = std::make_unique<RenderedPair>();
-  ASSERT_TRUE(testing_support::RenderPair(102001, p, *models_, pair.get()).ok());
+  ASSERT_TRUE(RenderPair(102001, p, *models_, pair.get()).ok());
   const int cube = table_->FindModel("cube");
   ASSERT_GE(cube, 0);
   ASSERT_TRUE(std::any_of(pair->truth.begin(), pair->truth.end(),
@@ -141,7 +136,7 @@ TEST_F(PipelineTest, WholeObjectWinsOverASmallerModelFittingPartOfIt) {
   ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, config, NowNs).ok());
   PipelineResult result;
   ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, &result).ok());
-  const MatchCounts m = MatchToTruth(models_->table, pair->truth, testing_support::PosesOf(result));
+  const MatchCounts m = MatchToTruth(models_->table, pair->truth, PosesOf(result));
   EXPECT_EQ(m.false_alarms, 0);
   bool cube_found = false;
   for (const RecognizedObject& o : result.objects) {

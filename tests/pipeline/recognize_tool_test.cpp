@@ -15,14 +15,11 @@
 
 #include "hal/sim/image_files.hpp"
 #include "tables/table_file.hpp"
-#include "tests/pipeline/mini_json.hpp"
-#include "tests/support/synthetic_scene.hpp"
+#include "tools/eval/mini_json.hpp"
+#include "tools/eval/synthetic_scene.hpp"
 
 namespace sh {
 namespace {
-
-using testing_support::Json;
-using testing_support::JsonReader;
 
 struct ToolRun {
   int exit_code = -1;

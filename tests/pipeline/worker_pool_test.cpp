@@ -65,9 +65,9 @@ TEST(WorkerPool, NoHeapPerJob) {
   Counts counts;
   for (auto& c : counts.calls) c.store(0);
   pool.ParallelFor(8, &Count, &counts);  // warm-up
-  const uint64_t before = testing_support::HeapAllocations();
+  const uint64_t before = testing::HeapAllocations();
   for (int round = 0; round < 100; ++round) pool.ParallelFor(16, &Count, &counts);
-  EXPECT_EQ(testing_support::HeapAllocations(), before);
+  EXPECT_EQ(testing::HeapAllocations(), before);
 }
 
 TEST(WorkerPool, StartChecksTheCountAndRestarts) {

@@ -9,7 +9,7 @@
 #include <string>
 #include <utility>
 
-#include "tests/render/model_files.hpp"
+#include "tests/support/test_models.hpp"
 
 namespace sh {
 namespace {
@@ -63,7 +63,7 @@ void CheckConsistent(const Model& m) {
 
 TEST(ObjModel, ReferenceModelsHaveTheDocumentedCornerAndEdgeCounts) {
   for (const Expected& expected : kReferenceModels) {
-    const Result<Model> model = testing::LoadModel(expected.stem);
+    const Result<Model> model = testing::LoadReferenceModel(expected.stem);
     ASSERT_TRUE(model.ok()) << expected.stem << ": " << model.status().message();
     EXPECT_STREQ(model->name, expected.stem);
     EXPECT_EQ(model->n_corners, expected.corners) << expected.stem;
@@ -75,7 +75,7 @@ TEST(ObjModel, ReferenceModelsHaveTheDocumentedCornerAndEdgeCounts) {
 }
 
 TEST(ObjModel, StarTopAndBottomAreTenSidedFaces) {
-  const Result<Model> star = testing::LoadModel("star");
+  const Result<Model> star = testing::LoadReferenceModel("star");
   ASSERT_TRUE(star.ok()) << star.status().message();
   int ten_gons = 0;
   for (int f = 0; f < star->n_faces; ++f) ten_gons += star->faces[f].n_vertices == 10;
@@ -111,7 +111,7 @@ f 4 5 8
 TEST(ObjModel, TriangulatedCubeMergesIntoTheSameCube) {
   const Result<Model> tri = ParseObjModel(kTriangulatedCube, sizeof(kTriangulatedCube) - 1, "tri");
   ASSERT_TRUE(tri.ok()) << tri.status().message();
-  const Result<Model> cube = testing::LoadModel("cube");
+  const Result<Model> cube = testing::LoadReferenceModel("cube");
   ASSERT_TRUE(cube.ok());
   EXPECT_EQ(tri->n_corners, cube->n_corners);
   EXPECT_EQ(tri->n_edges, cube->n_edges);

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "recog/model/obj_model.hpp"
-#include "tests/render/model_files.hpp"
+#include "tests/support/test_models.hpp"
 
 namespace sh {
 namespace {

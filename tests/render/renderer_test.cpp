@@ -1,4 +1,4 @@
-#include "hal/sim/render/renderer.hpp"
+#include "hal/sim/world/renderer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,23 +6,25 @@
 #include <cmath>
 #include <vector>
 
-#include "hal/sim/render/model_directory.hpp"
-#include "hal/sim/render/scene_generator.hpp"
+#include "hal/sim/world/scene_generator.hpp"
+#include "tables/model_files.hpp"
 
 namespace sh::render {
 namespace {
 
 struct Models {
-  Model models[kMaxModelFiles];
+  std::vector<Model> all;
+  const Model* models = nullptr;
   int n = 0;
 };
 
 const Models& ReferenceModels() {
   static Models* m = [] {
     auto* out = new Models;
-    const Result<int> n = LoadModelDirectory(STEREOHASH_MODELS_DIR, out->models, kMaxModelFiles);
-    EXPECT_TRUE(n.ok()) << n.status().message();
-    out->n = n.ok() ? *n : 0;
+    const Status s = LoadModelFolder(STEREOHASH_MODELS_DIR, &out->all);
+    EXPECT_TRUE(s.ok()) << s.message();
+    out->models = out->all.data();
+    out->n = int(out->all.size());
     return out;
   }();
   return *m;
@@ -192,7 +194,7 @@ double Bilinear(const Images& im, double x, double y) {
 // half-way grey level where ProjectToPixel puts them, to a fraction of a pixel.
 TEST(Renderer, SilhouetteEdgesArePositionedToSubPixelAccuracy) {
   const Models& m = ReferenceModels();
-  const int cube = FindModel(m.models, m.n, "cube");
+  const int cube = FindModelByName(m.all, "cube");
   ASSERT_GE(cube, 0);
   GeneratedScene g = Generate(5, Occlusion::kNone, Background::kDark, 0.0f);
   RenderScene scene = g.scene;

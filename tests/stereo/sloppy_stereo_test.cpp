@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "recog/stereo/epipolar.hpp"
-#include "tests/stereo/stereo_test_scene.hpp"
+#include "tests/support/stereo_scene.hpp"
 
 namespace sh {
 namespace {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "recog/stereo/triangulation.hpp"
-#include "tests/stereo/stereo_test_scene.hpp"
+#include "tests/support/stereo_scene.hpp"
 
 namespace sh {
 namespace {

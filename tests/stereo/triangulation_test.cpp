@@ -6,7 +6,7 @@
 
 #include "recog/stereo/epipolar.hpp"
 #include "recog/stereo/working_volume.hpp"
-#include "tests/stereo/stereo_test_scene.hpp"
+#include "tests/support/stereo_scene.hpp"
 
 namespace sh {
 namespace {

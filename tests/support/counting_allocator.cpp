@@ -15,9 +15,9 @@ void* Allocate(std::size_t n) {
 }
 }  // namespace
 
-namespace sh::testing_support {
+namespace sh::testing {
 uint64_t HeapAllocations() { return g_allocations.load(); }
-}  // namespace sh::testing_support
+}  // namespace sh::testing
 
 void* operator new(std::size_t n) {
   if (void* p = Allocate(n)) return p;

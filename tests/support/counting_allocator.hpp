@@ -4,9 +4,9 @@
 
 #include <cstdint>
 
-namespace sh::testing_support {
+namespace sh::testing {
 
 // Allocations (all forms of operator new, throwing or not) since the program started.
 uint64_t HeapAllocations();
 
-}  // namespace sh::testing_support
+}  // namespace sh::testing

@@ -18,7 +18,7 @@ TEST(DefaultTable, IsTheHashFn5TableOfTheReferenceModels) {
   EXPECT_EQ(view->hash_function(), HashFunction::kLinePointMidway);
   // Byte-identical to what the builder produces now from the repository's models.
   std::vector<Model> models;
-  ASSERT_TRUE(LoadReferenceModels("models", &models).ok());
+  ASSERT_TRUE(LoadModelFolder("models", &models).ok());
   auto blob = BuildTableBlob(models, TableBuildOptions{});
   ASSERT_TRUE(blob.ok());
   ASSERT_EQ(blob->size(), DefaultTableBlobSize());
@@ -27,7 +27,7 @@ TEST(DefaultTable, IsTheHashFn5TableOfTheReferenceModels) {
 
 TEST(MappedTable, MapsAFileAndRefusesBadOnes) {
   std::vector<Model> models;
-  ASSERT_TRUE(LoadReferenceModels("models", &models).ok());
+  ASSERT_TRUE(LoadModelFolder("models", &models).ok());
   auto blob = BuildTableBlob(models, TableBuildOptions{});
   ASSERT_TRUE(blob.ok());
   const std::string path = testing::TempDir() + "/tables_hf5.bin";

@@ -11,7 +11,7 @@ namespace {
 
 std::vector<Model> ReferenceModels() {
   std::vector<Model> models;
-  const Status s = LoadReferenceModels("models", &models);
+  const Status s = LoadModelFolder("models", &models);
   EXPECT_TRUE(s.ok()) << s.message();
   return models;
 }

@@ -25,7 +25,7 @@ struct AlignedBlob {
 
 std::vector<uint8_t> BuildReferenceBlob(HashFunction hf = HashFunction::kLinePointMidway) {
   std::vector<Model> models;
-  EXPECT_TRUE(LoadReferenceModels("models", &models).ok());
+  EXPECT_TRUE(LoadModelFolder("models", &models).ok());
   TableBuildOptions options;
   options.hash_function = hf;
   auto blob = BuildTableBlob(models, options);

@@ -2,30 +2,19 @@
 // verification like the records built in code.
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "recog/model/obj_model.hpp"
 #include "recog/verify/verify.hpp"
-#include "tests/verify/synthetic_scene.hpp"
-#include "tests/verify/test_models.hpp"
+#include "tests/support/edge_scene.hpp"
+#include "tests/support/test_models.hpp"
 
 namespace sh {
 namespace {
 
 using testing::AxisAngleDeg;
-
-Result<Model> LoadModel(const std::string& name) {
-  std::ifstream file("models/" + name + ".obj");  // tests run from the project root
-  if (!file) return Status::Error(StatusCode::kNotFound, "models/%s.obj not found", name.c_str());
-  std::stringstream text;
-  text << file.rdbuf();
-  const std::string s = text.str();
-  return ParseObjModel(s.data(), s.size(), name.c_str());
-}
 
 class ObjModelsTest : public ::testing::TestWithParam<const char*> {
  protected:
@@ -33,7 +22,7 @@ class ObjModelsTest : public ::testing::TestWithParam<const char*> {
 };
 
 TEST_P(ObjModelsTest, HiddenLinesAgreeWithBruteForce) {
-  Result<Model> model = LoadModel(GetParam());
+  Result<Model> model = testing::LoadReferenceModel(GetParam());
   ASSERT_TRUE(model.ok()) << model.status().message();
   ASSERT_TRUE(CheckModel(*model).ok());
   std::mt19937 rng(11);
@@ -69,7 +58,7 @@ TEST_P(ObjModelsTest, HiddenLinesAgreeWithBruteForce) {
 class ObjPolyhedraTest : public ObjModelsTest {};
 
 TEST_P(ObjPolyhedraTest, TruePoseVerifiesAndShiftedPoseDoesNot) {
-  Result<Model> model = LoadModel(GetParam());
+  Result<Model> model = testing::LoadReferenceModel(GetParam());
   ASSERT_TRUE(model.ok()) << model.status().message();
   const PosedModel truth{&*model, {AxisAngleDeg({1, 0.4f, 0.2f}, 130), {-20, 15, 470}}};
   const testing::EdgeMapBuffer left = testing::RenderEdgeMap(LeftView(calib), {truth});
@@ -96,7 +85,7 @@ INSTANTIATE_TEST_SUITE_P(Models, ObjPolyhedraTest,
                                            "wedge", "colour/bracket"));
 
 TEST(ObjStarTest, SameTopologyAsTheRecordBuiltInCode) {
-  Result<Model> parsed = LoadModel("star");
+  Result<Model> parsed = testing::LoadReferenceModel("star");
   ASSERT_TRUE(parsed.ok()) << parsed.status().message();
   const Model built = testing::StarModel();
   EXPECT_EQ(parsed->n_corners, built.n_corners);

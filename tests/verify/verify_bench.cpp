@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "recog/verify/verify.hpp"
-#include "tests/verify/synthetic_scene.hpp"
-#include "tests/verify/test_models.hpp"
+#include "tests/support/edge_scene.hpp"
+#include "tests/support/test_models.hpp"
 
 namespace sh {
 namespace {

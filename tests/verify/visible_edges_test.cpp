@@ -6,8 +6,8 @@
 #include <random>
 #include <vector>
 
-#include "tests/verify/synthetic_scene.hpp"
-#include "tests/verify/test_models.hpp"
+#include "tests/support/edge_scene.hpp"
+#include "tests/support/test_models.hpp"
 
 namespace sh {
 namespace {

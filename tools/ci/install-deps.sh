@@ -9,10 +9,10 @@ set -euo pipefail
 cross=0
 [ "${1:-}" = "--cross" ] && cross=1
 
-host_packages=(cmake ninja-build g++ pkg-config libeigen3-dev libgtest-dev libgmock-dev
+host_packages=(cmake ninja-build g++ pkg-config libeigen3-dev libpng-dev libgtest-dev libgmock-dev
   libbenchmark-dev libcamera-dev libgpiod-dev libopencv-dev python3 python3-can
-  python3-canmatrix python3-opencv opencv-doc clang libclang-rt-14-dev)
-cross_packages=(g++-aarch64-linux-gnu qemu-user libcamera-dev:arm64 libgpiod-dev:arm64
+  python3-canmatrix python3-opencv opencv-doc clang clang-tidy libclang-rt-14-dev)
+cross_packages=(g++-aarch64-linux-gnu qemu-user libpng-dev:arm64 libcamera-dev:arm64 libgpiod-dev:arm64
   libgtest-dev:arm64 libbenchmark-dev:arm64)
 
 sudo_cmd=()

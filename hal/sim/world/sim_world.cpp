@@ -1,0 +1,77 @@
+#include "hal/sim/world/sim_world.hpp"
+
+#include <cstring>
+
+#include "hal/sim/world/renderer.hpp"
+#include "tables/model_files.hpp"
+
+namespace sh::render {
+
+Status SimWorld::Build(const SimWorldConfig& config) {
+  if (config.scenes < 1 || config.scenes > kMaxSimScenes) {
+    return Status::Error(StatusCode::kOutOfRange, "sim scenes %d outside 1..%d", config.scenes,
+                         kMaxSimScenes);
+  }
+  config_ = config;
+  SH_RETURN_IF_ERROR(LoadModelFolder(config.models_dir, &models_));
+  ScenarioParams params;
+  params.n_objects = config.objects;
+  params.background = config.light_background ? Background::kLight : Background::kDark;
+  scenes_.reset(new GeneratedScene[config.scenes]);
+  uint64_t seed = config.seed;
+  for (int i = 0; i < config.scenes; ++i) {
+    // Some seeds cannot place the objects in view; the next seeds are tried (deterministic).
+    Result<GeneratedScene> g = GenerateScene(seed++, params, models_.data(), model_count());
+    for (int attempt = 0; !g.ok() && attempt < 16; ++attempt) {
+      g = GenerateScene(seed++, params, models_.data(), model_count());
+    }
+    if (!g.ok()) {
+      return g.status().WithContext("sim scene %d (seed %llu)", i,
+                                    static_cast<unsigned long long>(seed - 1));
+    }
+    scenes_[i] = *g;
+    const StereoCalibration& c0 = scenes_[0].calib;
+    const StereoCalibration& ci = scenes_[i].calib;
+    if (ci.left.width != c0.left.width || ci.left.height != c0.left.height ||
+        !ci.right_R_left.isApprox(c0.right_R_left, 1e-4) ||
+        !ci.right_t_left_mm.isApprox(c0.right_t_left_mm, 1e-4)) {
+      return Status::Error(StatusCode::kInternal, "sim scene %d uses a different rig", i);
+    }
+    // One calibration for every scene (the rigs agree up to float rounding).
+    scenes_[i].calib = c0;
+  }
+  n_scenes_ = config.scenes;
+  width_ = scenes_[0].calib.left.width;
+  height_ = scenes_[0].calib.left.height;
+  const size_t per_image = size_t(width_) * size_t(height_);
+  pixels_.reset(new uint8_t[per_image * 2 * size_t(n_scenes_)]);
+  for (int i = 0; i < n_scenes_; ++i) {
+    uint8_t* left = pixels_.get() + per_image * 2 * size_t(i);
+    GrayView l{left, width_, height_, width_};
+    GrayView r{left + per_image, width_, height_, width_};
+    SH_RETURN_IF_ERROR(
+        RenderStereo(scenes_[i].scene, models_.data(), model_count(), scenes_[i].calib, l, r));
+  }
+  return Status::Ok();
+}
+
+Status SimWorld::Open(int* width, int* height) {
+  if (n_scenes_ == 0) {
+    return Status::Error(StatusCode::kFailedPrecondition, "sim world not built");
+  }
+  *width = width_;
+  *height = height_;
+  return Status::Ok();
+}
+
+Status SimWorld::Render(uint64_t frame_index, GrayView left, GrayView right) {
+  const size_t per_image = size_t(width_) * size_t(height_);
+  const uint8_t* src = pixels_.get() + per_image * 2 * size_t(SceneOfFrame(frame_index));
+  for (int y = 0; y < height_; ++y) {
+    std::memcpy(left.row(y), src + size_t(y) * width_, size_t(width_));
+    std::memcpy(right.row(y), src + per_image + size_t(y) * width_, size_t(width_));
+  }
+  return Status::Ok();
+}
+
+}  // namespace sh::render

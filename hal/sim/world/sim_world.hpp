@@ -1,0 +1,56 @@
+// The simulator's world as the firmware sees it: reproducible scenes of the reference objects,
+// rendered once at boot into buffers owned here and played to the SimCamera as frames (frame n
+// shows scene n mod scene_count), with the ground truth kept per scene. Rendering in advance keeps
+// the trigger path free of allocation and of the renderer's cost.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "hal/sim/sim_camera_source.hpp"
+#include "hal/sim/world/scene_generator.hpp"
+
+namespace sh::render {
+
+inline constexpr int kMaxSimScenes = 64;
+
+struct SimWorldConfig {
+  const char* models_dir = "";
+  uint64_t seed = 1;
+  int scenes = 6;
+  int objects = 3;
+  bool light_background = false;
+};
+
+class SimWorld final : public hal::FrameSource {
+ public:
+  // Loads the models, generates and renders every scene (allocates; boot only). All scenes share
+  // one stereo rig, whose calibration is calibration().
+  Status Build(const SimWorldConfig& config);
+
+  Status Open(int* width, int* height) override;
+  // Copies the pre-rendered images of scene frame_index mod scene_count().
+  Status Render(uint64_t frame_index, GrayView left, GrayView right) override;
+
+  const StereoCalibration& calibration() const { return scenes_[0].calib; }
+  int scene_count() const { return n_scenes_; }
+  int SceneOfFrame(uint64_t frame_index) const {
+    return static_cast<int>(frame_index % static_cast<uint64_t>(n_scenes_));
+  }
+  const GeneratedScene& scene(int i) const { return scenes_[i]; }
+  // The models of the folder in its order (tables/model_files.hpp): scene objects index them.
+  const Model* models() const { return models_.data(); }
+  int model_count() const { return int(models_.size()); }
+  uint64_t seed() const { return config_.seed; }
+
+ private:
+  SimWorldConfig config_;
+  std::vector<Model> models_;
+  std::unique_ptr<GeneratedScene[]> scenes_;
+  int n_scenes_ = 0;
+  int width_ = 0, height_ = 0;
+  std::unique_ptr<uint8_t[]> pixels_;  // scene i: left then right, width x height each
+};
+
+}  // namespace sh::render

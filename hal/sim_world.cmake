@@ -1,0 +1,19 @@
+# Image files for the simulator's recorded-pair camera and the host tools: PGM, and PNG on
+# Debian's libpng (and zlib).
+stereohash_module(stereohash_image_files
+  SOURCES sim/image_files.cpp
+  HEADERS sim/image_files.hpp
+  PUBLIC stereohash_image stereohash_base
+  PRIVATE PNG::PNG)
+
+# The simulated world (hal/sim/world): ray caster, renderer, scene generator and the scenes the
+# simulator's camera plays. Linked by the simulator backends, the simulator program, the tools
+# and the tests; never by the board program.
+stereohash_module(stereohash_sim_world
+  SOURCES sim/world/ray_caster.cpp sim/world/renderer.cpp sim/world/scene_generator.cpp
+          sim/world/sim_world.cpp
+  HEADERS sim/world/render_scene.hpp sim/world/rng.hpp sim/world/ray_caster.hpp
+          sim/world/renderer.hpp sim/world/scene_generator.hpp sim/world/sim_world.hpp
+  PUBLIC stereohash_hal_camera_sim stereohash_camera stereohash_model stereohash_image
+         stereohash_geometry stereohash_base
+  PRIVATE stereohash_model_files)

@@ -1,0 +1,31 @@
+// Models for the tests: records built in code from vertex and face lists (the same shapes as
+// models/cube.obj and models/star.obj), and the reference models read from models/.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "recog/base/status.hpp"
+#include "recog/model/model.hpp"
+
+namespace sh::testing {
+
+// Faces list corner indices (0-based) counter-clockwise seen from outside. Edges, normals
+// (Newell's method, valid for non-convex faces) and plane offsets are derived.
+Model MakeModel(const char* name, const std::vector<Eigen::Vector3f>& corners,
+                const std::vector<std::vector<int>>& faces);
+
+// Prism over a polygon given counter-clockwise in the xy plane, from z = -h/2 to z = +h/2.
+Model MakePrism(const char* name, const std::vector<Eigen::Vector2f>& outline, float height_mm);
+
+// One of the reference models of models/ (tests run from the project root), through the one
+// model loader (tables/model_files.hpp).
+Result<Model> LoadReferenceModel(const char* stem);
+// The text of models/<stem>.obj ("" when missing), for the parser tests.
+std::string ReadModelText(const std::string& stem);
+
+Model CubeModel();  // 30 x 30 mm base, 40 mm tall
+Model StarModel();  // five-pointed star prism, radii 34 / 22 mm, 20 mm tall
+
+}  // namespace sh::testing

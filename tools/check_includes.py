@@ -1,0 +1,168 @@
+#!/usr/bin/env python3
+"""The module graph check: every #include of a project header must come from the including
+target's own headers or from a target it declares in CMake (PUBLIC, PRIVATE or INTERFACE; in a
+header, PUBLIC or INTERFACE only, as its users see no more; tests may also use what those bring
+along publicly), the
+graph must have no cycle, and the rooms must not lean on each other (recognition and tables know
+nothing of hal/, firmware/, tools/ or tests/; hal/ knows nothing of firmware/, tools/ or tests/;
+the board's code nothing of the simulated world). Reads the manifest CMake writes
+(build/<preset>/module_graph.txt).
+
+  tools/check_includes.py MANIFEST            check; exit 1 with one line per problem
+  tools/check_includes.py MANIFEST --graph    print the module graph (direct declared deps)
+"""
+import os
+import re
+import sys
+
+INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
+
+# (directory prefix of a target's files, directory prefixes it must never depend on).
+ROOMS = [
+    ("recog/", ("hal/", "firmware/", "tools/", "tests/")),
+    ("tables/", ("hal/", "firmware/", "tools/", "tests/")),
+    ("hal/", ("firmware/", "tools/", "tests/")),
+    ("firmware/", ("tools/", "tests/")),
+    ("tools/eval/", ("tests/",)),
+]
+# Targets of the board program: nothing of the simulated world, the simulator backends or the
+# image codec reaches them.
+BOARD_FORBIDDEN = ("hal/sim/",)
+
+
+def parse_manifest(path):
+    """Lines: `target|kind|file;file;...|dep;dep;...|public;...` (files relative to the root)."""
+    targets = {}
+    root = None
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            line = line.rstrip("\n")
+            if line.startswith("root|"):
+                root = line.split("|", 1)[1]
+                continue
+            if not line or line.startswith("#"):
+                continue
+            name, kind, files, deps, public = line.split("|")
+            targets[name] = {
+                "kind": kind,
+                "files": [x for x in files.split(";") if x],
+                "deps": [x for x in deps.split(";") if x],
+                "public": [x for x in public.split(";") if x],
+            }
+    return root, targets
+
+
+def main():
+    if len(sys.argv) < 2:
+        print(__doc__)
+        return 2
+    root, targets = parse_manifest(sys.argv[1])
+    owner = {}
+    problems = []
+    for name, t in targets.items():
+        for f in t["files"]:
+            if f.endswith((".hpp", ".h")):
+                if f in owner and owner[f] != name:
+                    problems.append(f"{f}: listed by both {owner[f]} and {name}")
+                owner[f] = name
+
+    if "--graph" in sys.argv:
+        for name in sorted(targets):
+            t = targets[name]
+            if t["kind"] == "test":
+                continue
+            deps = sorted(d for d in t["deps"] if d in targets)
+            print(f"{name} -> {', '.join(deps) if deps else '(nothing)'}")
+        return 0
+
+    def closure(name, key="deps"):
+        seen, todo = set(), [name]
+        while todo:
+            for d in targets[todo.pop()][key]:
+                if d in targets and d not in seen:
+                    seen.add(d)
+                    todo.append(d)
+        return seen
+
+    def visible(name):  # what the compiler lets a target include: its deps and their public ones
+        seen = set()
+        for d in targets[name]["deps"]:
+            if d in targets:
+                seen |= {d} | closure(d, "public")
+        return seen
+
+    # Includes against declared deps: direct ones for the project's own targets; tests may use
+    # whatever the targets they link bring along.
+    for name, t in targets.items():
+        allowed_sources = {name} | (visible(name) if t["kind"] == "test" else set(t["deps"]))
+        # A target's headers are read by its users, who see only its public dependencies.
+        allowed_headers = {name} | set(t["public"]) if t["kind"] == "module" else allowed_sources
+        for f in t["files"]:
+            allowed = allowed_headers if f.endswith((".hpp", ".h")) else allowed_sources
+            path = os.path.join(root, f)
+            if not os.path.isfile(path):
+                problems.append(f"{f}: listed by {name} but missing")
+                continue
+            with open(path, encoding="utf-8", errors="replace") as src:
+                text = src.read()
+            for inc in INCLUDE.findall(text):
+                if not os.path.isfile(os.path.join(root, inc)):
+                    continue  # not a project header (generated, third-party, relative)
+                o = owner.get(inc)
+                if o is None:
+                    problems.append(f"{f}: includes {inc}, which no target lists")
+                elif o not in allowed:
+                    how = "publicly " if allowed is allowed_headers and o in t["deps"] else ""
+                    problems.append(
+                        f"{f}: includes {inc} ({o}), which {name} does not declare {how}".rstrip())
+
+    # Cycles among declared deps.
+    state = {}
+
+    def visit(n, stack):
+        state[n] = 1
+        for d in targets[n]["deps"]:
+            if d not in targets:
+                continue
+            if state.get(d) == 1:
+                cycle = stack[stack.index(d):] + [d] if d in stack else [n, d]
+                problems.append("cycle: " + " -> ".join(cycle))
+            elif d not in state:
+                visit(d, stack + [d])
+        state[n] = 2
+
+    for n in targets:
+        if n not in state:
+            visit(n, [n])
+
+    # Rooms.
+    def dirs_of(name):
+        return {os.path.dirname(f) + "/" for f in targets[name]["files"]}
+
+    for name, t in targets.items():
+        if t["kind"] == "test":
+            continue
+        mine = dirs_of(name)
+        for d in t["deps"]:
+            if d not in targets:
+                continue
+            theirs = dirs_of(d)
+            for prefix, banned in ROOMS:
+                if any(m.startswith(prefix) for m in mine):
+                    for b in banned:
+                        if any(x.startswith(b) for x in theirs):
+                            problems.append(f"{name} ({prefix}) depends on {d} ({b})")
+        if t["kind"] == "board":
+            for d in sorted(closure(name)):
+                if any(x.startswith(BOARD_FORBIDDEN) for x in dirs_of(d)):
+                    problems.append(f"board program {name} links {d} (simulator code)")
+
+    for p in problems:
+        print(p)
+    checked = sum(len(t["files"]) for t in targets.values())
+    print(f"module graph: {len(targets)} targets, {checked} files, {len(problems)} problems")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
