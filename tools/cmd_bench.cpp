@@ -278,9 +278,10 @@ int RunBenchScenes(int argc, char** argv) {
   }
 
   std::printf(
-      "\nRendered scenes, whole pipeline (hash fn 5, one core); 2-D counts are per image (mean of\n"
-      "left and right), all counts medians; correct = same model, centre within 10 mm, rotation\n"
-      "within 10 deg (symmetry-aware); pose errors are medians over correct objects.\n\n");
+      "\nRendered scenes, whole pipeline (hash fn 5, %d thread%s); 2-D counts are per image (mean\n"
+      "of left and right), all counts medians; correct = same model, centre within 10 mm,\n"
+      "rotation within 10 deg (symmetry-aware); pose errors are medians over correct objects.\n\n",
+      pipeline->threads(), pipeline->threads() == 1 ? "" : "s");
   std::printf("%-6s %-7s %6s %7s %7s %6s %6s %8s %8s %6s %6s %6s %6s %7s %7s\n", "backgr", "occlus",
               "scenes", "objects", "correct", "missed", "false", "med ms", "worst ms", "2D pts",
               "2D lin", "3D pts", "3D lin", "t mm", "R deg");
