@@ -10,6 +10,7 @@
 #include "recog/image/edge_map.hpp"
 #include "recog/verify/view_camera.hpp"
 #include "tests/support/calibrations.hpp"
+#include "tests/support/test_models.hpp"
 
 namespace sh::testing {
 
@@ -26,6 +27,22 @@ struct EdgeMapBuffer {
   ConstEdgeMapView const_view() const {
     return {{edge.data(), width, height, width}, {orientation.data(), width, height, width}};
   }
+};
+
+// A cube and a star posed apart, both wholly in view of both cameras of TestCalibration: the
+// scene of the verification and edge-fit tests. Not copyable: the poses point at the models.
+struct CubeAndStarScene {
+  CubeAndStarScene() = default;
+  CubeAndStarScene(const CubeAndStarScene&) = delete;
+  CubeAndStarScene& operator=(const CubeAndStarScene&) = delete;
+
+  StereoCalibration calib = TestCalibration();
+  Model cube = CubeModel();
+  Model star = StarModel();
+  PosedModel cube_pose{
+      &cube, {AxisAngleDeg({1, 0.3f, 0}, 35) * AxisAngleDeg({0, 1, 0}, 40), {10, -5, 480}}};
+  PosedModel star_pose{&star,
+                       {AxisAngleDeg({1, 0, 0}, 125) * AxisAngleDeg({0, 0, 1}, 10), {30, 10, 460}}};
 };
 
 // Renders the region id (object, face) seen through each pixel centre, then marks pixels whose

@@ -17,16 +17,7 @@ float RotationErrorDeg(const RigidTransform& a, const RigidTransform& b) {
   return RotationAngleDeg(a.R * b.R.transpose());
 }
 
-class EdgeRefineTest : public ::testing::Test {
- protected:
-  StereoCalibration calib = testing::TestCalibration();
-  Model cube = testing::CubeModel();
-  Model star = testing::StarModel();
-  PosedModel cube_pose{
-      &cube, {AxisAngleDeg({1, 0.3f, 0}, 35) * AxisAngleDeg({0, 1, 0}, 40), {10, -5, 480}}};
-  PosedModel star_pose{&star,
-                       {AxisAngleDeg({1, 0, 0}, 125) * AxisAngleDeg({0, 0, 1}, 10), {30, 10, 460}}};
-};
+class EdgeRefineTest : public ::testing::Test, protected testing::CubeAndStarScene {};
 
 // Edge maps rendered at the true pose (by ray casting, independent of the hidden-line code);
 // a pose 1.5 deg and about 1.4 mm off is brought back close to the truth.

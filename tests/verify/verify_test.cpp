@@ -15,7 +15,7 @@ using testing::AxisAngleDeg;
 using testing::EdgeMapBuffer;
 using testing::RenderEdgeMap;
 
-class VerifyTest : public ::testing::Test {
+class VerifyTest : public ::testing::Test, protected testing::CubeAndStarScene {
  protected:
   struct Maps {
     EdgeMapBuffer left, right;
@@ -32,14 +32,6 @@ class VerifyTest : public ::testing::Test {
     EXPECT_TRUE(r.ok()) << r.status().message();
     return r.ok() ? *r : VerifyResult{};
   }
-
-  StereoCalibration calib = testing::TestCalibration();
-  Model cube = testing::CubeModel();
-  Model star = testing::StarModel();
-  PosedModel cube_pose{
-      &cube, {AxisAngleDeg({1, 0.3f, 0}, 35) * AxisAngleDeg({0, 1, 0}, 40), {10, -5, 480}}};
-  PosedModel star_pose{&star,
-                       {AxisAngleDeg({1, 0, 0}, 125) * AxisAngleDeg({0, 0, 1}, 10), {30, 10, 460}}};
 };
 
 TEST_F(VerifyTest, TruePoseIsAcceptedWithScoresNearOne) {
