@@ -291,6 +291,15 @@ int RunBenchRecorded(int argc, char** argv) {
   s = pipeline->Init(*calib, tables.view, config, NowNs);
   if (!s.ok()) return Fail(s.message());
 
+  // A second recogniser with the pipeline's settings, for the search's view of the misses.
+  std::unique_ptr<Recognizer> search;
+  if (verbose || json_path != nullptr) {
+    search = std::make_unique<Recognizer>();
+    s = search->Init(tables.view, config.recognizer);
+    if (!s.ok()) return Fail(s.message());
+  }
+  SearchTrace trace;
+  pipeline->SetSearchObserver(&trace);
   std::vector<Row> rows;
   int vis_objects[kVisibilityBins] = {}, vis_correct[kVisibilityBins] = {};
   MissCauses causes;
@@ -303,6 +312,7 @@ int RunBenchRecorded(int argc, char** argv) {
     s = ParseTruth(base + "truth.json", tables.view, &truth);
     if (s.ok()) s = LoadImage((base + "left.png").c_str(), "left", &left);
     if (s.ok()) s = LoadImage((base + "right.png").c_str(), "right", &right);
+    trace.Clear();
     if (s.ok()) s = pipeline->Process(left.view, right.view, options.budget_ms, result.get());
     if (!s.ok()) return Fail((name + ": " + s.message()).c_str());
 
@@ -355,27 +365,61 @@ int RunBenchRecorded(int argc, char** argv) {
     if (verbose) {
       std::printf("%s: %d of %zu correct, %d false, %.1f ms\n", name.c_str(), m.correct,
                   truth.objects.size(), m.false_alarms, result->time.total_ms);
-      for (const RecognizedObject& o : result->objects) {
-        const std::vector<RecognizedPose> one = {{o.model, o.cam_T_model}};
-        if (MatchToTruth(models, truth.objects, one, kMaxPositionErrorMm, kMaxRotationErrorDeg)
-                .correct == 1) {
-          continue;
-        }
+    }
+    std::string false_json;
+    for (const RecognizedObject& o : result->objects) {
+      const std::vector<RecognizedPose> one = {{o.model, o.cam_T_model}};
+      if (MatchToTruth(models, truth.objects, one, kMaxPositionErrorMm, kMaxRotationErrorDeg)
+              .correct == 1) {
+        continue;
+      }
+      if (verbose) {
         std::printf("  %s: false %s at (%.1f, %.1f, %.1f) mm (vote %.2f, verify %.2f %.2f)\n",
                     name.c_str(), models[o.model].name, o.cam_T_model.t_mm.x(),
                     o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote, o.verify_score[0],
                     o.verify_score[1]);
       }
+      char buffer[256];
+      std::snprintf(buffer, sizeof(buffer),
+                    "%s{\"model\": \"%s\", \"t\": [%.2f, %.2f, %.2f], \"vote\": %.3f, "
+                    "\"verify\": [%.3f, %.3f]}",
+                    false_json.empty() ? "" : ", ", models[o.model].name, o.cam_T_model.t_mm.x(),
+                    o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote, o.verify_score[0],
+                    o.verify_score[1]);
+      false_json += buffer;
     }
+    std::vector<MissRecord> misses;
     ExplainMisses(models, truth.objects, *result, *pipeline, name.c_str(), verbose, &causes,
-                  kMaxPositionErrorMm, kMaxRotationErrorDeg);
-    char buffer[256];
+                  kMaxPositionErrorMm, kMaxRotationErrorDeg, &misses, search.get(), &trace);
+    std::string missed_json;
+    for (const MissRecord& miss : misses) {
+      char buffer[768];
+      std::snprintf(buffer, sizeof(buffer),
+                    "%s{\"model\": \"%s\", \"visible\": %.3f, \"cause\": \"%s\", "
+                    "\"verify_at_truth\": [%.3f, %.3f], \"support_at_truth\": %.3f, "
+                    "\"own_bases\": %d, \"first_own_rank\": %d, \"good_bases\": %d, "
+                    "\"first_good_rank\": %d, \"candidates\": %d, \"near_hypotheses\": %d, "
+                    "\"refined_close\": %d, \"too_close\": %d, \"rejected\": %d, "
+                    "\"verified\": %d, \"lost_to\": \"%s\"}",
+                    missed_json.empty() ? "" : ", ",
+                    models[truth.objects[miss.truth_index].model].name,
+                    truth.visible[miss.truth_index], miss.cause, miss.verify_score[0],
+                    miss.verify_score[1], miss.support, miss.own_bases, miss.first_own_rank,
+                    miss.good_bases, miss.first_good_rank, miss.candidates, miss.near_hypotheses,
+                    miss.refined_close, miss.too_close, miss.rejected, miss.verified, miss.lost_to);
+      missed_json += buffer;
+    }
+    char buffer[512];
     std::snprintf(buffer, sizeof(buffer),
-                  "%s\n    {\"scene\": \"%s\", \"objects\": %zu, \"correct\": %d, "
-                  "\"false_alarms\": %d, \"total_ms\": %.2f}",
-                  scene_json.empty() ? "" : ",", name.c_str(), truth.objects.size(), m.correct,
-                  m.false_alarms, result->time.total_ms);
+                  "%s\n    {\"scene\": \"%s\", \"background\": \"%s\", \"occlusion\": \"%s\", "
+                  "\"objects\": %zu, \"correct\": %d, \"false_alarms\": %d, \"total_ms\": %.2f, "
+                  "\"points3d\": %u, \"lines3d\": %u, \"scene_bases_tried\": %u, ",
+                  scene_json.empty() ? "" : ",", name.c_str(), truth.background.c_str(),
+                  truth.occlusion.c_str(), truth.objects.size(), m.correct, m.false_alarms,
+                  result->time.total_ms, result->points3d, result->lines3d,
+                  result->recognition.scene_bases_tried);
     scene_json += buffer;
+    scene_json += "\"missed\": [" + missed_json + "], \"false\": [" + false_json + "]}";
   }
 
   std::printf(
@@ -438,8 +482,9 @@ int RunBenchRecorded(int argc, char** argv) {
         "\"worst_ms\": %.2f, \"miss_causes\": {\"no_edges\": %d, \"no_3d\": %d, "
         "\"not_searched\": %d}},\n",
         scenes.size(), total.objects, total.correct, total.missed, total.false_alarms, correct_pct,
-        false_pct, Median(total.t_err_mm), Median(total.r_err_deg), Median(total.time_ms),
-        Max(total.time_ms), causes.no_edges, causes.no_3d, causes.not_searched);
+        false_pct, Median(total.t_err_mm), Median(total.r_err_deg), Median(total.feature_t_err_mm),
+        Median(total.feature_r_err_deg), Median(total.time_ms), Max(total.time_ms), causes.no_edges,
+        causes.no_3d, causes.not_searched);
     std::string json = "{\n  \"command\": \"" + CommandLine(argc, argv) + "\",\n";
     json += "  \"table\": \"" + (table.present ? table.source : std::string("none")) + "\",\n";
     json += summary;

@@ -23,11 +23,13 @@ void PrintHelp() {
       "usage: stereohash recognize --calib CALIB.yaml --left L.png --right R.png\n"
       "                            [--json OUT.json] [--overlay OUT.png] [--tables TABLES.bin]\n"
       "                            [--table TABLE.yaml] [--budget-ms N] [--background dark|light]\n"
-      "                            [--threads N]\n"
+      "                            [--threads N] [--overlay-features OUT.png]\n"
       "Recognises the reference objects in a calibrated stereo pair (PNG or PGM, grey or colour)\n"
       "and prints their poses: x_cam = R x_model + t, model and left-camera millimetres.\n"
       "  --json        write {\"objects\": [...], \"features\": {...}, \"time_ms\": {...}, ...}\n"
       "  --overlay     write left | right with the recognised models' visible edges (RGB PNG)\n"
+      "  --overlay-features  write left | right with what the detectors found: edge pixels\n"
+      "                (blue), line segments (yellow), corners (green: paired into a 3-D point)\n"
       "  --scene DIR   a recorded pair instead of --left/--right: DIR/left.png and right.png (or\n"
       "                .pgm) of a recorded-scenes set or a firmware recording; --calib and\n"
       "                --table default to calib.yaml and table.yaml beside DIR\n"
@@ -85,6 +87,7 @@ int RunRecognize(int argc, char** argv) {
   const char* right_path = nullptr;
   const char* json_path = nullptr;
   const char* overlay_path = nullptr;
+  const char* features_overlay_path = nullptr;
   const char* scene_dir = nullptr;
   RecognizeOptions options;
   for (int i = 1; i < argc; ++i) {
@@ -106,6 +109,8 @@ int RunRecognize(int argc, char** argv) {
       json_path = value;
     } else if (std::strcmp(arg, "--overlay") == 0) {
       overlay_path = value;
+    } else if (std::strcmp(arg, "--overlay-features") == 0) {
+      features_overlay_path = value;
     } else if (std::strcmp(arg, "--scene") == 0) {
       scene_dir = value;
     } else {
@@ -173,6 +178,13 @@ int RunRecognize(int argc, char** argv) {
     s = BuildOverlay(*pipeline, *result, left.view, right.view, &rgb, &w, &h);
     if (s.ok()) s = hal::WritePngRgb(overlay_path, rgb.data(), w, h, 3 * w);
     if (!s.ok()) return Fail("overlay %s: %s", overlay_path, s.message());
+  }
+  if (features_overlay_path != nullptr) {
+    std::vector<uint8_t> rgb;
+    int w = 0, h = 0;
+    s = BuildFeatureOverlay(*pipeline, left.view, right.view, &rgb, &w, &h);
+    if (s.ok()) s = hal::WritePngRgb(features_overlay_path, rgb.data(), w, h, 3 * w);
+    if (!s.ok()) return Fail("overlay %s: %s", features_overlay_path, s.message());
   }
   return 0;
 }

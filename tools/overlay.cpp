@@ -1,5 +1,7 @@
 #include "tools/overlay.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -128,8 +130,26 @@ Rgb8 ObjectColour(int i) {
   return kColours[i % (sizeof(kColours) / sizeof(kColours[0]))];
 }
 
-Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, ConstGrayView left,
-                    ConstGrayView right, std::vector<uint8_t>* rgb, int* width, int* height) {
+namespace {
+
+// The left | right halves of an overlay buffer.
+struct Halves {
+  ImageView<Rgb8> half[2];
+};
+
+Result<Halves> SplitOverlay(std::vector<uint8_t>* rgb, int width, int height) {
+  if (width % 2 != 0 || rgb->size() != size_t(width) * size_t(height) * 3) {
+    return Status::Error(StatusCode::kInvalidArgument, "overlay buffer is not %d x %d RGB", width,
+                         height);
+  }
+  const int w = width / 2;
+  Rgb8* data = reinterpret_cast<Rgb8*>(rgb->data());
+  return Halves{{{data, w, height, width}, {data + w, w, height, width}}};
+}
+
+// The two images side by side, dimmed by `dim_num` / 4 so that coloured marks stand out.
+Status DimmedPair(ConstGrayView left, ConstGrayView right, int dim_num, std::vector<uint8_t>* rgb,
+                  int* width, int* height) {
   if (left.empty() || right.empty() || left.width != right.width || left.height != right.height) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "overlay needs two non-empty images of the same size");
@@ -139,18 +159,51 @@ Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, Cons
   *height = h;
   rgb->assign(size_t(*width) * h * 3, 0);
   ImageView<Rgb8> all{reinterpret_cast<Rgb8*>(rgb->data()), *width, h, *width};
-  // The images dimmed a little so that the coloured edges stand out.
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
-      const uint8_t l = static_cast<uint8_t>(left.at(x, y) * 3 / 4);
-      const uint8_t r = static_cast<uint8_t>(right.at(x, y) * 3 / 4);
+      const uint8_t l = static_cast<uint8_t>(left.at(x, y) * dim_num / 4);
+      const uint8_t r = static_cast<uint8_t>(right.at(x, y) * dim_num / 4);
       all.at(x, y) = {l, l, l};
       all.at(w + x, y) = {r, r, r};
     }
   }
+  return Status::Ok();
+}
+
+void DrawSegment(ImageView<Rgb8> image, float x0, float y0, float x1, float y1, Rgb8 colour) {
+  const int n = static_cast<int>(std::max(std::fabs(x1 - x0), std::fabs(y1 - y0))) + 1;
+  for (int i = 0; i <= n; ++i) {
+    const float f = float(i) / float(n);
+    Put(image, static_cast<int>(std::lround(x0 + f * (x1 - x0))),
+        static_cast<int>(std::lround(y0 + f * (y1 - y0))), colour);
+  }
+}
+
+}  // namespace
+
+Status DrawLabelledModel(const Pipeline& pipeline, const PosedModel& posed,
+                         const PosedModel* occluders, size_t n_occluders, const char* label,
+                         Rgb8 colour, std::vector<uint8_t>* rgb, int width, int height) {
+  SH_ASSIGN_OR_RETURN(const Halves halves, SplitOverlay(rgb, width, height));
   const StereoCalibration& calib = pipeline.calibration();
   const ViewCamera views[2] = {LeftView(calib), RightView(calib)};
-  const ImageView<Rgb8> halves[2] = {{all.data, w, h, *width}, {all.data + w, w, h, *width}};
+  for (int v = 0; v < 2; ++v) {
+    SH_RETURN_IF_ERROR(
+        DrawPosedModel(views[v], posed, occluders, n_occluders, halves.half[v], colour));
+    const Eigen::Vector3f centre =
+        views[v].cam_T_left * (posed.cam_T_model * ModelCentre(*posed.model));
+    Eigen::Vector2d px;
+    if (!ProjectToPixel(views[v].intrinsics, centre.cast<double>(), &px)) continue;
+    const int scale = 2;
+    DrawText(halves.half[v], static_cast<int>(px.x()) - TextWidth(label, scale) / 2,
+             static_cast<int>(px.y()) - 7 * scale / 2, label, scale, colour);
+  }
+  return Status::Ok();
+}
+
+Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, ConstGrayView left,
+                    ConstGrayView right, std::vector<uint8_t>* rgb, int* width, int* height) {
+  SH_RETURN_IF_ERROR(DimmedPair(left, right, 3, rgb, width, height));
   const TableView& table = pipeline.table();
   const size_t n = result.objects.size();
   PosedModel posed[kMaxObjects];
@@ -164,18 +217,44 @@ Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, Cons
     for (size_t k = 0; k < n && n_occluders < kMaxOccluders; ++k) {
       if (k != i) occluders[n_occluders++] = posed[k];
     }
-    const Rgb8 colour = ObjectColour(static_cast<int>(i));
-    for (int v = 0; v < 2; ++v) {
-      SH_RETURN_IF_ERROR(
-          DrawPosedModel(views[v], posed[i], occluders, n_occluders, halves[v], colour));
-      const Eigen::Vector3f centre =
-          views[v].cam_T_left * (posed[i].cam_T_model * ModelCentre(*posed[i].model));
-      Eigen::Vector2d px;
-      if (!ProjectToPixel(views[v].intrinsics, centre.cast<double>(), &px)) continue;
-      const char* name = posed[i].model->name;
-      const int scale = 2;
-      DrawText(halves[v], static_cast<int>(px.x()) - TextWidth(name, scale) / 2,
-               static_cast<int>(px.y()) - 7 * scale / 2, name, scale, colour);
+    SH_RETURN_IF_ERROR(DrawLabelledModel(pipeline, posed[i], occluders, n_occluders,
+                                         posed[i].model->name, ObjectColour(static_cast<int>(i)),
+                                         rgb, *width, *height));
+  }
+  return Status::Ok();
+}
+
+Status BuildFeatureOverlay(const Pipeline& pipeline, ConstGrayView left, ConstGrayView right,
+                           std::vector<uint8_t>* rgb, int* width, int* height) {
+  SH_RETURN_IF_ERROR(DimmedPair(left, right, 2, rgb, width, height));
+  SH_ASSIGN_OR_RETURN(const Halves halves, SplitOverlay(rgb, *width, *height));
+  const ImageFeatures* features[2] = {&pipeline.left_features(), &pipeline.right_features()};
+  // Corners that stereo paired into at least one 3-D point.
+  std::vector<uint8_t> paired[2] = {std::vector<uint8_t>(features[0]->corners.size(), 0),
+                                    std::vector<uint8_t>(features[1]->corners.size(), 0)};
+  for (const ScenePoint& p : pipeline.scene().points) {
+    if (p.source.left < paired[0].size()) paired[0][p.source.left] = 1;
+    if (p.source.right < paired[1].size()) paired[1][p.source.right] = 1;
+  }
+  for (int v = 0; v < 2; ++v) {
+    const ImageView<Rgb8>& image = halves.half[v];
+    const EdgeMapView& edges = features[v]->edges;
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        if (edges.edge.row(y)[x] != 0) image.at(x, y) = {40, 90, 255};
+      }
+    }
+    for (const Line2D& line : features[v]->lines) {
+      for (const Segment2D& seg : line.segments) {
+        DrawSegment(image, seg.x0, seg.y0, seg.x1, seg.y1, {255, 230, 40});
+      }
+    }
+    for (size_t i = 0; i < features[v]->corners.size(); ++i) {
+      const Corner2D& c = features[v]->corners[i];
+      const Rgb8 colour = paired[v][i] ? Rgb8{40, 255, 40} : Rgb8{255, 40, 40};
+      const float x = c.x_px, y = c.y_px;
+      DrawSegment(image, x - 3, y, x + 3, y, colour);
+      DrawSegment(image, x, y - 3, x, y + 3, colour);
     }
   }
   return Status::Ok();

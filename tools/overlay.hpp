@@ -27,4 +27,16 @@ Rgb8 ObjectColour(int i);
 Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, ConstGrayView left,
                     ConstGrayView right, std::vector<uint8_t>* rgb, int* width, int* height);
 
+// The detectors' output of one processed frame, left | right (2 w x h RGB, packed rows), for
+// commissioning and diagnosis: edge pixels in blue, the supported segments of the Hough lines in
+// yellow, corners as crosses, green when stereo paired them into a 3-D point, red otherwise.
+Status BuildFeatureOverlay(const Pipeline& pipeline, ConstGrayView left, ConstGrayView right,
+                           std::vector<uint8_t>* rgb, int* width, int* height);
+
+// Draws a posed model's visible edges (hidden by `occluders`) into the left | right overlay of
+// `pipeline`'s calibration, labelled with `label` at the model's centre.
+Status DrawLabelledModel(const Pipeline& pipeline, const PosedModel& posed,
+                         const PosedModel* occluders, size_t n_occluders, const char* label,
+                         Rgb8 colour, std::vector<uint8_t>* rgb, int width, int height);
+
 }  // namespace sh::tools

@@ -374,6 +374,8 @@ bool Recognizer::TooCloseToAccepted(const RigidTransform& cam_T_model,
   return false;
 }
 
+using Outcome = SearchObserver::Outcome;
+
 Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, const Budget& budget,
                              Vector<RecognizedObject>& objects, RecognitionStats* stats_out) {
   RecognitionStats stats;
@@ -408,7 +410,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     if (ActiveFeatureCount() < config_.min_active_features) break;
     if (fruitless >= config_.max_fruitless_bases) break;
 
-    ++stats.scene_bases_tried;
+    const uint32_t basis_number = stats.scene_bases_tried++;
     stats.hypotheses += VoteForBasis(basis, hypotheses);
     ++fruitless;
     // Every hypothesis of this basis is refined and verified; the best supported one wins
@@ -420,12 +422,15 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
       const Model& model = table_.model(h.model);
       refine_in.model = &model;
       const RefineResult refined = RefinePose(refine_in, h.cam_T_model, config_.refine);
-      if (TooCloseToAccepted(refined.cam_T_model, objects)) continue;
       RecognizedObject candidate;
       candidate.model = h.model;
       candidate.cam_T_model = refined.cam_T_model;
       candidate.vote = h.vote;
       candidate.fit_rms_mm = refined.rms_mm;
+      if (TooCloseToAccepted(refined.cam_T_model, objects)) {
+        if (observer_) observer_->OnHypothesis(basis_number, h, candidate, Outcome::kTooClose);
+        continue;
+      }
       // The verifier counts support within a tighter gate than refinement used: clutter near a
       // wrong pose easily falls within 2 sigma, rarely within 1.
       Correspondences tight;
@@ -434,7 +439,12 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
       candidate.matched_points = uint16_t(tight.matched_points);
       candidate.matched_lines = uint16_t(tight.matched_lines);
       ++stats.verifications;
-      if (!verifier.Verify(model, objects, candidate)) continue;
+      const bool verified = verifier.Verify(model, objects, candidate);
+      if (observer_) {
+        observer_->OnHypothesis(basis_number, h, candidate,
+                                verified ? Outcome::kVerified : Outcome::kRejected);
+      }
+      if (!verified) continue;
       const float support = candidate.verify_evidence;
       if (support > best_support) {
         best_support = support;
@@ -449,6 +459,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
         break;
       }
       ++stats.accepted;
+      if (observer_) observer_->OnAccepted(basis_number, best);
       fruitless = 0;
       RemoveObjectFeatures(table_.model(best.model), best_matches);
     }

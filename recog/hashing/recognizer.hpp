@@ -111,6 +111,20 @@ class SceneSupportVerifier : public HypothesisVerifier {
   int min_features_;
 };
 
+// Sees the steps of the search, for diagnosis (the bench tools explain misses with it);
+// recognition never needs one.
+class SearchObserver {
+ public:
+  enum class Outcome : uint8_t { kTooClose, kRejected, kVerified };
+  virtual ~SearchObserver() = default;
+  // A hypothesis of the scene basis tried as number `basis_number` (from 0), refined into
+  // `candidate`, and what became of it.
+  virtual void OnHypothesis(uint32_t basis_number, const Hypothesis& h,
+                            const RecognizedObject& candidate, Outcome outcome) = 0;
+  // The object accepted from that scene basis.
+  virtual void OnAccepted(uint32_t basis_number, const RecognizedObject& object) = 0;
+};
+
 struct Budget {
   uint32_t max_scene_bases = 0xffffffffu;
   int64_t deadline_ns = 0;        // 0: no deadline
@@ -131,6 +145,8 @@ class Recognizer {
  public:
   Status Init(const TableView& table, const RecognizerConfig& config);
   const RecognizerConfig& config() const { return config_; }
+  // Diagnosis only: `observer` (may be null) sees every hypothesis of later searches.
+  void SetObserver(SearchObserver* observer) { observer_ = observer; }
   const TableView& table() const { return table_; }
 
   // Recognises objects in `scene`; `objects` is cleared first. No heap allocation.
@@ -165,6 +181,7 @@ class Recognizer {
   float inv_sigma2_point_ = 0, inv_sigma2_line_ = 0;
   float point_reach_mm_ = 0, line_reach_mm_ = 0;
   const Scene* scene_ = nullptr;
+  SearchObserver* observer_ = nullptr;
 
   // Per scene.
   uint8_t point_active_[kMaxScenePoints];

@@ -131,6 +131,8 @@ class Pipeline {
   const StereoCalibration& calibration() const;
   const PipelineConfig& config() const { return config_; }
   int threads() const { return pool_.threads(); }
+  // Diagnosis only (bench tools): sees every hypothesis of the following frames' searches.
+  void SetSearchObserver(SearchObserver* observer) { recognizer_.SetObserver(observer); }
   const ImageFeatures& left_features() const { return features_[0]; }
   const ImageFeatures& right_features() const { return features_[1]; }
 

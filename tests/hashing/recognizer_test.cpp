@@ -152,6 +152,55 @@ TEST_F(RecognizerTest, ReportsOnlyVerifiedObjects) {
   EXPECT_FALSE(stats.budget_exhausted);
 }
 
+// The observer sees every verified, rejected or too-close hypothesis and every acceptance, in the
+// order of the scene bases tried; without one the result is the same.
+TEST_F(RecognizerTest, ObserverSeesEveryHypothesisAndAcceptance) {
+  class Recorder : public SearchObserver {
+   public:
+    void OnHypothesis(uint32_t basis_number, const Hypothesis&, const RecognizedObject&,
+                      Outcome outcome) override {
+      EXPECT_GE(basis_number, last_basis);
+      last_basis = basis_number;
+      ++hypotheses;
+      verified += outcome == Outcome::kVerified;
+      checked += outcome != Outcome::kTooClose;
+    }
+    void OnAccepted(uint32_t basis_number, const RecognizedObject& object) override {
+      EXPECT_EQ(basis_number, last_basis);
+      accepted.push_back(object.model);
+    }
+    uint32_t last_basis = 0;
+    int hypotheses = 0, verified = 0, checked = 0;
+    std::vector<int> accepted;
+  };
+  auto recognizer = MakeRecognizer(view_);
+  SyntheticSceneParams p;
+  p.min_objects = p.max_objects = 3;
+  p.total_features = 200;
+  GenerateSyntheticScene(models_, p, 21, synthetic_.get());
+  SceneSupportVerifier verifier;
+  RecognitionStats plain;
+  ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, verifier, Budget{}, objects_, &plain).ok());
+  const std::vector<RecognizedPose> without = Poses(objects_);
+
+  Recorder recorder;
+  recognizer->SetObserver(&recorder);
+  RecognitionStats stats;
+  ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, verifier, Budget{}, objects_, &stats).ok());
+  recognizer->SetObserver(nullptr);
+  ASSERT_FALSE(objects_.empty());
+  EXPECT_EQ(uint32_t(recorder.checked), stats.verifications);
+  EXPECT_GE(recorder.hypotheses, recorder.checked);
+  EXPECT_GE(recorder.verified, int(objects_.size()));
+  ASSERT_EQ(recorder.accepted.size(), objects_.size());
+  for (size_t i = 0; i < objects_.size(); ++i) EXPECT_EQ(recorder.accepted[i], objects_[i].model);
+  EXPECT_EQ(stats.verifications, plain.verifications);
+  ASSERT_EQ(without.size(), objects_.size());
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    EXPECT_TRUE(without[i].cam_T_model.t_mm.isApprox(objects_[i].cam_T_model.t_mm));
+  }
+}
+
 // Removing an object takes every 3-D feature that shares a 2-D feature with it.
 TEST_F(RecognizerTest, RemovesFeaturesSharingTwoDimensionalSources) {
   auto recognizer = MakeRecognizer(view_);

@@ -87,7 +87,8 @@ std::string* RecognizeToolTest::dir_ = nullptr;
 
 TEST_F(RecognizeToolTest, JsonMatchesTheRenderedTruth) {
   const ToolRun r = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) +
-                            " --json " + Path("out.json") + " --overlay " + Path("overlay.png"));
+                            " --json " + Path("out.json") + " --overlay " + Path("overlay.png") +
+                            " --overlay-features " + Path("features.png"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("recognised"), std::string::npos) << r.output;
 
@@ -146,20 +147,22 @@ TEST_F(RecognizeToolTest, JsonMatchesTheRenderedTruth) {
     EXPECT_LE(t[stage].number, t["total"].number + 1e-3) << stage;
   }
 
-  // The overlay is an RGB PNG of both images side by side.
-  const std::string png = ReadText(Path("overlay.png"));
-  ASSERT_GT(png.size(), 33u);
-  EXPECT_EQ(png.substr(1, 3), "PNG");
-  const auto be32 = [&](size_t at) {
-    return (uint32_t(uint8_t(png[at])) << 24) | (uint32_t(uint8_t(png[at + 1])) << 16) |
-           (uint32_t(uint8_t(png[at + 2])) << 8) | uint32_t(uint8_t(png[at + 3]));
-  };
+  // Both overlays are RGB PNGs of both images side by side.
   auto calib_text = ReadText(Path("calib.yaml"));
   const size_t w_at = calib_text.find("image_width:");
   ASSERT_NE(w_at, std::string::npos);
   const int width = std::atoi(calib_text.c_str() + w_at + 12);
-  EXPECT_EQ(be32(16), uint32_t(2 * width));
-  EXPECT_EQ(uint8_t(png[25]), 2);  // colour type RGB
+  for (const char* name : {"overlay.png", "features.png"}) {
+    const std::string png = ReadText(Path(name));
+    ASSERT_GT(png.size(), 33u) << name;
+    EXPECT_EQ(png.substr(1, 3), "PNG") << name;
+    const auto be32 = [&](size_t at) {
+      return (uint32_t(uint8_t(png[at])) << 24) | (uint32_t(uint8_t(png[at + 1])) << 16) |
+             (uint32_t(uint8_t(png[at + 2])) << 8) | uint32_t(uint8_t(png[at + 3]));
+    };
+    EXPECT_EQ(be32(16), uint32_t(2 * width)) << name;
+    EXPECT_EQ(uint8_t(png[25]), 2) << name;  // colour type RGB
+  }
 }
 
 TEST_F(RecognizeToolTest, MissingFileIsAClearError) {
@@ -298,6 +301,22 @@ TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
   EXPECT_GE(summary["false_alarms"].number, 0);
   EXPECT_EQ(bench["scenes"].size(), 2u);
   EXPECT_EQ(bench["visibility"].size(), 3u);
+  // Each figure in its own field: errors of millimetres, times with the worst above the median.
+  EXPECT_LT(summary["feature_median_t_err_mm"].number, 5.0);
+  EXPECT_LT(summary["feature_median_r_err_deg"].number, 5.0);
+  EXPECT_GE(summary["worst_ms"].number, summary["median_ms"].number);
+  // Every scene lists its misses (with their causes) and false alarms; together they add up.
+  double listed_misses = 0;
+  for (const Json& scene : bench["scenes"].items) {
+    ASSERT_EQ(scene["missed"].type, Json::kArray);
+    ASSERT_EQ(scene["false"].type, Json::kArray);
+    listed_misses += double(scene["missed"].size());
+    for (const Json& miss : scene["missed"].items) {
+      EXPECT_FALSE(miss["cause"].text.empty());
+      EXPECT_GE(miss["visible"].number, 0.0);
+    }
+  }
+  EXPECT_EQ(listed_misses, summary["missed"].number);
 
   // With the set's table file it is used and named; --no-table ignores it.
   WriteText(set + "/table.yaml", ReadText(set + "/scene00/table.yaml"));
