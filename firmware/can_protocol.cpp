@@ -593,7 +593,9 @@ uint8_t ErrorRegisterFor(uint16_t error_code) {
   uint8_t reg = 0x01;  // generic error: set whenever any error is present
   const uint16_t group = error_code & 0xF000;
   if (group == 0x8000) reg |= 0x10;
-  if (group == 0x5000 || group == 0x6000 || group == 0x7000) reg |= 0x80;
+  if (group == 0x5000 || group == 0x6000 || group == 0x7000 || (error_code & 0xFF00) == 0xFF00) {
+    reg |= 0x80;
+  }
   return reg;
 }
 

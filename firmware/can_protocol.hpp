@@ -237,6 +237,7 @@ enum class EmcyCode : uint16_t {
   kRecoveredFromBusOff = 0x8140,
   kProtocolError = 0x8200,   // command rejected: unknown code or value out of range
   kPdoLengthError = 0x8210,  // command frame too short
+  kRecording = 0xFF10,       // manufacturer-specific: a recorded pair could not be written
 };
 
 enum class FirmwareState : uint8_t {
@@ -254,7 +255,7 @@ struct Emcy {
 };
 
 // CiA 301 error register: bit 0 generic (any error), bit 4 communication (0x8xxx),
-// bit 7 manufacturer-specific (0x5000, 0x6xxx, 0x7xxx). 0 for kNoError.
+// bit 7 manufacturer-specific (0x5000, 0x6xxx, 0x7xxx, 0xFFxx). 0 for kNoError.
 uint8_t ErrorRegisterFor(uint16_t error_code);
 Result<CanFrame> EncodeEmcy(const Emcy& emcy, uint8_t node_id);
 Result<Emcy> DecodeEmcy(const CanFrame& frame, uint8_t node_id);

@@ -2,13 +2,13 @@
 # libraries so the tests drive them in-process; Linux backends are linked where they were found.
 stereohash_module(stereohash_fw_core
   SOURCES fw_config.cpp firmware_core.cpp canopen_node.cpp output_frame.cpp node_id_file.cpp
-          data_source.cpp realtime.cpp sd_notify.cpp
+          recorder.cpp data_source.cpp realtime.cpp sd_notify.cpp
   HEADERS fw_config.hpp firmware_core.hpp canopen_node.hpp output_frame.hpp node_id_file.hpp
-          data_source.hpp recognition.hpp realtime.hpp sd_notify.hpp
+          recorder.hpp data_source.hpp recognition.hpp realtime.hpp sd_notify.hpp
   PUBLIC stereohash_can_protocol stereohash_canopen stereohash_hal_can stereohash_hal_gpio
          stereohash_hal_camera stereohash_tables stereohash_default_tables stereohash_camera
          stereohash_geometry stereohash_base stereohash_embedded_flags Threads::Threads
-  PRIVATE stereohash_pipeline)
+  PRIVATE stereohash_pipeline stereohash_image_files)
 
 # The simulator's pieces of the firmware: ground-truth recognition and the simulator's defaults.
 stereohash_module(stereohash_fw_sim

@@ -212,6 +212,17 @@ void FirmwareCore::RaiseFault(uint32_t bit, uint16_t code, uint32_t detail) {
   SendEmcyFrame(canopen_.Raise(bit, code, detail));
 }
 
+void FirmwareCore::OnRecordFailed(int error_number) {
+  Log("recording: a pair could not be written (errno %d); recording continues", error_number);
+  SendEmcyFrame(canopen_.Raise(kWarningRecording, static_cast<uint16_t>(EmcyCode::kRecording),
+                               static_cast<uint32_t>(error_number)));
+}
+
+void FirmwareCore::OnRecordRecovered() {
+  Log("recording: pairs are written again");
+  ClearConditions(kWarningRecording);
+}
+
 void FirmwareCore::ClearConditions(uint32_t bits) {
   canopen::EmcyMessage reset;
   if (bits != 0 && canopen_.ClearConditions(bits, &reset)) SendEmcyFrame(reset);
@@ -433,6 +444,8 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
   busy_ = false;
   UpdateState();
   PublishResult(&set, &frame);
+  // A copy for the recorder's writer thread (no heap, never waits); a full ring drops the pair.
+  if (dev_.recorder != nullptr) (void)dev_.recorder->Submit(frame, set);
   if (!processed.ok()) {
     SendEmcy(static_cast<uint16_t>(EmcyCode::kSoftware), static_cast<uint32_t>(processed.code())
                                                              << 16);

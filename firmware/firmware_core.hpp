@@ -26,6 +26,7 @@
 #include "firmware/can_protocol.hpp"
 #include "firmware/canopen_node.hpp"
 #include "firmware/recognition.hpp"
+#include "firmware/recorder.hpp"
 #include "hal/camera.hpp"
 #include "hal/can.hpp"
 #include "hal/gpio.hpp"
@@ -77,6 +78,7 @@ enum FaultBits : uint32_t {
 };
 enum WarningBits : uint32_t {
   kWarningCanErrorPassive = 1u << 16,
+  kWarningRecording = 1u << 17,  // record_dir: pairs cannot be written (full disk)
 };
 
 struct CoreConfig {
@@ -104,6 +106,7 @@ struct CoreDevices {
   DataSource* data = nullptr;
   CoreObserver* observer = nullptr;        // may be null
   canopen::LssStore* lss_store = nullptr;  // may be null: LSS store is answered "not supported"
+  Recorder* recorder = nullptr;            // may be null: no recording
 };
 
 struct CoreCounters {
@@ -120,10 +123,10 @@ struct CoreCounters {
 
 inline constexpr size_t kTriggerQueueDepth = 8;
 
-class FirmwareCore {
+class FirmwareCore final : public RecorderObserver {
  public:
   FirmwareCore() = default;
-  ~FirmwareCore() { Stop(); }
+  ~FirmwareCore() override { Stop(); }
   FirmwareCore(const FirmwareCore&) = delete;
   FirmwareCore& operator=(const FirmwareCore&) = delete;
 
@@ -146,6 +149,11 @@ class FirmwareCore {
   uint8_t node_id() const { return node_.load(); }
   uint32_t heartbeat_ms() const { return heartbeat_ms_.load(); }
   const CanopenNode& canopen() const { return canopen_; }
+
+  // The recorder's writer could not write a pair (errno) / writes again: a warning (EMCY 0xFF10,
+  // error register bit 7), not a fault.
+  void OnRecordFailed(int error_number) override;
+  void OnRecordRecovered() override;
 
   // Same path as a CAN trigger with request id 0 / a GPIO edge (tests, demo). With `accepted_ack`
   // the OK ack of that command is sent before the worker can see the trigger, so a PLC always

@@ -181,6 +181,7 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
   if (is("handeye")) return string_key(c->handeye_path, sizeof(c->handeye_path));
   if (is("record_dir")) return string_key(c->record_dir, sizeof(c->record_dir));
   if (is("record_max")) return int_key(1, kMaxRecordPairs, &c->record_max);
+  if (is("record_format")) return choice_key("png", "pgm", &c->record_pgm);
   if (is("camera_left_id")) return string_key(c->camera_left_id, sizeof(c->camera_left_id));
   if (is("camera_right_id")) return string_key(c->camera_right_id, sizeof(c->camera_right_id));
   if (is("camera_left_index")) return int_key(0, 15, &c->camera_left_index);

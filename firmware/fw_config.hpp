@@ -84,6 +84,7 @@ struct FwConfig {
   // Recording of triggered pairs with their results (record_dir "" = off).
   char record_dir[kConfigPathMax] = "";
   int record_max = 100;  // the last N pairs are kept
+  bool record_pgm = false;  // record_format = pgm
 
   // GPIO (linux backend; -1 = not wired).
   char gpio_chip[kConfigNameMax] = "gpiochip0";

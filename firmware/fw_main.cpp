@@ -23,6 +23,7 @@
 #include "firmware/fw_config.hpp"
 #include "firmware/node_id_file.hpp"
 #include "firmware/realtime.hpp"
+#include "firmware/recorder.hpp"
 #include "firmware/sd_notify.hpp"
 #include "firmware/truth_recognition.hpp"
 #include "hal/can_log.hpp"
@@ -581,8 +582,40 @@ int main(int argc, char** argv) {
   devices.data = data.get();
   devices.observer = &reporter;
   static FirmwareCore core;
+
+  // Recording of the triggered pairs. A recording that cannot start (directory not writable)
+  // leaves the sensor working and says so with the recording warning.
+  static Recorder recorder;
+  Status recording = Status::Ok();
+  if (config.record_dir[0] != '\0') {
+    static const char* names[canopen::kMaxModelNames] = {};
+    int n_names = 0;
+    const Result<TableView> t = data->LoadTable();
+    if (t.ok()) {
+      for (uint32_t m = 0; m < t->model_count() && m < canopen::kMaxModelNames; ++m) {
+        names[n_names++] = t->model(m).name;
+      }
+    }
+    const Result<StereoCalibration> calib = data->LoadCalibration();
+    RecorderConfig rc;
+    rc.directory = config.record_dir;
+    rc.max_pairs = config.record_max;
+    rc.pgm = config.record_pgm;
+    rc.output_frame = canopen::OutputFrameName(output_frame);
+    rc.model_names = names;
+    rc.model_count = n_names;
+    recording = calib.ok()
+                    ? recorder.Start(rc, *calib, table_known ? &left_T_table : nullptr, &core)
+                    : calib.status();
+    if (recording.ok()) {
+      devices.recorder = &recorder;
+    } else {
+      std::fprintf(stderr, "stereohash-fw: recording off: %s\n", recording.message());
+    }
+  }
   const Status started = core.Start(cc, devices);
   if (!started.ok()) return Fail("start", started);
+  if (!recording.ok()) core.OnRecordFailed(EIO);
   if (data->table().model_count() > 0) reporter.PrintModels();
   if (is_sim && config.sim_print_truth) {
     std::printf("READY\n");
@@ -596,6 +629,7 @@ int main(int argc, char** argv) {
 
   (void)notifier.Notify("STOPPING=1");
   core.Stop();
+  recorder.Stop();  // writes what the last triggers submitted
   demo_client.Stop();
   if (is_sim) socketcand.Stop();
   if (candump != nullptr) std::fclose(candump);

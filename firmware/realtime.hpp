@@ -11,7 +11,7 @@ namespace sh::fw {
 
 // Stack bytes each firmware thread touches when it starts (the pipeline's deepest call chain
 // stays far below this; see docs/firmware.md).
-inline constexpr size_t kPrefaultStackBytes = 256 * 1024;
+inline constexpr size_t kPrefaultStackBytes = size_t{256} * 1024;
 
 // mlockall(MCL_CURRENT | MCL_FUTURE). kUnavailable with the reason when not permitted
 // (RLIMIT_MEMLOCK, no CAP_IPC_LOCK); the caller logs it and runs on.

@@ -363,3 +363,48 @@ TEST(FirmwareCanopen, PosesAreReportedInTheConfiguredFrame) {
 
 }  // namespace
 }  // namespace sh::testing
+
+namespace sh::testing {
+namespace {
+
+TEST(FirmwareCanopen, RecordingThatCannotBeWrittenIsAWarningNotAFault) {
+  char dir[] = "/tmp/stereohash_fw_record_XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  // The first pair's folder is taken by a file: its write fails, the next ones work.
+  std::FILE* in_the_way = std::fopen((std::string(dir) + "/00000000").c_str(), "w");
+  ASSERT_NE(in_the_way, nullptr);
+  std::fclose(in_the_way);
+  Rig rig;
+  for (CameraIntrinsics* cam : {&rig.calib.left, &rig.calib.right}) {
+    cam->fx = cam->fy = 60;  // a calibration the recorder can write
+    cam->cx = 32;
+    cam->cy = 24;
+  }
+  rig.calib.right_t_left_mm = Eigen::Vector3d(-120, 0, 0);
+  Recorder recorder;
+  RecorderConfig rc;
+  rc.directory = dir;
+  ASSERT_TRUE(recorder.Start(rc, rig.calib, nullptr, &rig.core).ok());
+  rig.recorder = &recorder;
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  rig.Trigger(1);
+  ASSERT_TRUE(rig.WaitSet());
+  std::optional<Emcy> warning = rig.WaitEmcy(uint16_t(EmcyCode::kRecording));
+  ASSERT_TRUE(warning);
+  EXPECT_EQ(warning->error_register, 0x81);
+  EXPECT_EQ(warning->state, FirmwareState::kReady) << "a warning, not a fault";
+  EXPECT_EQ(rig.core.state(), FirmwareState::kReady);
+  rig.Trigger(2);
+  ASSERT_TRUE(rig.WaitSet()) << "triggers still work";
+  std::optional<Emcy> reset = rig.WaitEmcy(uint16_t(EmcyCode::kNoError));
+  ASSERT_TRUE(reset) << "writing works again: error reset";
+  EXPECT_EQ(reset->error_register, 0);
+  rig.core.Stop();
+  recorder.Stop();
+  EXPECT_EQ(recorder.counters().written, 1u);
+  EXPECT_EQ(std::system((std::string("rm -rf ") + dir).c_str()), 0);
+}
+
+}  // namespace
+}  // namespace sh::testing

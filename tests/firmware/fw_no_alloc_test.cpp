@@ -1,11 +1,16 @@
 // After boot the firmware allocates nothing: 100+ triggers (CAN and GPIO) through the whole
 // simulated path (pre-rendered frames, SimCamera pairing, recognition, result encoding, the
-// simulated bus) while every operator new in this process is counted.
+// simulated bus), with the CANopen services in use (the stream and the PDO answers, SDO uploads
+// expedited and segmented) and every pair recorded by the writer thread, while every operator
+// new in this process is counted.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <cstdlib>
 #include <new>
+#include <string>
+
+#include <dirent.h>
 
 #include "firmware/truth_recognition.hpp"
 #include "tests/support/counting_allocator.hpp"
@@ -27,11 +32,7 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
   ASSERT_TRUE(built.ok()) << built.message();
 
   hal::SimCanBus bus;
-  hal::SimCanEndpointConfig fw_config;
-  fw_config.filter_ids[0] = kCobNmt;
-  fw_config.filter_ids[1] = kCobCommand + 1;
-  fw_config.filter_count = 2;
-  hal::SimCanEndpoint* fw = *bus.AddEndpoint(fw_config);
+  hal::SimCanEndpoint* fw = *bus.AddEndpoint(hal::SimCanEndpointConfig{});
   hal::SimCanEndpointConfig plc_config;
   plc_config.name = "plc";
   hal::SimCanEndpoint* plc = *bus.AddEndpoint(plc_config);
@@ -51,13 +52,22 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
   config.heartbeat_ms = 20;
   config.capture_timeout_ms = 500;
   config.budget_ms = 2000;
+  config.result_mode = canopen::ResultMode::kBoth;
+  char record_dir[] = "/tmp/stereohash_record_XXXXXX";
+  ASSERT_NE(mkdtemp(record_dir), nullptr);
+  static Recorder recorder;
+  RecorderConfig rc;
+  rc.directory = record_dir;
+  rc.max_pairs = 20;
   CoreDevices devices;
   devices.can = fw;
   devices.gpio = &gpio;
   devices.camera = &camera;
   devices.recognition = &recognition;
   devices.data = &data;
-  FirmwareCore core;
+  static FirmwareCore core;
+  ASSERT_TRUE(recorder.Start(rc, world.calibration(), nullptr, &core).ok());
+  devices.recorder = &recorder;
   ASSERT_TRUE(core.Start(config, devices).ok());
   ASSERT_EQ(core.state(), FirmwareState::kReady);
 
@@ -76,6 +86,49 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
     }
     return false;
   };
+  // An SDO upload (0x1018 sub 2: expedited; 0x1008: segmented, two segments) and a PDO-mode
+  // request for object 0, each answered before the next trigger.
+  auto wait_for = [&](uint32_t id, int first_byte) {
+    for (int i = 0; i < 2000; ++i) {
+      hal::CanFrame f;
+      Result<bool> got = plc->Receive(&f, 10);
+      if (got.ok() && *got && f.id == id && (first_byte < 0 || f.data[0] == first_byte)) {
+        return true;
+      }
+    }
+    return false;
+  };
+  int services_answered = 0;
+  auto use_services = [&](uint8_t counter) {
+    hal::CanFrame sdo;
+    sdo.id = 0x601;
+    sdo.len = 8;
+    sdo.data[0] = 0x40;
+    sdo.data[1] = 0x18;
+    sdo.data[2] = 0x10;
+    sdo.data[3] = 2;
+    (void)plc->Send(sdo);
+    bool ok = wait_for(0x581, 0x43);
+    sdo.data[1] = 0x08;
+    sdo.data[3] = 0;
+    (void)plc->Send(sdo);
+    ok = ok && wait_for(0x581, 0x41);
+    hal::CanFrame segment;
+    segment.id = 0x601;
+    segment.len = 8;
+    for (uint8_t toggle = 0; toggle < 2; ++toggle) {
+      segment.data[0] = static_cast<uint8_t>(0x60 | toggle << 4);
+      (void)plc->Send(segment);
+      ok = ok && wait_for(0x581, -1);
+    }
+    hal::CanFrame request;
+    request.id = 0x301;
+    request.len = 2;
+    request.data[0] = counter;
+    (void)plc->Send(request);
+    ok = ok && wait_for(0x4C1, -1);
+    services_answered += ok;
+  };
   static ResultSet set;
   hal::CanFrame trigger;
   trigger.id = kCobCommand + 1;
@@ -84,6 +137,7 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
   trigger.data[1] = 1;
   ASSERT_TRUE(plc->Send(trigger).ok());
   ASSERT_TRUE(wait_set(&set));
+  use_services(0);
 
   constexpr int kTriggers = 100;
   int sets = 0, with_objects = 0, ok_status = 0;
@@ -100,15 +154,35 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
       with_objects += set.object_count > 0;
       ok_status += set.status == ResultStatus::kOk;
     }
+    use_services(static_cast<uint8_t>(i + 1));
   }
   const uint64_t allocations = sh::testing::HeapAllocations() - allocations_before;
   core.Stop();
+  recorder.Stop();
+  const RecorderCounters recorded = recorder.counters();
+  int folders = 0;
+  if (DIR* d = opendir(record_dir)) {
+    while (const dirent* e = readdir(d)) folders += e->d_name[0] == '0';
+    closedir(d);
+  }
+  EXPECT_EQ(std::system((std::string("rm -rf ") + record_dir).c_str()), 0);
+  EXPECT_EQ(services_answered, kTriggers + 1);
+  EXPECT_GT(recorded.written, 0u);
+  EXPECT_EQ(recorded.written + recorded.dropped, recorded.submitted);
+  EXPECT_EQ(recorded.failed, 0u);
+  EXPECT_EQ(folders, static_cast<int>(recorded.written < 20 ? recorded.written : 20))
+      << "the last record_max pairs are kept";
   EXPECT_EQ(sets, kTriggers);
   EXPECT_EQ(allocations, 0u) << "heap allocations during " << kTriggers
                              << " triggers with recognition = " << kind;
   EXPECT_GT(with_objects, kTriggers / 2);
-  std::printf("recognition = %s: %d sets, %d with objects, %d status ok, %llu allocations\n", kind,
-              sets, with_objects, ok_status, static_cast<unsigned long long>(allocations));
+  std::printf(
+      "recognition = %s: %d sets, %d with objects, %d status ok, %llu allocations; recorded %llu "
+      "of %llu pairs (%llu dropped: writer behind)\n",
+      kind, sets, with_objects, ok_status, static_cast<unsigned long long>(allocations),
+      static_cast<unsigned long long>(recorded.written),
+      static_cast<unsigned long long>(recorded.submitted),
+      static_cast<unsigned long long>(recorded.dropped));
 }
 
 }  // namespace

@@ -11,6 +11,10 @@ within --max-rotation-deg).
 
 Without --set, a set of --scenes scenes is rendered with `stereohash render` first (CI has no
 recorded sets). Prints one line per scene and a summary.
+
+A second test records: the simulator with record_dir writes its triggered pairs with their
+result.json, and `stereohash recognize --scene` on each recorded pair must give the recorded
+poses (a failure seen on the line reproduces on a desk).
 """
 import argparse
 import json
@@ -145,6 +149,60 @@ class ReplayTest(unittest.TestCase):
                          "firmware results: %d of %d\n%s" % (len(results), count,
                                                              "".join(stderr[-20:])))
         return results
+
+    def test_recording_reproduces_on_a_desk(self):
+        work = tempfile.mkdtemp(prefix="stereohash_record_")
+        try:
+            record = os.path.join(work, "record")
+            config = os.path.join(work, "fw.conf")
+            with open(config, "w") as f:
+                # The working volume recognize uses over a table: 3 mm below to 150 mm above,
+                # 1 m to either side.
+                f.write("\n".join([
+                    "record_dir = %s" % record, "record_max = 50", "free_run_dhz = 50",
+                    "background = %s" % ARGS.background, "budget_ms = 10000",
+                    "volume_frame = table", "volume_min_mm = -1000 -1000 -3",
+                    "volume_max_mm = 1000 1000 150", "sim_scenes = 3", "sim_objects = 3",
+                    "heartbeat_ms = 1000", "sim_port = 0", ""]))
+            proc = subprocess.Popen([ARGS.firmware, "--sim", "--config", config],
+                                    stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+            results = 0
+            for line in proc.stdout:
+                results += line.startswith("RESULT ")
+                if results == ARGS.scenes:
+                    break
+            proc.terminate()  # the recorder writes what was submitted before it stops
+            proc.wait(60)
+            pairs = sorted(p for p in os.listdir(record) if p.isdigit())
+            self.assertGreater(len(pairs), 0, "nothing recorded")
+            worst_mm = worst_deg = 0.0
+            objects = 0
+            for pair in pairs:
+                with open(os.path.join(record, pair, "result.json")) as f:
+                    recorded = json.load(f)
+                out = os.path.join(work, pair + ".json")
+                subprocess.run([ARGS.stereohash, "recognize", "--scene",
+                                os.path.join(record, pair), "--json", out, "--background",
+                                ARGS.background], check=True, stdout=subprocess.DEVNULL)
+                with open(out) as f:
+                    ref = json.load(f)
+                self.assertEqual(sorted(o["model"] for o in recorded["objects"]),
+                                 sorted(o["model"] for o in ref["objects"]), pair)
+                for o in recorded["objects"]:
+                    candidates = [(math.dist(o["t_mm"], r["t"]),
+                                   rotation_between_deg(o["q_wxyz"], matrix_to_quat(r["R"])))
+                                  for r in ref["objects"] if r["model"] == o["model"]]
+                    best = min(candidates)
+                    worst_mm, worst_deg = max(worst_mm, best[0]), max(worst_deg, best[1])
+                    objects += 1
+            print("recording: %d pairs, %d objects; recognize on the recorded pairs differs by at "
+                  "most %.4f mm, %.4f deg" % (len(pairs), objects, worst_mm, worst_deg))
+            sys.stdout.flush()
+            self.assertGreater(objects, 0)
+            self.assertLessEqual(worst_mm, ARGS.max_position_mm)
+            self.assertLessEqual(worst_deg, ARGS.max_rotation_deg)
+        finally:
+            shutil.rmtree(work, ignore_errors=True)
 
     def compare(self, directory, scenes, firmware_results, work):
         worst_mm = worst_deg = 0.0

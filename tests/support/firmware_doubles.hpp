@@ -93,6 +93,7 @@ class Rig {
     d.recognition = &recognition;
     d.data = data.get();
     d.lss_store = lss_store;
+    d.recorder = recorder;
     const Status s = core.Start(config, d);
     ASSERT_TRUE(s.ok()) << s.message();
   }
@@ -225,6 +226,7 @@ class Rig {
   std::unique_ptr<FileDataSource> data;
   CoreConfig config;
   canopen::LssStore* lss_store = nullptr;
+  Recorder* recorder = nullptr;
   FirmwareCore core;
   ResultAssembler assembler{kNode};
   int broken_sets = 0;
