@@ -509,10 +509,12 @@ int main(int argc, char** argv) {
     static Pipeline pipeline;  // tens of MiB: static storage, locked and pre-faulted below
     PipelineRecognitionConfig pc;
     // The board measures its thresholds unless a preset is configured; the simulator keeps the
-    // preset of the background it renders unless `background` says otherwise.
-    pc.automatic = !config.background_set && !is_sim;
+    // preset of the background it renders unless `background` says otherwise. A replayed set
+    // is recognised as the board (and `stereohash recognize`) would.
+    const bool rendered = is_sim && !replay;
+    pc.automatic = !config.background_set && !rendered;
     pc.light_background =
-        config.background_set ? config.light_background : is_sim && config.sim_light_background;
+        config.background_set ? config.light_background : rendered && config.sim_light_background;
     pc.threads = config.threads;
     // The simulator's default box belongs to the rendered table; a replayed set is bounded
     // like `stereohash recognize --table` bounds it, over its own table.
@@ -604,9 +606,12 @@ int main(int argc, char** argv) {
     rc.output_frame = canopen::OutputFrameName(output_frame);
     rc.model_names = names;
     rc.model_count = n_names;
-    recording = calib.ok()
-                    ? recorder.Start(rc, *calib, table_known ? &left_T_table : nullptr, &core)
-                    : calib.status();
+    // table.yaml only for a configured table: recognition checks hypotheses against it, so a
+    // recording replays as recognised (the rendered rig's table only bounds the volume).
+    const bool table_configured = config.table_file[0] != '\0' || config.table_pose_set;
+    recording = calib.ok() ? recorder.Start(rc, *calib, table_configured ? &left_T_table : nullptr,
+                                            &core)
+                           : calib.status();
     if (recording.ok()) {
       devices.recorder = &recorder;
     } else {

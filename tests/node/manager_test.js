@@ -196,8 +196,10 @@ async function main() {
         manager.nmt.on('timeout', (id) => timeouts.push(id));
         manager.emcy.on('emergency', ({ cobId, em }) => emcys.push({ cobId, em }));
         const bootUps = [];
+        let heartbeatFrames = 0;
         bus.on('frame', (f) => {
             if ((f.id & 0x780) === 0x700 && f.len === 1 && f.data[0] === 0) bootUps.push(f.id & 0x7F);
+            if (f.id === 0x700 + NODE && f.len === 1 && f.data[0] !== 0) ++heartbeatFrames;
         });
         bus.attach(manager);
         await bus.connect();
@@ -250,12 +252,13 @@ async function main() {
         console.log(`SDO: ${read} entries of the EDS read back, ${compared} const ones equal the EDS`);
 
         // Heartbeat time: 0 stops it (the consumer times out), 50 ms brings it back.
+        const timeoutsBefore = timeouts.length;
         await download(0x1017, 0, 0, DataType.UNSIGNED16);
-        await until(() => timeouts.includes(NODE), 'heartbeat consumer timeout', 5000);
+        await until(() => timeouts.slice(timeoutsBefore).includes(NODE),
+            'heartbeat consumer timeout', 10000);
+        const framesBefore = heartbeatFrames;
         await download(0x1017, 0, 50, DataType.UNSIGNED16);
-        const before = heartbeats.length;
-        await until(() => heartbeats.slice(before).find((h) => h.deviceId === NODE),
-            'heartbeat again');
+        await until(() => heartbeatFrames >= framesBefore + 3, 'three heartbeats again');
         assert.strictEqual(await upload(0x1017, 0, DataType.UNSIGNED16), 50);
         await assert.rejects(download(0x1017, 0, 5, DataType.UNSIGNED16), (e) => e.code === 0x06090032);
         console.log('heartbeat time written: 0 stopped it, 50 ms restarted it, 5 ms refused');
