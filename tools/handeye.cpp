@@ -218,7 +218,8 @@ Result<RigidTransform> BoardPoseFromStereo(const StereoCalibration& calib,
           "a corner's rays are parallel: is the calibration right for the images?");
     }
     seen.col(i) = m.p_mm;
-    grid.col(i) = Eigen::Vector3d((i % board.width) * square_mm, (i / board.width) * square_mm, 0);
+    const int column = i % board.width, row = i / board.width;  // OpenCV's row-major order
+    grid.col(i) = Eigen::Vector3d(column * square_mm, row * square_mm, 0);
   }
   const Eigen::Matrix4d fit = Eigen::umeyama(grid, seen, /*with_scaling=*/false);
   Iso pose = Iso::Identity();
