@@ -8,7 +8,7 @@ stereohash_module(stereohash_fw_core
   PUBLIC stereohash_can_protocol stereohash_canopen stereohash_hal_can stereohash_hal_gpio
          stereohash_hal_camera stereohash_tables stereohash_default_tables stereohash_camera
          stereohash_geometry stereohash_base stereohash_embedded_flags Threads::Threads
-  PRIVATE stereohash_pipeline stereohash_image_files)
+  PRIVATE stereohash_pipeline stereohash_image_files stereohash_image)
 
 # The simulator's pieces of the firmware: ground-truth recognition and the simulator's defaults.
 stereohash_module(stereohash_fw_sim

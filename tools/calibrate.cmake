@@ -10,6 +10,7 @@ if(OpenCV_FOUND)
                         ${CMAKE_CURRENT_LIST_DIR}/cmd_calibrate_handeye.cpp
                         ${CMAKE_CURRENT_LIST_DIR}/handeye.cpp)
   target_sources(stereohash PRIVATE ${calibrate_sources})
+  stereohash_headers(stereohash PRIVATE handeye.hpp)
   set_source_files_properties(${calibrate_sources} PROPERTIES COMPILE_OPTIONS "-frtti;-fexceptions")
   target_include_directories(stereohash PRIVATE ${OpenCV_INCLUDE_DIRS})
   target_link_libraries(stereohash PRIVATE stereohash_camera ${OpenCV_LIBS})

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "hal/sim/image_files.hpp"
-#include "hal/sim/render/renderer.hpp"
+#include "hal/sim/world/renderer.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/handeye_yaml.hpp"
 #include "recog/model/obj_model.hpp"
