@@ -154,8 +154,9 @@ class CalibrateHandEyeTool : public ::testing::Test {
     std::ofstream(dir_ + "/calib.yaml") << std::string(text, *n);
   }
   void TearDown() override {
-    if (std::getenv("STEREOHASH_KEEP") == nullptr)
+    if (std::getenv("STEREOHASH_KEEP") == nullptr) {
       EXPECT_EQ(std::system(("rm -rf " + dir_).c_str()), 0);
+    }
   }
 
   std::string Station(const char* side, int i) const {

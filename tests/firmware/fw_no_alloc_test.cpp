@@ -147,7 +147,7 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
       gpio.FireTrigger();
     } else {
       trigger.data[1] = uint8_t(2 + i);
-      plc->Send(trigger);
+      ASSERT_TRUE(plc->Send(trigger).ok());
     }
     if (wait_set(&set)) {
       ++sets;
