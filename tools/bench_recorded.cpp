@@ -393,20 +393,24 @@ int RunBenchRecorded(int argc, char** argv) {
                   kMaxPositionErrorMm, kMaxRotationErrorDeg, &misses, search.get(), &trace);
     std::string missed_json;
     for (const MissRecord& miss : misses) {
-      char buffer[768];
-      std::snprintf(buffer, sizeof(buffer),
-                    "%s{\"model\": \"%s\", \"visible\": %.3f, \"cause\": \"%s\", "
-                    "\"verify_at_truth\": [%.3f, %.3f], \"support_at_truth\": %.3f, "
-                    "\"own_bases\": %d, \"first_own_rank\": %d, \"good_bases\": %d, "
-                    "\"first_good_rank\": %d, \"candidates\": %d, \"near_hypotheses\": %d, "
-                    "\"refined_close\": %d, \"too_close\": %d, \"rejected\": %d, "
-                    "\"verified\": %d, \"lost_to\": \"%s\"}",
-                    missed_json.empty() ? "" : ", ",
-                    models[truth.objects[miss.truth_index].model].name,
-                    truth.visible[miss.truth_index], miss.cause, miss.verify_score[0],
-                    miss.verify_score[1], miss.support, miss.own_bases, miss.first_own_rank,
-                    miss.good_bases, miss.first_good_rank, miss.candidates, miss.near_hypotheses,
-                    miss.refined_close, miss.too_close, miss.rejected, miss.verified, miss.lost_to);
+      char buffer[1024];
+      std::snprintf(
+          buffer, sizeof(buffer),
+          "%s{\"model\": \"%s\", \"visible\": %.3f, \"cause\": \"%s\", "
+          "\"verify_at_truth\": [%.3f, %.3f], \"support_at_truth\": %.3f, "
+          "\"own_bases\": %d, \"first_own_rank\": %d, \"good_bases\": %d, "
+          "\"first_good_rank\": %d, \"candidates\": %d, \"near_hypotheses\": %d, "
+          "\"refined_close\": %d, \"too_close\": %d, \"rejected\": %d, "
+          "\"verified\": %d, \"lost_to\": \"%s\", \"edges\": [%d, %d, %d, %d], "
+          "\"corners\": [%d, %d, %d, %d], \"edges_2d_both\": %d, "
+          "\"edges_lost_stereo\": %d, \"edges_lost_epipolar\": %d}",
+          missed_json.empty() ? "" : ", ", models[truth.objects[miss.truth_index].model].name,
+          truth.visible[miss.truth_index], miss.cause, miss.verify_score[0], miss.verify_score[1],
+          miss.support, miss.own_bases, miss.first_own_rank, miss.good_bases, miss.first_good_rank,
+          miss.candidates, miss.near_hypotheses, miss.refined_close, miss.too_close, miss.rejected,
+          miss.verified, miss.lost_to, miss.edges_visible, miss.edges_2d[0], miss.edges_2d[1],
+          miss.edges_3d, miss.corners_visible, miss.corners_2d[0], miss.corners_2d[1],
+          miss.corners_3d, miss.edges_2d_both, miss.edges_lost_stereo, miss.edges_lost_epipolar);
       missed_json += buffer;
     }
     char buffer[512];

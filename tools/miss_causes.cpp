@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "recog/stereo/epipolar.hpp"
 #include "recog/verify/verify.hpp"
 #include "recog/verify/visible_edges.hpp"
 #include "tools/eval/rendered_eval.hpp"
@@ -98,12 +99,26 @@ void TraceFeatureChain(const Pipeline& pipeline, const PosedModel& object,
     const Eigen::Vector3f a = object.cam_T_model * model.corner(model.edges[e].a);
     const Eigen::Vector3f b = object.cam_T_model * model.corner(model.edges[e].b);
     const Eigen::Vector3f d = (b - a).normalized();
+    bool found3 = false;
     for (const SceneLine& l : scene.lines) {
       if (std::fabs(l.direction().dot(d)) < cos_3d) continue;
       const Eigen::Vector3f mid = 0.5f * (l.a_mm + l.b_mm) - a;
       if ((mid - mid.dot(d) * d).norm() <= kLineMm) {
         ++record->edges_3d;
+        found3 = true;
         break;
+      }
+    }
+    if (edge_found[0][e] && edge_found[1][e]) {
+      ++record->edges_2d_both;
+      // Found in both images but not triangulated: was the pair too close to the epipolar
+      // direction for line stereo (its interpretation planes nearly parallel)?
+      if (!found3) {
+        ++record->edges_lost_stereo;
+        if (InterpretationPlaneAngleDeg(calib, a.cast<double>(), b.cast<double>()) <
+            pipeline.config().stereo.min_plane_angle_deg) {
+          ++record->edges_lost_epipolar;
+        }
       }
     }
   }
@@ -262,11 +277,15 @@ void ExplainMisses(const std::vector<Model>& models, const std::vector<TruthObje
       std::printf(
           "  %s: missed %s; at its true pose: image verification %.2f %.2f (%s), 3-D "
           "support %.2f (%d corners, %d edges); edges visible %d, 2-D %d / %d, 3-D %d; corners "
-          "visible %d, 2-D %d / %d, 3-D %d\n",
+          "visible %d, 2-D %d / %d, 3-D %d\n"
+          "    edges found in both images %d, not triangulated %d, of them %d near the epipolar "
+          "direction (interpretation planes under %.1f deg apart)\n",
           label, model.name, record.verify_score[0], record.verify_score[1],
           verifiable ? "accepted" : "rejected", fit.support, fit.matched_points, fit.matched_lines,
           record.edges_visible, record.edges_2d[0], record.edges_2d[1], record.edges_3d,
-          record.corners_visible, record.corners_2d[0], record.corners_2d[1], record.corners_3d);
+          record.corners_visible, record.corners_2d[0], record.corners_2d[1], record.corners_3d,
+          record.edges_2d_both, record.edges_lost_stereo, record.edges_lost_epipolar,
+          pipeline.config().stereo.min_plane_angle_deg);
       if (search != nullptr) {
         std::printf(
             "    search: %d own scene bases of %d (first at rank %d), %d vote the true model near "

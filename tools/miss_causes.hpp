@@ -54,6 +54,10 @@ struct MissRecord {
   // (point) of the scene.
   int edges_visible = 0, edges_2d[2] = {0, 0}, edges_3d = 0;
   int corners_visible = 0, corners_2d[2] = {0, 0}, corners_3d = 0;
+  // Edges found as 2-D lines in both images; of them, those without a 3-D line, and of those the
+  // ones whose interpretation planes meet at less than the stereo's min_plane_angle_deg (near
+  // the epipolar direction: line stereo rejects such pairs as degenerate).
+  int edges_2d_both = 0, edges_lost_stereo = 0, edges_lost_epipolar = 0;
   // The search's view (line + point hash functions, with a Recognizer given): scene bases of the
   // first candidate pass whose line and point both lie on the object, the rank of the first one,
   // and how many of them vote the true model near its pose above the threshold (and the rank of

@@ -182,6 +182,8 @@ bool ApplyPipelineSetting(const char* setting, PipelineConfig* c) {
     c->recognizer.hypotheses_per_basis = static_cast<int>(v);
   } else if (name == "stereo.epipolar_tolerance_px") {
     c->stereo.epipolar_tolerance_px = v;
+  } else if (name == "stereo.min_plane_angle_deg") {
+    c->stereo.min_plane_angle_deg = v;
   } else if (name == "features.corner_sigma_px") {
     c->features.corners.sigma_px = v;
   } else if (name == "features.corner_threshold") {

@@ -28,4 +28,13 @@ Eigen::Vector3d RightEpipolarLine(const Eigen::Matrix3d& essential, const Eigen:
 double EpipolarDistancePx(const StereoCalibration& calib, const Eigen::Vector2d& left_px,
                           const Eigen::Vector2d& right_px);
 
+// Angle in degrees between the two interpretation planes of the 3-D segment a-b (left camera
+// frame, mm): the plane through the left camera centre and the segment, and the plane through
+// the right camera centre and it. Near 0 for a segment running close to the epipolar direction
+// (parallel to the baseline), whose two image lines do not fix its depth; line stereo rejects
+// pairs whose planes meet at less than SloppyStereoConfig::min_plane_angle_deg. 0 for a
+// degenerate segment (a == b, or a plane through both camera centres).
+double InterpretationPlaneAngleDeg(const StereoCalibration& calib, const Eigen::Vector3d& a_mm,
+                                   const Eigen::Vector3d& b_mm);
+
 }  // namespace sh

@@ -314,6 +314,12 @@ TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
     for (const Json& miss : scene["missed"].items) {
       EXPECT_FALSE(miss["cause"].text.empty());
       EXPECT_GE(miss["visible"].number, 0.0);
+      // The feature chain narrows: visible, found in both images, lost by stereo, near epipolar.
+      ASSERT_EQ(miss["edges"].size(), 4u);
+      ASSERT_EQ(miss["corners"].size(), 4u);
+      EXPECT_LE(miss["edges_2d_both"].number, miss["edges"].items[0].number);
+      EXPECT_LE(miss["edges_lost_stereo"].number, miss["edges_2d_both"].number);
+      EXPECT_LE(miss["edges_lost_epipolar"].number, miss["edges_lost_stereo"].number);
     }
   }
   EXPECT_EQ(listed_misses, summary["missed"].number);

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "recog/stereo/epipolar.hpp"
@@ -141,6 +142,47 @@ TEST(Triangulation, NearlyParallelPlanesAreRejected) {
   EXPECT_FALSE(IntersectPlanes(a, b, std::sin(0.02), &line));
   ASSERT_TRUE(IntersectPlanes(a, b, std::sin(0.005), &line));
   EXPECT_NEAR(std::fabs(line.direction.x()), 1.0, 1e-12);
+}
+
+TEST(Triangulation, InterpretationPlaneAngleOfEdges) {
+  std::mt19937 rng(4);
+  StereoCalibration calib = RandomRig(rng, 0.0);
+  // A rectified pair: the right camera 120 mm along the left camera's x axis.
+  calib.right_R_left = Eigen::Matrix3d::Identity();
+  calib.right_t_left_mm = Eigen::Vector3d(-120.0, 0.0, 0.0);
+  // An edge parallel to the baseline lies in one epipolar plane: both planes coincide.
+  EXPECT_NEAR(InterpretationPlaneAngleDeg(calib, {-20.0, 5.0, 500.0}, {20.0, 5.0, 500.0}), 0.0,
+              1e-9);
+  // A vertical edge midway between the cameras at depth z: the planes meet at 2 atan(B / 2z).
+  const double expected = 2.0 * std::atan(60.0 / 500.0) * 180.0 / 3.14159265358979323846;
+  EXPECT_NEAR(InterpretationPlaneAngleDeg(calib, {60.0, -15.0, 500.0}, {60.0, 15.0, 500.0}),
+              expected, 1e-9);
+  // Turning the edge in its depth plane towards the baseline closes the angle monotonically.
+  double previous = 90.0;
+  for (double deg = 90.0; deg >= 0.0; deg -= 10.0) {
+    const double r = deg * 3.14159265358979323846 / 180.0;
+    const Eigen::Vector3d d(15.0 * std::cos(r), 15.0 * std::sin(r), 0.0);
+    const Eigen::Vector3d mid(60.0, 0.0, 500.0);
+    const double angle = InterpretationPlaneAngleDeg(calib, mid - d, mid + d);
+    EXPECT_LE(angle, previous + 1e-12);
+    previous = angle;
+  }
+  EXPECT_NEAR(previous, 0.0, 1e-9);
+  // Degenerate: a point, not a segment.
+  EXPECT_EQ(InterpretationPlaneAngleDeg(calib, {1.0, 2.0, 300.0}, {1.0, 2.0, 300.0}), 0.0);
+  // The angle belongs to the pair, not to either camera: on a general rig it is the same seen
+  // from the right camera with the roles of the cameras swapped.
+  for (int rig = 0; rig < 10; ++rig) {
+    const StereoCalibration c = RandomRig(rng, 0.0);
+    StereoCalibration swapped = c;
+    swapped.right_R_left = c.right_R_left.transpose();
+    swapped.right_t_left_mm = -(c.right_R_left.transpose() * c.right_t_left_mm);
+    const Eigen::Vector3d a = RandomScenePoint(rng), b = RandomScenePoint(rng);
+    const Eigen::Vector3d a_right = c.right_R_left * a + c.right_t_left_mm;
+    const Eigen::Vector3d b_right = c.right_R_left * b + c.right_t_left_mm;
+    EXPECT_NEAR(InterpretationPlaneAngleDeg(c, a, b),
+                InterpretationPlaneAngleDeg(swapped, a_right, b_right), 1e-7);
+  }
 }
 
 TEST(WorkingVolume, ContainsAndClipInATableFrame) {
