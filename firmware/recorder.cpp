@@ -20,7 +20,8 @@
 namespace sh::fw {
 namespace {
 
-constexpr size_t kResultJsonBytes = size_t{32} * 1024;  // 64 objects at ~250 bytes each, and the header
+constexpr size_t kResultJsonBytes =
+    size_t{32} * 1024;  // 64 objects at ~250 bytes each, and the header
 constexpr size_t kYamlBytes = size_t{16} * 1024;
 
 // mkdir -p for a path of a few components.
@@ -247,6 +248,8 @@ void Recorder::WriterLoop() {
     }
     const Status written = WritePair(*slot);  // the worker leaves a full slot alone
     const int error_number = errno != 0 ? errno : EIO;
+    // Read before the slot is released: from then on the worker may fill it with the next pair.
+    const uint64_t written_index = slot->index;
     bool report_failure = false, report_recovery = false;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -261,7 +264,7 @@ void Recorder::WriterLoop() {
         failing_ = true;
       }
     }
-    if (written.ok()) DeleteOld(slot->index);
+    if (written.ok()) DeleteOld(written_index);
     if (report_failure && observer_ != nullptr) observer_->OnRecordFailed(error_number);
     if (report_recovery && observer_ != nullptr) observer_->OnRecordRecovered();
   }
