@@ -8,6 +8,25 @@
 
 namespace sh {
 
+// A file mapped read-only (page-aligned, so any blob in it is 8-byte aligned). `what` names the
+// kind of file in messages ("table file").
+class MappedFile {
+ public:
+  MappedFile() = default;
+  ~MappedFile();
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+
+  Status Open(const char* path, const char* what);
+  void Close();
+  const void* data() const { return data_; }
+  size_t size() const { return size_; }
+
+ private:
+  void* data_ = nullptr;
+  size_t size_ = 0;
+};
+
 class MappedTable {
  public:
   MappedTable() = default;
@@ -19,11 +38,10 @@ class MappedTable {
   Status Open(const char* path);
   void Close();
   const TableView& view() const { return view_; }
-  size_t size() const { return size_; }
+  size_t size() const { return file_.size(); }
 
  private:
-  void* data_ = nullptr;
-  size_t size_ = 0;
+  MappedFile file_;
   TableView view_;
 };
 

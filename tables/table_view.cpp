@@ -12,8 +12,19 @@ Status Corrupt(const char* what) {
   return Status::Error(StatusCode::kDataLoss, "table blob corrupt: %s", what);
 }
 
-Status CheckSection(const SectionRef& s, size_t count, size_t element_size, uint64_t total,
-                    const char* name) {
+Status CheckGrid(const GridGeometry& g, const char* name) {
+  const bool finite = std::isfinite(g.min_mm[0]) && std::isfinite(g.min_mm[1]) &&
+                      std::isfinite(g.min_mm[2]) && std::isfinite(g.bin_mm);
+  if (!finite || !(g.bin_mm > 0.0f) || g.dims[0] == 0 || g.dims[1] == 0 || g.dims[2] == 0 ||
+      g.bin_count() > kMaxTableBins)
+    return Status::Error(StatusCode::kDataLoss, "table blob corrupt: bad %s grid geometry", name);
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status CheckBlobSection(const SectionRef& s, size_t count, size_t element_size, uint64_t total,
+                        const char* name) {
   if (s.offset % kSectionAlignment != 0)
     return Status::Error(StatusCode::kDataLoss, "table blob corrupt: %s section misaligned", name);
   if (s.offset > total || s.size > total - s.offset)
@@ -26,16 +37,7 @@ Status CheckSection(const SectionRef& s, size_t count, size_t element_size, uint
   return Status::Ok();
 }
 
-Status CheckGrid(const GridGeometry& g, const char* name) {
-  const bool finite = std::isfinite(g.min_mm[0]) && std::isfinite(g.min_mm[1]) &&
-                      std::isfinite(g.min_mm[2]) && std::isfinite(g.bin_mm);
-  if (!finite || !(g.bin_mm > 0.0f) || g.dims[0] == 0 || g.dims[1] == 0 || g.dims[2] == 0 ||
-      g.bin_count() > kMaxTableBins)
-    return Status::Error(StatusCode::kDataLoss, "table blob corrupt: bad %s grid geometry", name);
-  return Status::Ok();
-}
-
-Status CheckBins(const uint32_t* offsets, uint32_t bins, uint32_t entries, const char* name) {
+Status CheckBinOffsets(const uint32_t* offsets, uint32_t bins, uint32_t entries, const char* name) {
   if (offsets[0] != 0 || offsets[bins] != entries)
     return Status::Error(StatusCode::kDataLoss,
                          "table blob corrupt: %s bin offsets do not cover the entries", name);
@@ -47,7 +49,7 @@ Status CheckBins(const uint32_t* offsets, uint32_t bins, uint32_t entries, const
   return Status::Ok();
 }
 
-Status CheckModel(const Model& m, uint32_t index) {
+Status CheckModelRecord(const Model& m, uint32_t index) {
   if (m.name[kMaxModelNameLength] != '\0' || m.name[0] == '\0')
     return Status::Error(StatusCode::kDataLoss, "table blob corrupt: model %u has no valid name",
                          index);
@@ -84,8 +86,6 @@ Status CheckModel(const Model& m, uint32_t index) {
   }
   return Status::Ok();
 }
-
-}  // namespace
 
 Result<TableView> TableView::Open(const void* blob, size_t size) {
   if (blob == nullptr) return Status::Error(StatusCode::kInvalidArgument, "table blob: no data");
@@ -129,16 +129,16 @@ Result<TableView> TableView::Open(const void* blob, size_t size) {
   SH_RETURN_IF_ERROR(CheckGrid(h->line_grid, "line"));
   const uint32_t point_bins = h->point_grid.bin_count(), line_bins = h->line_grid.bin_count();
   const uint64_t total = h->total_size;
-  SH_RETURN_IF_ERROR(CheckSection(h->models, h->n_models, sizeof(Model), total, "model"));
-  SH_RETURN_IF_ERROR(CheckSection(h->bases, h->n_bases, sizeof(BasisRecord), total, "basis"));
+  SH_RETURN_IF_ERROR(CheckBlobSection(h->models, h->n_models, sizeof(Model), total, "model"));
+  SH_RETURN_IF_ERROR(CheckBlobSection(h->bases, h->n_bases, sizeof(BasisRecord), total, "basis"));
   SH_RETURN_IF_ERROR(
-      CheckSection(h->point_bins, point_bins + 1, sizeof(uint32_t), total, "point bin"));
+      CheckBlobSection(h->point_bins, point_bins + 1, sizeof(uint32_t), total, "point bin"));
+  SH_RETURN_IF_ERROR(CheckBlobSection(h->point_entries, h->n_point_entries, sizeof(PointEntry),
+                                      total, "point entry"));
   SH_RETURN_IF_ERROR(
-      CheckSection(h->point_entries, h->n_point_entries, sizeof(PointEntry), total, "point entry"));
+      CheckBlobSection(h->line_bins, line_bins + 1, sizeof(uint32_t), total, "line bin"));
   SH_RETURN_IF_ERROR(
-      CheckSection(h->line_bins, line_bins + 1, sizeof(uint32_t), total, "line bin"));
-  SH_RETURN_IF_ERROR(
-      CheckSection(h->line_entries, h->n_line_entries, sizeof(LineEntry), total, "line entry"));
+      CheckBlobSection(h->line_entries, h->n_line_entries, sizeof(LineEntry), total, "line entry"));
 
   TableView view;
   view.header_ = h;
@@ -149,7 +149,8 @@ Result<TableView> TableView::Open(const void* blob, size_t size) {
   view.line_bins_ = reinterpret_cast<const uint32_t*>(bytes + h->line_bins.offset);
   view.line_entries_ = reinterpret_cast<const LineEntry*>(bytes + h->line_entries.offset);
 
-  for (uint32_t i = 0; i < h->n_models; ++i) SH_RETURN_IF_ERROR(CheckModel(view.models_[i], i));
+  for (uint32_t i = 0; i < h->n_models; ++i)
+    SH_RETURN_IF_ERROR(CheckModelRecord(view.models_[i], i));
   for (uint32_t i = 0; i < h->n_bases; ++i) {
     const BasisRecord& b = view.bases_[i];
     if (b.model >= h->n_models) return Corrupt("basis refers to a missing model");
@@ -157,8 +158,8 @@ Result<TableView> TableView::Open(const void* blob, size_t size) {
       if (!std::isfinite(f)) return Corrupt("basis transform not finite");
     }
   }
-  SH_RETURN_IF_ERROR(CheckBins(view.point_bins_, point_bins, h->n_point_entries, "point"));
-  SH_RETURN_IF_ERROR(CheckBins(view.line_bins_, line_bins, h->n_line_entries, "line"));
+  SH_RETURN_IF_ERROR(CheckBinOffsets(view.point_bins_, point_bins, h->n_point_entries, "point"));
+  SH_RETURN_IF_ERROR(CheckBinOffsets(view.line_bins_, line_bins, h->n_line_entries, "line"));
   for (uint32_t i = 0; i < h->n_point_entries; ++i) {
     if (view.point_entries_[i].basis >= h->n_bases) return Corrupt("point entry basis index");
   }

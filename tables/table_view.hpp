@@ -23,6 +23,18 @@ struct ConstSpan {
   const T& operator[](size_t i) const { return data[i]; }
 };
 
+// Checks that a section lies inside a blob of `total` bytes, starts at a multiple of
+// kSectionAlignment and holds exactly `count` elements of `element_size` bytes.
+Status CheckBlobSection(const SectionRef& section, size_t count, size_t element_size,
+                        uint64_t total, const char* name);
+
+// Checks bin offsets [0, bins]: from 0 to `entries`, never decreasing.
+Status CheckBinOffsets(const uint32_t* offsets, uint32_t bins, uint32_t entries, const char* name);
+
+// Checks a model record read from a blob: a NUL-terminated name, counts within the capacities,
+// finite corners, edge and face indices in range. `index` names it in the message.
+Status CheckModelRecord(const Model& model, uint32_t index);
+
 class TableView {
  public:
   TableView() = default;
