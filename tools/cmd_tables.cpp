@@ -10,6 +10,7 @@
 #include "tables/table_builder.hpp"
 #include "tables/table_file.hpp"
 #include "tools/command.hpp"
+#include "tools/tables_aspects.hpp"
 
 namespace sh::tools {
 namespace {
@@ -30,15 +31,18 @@ void BuildUsage() {
       "usage: stereohash tables build --out FILE [--hash-fn 1..5] [--models DIR]\n"
       "                               [--names cube,hexagon,...]\n"
       "Builds the hash table blob of one hash function (default 5) for the models\n"
-      "DIR/<name>.obj (default: the six reference models in ./models).\n");
+      "DIR/<name>.obj (default: the six reference models in ./models).\n"
+      "       stereohash tables build --hash-2d similarity|affine --out FILE ...\n"
+      "Builds the aspect table of the monocular mode ('--hash-2d x --help' for more).\n");
 }
 
 void InfoUsage() {
   std::printf(
       "usage: stereohash tables info [FILE ...] [--models DIR]\n"
-      "Without FILE: builds the tables of all five hash functions from the reference models\n"
-      "and prints them beside the thesis's table 5.3. With FILE: describes that blob\n"
-      "(the built-in default tables when FILE is 'builtin').\n");
+      "Without FILE: builds the tables of all five hash functions and the 2-D aspect tables\n"
+      "from the reference models and prints them beside the thesis's tables 5.3, 6.1 and 6.2.\n"
+      "With FILE: describes that blob or aspect table (the built-in ones when FILE is\n"
+      "'builtin' or 'builtin-aspects').\n");
 }
 
 std::vector<std::string> Split(const std::string& s) {
@@ -84,6 +88,9 @@ void Describe(const TableView& view, size_t size) {
 }
 
 int RunBuild(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--hash-2d") == 0) return BuildAspectTable(argc, argv);
+  }
   std::string out, models_dir = "models", names;
   int hf = 5;
   for (int i = 1; i < argc; ++i) {
@@ -220,10 +227,14 @@ int RunInfo(int argc, char** argv) {
       files.push_back(a);
     }
   }
-  if (files.empty()) return CompareWithThesis(models_dir);
+  if (files.empty()) {
+    const int rc = CompareWithThesis(models_dir);
+    return rc != 0 ? rc : CompareAspectsWithThesis(models_dir);
+  }
   int rc = 0;
   for (const std::string& file : files) {
     std::printf("%s: ", file.c_str());
+    if (DescribeAspectFile(file, &rc)) continue;
     if (file == "builtin") {
       auto view = OpenDefaultTable();
       if (!view.ok()) {
