@@ -10,6 +10,7 @@
 #include "hal/sim/image_files.hpp"
 #include "recog/pipeline/pipeline.hpp"
 #include "tools/command.hpp"
+#include "tools/mono_setup.hpp"
 #include "tools/overlay.hpp"
 #include "tools/recognize_setup.hpp"
 #include "tools/recorded_pair.hpp"
@@ -21,6 +22,7 @@ namespace {
 void PrintHelp() {
   std::printf(
       "usage: stereohash recognize --calib CALIB.yaml --left L.png --right R.png\n"
+      "       stereohash recognize --calib CALIB.yaml --left L.png | --right R.png  (one camera)\n"
       "                            [--json OUT.json] [--overlay OUT.png] [--tables TABLES.bin]\n"
       "                            [--table TABLE.yaml] [--budget-ms N] [--background dark|light]\n"
       "                            [--threads N] [--overlay-features OUT.png]\n"
@@ -33,6 +35,8 @@ void PrintHelp() {
       "  --scene DIR   a recorded pair instead of --left/--right: DIR/left.png and right.png (or\n"
       "                .pgm) of a recorded-scenes set or a firmware recording; --calib and\n"
       "                --table default to calib.yaml and table.yaml beside DIR\n"
+      "  --monocular left|right  one camera only (2-D aspect hashing; with --table, objects\n"
+      "                rest on the table); also chosen by giving only --left or only --right\n"
       "%s",
       kRecognizeOptionsHelp);
 }
@@ -51,13 +55,7 @@ void PrintTable(const TableView& table, const PipelineResult& r) {
                 "rotation vector (deg)", "vote", "verify l / r");
   }
   for (size_t i = 0; i < r.objects.size(); ++i) {
-    const RecognizedObject& o = r.objects[i];
-    const Eigen::AngleAxisf aa(o.cam_T_model.R);
-    const Eigen::Vector3f rv = aa.axis() * aa.angle() * 57.29577951f;  // radians to degrees
-    const Eigen::Vector3f& t = o.cam_T_model.t_mm;
-    std::printf("  %-2zu %-10s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %6.3f %6.3f %6.3f\n", i,
-                table.model(o.model).name, t.x(), t.y(), t.z(), rv.x(), rv.y(), rv.z(), o.vote,
-                o.verify_score[0], o.verify_score[1]);
+    PrintObjectLine(i, table.model(r.objects[i].model).name, r.objects[i]);
   }
   std::printf(
       "features: 2-D points %u / %u, 2-D lines %u / %u (left / right); 3-D points %u, "
@@ -81,6 +79,43 @@ void PrintTable(const TableView& table, const PipelineResult& r) {
       r.time.total_ms, r.recognition.budget_exhausted ? " (budget exhausted)" : "");
 }
 
+// One camera: the monocular pipeline on its image, poses in the left camera's frame.
+int RunMonocular(const char* calib_path, const char* image_path, int camera,
+                 const RecognizeOptions& options, const char* json_path, const char* overlay_path) {
+  const Result<StereoCalibration> calib = LoadCalibration(calib_path);
+  if (!calib.ok()) return Fail("%s", calib.status().message());
+  const Result<TableChoice> loaded_table = LoadTableChoice(options.table_path);
+  if (!loaded_table.ok()) return Fail("%s", loaded_table.status().message());
+  const TableChoice& table = *loaded_table;
+  LoadedAspects aspects;
+  Status s = LoadAspects(options.aspects_path, &aspects);
+  if (!s.ok()) return Fail("%s", s.message());
+  LoadedImage image;
+  s = LoadImage(image_path, camera == 0 ? "left" : "right", &image);
+  if (!s.ok()) return Fail("%s", s.message());
+  auto pipeline = std::make_unique<MonoPipeline>();
+  auto workspace = std::make_unique<FeatureWorkspace>();  // ~42 MiB
+  s = pipeline->Init(*calib, camera, aspects.view, table.present ? &table.left_T_table : nullptr,
+                     MakeMonoConfig(options), NowNs);
+  if (!s.ok()) return Fail("%s", s.message());
+  auto result = std::make_unique<MonoResult>();
+  s = pipeline->Process(image.view, options.budget_ms, *workspace, result.get());
+  if (!s.ok()) return Fail("%s", s.message());
+  PrintMonoResult(aspects.view, *result, camera);
+  if (json_path != nullptr &&
+      !WriteTextFile(json_path, MonoResultJson(aspects.view, *result, table, camera))) {
+    return Fail("cannot write %s: %s", json_path, std::strerror(errno));
+  }
+  if (overlay_path != nullptr) {
+    std::vector<uint8_t> rgb;
+    int w = 0, h = 0;
+    s = BuildMonoOverlay(*pipeline, aspects.view, *result, image.view, &rgb, &w, &h);
+    if (s.ok()) s = hal::WritePngRgb(overlay_path, rgb.data(), w, h, 3 * w);
+    if (!s.ok()) return Fail("overlay %s: %s", overlay_path, s.message());
+  }
+  return 0;
+}
+
 int RunRecognize(int argc, char** argv) {
   const char* calib_path = nullptr;
   const char* left_path = nullptr;
@@ -89,6 +124,7 @@ int RunRecognize(int argc, char** argv) {
   const char* overlay_path = nullptr;
   const char* features_overlay_path = nullptr;
   const char* scene_dir = nullptr;
+  const char* monocular = nullptr;
   RecognizeOptions options;
   for (int i = 1; i < argc; ++i) {
     const char *arg = nullptr, *value = nullptr;
@@ -113,6 +149,9 @@ int RunRecognize(int argc, char** argv) {
       features_overlay_path = value;
     } else if (std::strcmp(arg, "--scene") == 0) {
       scene_dir = value;
+    } else if (std::strcmp(arg, "--monocular") == 0 &&
+               (std::strcmp(value, "left") == 0 || std::strcmp(value, "right") == 0)) {
+      monocular = value;
     } else {
       std::fprintf(stderr, "stereohash recognize: bad option or value: %s %s (see --help)\n", arg,
                    value);
@@ -133,6 +172,24 @@ int RunRecognize(int argc, char** argv) {
     if (options.table_path == nullptr && !recorded.table.empty()) {
       options.table_path = recorded.table.c_str();
     }
+  }
+  if (monocular == nullptr && calib_path != nullptr &&
+      (left_path == nullptr) != (right_path == nullptr)) {
+    monocular = left_path != nullptr ? "left" : "right";
+  }
+  if (monocular != nullptr) {
+    if (calib_path == nullptr) {
+      std::fprintf(stderr, "stereohash recognize: --calib is required (see --help)\n");
+      return 2;
+    }
+    const int camera = monocular[0] == 'l' ? 0 : 1;
+    const char* image_path = camera == 0 ? left_path : right_path;
+    if (image_path == nullptr) {
+      std::fprintf(stderr, "stereohash recognize: --monocular %s needs the %s image\n", monocular,
+                   monocular);
+      return 2;
+    }
+    return RunMonocular(calib_path, image_path, camera, options, json_path, overlay_path);
   }
   if (calib_path == nullptr || left_path == nullptr || right_path == nullptr) {
     std::fprintf(stderr,

@@ -7,3 +7,8 @@ target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/cmd_recognize.cpp
                                   ${CMAKE_CURRENT_LIST_DIR}/recorded_pair.cpp)
 target_link_libraries(stereohash PRIVATE stereohash_pipeline stereohash_image_files
                       stereohash_default_tables stereohash_tables stereohash_camera stereohash_stereo)
+# One camera: `recognize --left L` (or --right, or --monocular with --scene).
+target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/mono_setup.cpp)
+target_link_libraries(stereohash PRIVATE stereohash_mono stereohash_default_aspects
+                      stereohash_verify)
+stereohash_headers(stereohash PRIVATE mono_setup.hpp)

@@ -1,11 +1,14 @@
 #include "tools/recognize_setup.hpp"
 
+#include <Eigen/Geometry>
+
 #include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 
 #include "hal/sim/image_files.hpp"
 #include "recog/camera/calibration_yaml.hpp"
@@ -16,6 +19,7 @@ namespace sh::tools {
 
 const char kRecognizeOptionsHelp[] =
     "  --tables      hash table file (default: the built-in hash fn 5 tables)\n"
+    "  --aspects     aspect table file of the monocular mode (default: the built-in one)\n"
     "  --table       table.yaml: pose of the table the objects stand on (left camera);\n"
     "                bounds the working volume to the space over it\n"
     "  --budget-ms   time limit for the frame (default 0: none)\n"
@@ -28,10 +32,18 @@ int64_t NowNs() {
       .count();
 }
 
+int64_t CpuNs() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return int64_t{ts.tv_sec} * 1000000000 + ts.tv_nsec;
+}
+
 OptionResult ParseRecognizeOption(const char* command, const char* option, const char* value,
                                   RecognizeOptions* options) {
   if (std::strcmp(option, "--tables") == 0) {
     options->tables_path = value;
+  } else if (std::strcmp(option, "--aspects") == 0) {
+    options->aspects_path = value;
   } else if (std::strcmp(option, "--table") == 0) {
     options->table_path = value;
   } else if (std::strcmp(option, "--budget-ms") == 0) {
@@ -208,6 +220,39 @@ bool ApplyPipelineSetting(const char* setting, PipelineConfig* c) {
   return true;
 }
 
+Result<TableChoice> LoadTableChoice(const char* path) {
+  TableChoice table;
+  if (path == nullptr) return table;
+  const Result<RigidTransform> pose = LoadTablePose(path);
+  if (!pose.ok()) return pose.status();
+  table.present = true;
+  table.left_T_table = *pose;
+  table.source = path;
+  return table;
+}
+
+std::string ObjectJson(const char* model_name, const RecognizedObject& o) {
+  const Eigen::Matrix3f& R = o.cam_T_model.R;
+  const Eigen::Vector3f& t = o.cam_T_model.t_mm;
+  char buffer[768];
+  std::snprintf(buffer, sizeof(buffer),
+                "{\"model\": \"%s\", \"R\": [[%.7f, %.7f, %.7f], [%.7f, %.7f, %.7f], [%.7f, "
+                "%.7f, %.7f]], \"t\": [%.4f, %.4f, %.4f], \"vote\": %.4f, \"verify\": [%.4f, "
+                "%.4f]}",
+                model_name, R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1),
+                R(2, 2), t.x(), t.y(), t.z(), o.vote, o.verify_score[0], o.verify_score[1]);
+  return buffer;
+}
+
+void PrintObjectLine(size_t index, const char* model_name, const RecognizedObject& o) {
+  const Eigen::AngleAxisf aa(o.cam_T_model.R);
+  const Eigen::Vector3f rv = aa.axis() * aa.angle() * 57.29577951f;  // radians to degrees
+  const Eigen::Vector3f& t = o.cam_T_model.t_mm;
+  std::printf("  %-2zu %-10s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %6.3f %6.3f %6.3f\n", index,
+              model_name, t.x(), t.y(), t.z(), rv.x(), rv.y(), rv.z(), o.vote, o.verify_score[0],
+              o.verify_score[1]);
+}
+
 std::string ResultJson(const TableView& tables, const PipelineResult& r, const TableChoice& table,
                        int threads) {
   // The frame of the poses, as the firmware's results name it: recognize reports the left
@@ -215,17 +260,7 @@ std::string ResultJson(const TableView& tables, const PipelineResult& r, const T
   std::string json = "{\"frame\": \"camera\", \"objects\": [";
   char buffer[1024];
   for (size_t i = 0; i < r.objects.size(); ++i) {
-    const RecognizedObject& o = r.objects[i];
-    const Eigen::Matrix3f& R = o.cam_T_model.R;
-    const Eigen::Vector3f& t = o.cam_T_model.t_mm;
-    std::snprintf(buffer, sizeof(buffer),
-                  "%s{\"model\": \"%s\", \"R\": [[%.7f, %.7f, %.7f], [%.7f, %.7f, %.7f], [%.7f, "
-                  "%.7f, %.7f]], \"t\": [%.4f, %.4f, %.4f], \"vote\": %.4f, \"verify\": [%.4f, "
-                  "%.4f]}",
-                  i ? ", " : "", tables.model(o.model).name, R(0, 0), R(0, 1), R(0, 2), R(1, 0),
-                  R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z(), o.vote,
-                  o.verify_score[0], o.verify_score[1]);
-    json += buffer;
+    json += (i ? ", " : "") + ObjectJson(tables.model(r.objects[i].model).name, r.objects[i]);
   }
   std::snprintf(buffer, sizeof(buffer),
                 "], \"features\": {\"points2d\": [%u, %u], \"lines2d\": [%u, %u], \"points3d\": "

@@ -20,11 +20,12 @@
 namespace sh::tools {
 
 struct RecognizeOptions {
-  const char* tables_path = nullptr;  // hash tables (default: the built-in hash fn 5 tables)
-  const char* table_path = nullptr;   // table.yaml: the table's pose in the left camera
-  float budget_ms = 0;                // 0: no time limit
-  const char* background = nullptr;   // "dark" or "light" preset; nullptr: automatic
-  int threads = 0;                    // worker threads, the caller included; 0: all cores
+  const char* tables_path = nullptr;   // hash tables (default: the built-in hash fn 5 tables)
+  const char* aspects_path = nullptr;  // aspect table of the monocular mode (default: built-in)
+  const char* table_path = nullptr;    // table.yaml: the table's pose in the left camera
+  float budget_ms = 0;                 // 0: no time limit
+  const char* background = nullptr;    // "dark" or "light" preset; nullptr: automatic
+  int threads = 0;                     // worker threads, the caller included; 0: all cores
 };
 
 // Help lines of the options above, for the commands' --help.
@@ -68,11 +69,24 @@ PipelineConfig MakePipelineConfig(const RecognizeOptions& options, const TableCh
 // recognizer.*, stereo.epipolar_tolerance_px, features.*). False for an unknown name.
 bool ApplyPipelineSetting(const char* setting, PipelineConfig* config);
 
+// The table pose of --table (present = false without a path).
+Result<TableChoice> LoadTableChoice(const char* path);
+
+// One recognised object as JSON: {"model": ..., "R": ..., "t": ..., "vote": ..., "verify": ...}.
+std::string ObjectJson(const char* model_name, const RecognizedObject& o);
+
+// One recognised object as a line of the printed table (index, model, t, rotation vector in
+// degrees, vote, the two verify scores).
+void PrintObjectLine(size_t index, const char* model_name, const RecognizedObject& o);
+
 // {"frame": "camera", "objects": [...], "features": {...}, "recognition": {...}, "time_ms": {...},
 // "table": ...}
 std::string ResultJson(const TableView& tables, const PipelineResult& result,
                        const TableChoice& table, int threads);
 
 int64_t NowNs();
+// This process's CPU time (all threads), nanoseconds: stage times that a loaded machine does not
+// stretch (for one thread of work; parallel stages add up their threads).
+int64_t CpuNs();
 
 }  // namespace sh::tools

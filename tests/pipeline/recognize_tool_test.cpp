@@ -275,6 +275,48 @@ TEST_F(RecognizeToolTest, ThreadsDoNotChangeTheResult) {
       2);
 }
 
+// One image: only --left (or only --right) with the table runs the monocular mode, whose poses
+// (left camera frame) match the rendered truth; a camera named without its image is refused.
+TEST_F(RecognizeToolTest, OneCameraWithTheTableFindsRestingObjects) {
+  auto table = OpenDefaultTable();
+  ASSERT_TRUE(table.ok());
+  std::vector<Model> models;
+  for (uint32_t i = 0; i < table->model_count(); ++i) models.push_back(table->model(i));
+  Json truth;
+  ASSERT_TRUE(JsonReader(ReadText(Path("truth.json"))).Parse(&truth));
+  std::vector<TruthObject> expected;
+  for (const Json& o : truth["objects"].items) {
+    expected.push_back({table->FindModel(o["model"].text.c_str()), PoseOf(o)});
+  }
+  for (const char* camera : {"left", "right"}) {
+    const std::string json = Path(camera) + "_mono.json";
+    const ToolRun r = RunTool("recognize --calib " + Path("calib.yaml") + " --" + camera + " " +
+                              Path(camera[0] == 'l' ? "left.png" : "right.png") + " --table " +
+                              Path("table.yaml") + " --json " + json);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find(std::string("monocular (") + camera), std::string::npos) << r.output;
+    Json out;
+    ASSERT_TRUE(JsonReader(ReadText(json)).Parse(&out)) << ReadText(json);
+    EXPECT_EQ(out["mode"].text, "monocular");
+    EXPECT_EQ(out["camera"].text, camera);
+    EXPECT_EQ(out["frame"].text, "camera");
+    std::vector<RecognizedPose> found;
+    for (const Json& o : out["objects"].items) {
+      const int m = table->FindModel(o["model"].text.c_str());
+      ASSERT_GE(m, 0) << "unknown model in output: " << o["model"].text;
+      found.push_back({m, PoseOf(o)});
+    }
+    const MatchCounts m = MatchToTruth(models, expected, found, 5.0f, 5.0f);
+    EXPECT_GE(m.correct * 2, static_cast<int>(expected.size()))
+        << camera << ": " << m.correct << " of " << expected.size() << "\n"
+        << r.output;
+  }
+  const ToolRun missing = RunTool("recognize --calib " + Path("calib.yaml") + " --left " +
+                                  Path("left.png") + " --monocular right");
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("needs the right image"), std::string::npos) << missing.output;
+}
+
 // `bench recorded` on a folder in the recorded-set layout made of two rendered scenes.
 TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
   const std::string set = Path("set");

@@ -1,0 +1,44 @@
+// What `stereohash recognize` and `stereohash bench recorded` need for the monocular mode: the
+// aspect table, the configuration from the recognition options, the result as text and JSON.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "recog/base/status.hpp"
+#include "recog/mono/mono_pipeline.hpp"
+#include "tables/aspect_file.hpp"
+#include "tools/recognize_setup.hpp"
+
+namespace sh::tools {
+
+// The aspect table: a mapped file or the built-in one.
+struct LoadedAspects {
+  MappedAspectTable mapped;
+  AspectTableView view;
+};
+Status LoadAspects(const char* path, LoadedAspects* out);
+
+// The monocular configuration for the options: the background preset if one is forced,
+// otherwise the automatic one (thresholds measured from the image).
+MonoPipelineConfig MakeMonoConfig(const RecognizeOptions& options);
+
+// `--set mono.NAME=VALUE` of the bench commands: vote, search and acceptance settings of the
+// monocular recogniser. False for an unknown name.
+bool ApplyMonoSetting(const char* setting, MonoPipelineConfig* config);
+
+// One line per object, the feature and search counts, the stage times.
+void PrintMonoResult(const AspectTableView& aspects, const MonoResult& result, int camera);
+
+// {"frame": "camera", "mode": "monocular", "camera": "left", "objects": [...], "features":
+// {...}, "recognition": {...}, "table": {...}, "time_ms": {...}}
+std::string MonoResultJson(const AspectTableView& aspects, const MonoResult& result,
+                           const TableChoice& table, int camera);
+
+// The camera's image with the recognised models' visible edges in their colours (packed RGB
+// rows, the image's size).
+Status BuildMonoOverlay(const MonoPipeline& pipeline, const AspectTableView& aspects,
+                        const MonoResult& result, ConstGrayView image, std::vector<uint8_t>* rgb,
+                        int* width, int* height);
+
+}  // namespace sh::tools
