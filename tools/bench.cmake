@@ -8,3 +8,7 @@ target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/cmd_bench.cpp
 target_link_libraries(stereohash PRIVATE stereohash_eval stereohash_pipeline stereohash_sim_world
                       stereohash_table_builder stereohash_default_tables stereohash_model_files
                       stereohash_hashing stereohash_verify stereohash_tables)
+# The monocular mode in `bench recorded --monocular|--compare` and `bench scenes --monocular`.
+target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/mono_misses.cpp)
+target_link_libraries(stereohash PRIVATE stereohash_mono stereohash_default_aspects)
+stereohash_headers(stereohash PRIVATE mono_misses.hpp)

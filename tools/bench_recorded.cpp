@@ -23,6 +23,8 @@
 #include "tools/eval/rendered_eval.hpp"
 #include "tools/eval/synthetic_scene.hpp"
 #include "tools/miss_causes.hpp"
+#include "tools/mono_misses.hpp"
+#include "tools/mono_setup.hpp"
 #include "tools/recognize_setup.hpp"
 #include "tools/report_util.hpp"
 
@@ -30,7 +32,7 @@ namespace sh::tools {
 namespace {
 
 // Scoring of the recorded sets (their README): same model, position within 5 mm and rotation
-// within 5 degrees, modulo the model's symmetries.
+// within 5 degrees, modulo the model's symmetries (--tolerance changes it).
 constexpr float kMaxPositionErrorMm = 5.0f;
 constexpr float kMaxRotationErrorDeg = 5.0f;
 
@@ -42,6 +44,7 @@ int VisibilityBin(float visible) { return visible < 0.4f ? 0 : visible < 0.7f ? 
 void PrintHelp() {
   std::printf(
       "usage: stereohash bench recorded DIR [--json OUT] [--verbose] [--no-table]\n"
+      "                                     [--monocular left|right | --compare]\n"
       "                                     [--set NAME=VALUE ...] [recognize options]\n"
       "Runs the pipeline as `stereohash recognize` does on every scene of a recorded set\n"
       "(DIR/calib.yaml, DIR/table.yaml if present, DIR/*/left.png, right.png, truth.json) and\n"
@@ -50,7 +53,13 @@ void PrintHelp() {
       "  --json      write the figures, with a summary {correct, missed, false_alarms, objects}\n"
       "  --verbose   one line per false alarm and per miss (with its cause at the true pose)\n"
       "  --no-table  ignore DIR/table.yaml (as a user without a table file)\n"
-      "  --set NAME=VALUE  override one pipeline setting (as `bench scenes --set`)\n"
+      "  --set NAME=VALUE  override one pipeline setting (as `bench scenes --set`); mono.NAME\n"
+      "              for the monocular recogniser\n"
+      "  --monocular left|right  the monocular mode on that camera's images instead\n"
+      "  --compare   the stereo pipeline and the monocular mode (left images) side by side\n"
+      "  --tolerance MM,DEG  scoring tolerances (default 5,5)\n"
+      "  --cpu-time  time stages by this process's CPU time (a loaded machine stretches wall\n"
+      "              time; threads add up)\n"
       "%s",
       kRecognizeOptionsHelp);
 }
@@ -222,7 +231,12 @@ int RunBenchRecorded(int argc, char** argv) {
   const char* json_path = nullptr;
   bool verbose = false, use_table_file = true;
   RecognizeOptions options;
-  std::vector<const char*> settings;  // --set name=value, for exploring settings
+  std::vector<const char*> settings;       // --set name=value, for exploring settings
+  std::vector<const char*> mono_settings;  // --set mono.name=value
+  int mono_camera = -1;                    // --monocular left|right
+  bool compare = false;
+  float max_t_mm = kMaxPositionErrorMm, max_r_deg = kMaxRotationErrorDeg;
+  int64_t (*clock)() = NowNs;  // --cpu-time: this process's CPU time instead
   for (int i = 3; i < argc; ++i) {
     if (std::strcmp(argv[i], "--verbose") == 0) {
       verbose = true;
@@ -230,6 +244,14 @@ int RunBenchRecorded(int argc, char** argv) {
     }
     if (std::strcmp(argv[i], "--no-table") == 0) {
       use_table_file = false;
+      continue;
+    }
+    if (std::strcmp(argv[i], "--compare") == 0) {
+      compare = true;
+      continue;
+    }
+    if (std::strcmp(argv[i], "--cpu-time") == 0) {
+      clock = CpuNs;
       continue;
     }
     const char *arg = nullptr, *value = nullptr;
@@ -242,7 +264,23 @@ int RunBenchRecorded(int argc, char** argv) {
       continue;
     }
     if (std::strcmp(arg, "--set") == 0) {
-      settings.push_back(value);
+      (std::strncmp(value, "mono.", 5) == 0 ? mono_settings : settings).push_back(value);
+      continue;
+    }
+    if (std::strcmp(arg, "--tolerance") == 0) {
+      if (std::sscanf(value, "%f,%f", &max_t_mm, &max_r_deg) != 2 || !(max_t_mm > 0) ||
+          !(max_r_deg > 0)) {
+        std::fprintf(stderr, "stereohash bench recorded: --tolerance needs MM,DEG\n");
+        return 2;
+      }
+      continue;
+    }
+    if (std::strcmp(arg, "--monocular") == 0) {
+      if (std::strcmp(value, "left") != 0 && std::strcmp(value, "right") != 0) {
+        std::fprintf(stderr, "stereohash bench recorded: --monocular is left or right\n");
+        return 2;
+      }
+      mono_camera = value[0] == 'l' ? 0 : 1;
       continue;
     }
     const OptionResult common = ParseRecognizeOption("bench recorded", arg, value, &options);
@@ -287,214 +325,357 @@ int RunBenchRecorded(int argc, char** argv) {
       return 2;
     }
   }
-  auto pipeline = std::make_unique<Pipeline>();
-  s = pipeline->Init(*calib, tables.view, config, NowNs);
-  if (!s.ok()) return Fail(s.message());
-
+  // The systems to run: the stereo pipeline, the monocular mode, or both side by side.
+  const bool run_stereo = mono_camera < 0 || compare;
+  const bool run_mono = mono_camera >= 0 || compare;
+  const int camera = mono_camera >= 0 ? mono_camera : 0;
+  std::unique_ptr<Pipeline> pipeline;
+  if (run_stereo) {
+    pipeline = std::make_unique<Pipeline>();
+    s = pipeline->Init(*calib, tables.view, config, clock);
+    if (!s.ok()) return Fail(s.message());
+  }
   // A second recogniser with the pipeline's settings, for the search's view of the misses.
   std::unique_ptr<Recognizer> search;
-  if (verbose || json_path != nullptr) {
+  if (run_stereo && (verbose || json_path != nullptr)) {
     search = std::make_unique<Recognizer>();
     s = search->Init(tables.view, config.recognizer);
     if (!s.ok()) return Fail(s.message());
   }
   SearchTrace trace;
-  pipeline->SetSearchObserver(&trace);
-  std::vector<Row> rows;
-  int vis_objects[kVisibilityBins] = {}, vis_correct[kVisibilityBins] = {};
-  MissCauses causes;
-  auto result = std::make_unique<PipelineResult>();
-  LoadedImage left, right;
-  std::string scene_json;
-  for (const std::string& name : scenes) {
-    const std::string base = dir + "/" + name + "/";
-    SceneTruth truth;
-    s = ParseTruth(base + "truth.json", tables.view, &truth);
-    if (s.ok()) s = LoadImage((base + "left.png").c_str(), "left", &left);
-    if (s.ok()) s = LoadImage((base + "right.png").c_str(), "right", &right);
-    trace.Clear();
-    if (s.ok()) s = pipeline->Process(left.view, right.view, options.budget_ms, result.get());
-    if (!s.ok()) return Fail((name + ": " + s.message()).c_str());
+  if (run_stereo) pipeline->SetSearchObserver(&trace);
+  LoadedAspects aspects;
+  std::unique_ptr<MonoPipeline> mono;
+  std::unique_ptr<FeatureWorkspace> workspace;
+  if (run_mono) {
+    s = LoadAspects(options.aspects_path, &aspects);
+    if (!s.ok()) return Fail(s.message());
+    // Poses are scored by model index: both tables must list the same models in order.
+    bool same = aspects.view.model_count() == tables.view.model_count();
+    for (uint32_t m = 0; same && m < tables.view.model_count(); ++m) {
+      same = std::strcmp(aspects.view.model(m).name, tables.view.model(m).name) == 0;
+    }
+    if (!same) return Fail("the aspect table's models differ from the hash tables'");
+    MonoPipelineConfig mono_config = MakeMonoConfig(options);
+    for (const char* setting : mono_settings) {
+      if (!ApplyMonoSetting(setting, &mono_config)) {
+        std::fprintf(stderr, "stereohash bench recorded: unknown setting %s\n", setting);
+        return 2;
+      }
+    }
+    mono = std::make_unique<MonoPipeline>();
+    workspace = std::make_unique<FeatureWorkspace>();
+    s = mono->Init(*calib, camera, aspects.view, table.present ? &table.left_T_table : nullptr,
+                   mono_config, clock);
+    if (!s.ok()) return Fail(s.message());
+  }
 
-    const std::vector<RecognizedPose> found = PosesOf(*result);
-    const MatchCounts m =
-        MatchToTruth(models, truth.objects, found, kMaxPositionErrorMm, kMaxRotationErrorDeg);
-    auto it = std::find_if(rows.begin(), rows.end(), [&](const Row& r) {
-      return r.background == truth.background && r.occlusion == truth.occlusion;
-    });
-    if (it == rows.end()) {
-      rows.push_back(Row{});
-      it = rows.end() - 1;
-      it->background = truth.background;
-      it->occlusion = truth.occlusion;
-    }
-    Row& row = *it;
-    ++row.scenes;
-    row.objects += static_cast<int>(truth.objects.size());
-    row.correct += m.correct;
-    row.missed += m.missed;
-    row.false_alarms += m.false_alarms;
-    row.t_err_mm.insert(row.t_err_mm.end(), m.translation_errors_mm.begin(),
-                        m.translation_errors_mm.end());
-    row.r_err_deg.insert(row.r_err_deg.end(), m.rotation_errors_deg.begin(),
-                         m.rotation_errors_deg.end());
-    std::vector<RecognizedPose> feature_poses;
-    for (const RecognizedObject& o : result->objects) {
-      feature_poses.push_back({o.model, o.cam_T_model_features});
-    }
-    const MatchCounts mf = MatchToTruth(models, truth.objects, feature_poses, kMaxPositionErrorMm,
-                                        kMaxRotationErrorDeg);
-    row.feature_t_err_mm.insert(row.feature_t_err_mm.end(), mf.translation_errors_mm.begin(),
-                                mf.translation_errors_mm.end());
-    row.feature_r_err_deg.insert(row.feature_r_err_deg.end(), mf.rotation_errors_deg.begin(),
-                                 mf.rotation_errors_deg.end());
-    row.time_ms.push_back(result->time.total_ms);
-    row.features_ms.push_back(result->time.features_ms);
-    row.stereo_ms.push_back(result->time.stereo_ms);
-    row.hashing_ms.push_back(result->time.hashing_ms);
-    row.verify_ms.push_back(result->time.verify_ms);
-    row.points2d.push_back(float(result->points2d[0] + result->points2d[1]) * 0.5f);
-    row.lines2d.push_back(float(result->lines2d[0] + result->lines2d[1]) * 0.5f);
-    row.points3d.push_back(float(result->points3d));
-    row.lines3d.push_back(float(result->lines3d));
-    for (size_t i = 0; i < truth.objects.size(); ++i) {
-      const int bin = VisibilityBin(truth.visible[i]);
-      ++vis_objects[bin];
-      vis_correct[bin] += m.truth_found[i] ? 1 : 0;
-    }
-    if (verbose) {
-      std::printf("%s: %d of %zu correct, %d false, %.1f ms\n", name.c_str(), m.correct,
-                  truth.objects.size(), m.false_alarms, result->time.total_ms);
-    }
-    std::string false_json;
-    for (const RecognizedObject& o : result->objects) {
-      const std::vector<RecognizedPose> one = {{o.model, o.cam_T_model}};
-      if (MatchToTruth(models, truth.objects, one, kMaxPositionErrorMm, kMaxRotationErrorDeg)
-              .correct == 1) {
-        continue;
+  // One system over every scene: prints its table and fills its summary.
+  struct Summary {
+    Row total;
+    MissCauses causes;
+    int mono_causes[3] = {};  // monocular misses: no features, no edges, not found
+    int vis_objects[kVisibilityBins] = {}, vis_correct[kVisibilityBins] = {};
+    std::string rows_json, scene_json, vis_json;
+  };
+  auto run = [&](bool monocular, Summary* sum) -> Status {
+    std::vector<Row> rows;
+    auto result = std::make_unique<PipelineResult>();
+    auto mono_result = std::make_unique<MonoResult>();
+    LoadedImage left, right;
+    for (const std::string& name : scenes) {
+      const std::string base = dir + "/" + name + "/";
+      SceneTruth truth;
+      Status st = ParseTruth(base + "truth.json", tables.view, &truth);
+      if (st.ok() && (!monocular || camera == 0)) {
+        st = LoadImage((base + "left.png").c_str(), "left", &left);
+      }
+      if (st.ok() && (!monocular || camera == 1)) {
+        st = LoadImage((base + "right.png").c_str(), "right", &right);
+      }
+      if (st.ok() && !monocular) {
+        trace.Clear();
+        st = pipeline->Process(left.view, right.view, options.budget_ms, result.get());
+      }
+      if (st.ok() && monocular) {
+        st = mono->Process(camera == 0 ? left.view : right.view, options.budget_ms, *workspace,
+                           mono_result.get());
+      }
+      if (!st.ok()) return Status::Error(st.code(), "%s: %s", name.c_str(), st.message());
+      const Vector<RecognizedObject>& objects =
+          monocular ? static_cast<const Vector<RecognizedObject>&>(mono_result->objects)
+                    : static_cast<const Vector<RecognizedObject>&>(result->objects);
+      std::vector<RecognizedPose> found;
+      for (const RecognizedObject& o : objects) found.push_back({o.model, o.cam_T_model});
+      const MatchCounts m = MatchToTruth(models, truth.objects, found, max_t_mm, max_r_deg);
+      auto it = std::find_if(rows.begin(), rows.end(), [&](const Row& r) {
+        return r.background == truth.background && r.occlusion == truth.occlusion;
+      });
+      if (it == rows.end()) {
+        rows.push_back(Row{});
+        it = rows.end() - 1;
+        it->background = truth.background;
+        it->occlusion = truth.occlusion;
+      }
+      Row& row = *it;
+      ++row.scenes;
+      row.objects += static_cast<int>(truth.objects.size());
+      row.correct += m.correct;
+      row.missed += m.missed;
+      row.false_alarms += m.false_alarms;
+      row.t_err_mm.insert(row.t_err_mm.end(), m.translation_errors_mm.begin(),
+                          m.translation_errors_mm.end());
+      row.r_err_deg.insert(row.r_err_deg.end(), m.rotation_errors_deg.begin(),
+                           m.rotation_errors_deg.end());
+      float total_ms;
+      if (monocular) {
+        total_ms = mono_result->time.total_ms;
+        row.features_ms.push_back(mono_result->time.features_ms);
+        row.hashing_ms.push_back(mono_result->time.recognition_ms);
+        row.points2d.push_back(float(mono_result->points2d));
+        row.lines2d.push_back(float(mono_result->lines2d));
+      } else {
+        // The poses before the final edge fit, for its effect on the errors.
+        std::vector<RecognizedPose> feature_poses;
+        for (const RecognizedObject& o : result->objects) {
+          feature_poses.push_back({o.model, o.cam_T_model_features});
+        }
+        const MatchCounts mf =
+            MatchToTruth(models, truth.objects, feature_poses, max_t_mm, max_r_deg);
+        row.feature_t_err_mm.insert(row.feature_t_err_mm.end(), mf.translation_errors_mm.begin(),
+                                    mf.translation_errors_mm.end());
+        row.feature_r_err_deg.insert(row.feature_r_err_deg.end(), mf.rotation_errors_deg.begin(),
+                                     mf.rotation_errors_deg.end());
+        total_ms = result->time.total_ms;
+        row.features_ms.push_back(result->time.features_ms);
+        row.stereo_ms.push_back(result->time.stereo_ms);
+        row.hashing_ms.push_back(result->time.hashing_ms);
+        row.verify_ms.push_back(result->time.verify_ms);
+        row.points2d.push_back(float(result->points2d[0] + result->points2d[1]) * 0.5f);
+        row.lines2d.push_back(float(result->lines2d[0] + result->lines2d[1]) * 0.5f);
+        row.points3d.push_back(float(result->points3d));
+        row.lines3d.push_back(float(result->lines3d));
+      }
+      row.time_ms.push_back(total_ms);
+      for (size_t i = 0; i < truth.objects.size(); ++i) {
+        const int bin = VisibilityBin(truth.visible[i]);
+        ++sum->vis_objects[bin];
+        sum->vis_correct[bin] += m.truth_found[i] ? 1 : 0;
       }
       if (verbose) {
-        std::printf("  %s: false %s at (%.1f, %.1f, %.1f) mm (vote %.2f, verify %.2f %.2f)\n",
-                    name.c_str(), models[o.model].name, o.cam_T_model.t_mm.x(),
-                    o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote, o.verify_score[0],
-                    o.verify_score[1]);
+        std::printf("%s: %d of %zu correct, %d false, %.1f ms\n", name.c_str(), m.correct,
+                    truth.objects.size(), m.false_alarms, total_ms);
       }
-      char buffer[256];
+      std::string false_json;
+      for (const RecognizedObject& o : objects) {
+        const std::vector<RecognizedPose> one = {{o.model, o.cam_T_model}};
+        if (MatchToTruth(models, truth.objects, one, max_t_mm, max_r_deg).correct == 1) continue;
+        if (verbose) {
+          std::printf("  %s: false %s at (%.1f, %.1f, %.1f) mm (vote %.2f, verify %.2f %.2f)\n",
+                      name.c_str(), models[o.model].name, o.cam_T_model.t_mm.x(),
+                      o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote, o.verify_score[0],
+                      o.verify_score[1]);
+        }
+        char buffer[256];
+        std::snprintf(buffer, sizeof(buffer),
+                      "%s{\"model\": \"%s\", \"t\": [%.2f, %.2f, %.2f], \"vote\": %.3f, "
+                      "\"verify\": [%.3f, %.3f]}",
+                      false_json.empty() ? "" : ", ", models[o.model].name, o.cam_T_model.t_mm.x(),
+                      o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote, o.verify_score[0],
+                      o.verify_score[1]);
+        false_json += buffer;
+      }
+      std::vector<MissRecord> misses;
+      if (monocular) {
+        ExplainMonoMisses(models, truth.objects, mono_result->objects, mono->features(),
+                          mono->recognizer(), name.c_str(), verbose, sum->mono_causes, max_t_mm,
+                          max_r_deg);
+      } else {
+        ExplainMisses(models, truth.objects, *result, *pipeline, name.c_str(), verbose,
+                      &sum->causes, max_t_mm, max_r_deg, &misses, search.get(), &trace);
+      }
+      std::string missed_json;
+      for (const MissRecord& miss : misses) {
+        char buffer[1024];
+        std::snprintf(
+            buffer, sizeof(buffer),
+            "%s{\"model\": \"%s\", \"visible\": %.3f, \"cause\": \"%s\", "
+            "\"verify_at_truth\": [%.3f, %.3f], \"support_at_truth\": %.3f, "
+            "\"own_bases\": %d, \"first_own_rank\": %d, \"good_bases\": %d, "
+            "\"first_good_rank\": %d, \"candidates\": %d, \"near_hypotheses\": %d, "
+            "\"refined_close\": %d, \"too_close\": %d, \"rejected\": %d, "
+            "\"verified\": %d, \"lost_to\": \"%s\", \"edges\": [%d, %d, %d, %d], "
+            "\"corners\": [%d, %d, %d, %d], \"edges_2d_both\": %d, "
+            "\"edges_lost_stereo\": %d, \"edges_lost_epipolar\": %d}",
+            missed_json.empty() ? "" : ", ", models[truth.objects[miss.truth_index].model].name,
+            truth.visible[miss.truth_index], miss.cause, miss.verify_score[0], miss.verify_score[1],
+            miss.support, miss.own_bases, miss.first_own_rank, miss.good_bases,
+            miss.first_good_rank, miss.candidates, miss.near_hypotheses, miss.refined_close,
+            miss.too_close, miss.rejected, miss.verified, miss.lost_to, miss.edges_visible,
+            miss.edges_2d[0], miss.edges_2d[1], miss.edges_3d, miss.corners_visible,
+            miss.corners_2d[0], miss.corners_2d[1], miss.corners_3d, miss.edges_2d_both,
+            miss.edges_lost_stereo, miss.edges_lost_epipolar);
+        missed_json += buffer;
+      }
+      char buffer[512];
       std::snprintf(buffer, sizeof(buffer),
-                    "%s{\"model\": \"%s\", \"t\": [%.2f, %.2f, %.2f], \"vote\": %.3f, "
-                    "\"verify\": [%.3f, %.3f]}",
-                    false_json.empty() ? "" : ", ", models[o.model].name, o.cam_T_model.t_mm.x(),
-                    o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote, o.verify_score[0],
-                    o.verify_score[1]);
-      false_json += buffer;
+                    "%s\n    {\"scene\": \"%s\", \"background\": \"%s\", \"occlusion\": \"%s\", "
+                    "\"objects\": %zu, \"correct\": %d, \"false_alarms\": %d, \"total_ms\": %.2f, ",
+                    sum->scene_json.empty() ? "" : ",", name.c_str(), truth.background.c_str(),
+                    truth.occlusion.c_str(), truth.objects.size(), m.correct, m.false_alarms,
+                    total_ms);
+      sum->scene_json += buffer;
+      if (!monocular) {
+        std::snprintf(buffer, sizeof(buffer),
+                      "\"points3d\": %u, \"lines3d\": %u, \"scene_bases_tried\": %u, ",
+                      result->points3d, result->lines3d, result->recognition.scene_bases_tried);
+        sum->scene_json += buffer;
+      }
+      sum->scene_json += "\"missed\": [" + missed_json + "], \"false\": [" + false_json + "]}";
     }
-    std::vector<MissRecord> misses;
-    ExplainMisses(models, truth.objects, *result, *pipeline, name.c_str(), verbose, &causes,
-                  kMaxPositionErrorMm, kMaxRotationErrorDeg, &misses, search.get(), &trace);
-    std::string missed_json;
-    for (const MissRecord& miss : misses) {
-      char buffer[1024];
-      std::snprintf(
-          buffer, sizeof(buffer),
-          "%s{\"model\": \"%s\", \"visible\": %.3f, \"cause\": \"%s\", "
-          "\"verify_at_truth\": [%.3f, %.3f], \"support_at_truth\": %.3f, "
-          "\"own_bases\": %d, \"first_own_rank\": %d, \"good_bases\": %d, "
-          "\"first_good_rank\": %d, \"candidates\": %d, \"near_hypotheses\": %d, "
-          "\"refined_close\": %d, \"too_close\": %d, \"rejected\": %d, "
-          "\"verified\": %d, \"lost_to\": \"%s\", \"edges\": [%d, %d, %d, %d], "
-          "\"corners\": [%d, %d, %d, %d], \"edges_2d_both\": %d, "
-          "\"edges_lost_stereo\": %d, \"edges_lost_epipolar\": %d}",
-          missed_json.empty() ? "" : ", ", models[truth.objects[miss.truth_index].model].name,
-          truth.visible[miss.truth_index], miss.cause, miss.verify_score[0], miss.verify_score[1],
-          miss.support, miss.own_bases, miss.first_own_rank, miss.good_bases, miss.first_good_rank,
-          miss.candidates, miss.near_hypotheses, miss.refined_close, miss.too_close, miss.rejected,
-          miss.verified, miss.lost_to, miss.edges_visible, miss.edges_2d[0], miss.edges_2d[1],
-          miss.edges_3d, miss.corners_visible, miss.corners_2d[0], miss.corners_2d[1],
-          miss.corners_3d, miss.edges_2d_both, miss.edges_lost_stereo, miss.edges_lost_epipolar);
-      missed_json += buffer;
-    }
-    char buffer[512];
-    std::snprintf(buffer, sizeof(buffer),
-                  "%s\n    {\"scene\": \"%s\", \"background\": \"%s\", \"occlusion\": \"%s\", "
-                  "\"objects\": %zu, \"correct\": %d, \"false_alarms\": %d, \"total_ms\": %.2f, "
-                  "\"points3d\": %u, \"lines3d\": %u, \"scene_bases_tried\": %u, ",
-                  scene_json.empty() ? "" : ",", name.c_str(), truth.background.c_str(),
-                  truth.occlusion.c_str(), truth.objects.size(), m.correct, m.false_alarms,
-                  result->time.total_ms, result->points3d, result->lines3d,
-                  result->recognition.scene_bases_tried);
-    scene_json += buffer;
-    scene_json += "\"missed\": [" + missed_json + "], \"false\": [" + false_json + "]}";
-  }
 
-  std::printf(
-      "\nRecorded scenes %s: %zu scenes; correct = same model, within %.0f mm and %.0f deg "
-      "(symmetry-aware);\n2-D counts per image (mean of left and right), counts and times "
-      "medians over the row; pose errors\nmedians over the correct objects; table: %s; %d "
-      "thread%s.\n\n",
-      dir.c_str(), scenes.size(), kMaxPositionErrorMm, kMaxRotationErrorDeg,
-      table.present ? table.source.c_str() : "none", pipeline->threads(),
-      pipeline->threads() == 1 ? "" : "s");
-  std::printf("%-6s %-7s %6s %7s %7s %6s %6s %8s %8s %6s %6s %6s %6s %7s %7s\n", "backgr", "occlus",
-              "scenes", "objects", "correct", "missed", "false", "med ms", "worst ms", "2D pts",
-              "2D lin", "3D pts", "3D lin", "t mm", "R deg");
-  Row total;
-  total.background = "all";
-  std::string rows_json;
-  for (const Row& row : rows) {
-    PrintRow(row);
-    total.Add(row);
-    rows_json += (rows_json.empty() ? "\n    " : ",\n    ") + RowJson(row);
+    if (monocular) {
+      std::printf(
+          "\nRecorded scenes %s, monocular (%s images): %zu scenes; correct = same model, "
+          "within %.0f mm and %.0f deg (symmetry-aware);\n2-D counts per image, counts and "
+          "times medians over the row; pose errors medians over the correct objects; table: "
+          "%s.\n\n",
+          dir.c_str(), camera == 0 ? "left" : "right", scenes.size(), max_t_mm, max_r_deg,
+          table.present ? table.source.c_str() : "none");
+    } else {
+      std::printf(
+          "\nRecorded scenes %s: %zu scenes; correct = same model, within %.0f mm and %.0f deg "
+          "(symmetry-aware);\n2-D counts per image (mean of left and right), counts and times "
+          "medians over the row; pose errors\nmedians over the correct objects; table: %s; %d "
+          "thread%s.\n\n",
+          dir.c_str(), scenes.size(), max_t_mm, max_r_deg,
+          table.present ? table.source.c_str() : "none", pipeline->threads(),
+          pipeline->threads() == 1 ? "" : "s");
+    }
+    std::printf("%-6s %-7s %6s %7s %7s %6s %6s %8s %8s %6s %6s %6s %6s %7s %7s\n", "backgr",
+                "occlus", "scenes", "objects", "correct", "missed", "false", "med ms", "worst ms",
+                "2D pts", "2D lin", "3D pts", "3D lin", "t mm", "R deg");
+    sum->total = Row{};
+    sum->total.background = "all";
+    for (const Row& row : rows) {
+      PrintRow(row);
+      sum->total.Add(row);
+      sum->rows_json += (sum->rows_json.empty() ? "\n    " : ",\n    ") + RowJson(row);
+    }
+    const Row& total = sum->total;
+    PrintRow(total);
+    const int reported = total.correct + total.false_alarms;
+    const double correct_pct = total.objects ? 100.0 * total.correct / total.objects : 0.0;
+    const double false_pct = reported ? 100.0 * total.false_alarms / reported : 0.0;
+    if (monocular) {
+      std::printf(
+          "\ncorrect %.1f %% of objects, false alarms %.1f %% of reported objects; median error "
+          "%.2f mm / %.2f deg;\nframe median %.1f ms, worst %.1f ms; median stage times: "
+          "features %.1f, recognition %.1f ms\n",
+          correct_pct, false_pct, Median(total.t_err_mm), Median(total.r_err_deg),
+          Median(total.time_ms), Max(total.time_ms), Median(total.features_ms),
+          Median(total.hashing_ms));
+    } else {
+      std::printf(
+          "\ncorrect %.1f %% of objects, false alarms %.1f %% of reported objects; median error "
+          "%.2f mm / %.2f deg (feature refinement alone: %.2f mm / %.2f deg);\nframe median "
+          "%.1f ms, worst %.1f ms; median stage times: features %.1f, stereo %.1f, hashing "
+          "%.1f, verify %.1f ms\n",
+          correct_pct, false_pct, Median(total.t_err_mm), Median(total.r_err_deg),
+          Median(total.feature_t_err_mm), Median(total.feature_r_err_deg), Median(total.time_ms),
+          Max(total.time_ms), Median(total.features_ms), Median(total.stereo_ms),
+          Median(total.hashing_ms), Median(total.verify_ms));
+    }
+    std::printf("recall by visibility:");
+    for (int b = 0; b < kVisibilityBins; ++b) {
+      std::printf("%s %s %d / %d (%.1f %%)", b ? "," : "", kVisibilityNames[b], sum->vis_correct[b],
+                  sum->vis_objects[b],
+                  sum->vis_objects[b] ? 100.0 * sum->vis_correct[b] / sum->vis_objects[b] : 0.0);
+      char buffer[160];
+      std::snprintf(buffer, sizeof(buffer),
+                    "%s{\"visible\": \"%s\", \"objects\": %d, \"correct\": %d}", b ? ", " : "",
+                    kVisibilityNames[b], sum->vis_objects[b], sum->vis_correct[b]);
+      sum->vis_json += buffer;
+    }
+    if (monocular) {
+      std::printf(
+          "\nmissed %d: at the true pose %d show under half of their corners and edges in the "
+          "image's features, %d fail the image verification, %d were not found by the search\n",
+          total.missed, sum->mono_causes[0], sum->mono_causes[1], sum->mono_causes[2]);
+    } else {
+      std::printf(
+          "\nmissed %d: at the true pose %d fail the image verification (edges too weak or "
+          "hidden), %d have under 30 %% 3-D support (stereo lost them), %d were not reached by "
+          "the search\n",
+          total.missed, sum->causes.no_edges, sum->causes.no_3d, sum->causes.not_searched);
+    }
+    return Status::Ok();
+  };
+
+  Summary stereo_sum, mono_sum;
+  if (run_stereo) {
+    s = run(false, &stereo_sum);
+    if (!s.ok()) return Fail(s.message());
   }
-  PrintRow(total);
-  const int reported = total.correct + total.false_alarms;
-  const double correct_pct = total.objects ? 100.0 * total.correct / total.objects : 0.0;
-  const double false_pct = reported ? 100.0 * total.false_alarms / reported : 0.0;
-  std::printf(
-      "\ncorrect %.1f %% of objects, false alarms %.1f %% of reported objects; median error "
-      "%.2f mm / %.2f deg (feature refinement alone: %.2f mm / %.2f deg);\nframe median %.1f ms, "
-      "worst %.1f ms; median stage times: features "
-      "%.1f, stereo %.1f, hashing %.1f, verify %.1f ms\n",
-      correct_pct, false_pct, Median(total.t_err_mm), Median(total.r_err_deg),
-      Median(total.feature_t_err_mm), Median(total.feature_r_err_deg), Median(total.time_ms),
-      Max(total.time_ms), Median(total.features_ms), Median(total.stereo_ms),
-      Median(total.hashing_ms), Median(total.verify_ms));
-  std::printf("recall by visibility:");
-  std::string vis_json;
-  for (int b = 0; b < kVisibilityBins; ++b) {
-    std::printf("%s %s %d / %d (%.1f %%)", b ? "," : "", kVisibilityNames[b], vis_correct[b],
-                vis_objects[b], vis_objects[b] ? 100.0 * vis_correct[b] / vis_objects[b] : 0.0);
-    char buffer[160];
-    std::snprintf(buffer, sizeof(buffer),
-                  "%s{\"visible\": \"%s\", \"objects\": %d, \"correct\": %d}", b ? ", " : "",
-                  kVisibilityNames[b], vis_objects[b], vis_correct[b]);
-    vis_json += buffer;
+  if (run_mono) {
+    s = run(true, &mono_sum);
+    if (!s.ok()) return Fail(s.message());
   }
-  std::printf(
-      "\nmissed %d: at the true pose %d fail the image verification (edges too weak or hidden), "
-      "%d have under 30 %% 3-D support (stereo lost them), %d were not reached by the search\n",
-      total.missed, causes.no_edges, causes.no_3d, causes.not_searched);
+  if (compare) {
+    // Thesis 6.4.3: the 2-D system beside the 3-D one on the same scenes.
+    std::printf("\nside by side (thesis ch. 6): %-8s %8s %8s %8s %10s %10s %10s\n", "", "correct",
+                "false", "missed", "t err mm", "R err deg", "median ms");
+    for (const auto& [label, sum] :
+         {std::pair<const char*, const Summary*>{"stereo", &stereo_sum}, {"mono", &mono_sum}}) {
+      const Row& t = sum->total;
+      const int reported = t.correct + t.false_alarms;
+      std::printf("                             %-8s %7.1f%% %7.1f%% %8d %10.2f %10.2f %10.1f\n",
+                  label, t.objects ? 100.0 * t.correct / t.objects : 0.0,
+                  reported ? 100.0 * t.false_alarms / reported : 0.0, t.missed, Median(t.t_err_mm),
+                  Median(t.r_err_deg), Median(t.time_ms));
+    }
+  }
 
   if (json_path != nullptr) {
-    char summary[768];
-    std::snprintf(
-        summary, sizeof(summary),
-        "  \"summary\": {\"scenes\": %zu, \"objects\": %d, \"correct\": %d, \"missed\": %d, "
-        "\"false_alarms\": %d, \"correct_pct\": %.2f, \"false_alarm_pct\": %.2f, "
-        "\"median_t_err_mm\": %.3f, \"median_r_err_deg\": %.3f, "
-        "\"feature_median_t_err_mm\": %.3f, \"feature_median_r_err_deg\": %.3f, "
-        "\"median_ms\": %.2f, "
-        "\"worst_ms\": %.2f, \"miss_causes\": {\"no_edges\": %d, \"no_3d\": %d, "
-        "\"not_searched\": %d}},\n",
-        scenes.size(), total.objects, total.correct, total.missed, total.false_alarms, correct_pct,
-        false_pct, Median(total.t_err_mm), Median(total.r_err_deg), Median(total.feature_t_err_mm),
-        Median(total.feature_r_err_deg), Median(total.time_ms), Max(total.time_ms), causes.no_edges,
-        causes.no_3d, causes.not_searched);
+    auto system_json = [&](const Summary& sum, bool monocular) {
+      const Row& total = sum.total;
+      const int reported = total.correct + total.false_alarms;
+      char summary[768];
+      std::snprintf(
+          summary, sizeof(summary),
+          "\"summary\": {\"scenes\": %zu, \"objects\": %d, \"correct\": %d, \"missed\": %d, "
+          "\"false_alarms\": %d, \"correct_pct\": %.2f, \"false_alarm_pct\": %.2f, "
+          "\"median_t_err_mm\": %.3f, \"median_r_err_deg\": %.3f, "
+          "\"feature_median_t_err_mm\": %.3f, \"feature_median_r_err_deg\": %.3f, "
+          "\"median_ms\": %.2f, \"worst_ms\": %.2f, \"miss_causes\": %s}",
+          scenes.size(), total.objects, total.correct, total.missed, total.false_alarms,
+          total.objects ? 100.0 * total.correct / total.objects : 0.0,
+          reported ? 100.0 * total.false_alarms / reported : 0.0, Median(total.t_err_mm),
+          Median(total.r_err_deg), Median(total.feature_t_err_mm), Median(total.feature_r_err_deg),
+          Median(total.time_ms), Max(total.time_ms),
+          monocular ? ("{\"no_features\": " + std::to_string(sum.mono_causes[0]) +
+                       ", \"no_edges\": " + std::to_string(sum.mono_causes[1]) +
+                       ", \"not_found\": " + std::to_string(sum.mono_causes[2]) + "}")
+                          .c_str()
+                    : ("{\"no_edges\": " + std::to_string(sum.causes.no_edges) +
+                       ", \"no_3d\": " + std::to_string(sum.causes.no_3d) +
+                       ", \"not_searched\": " + std::to_string(sum.causes.not_searched) + "}")
+                          .c_str());
+      std::string json = std::string("  ") + summary + ",\n";
+      json += "  \"visibility\": [" + sum.vis_json + "],\n";
+      json += "  \"rows\": [" + sum.rows_json + "\n  ],\n";
+      json += "  \"scenes\": [" + sum.scene_json + "\n  ]";
+      return json;
+    };
     std::string json = "{\n  \"command\": \"" + CommandLine(argc, argv) + "\",\n";
     json += "  \"table\": \"" + (table.present ? table.source : std::string("none")) + "\",\n";
-    json += summary;
-    json += "  \"visibility\": [" + vis_json + "],\n";
-    json += "  \"rows\": [" + rows_json + "\n  ],\n";
-    json += "  \"scenes\": [" + scene_json + "\n  ]\n}\n";
+    if (compare) {
+      json += "  \"stereo\": {\n" + system_json(stereo_sum, false) + "\n  },\n";
+      json += "  \"monocular\": {\n" + system_json(mono_sum, true) + "\n  }\n}\n";
+    } else {
+      if (run_mono) json += "  \"mode\": \"monocular\",\n";
+      json += system_json(run_mono ? mono_sum : stereo_sum, run_mono) + "\n}\n";
+    }
     if (!WriteTextFile(json_path, json)) {
       std::fprintf(stderr, "stereohash bench recorded: cannot write %s\n", json_path);
       return 1;

@@ -26,6 +26,8 @@
 #include "tools/eval/synthetic_scene.hpp"
 #include "tools/eval/truth_pose_fit.hpp"
 #include "tools/miss_causes.hpp"
+#include "tools/mono_misses.hpp"
+#include "tools/mono_setup.hpp"
 #include "tools/recognize_setup.hpp"
 #include "tools/report_util.hpp"
 
@@ -135,6 +137,8 @@ int RunBenchScenes(int argc, char** argv) {
   std::vector<const char*> settings;  // name=value overrides of the presets
   const char* preset = nullptr;       // detector preset (default: automatic)
   render::ScenarioParams camera;      // --camera: another camera than the thesis's
+  bool monocular = false;             // the monocular mode on the left images instead
+  float max_t_mm = 10.0f, max_r_deg = 10.0f;  // scoring (thesis: 10 mm, 10 deg)
   for (int i = 2; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
     // Options with a numeric value all end by consuming it (++i): the same body on purpose.
@@ -162,6 +166,11 @@ int RunBenchScenes(int argc, char** argv) {
       only = argv[++i];
     } else if (std::strcmp(argv[i], "--verbose") == 0) {
       verbose = true;
+    } else if (std::strcmp(argv[i], "--monocular") == 0) {
+      monocular = true;
+    } else if (std::strcmp(argv[i], "--tolerance") == 0 && has_value &&
+               std::sscanf(argv[i + 1], "%f,%f", &max_t_mm, &max_r_deg) == 2) {
+      ++i;
     } else if (std::strcmp(argv[i], "--no-table-volume") == 0) {
       table_volume = false;
     } else if (std::strcmp(argv[i], "--fruitless") == 0 && has_value &&
@@ -177,7 +186,8 @@ int RunBenchScenes(int argc, char** argv) {
           "usage: stereohash bench scenes [--scenes-per-row N] [--json OUT] "
           "[--budget-ms MS] [--min-fraction F] [--fruitless N] [--features dark|light|row] "
           "[--set NAME=VALUE] [--only dark|light] [--seed-offset N] [--verbose] "
-          "[--no-table-volume] [--camera thesis|wide|tele|hd] [--models DIR]\n");
+          "[--no-table-volume] [--camera thesis|wide|tele|hd] [--models DIR] [--monocular] "
+          "[--tolerance MM,DEG]\n");
       return 2;
     }
   }
@@ -196,6 +206,27 @@ int RunBenchScenes(int argc, char** argv) {
   }
   auto pipeline = std::make_unique<Pipeline>();
   auto pair = std::make_unique<RenderedPair>();
+  // The monocular mode: the left image, the rendered table's pose as the installation's.
+  Result<AspectTableView> aspects = OpenDefaultAspectTable();
+  if (monocular && !aspects.ok()) {
+    std::fprintf(stderr, "stereohash bench: %s\n", aspects.status().message());
+    return 1;
+  }
+  std::unique_ptr<MonoPipeline> mono;
+  std::unique_ptr<FeatureWorkspace> workspace;
+  auto mono_result = std::make_unique<MonoResult>();
+  MonoPipelineConfig mono_config = MonoPipelineConfig::Automatic();
+  int mono_causes[3] = {};
+  if (monocular) {
+    mono = std::make_unique<MonoPipeline>();
+    workspace = std::make_unique<FeatureWorkspace>();
+    for (const char* setting : settings) {
+      if (std::strncmp(setting, "mono.", 5) == 0 && !ApplyMonoSetting(setting, &mono_config)) {
+        std::fprintf(stderr, "stereohash bench: unknown setting %s\n", setting);
+        return 2;
+      }
+    }
+  }
   SceneRow rows[] = {
       {"dark", "none", render::Background::kDark, render::Occlusion::kNone},
       {"dark", "some", render::Background::kDark, render::Occlusion::kSome},
@@ -219,6 +250,7 @@ int RunBenchScenes(int argc, char** argv) {
     if (min_fraction >= 0) config.verify.min_fraction = min_fraction;
     if (fruitless > 0) config.recognizer.max_fruitless_bases = static_cast<uint32_t>(fruitless);
     for (const char* setting : settings) {
+      if (std::strncmp(setting, "mono.", 5) == 0) continue;  // the monocular mode's
       if (!ApplyPipelineSetting(setting, &config)) {
         std::fprintf(stderr, "stereohash bench: unknown setting %s\n", setting);
         return 2;
@@ -242,20 +274,45 @@ int RunBenchScenes(int argc, char** argv) {
         scene_config.table.known = true;
         scene_config.table.left_T_table = pair->generated.scene.left_T_table;
       }
-      st = pipeline->Init(pair->generated.calib, *table, scene_config, NowNs);
-      if (st.ok())
-        st = pipeline->Process(pair->left_view(), pair->right_view(), budget_ms, &result);
+      if (monocular) {
+        const RigidTransform& left_T_table = pair->generated.scene.left_T_table;
+        st = mono->Init(pair->generated.calib, 0, *aspects, table_volume ? &left_T_table : nullptr,
+                        mono_config, NowNs);
+        if (st.ok())
+          st = mono->Process(pair->left_view(), budget_ms, *workspace, mono_result.get());
+        if (st.ok()) {
+          // The monocular result in the stereo result's place, for the scoring below.
+          result = PipelineResult{};
+          for (const RecognizedObject& o : mono_result->objects) (void)result.objects.push_back(o);
+          result.points2d[0] = result.points2d[1] = mono_result->points2d;
+          result.lines2d[0] = result.lines2d[1] = mono_result->lines2d;
+          result.time.features_ms = mono_result->time.features_ms;
+          result.time.hashing_ms = mono_result->time.recognition_ms;
+          result.time.total_ms = mono_result->time.total_ms;
+        }
+      } else {
+        st = pipeline->Init(pair->generated.calib, *table, scene_config, NowNs);
+        if (st.ok())
+          st = pipeline->Process(pair->left_view(), pair->right_view(), budget_ms, &result);
+      }
       if (!st.ok()) {
         std::fprintf(stderr, "scene %s/%s seed %llu: %s\n", row.background, row.occlusion,
                      static_cast<unsigned long long>(seed), st.message());
         ++row.failed;
         continue;
       }
-      const MatchCounts m = MatchToTruth(models.table, pair->truth, PosesOf(result));
+      const MatchCounts m =
+          MatchToTruth(models.table, pair->truth, PosesOf(result), max_t_mm, max_r_deg);
       if (verbose) PrintErrors(models.table, pair->truth, result, seed);
       char label[32];
       std::snprintf(label, sizeof(label), "seed %llu", static_cast<unsigned long long>(seed));
-      ExplainMisses(models.table, pair->truth, result, *pipeline, label, verbose, &miss_causes);
+      if (monocular) {
+        ExplainMonoMisses(models.table, pair->truth, mono_result->objects, mono->features(),
+                          mono->recognizer(), label, verbose, mono_causes, max_t_mm, max_r_deg);
+      } else {
+        ExplainMisses(models.table, pair->truth, result, *pipeline, label, verbose, &miss_causes,
+                      max_t_mm, max_r_deg);
+      }
       ++row.scenes;
       row.objects += static_cast<int>(pair->truth.size());
       row.correct += m.correct;
@@ -278,10 +335,14 @@ int RunBenchScenes(int argc, char** argv) {
   }
 
   std::printf(
-      "\nRendered scenes, whole pipeline (hash fn 5, %d thread%s); 2-D counts are per image (mean\n"
-      "of left and right), all counts medians; correct = same model, centre within 10 mm,\n"
-      "rotation within 10 deg (symmetry-aware); pose errors are medians over correct objects.\n\n",
-      pipeline->threads(), pipeline->threads() == 1 ? "" : "s");
+      "\nRendered scenes, %s%d thread%s); 2-D counts are per image (mean\n"
+      "of left and right), all counts medians; correct = same model, centre within %.0f mm,\n"
+      "rotation within %.0f deg (symmetry-aware); pose errors are medians over correct "
+      "objects.\n\n",
+      monocular ? "monocular mode on the left images (stage 'hashing' = recognition; "
+                : "whole pipeline (hash fn 5, ",
+      monocular ? 1 : pipeline->threads(), !monocular && pipeline->threads() != 1 ? "s" : "",
+      double(max_t_mm), double(max_r_deg));
   std::printf("%-6s %-7s %6s %7s %7s %6s %6s %8s %8s %6s %6s %6s %6s %7s %7s\n", "backgr", "occlus",
               "scenes", "objects", "correct", "missed", "false", "med ms", "worst ms", "2D pts",
               "2D lin", "3D pts", "3D lin", "t mm", "R deg");
@@ -339,10 +400,17 @@ int RunBenchScenes(int argc, char** argv) {
       total.objects ? 100.0 * total.correct / total.objects : 0.0,
       found ? 100.0 * total.false_alarms / found : 0.0, Median(total.features_ms),
       Median(total.stereo_ms), Median(total.hashing_ms), Median(total.verify_ms), total.failed);
-  std::printf(
-      "missed %d: at the true pose %d fail the image verification (edges too weak or hidden), "
-      "%d have under 30 %% 3-D support (stereo lost them), %d were not reached by the search\n",
-      total.missed, miss_causes.no_edges, miss_causes.no_3d, miss_causes.not_searched);
+  if (monocular) {
+    std::printf(
+        "missed %d: at the true pose %d show under half of their corners and edges in the "
+        "image's features, %d fail the image verification, %d were not found by the search\n",
+        total.missed, mono_causes[0], mono_causes[1], mono_causes[2]);
+  } else {
+    std::printf(
+        "missed %d: at the true pose %d fail the image verification (edges too weak or hidden), "
+        "%d have under 30 %% 3-D support (stereo lost them), %d were not reached by the search\n",
+        total.missed, miss_causes.no_edges, miss_causes.no_3d, miss_causes.not_searched);
+  }
   if (json_path != nullptr && !WriteTextFile(json_path, json)) {
     std::fprintf(stderr, "stereohash bench: cannot write %s\n", json_path);
     return 1;

@@ -374,6 +374,20 @@ TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
   const ToolRun nt = RunTool("bench recorded " + set + " --no-table");
   EXPECT_NE(nt.output.find("table: none"), std::string::npos) << nt.output;
 
+  // The monocular mode on the left images with the set's table, and both systems side by side.
+  const ToolRun mono =
+      RunTool("bench recorded " + set + " --monocular left --json " + Path("mono_bench.json"));
+  ASSERT_EQ(mono.exit_code, 0) << mono.output;
+  Json mono_bench;
+  ASSERT_TRUE(JsonReader(ReadText(Path("mono_bench.json"))).Parse(&mono_bench));
+  EXPECT_EQ(mono_bench["mode"].text, "monocular");
+  EXPECT_EQ(mono_bench["summary"]["objects"].number, 6);
+  EXPECT_GE(mono_bench["summary"]["correct"].number, 3) << mono.output;
+  const ToolRun both = RunTool("bench recorded " + set + " --compare");
+  ASSERT_EQ(both.exit_code, 0) << both.output;
+  EXPECT_NE(both.output.find("side by side"), std::string::npos) << both.output;
+  EXPECT_EQ(RunTool("bench recorded " + set + " --monocular middle").exit_code, 2);
+
   // Errors: a folder without scenes, an unknown option, a bad recognition option.
   const ToolRun empty = RunTool("bench recorded " + Path("no_such_dir"));
   EXPECT_EQ(empty.exit_code, 1) << empty.output;

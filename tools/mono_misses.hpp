@@ -1,0 +1,20 @@
+// Why the monocular mode missed objects, for the `bench` commands.
+#pragma once
+
+#include <vector>
+
+#include "recog/mono/mono_recognizer.hpp"
+#include "tools/eval/synthetic_scene.hpp"
+
+namespace sh::tools {
+
+// Why the monocular mode missed objects, judged at their true poses (Diagnose): causes[0] the
+// image's features hold under half of the corners and edge pieces the model shows there,
+// causes[1] the edge-pixel verification rejects even the true pose, causes[2] neither (the
+// search did not find it). `verbose` prints one line per miss, starting with `label`.
+void ExplainMonoMisses(const std::vector<Model>& models, const std::vector<TruthObject>& truth,
+                       const Vector<RecognizedObject>& found, const ImageFeatures& features,
+                       MonoRecognizer& recognizer, const char* label, bool verbose, int causes[3],
+                       float max_t_mm, float max_r_deg);
+
+}  // namespace sh::tools
