@@ -1,0 +1,216 @@
+#include "recog/texture/descriptor.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sh::texture {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+constexpr float kTwoPi = 2.0f * kPi;
+
+// Sampling grid of the descriptor, fixed in the point's frame: sample (i, j) sits at
+// (i - 7.5, j - 7.5) level pixels from the point; its Gaussian weight and its cell coordinates
+// (cell centres at 0 .. 3) do not depend on the image, so they are computed once.
+struct DescriptorGrid {
+  static constexpr int kN = kDescriptorWindowPx;
+  float offset[kN];      // i - 7.5
+  float weight[kN][kN];  // exp(-(x^2 + y^2) / (2 (window / 2)^2))
+  int cell0[kN];         // floor of the cell coordinate (-1 .. 3)
+  float cell_frac[kN];   // its fractional part
+  DescriptorGrid() {
+    const float half = 0.5f * kN;
+    const float inv_two_sigma2 = 1.0f / (2.0f * half * half);
+    for (int i = 0; i < kN; ++i) {
+      offset[i] = static_cast<float>(i) - (half - 0.5f);
+      const float c = (static_cast<float>(i) + 0.5f) / kDescriptorCellPx - 0.5f;
+      cell0[i] = static_cast<int>(std::floor(c));
+      cell_frac[i] = c - static_cast<float>(cell0[i]);
+    }
+    for (int j = 0; j < kN; ++j) {
+      for (int i = 0; i < kN; ++i) {
+        weight[j][i] = std::exp(-(offset[i] * offset[i] + offset[j] * offset[j]) * inv_two_sigma2);
+      }
+    }
+  }
+};
+
+const DescriptorGrid& Grid() {
+  static const DescriptorGrid grid;  // constant tables, built on first use (no heap)
+  return grid;
+}
+
+float WrapAngle(float a) {
+  while (a > kPi) a -= kTwoPi;
+  while (a <= -kPi) a += kTwoPi;
+  return a;
+}
+
+}  // namespace
+
+float FastAtan2(float y, float x) {
+  const float ax = std::fabs(x);
+  const float ay = std::fabs(y);
+  if (ax == 0.0f && ay == 0.0f) return 0.0f;
+  const bool swap = ay > ax;
+  const float z = swap ? ax / ay : ay / ax;  // in [0, 1]
+  const float z2 = z * z;
+  // Minimax polynomial for atan on [0, 1] (absolute error about 1e-5 rad).
+  float a =
+      z *
+      (0.99997726f +
+       z2 * (-0.33262347f +
+             z2 * (0.19354346f + z2 * (-0.11643287f + z2 * (0.05265332f + z2 * -0.01172120f)))));
+  if (swap) a = 0.5f * kPi - a;
+  if (x < 0.0f) a = kPi - a;
+  return y < 0.0f ? -a : a;
+}
+
+int DescriptorBorderPx() {
+  // Farthest sample: the grid's corner turned by 45 degrees, plus one pixel for the bilinear
+  // neighbours and one for the central differences of the gradient planes.
+  const float corner = 0.5f * (kDescriptorWindowPx - 1) * 1.41421356f;
+  return static_cast<int>(std::ceil(corner)) + 2;
+}
+
+int DominantOrientations(const ConstFloatView& gx, const ConstFloatView& gy, float x, float y,
+                         const OrientationConfig& config, float* angles_rad) {
+  float hist[kOrientationBins] = {};
+  const int radius = static_cast<int>(std::ceil(3.0f * config.sigma_px));
+  const int cx = static_cast<int>(std::lround(x));
+  const int cy = static_cast<int>(std::lround(y));
+  const float inv_two_sigma2 = 1.0f / (2.0f * config.sigma_px * config.sigma_px);
+  constexpr float kBinsPerRad = kOrientationBins / kTwoPi;
+  for (int dy = -radius; dy <= radius; ++dy) {
+    const int py = cy + dy;
+    if (py < 0 || py >= gx.height) continue;
+    const float* rx = gx.row(py);
+    const float* ry = gy.row(py);
+    for (int dx = -radius; dx <= radius; ++dx) {
+      const int px = cx + dx;
+      if (px < 0 || px >= gx.width) continue;
+      const float r2 = static_cast<float>(dx * dx + dy * dy);
+      if (r2 > static_cast<float>(radius * radius)) continue;
+      const float gxv = rx[px];
+      const float gyv = ry[px];
+      const float mag = std::sqrt(gxv * gxv + gyv * gyv);
+      if (mag == 0.0f) continue;
+      const float w = mag * std::exp(-r2 * inv_two_sigma2);
+      float bin = FastAtan2(gyv, gxv) * kBinsPerRad;  // (-18, 18]
+      if (bin < 0.0f) bin += kOrientationBins;
+      const int b0 = static_cast<int>(bin) % kOrientationBins;
+      const float f = bin - std::floor(bin);
+      hist[b0] += w * (1.0f - f);
+      hist[(b0 + 1) % kOrientationBins] += w * f;
+    }
+  }
+  // Two passes of the circular (1/4, 1/2, 1/4) kernel.
+  for (int pass = 0; pass < 2; ++pass) {
+    float smoothed[kOrientationBins];
+    for (int b = 0; b < kOrientationBins; ++b) {
+      const float prev = hist[(b + kOrientationBins - 1) % kOrientationBins];
+      const float next = hist[(b + 1) % kOrientationBins];
+      smoothed[b] = 0.25f * prev + 0.5f * hist[b] + 0.25f * next;
+    }
+    std::copy(smoothed, smoothed + kOrientationBins, hist);
+  }
+  float peak = 0.0f;
+  for (float h : hist) peak = std::max(peak, h);
+  if (peak <= 0.0f) return 0;
+  // Local maxima above the ratio, strongest first.
+  struct Peak {
+    float value, angle;
+  };
+  Peak peaks[kOrientationBins];
+  int n_peaks = 0;
+  for (int b = 0; b < kOrientationBins; ++b) {
+    const float prev = hist[(b + kOrientationBins - 1) % kOrientationBins];
+    const float next = hist[(b + 1) % kOrientationBins];
+    const float h = hist[b];
+    if (h < config.secondary_ratio * peak || h <= prev || h < next) continue;
+    const float denom = prev - 2.0f * h + next;
+    const float offset = denom < 0.0f ? 0.5f * (prev - next) / denom : 0.0f;  // in (-0.5, 0.5]
+    const float a = (static_cast<float>(b) + offset) / kBinsPerRad;
+    peaks[n_peaks++] = {h, WrapAngle(a)};
+  }
+  std::sort(peaks, peaks + n_peaks, [](const Peak& a, const Peak& b) { return a.value > b.value; });
+  const int n = std::min({n_peaks, config.max_orientations, kMaxPointOrientations});
+  for (int i = 0; i < n; ++i) angles_rad[i] = peaks[i].angle;
+  return n;
+}
+
+void ComputeDescriptor(const ConstFloatView& gx, const ConstFloatView& gy, float x, float y,
+                       float angle_rad, TextureDescriptor* out) {
+  const DescriptorGrid& g = Grid();
+  constexpr int kC = kDescriptorCells;
+  constexpr int kO = kDescriptorOrientations;
+  // Cells -1 .. kC along each side so that the trilinear spread needs no bounds checks; only
+  // cells 0 .. kC - 1 are kept.
+  float hist[kC + 2][kC + 2][kO] = {};
+  const float c = std::cos(angle_rad);
+  const float s = std::sin(angle_rad);
+  constexpr float kBinsPerRad = kO / kTwoPi;
+  for (int j = 0; j < DescriptorGrid::kN; ++j) {
+    const float ly = g.offset[j];
+    for (int i = 0; i < DescriptorGrid::kN; ++i) {
+      const float lx = g.offset[i];
+      const float px = x + c * lx - s * ly;
+      const float py = y + s * lx + c * ly;
+      const float gxv = SampleBilinear(gx, px, py);
+      const float gyv = SampleBilinear(gy, px, py);
+      // Gradient in the point's frame.
+      const float rx = c * gxv + s * gyv;
+      const float ry = -s * gxv + c * gyv;
+      const float mag = std::sqrt(rx * rx + ry * ry) * g.weight[j][i];
+      if (mag == 0.0f) continue;
+      float o = FastAtan2(ry, rx) * kBinsPerRad;  // (-4, 4]
+      if (o < 0.0f) o += kO;
+      const int o0 = static_cast<int>(o) % kO;
+      const int o1 = (o0 + 1) % kO;
+      const float fo = o - std::floor(o);
+      const int cx0 = g.cell0[i] + 1;
+      const int cy0 = g.cell0[j] + 1;
+      const float fx = g.cell_frac[i];
+      const float fy = g.cell_frac[j];
+      const float w00 = mag * (1.0f - fx) * (1.0f - fy);
+      const float w01 = mag * fx * (1.0f - fy);
+      const float w10 = mag * (1.0f - fx) * fy;
+      const float w11 = mag * fx * fy;
+      hist[cy0][cx0][o0] += w00 * (1.0f - fo);
+      hist[cy0][cx0][o1] += w00 * fo;
+      hist[cy0][cx0 + 1][o0] += w01 * (1.0f - fo);
+      hist[cy0][cx0 + 1][o1] += w01 * fo;
+      hist[cy0 + 1][cx0][o0] += w10 * (1.0f - fo);
+      hist[cy0 + 1][cx0][o1] += w10 * fo;
+      hist[cy0 + 1][cx0 + 1][o0] += w11 * (1.0f - fo);
+      hist[cy0 + 1][cx0 + 1][o1] += w11 * fo;
+    }
+  }
+  float v[kDescriptorSize];
+  int k = 0;
+  for (int cy = 1; cy <= kC; ++cy) {
+    for (int cx = 1; cx <= kC; ++cx) {
+      for (int o = 0; o < kO; ++o) v[k++] = hist[cy][cx][o];
+    }
+  }
+  // Lowe's normalisation: unit length, clip large components (non-linear illumination effects
+  // on a few gradients), unit length again.
+  float norm2 = 0.0f;
+  for (float e : v) norm2 += e * e;
+  if (norm2 <= 0.0f) {
+    *out = TextureDescriptor{};
+    return;
+  }
+  float inv = 1.0f / std::sqrt(norm2);
+  norm2 = 0.0f;
+  for (float& e : v) {
+    e = std::min(e * inv, 0.2f);
+    norm2 += e * e;
+  }
+  inv = 512.0f / std::sqrt(norm2);
+  for (int i = 0; i < kDescriptorSize; ++i) {
+    out->v[i] = static_cast<uint8_t>(std::min(255.0f, v[i] * inv + 0.5f));  // rounded
+  }
+}
+
+}  // namespace sh::texture

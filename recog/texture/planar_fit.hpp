@@ -1,0 +1,59 @@
+// 2-D localisation of a planar face from feature correspondences (seed 001, section V.C):
+// affine least squares with outlier removal over three iterations (correspondences whose error
+// exceeds three times the mean error are dropped), then a full homography over those that
+// remain; and the face's pose from that homography.
+//
+// Face points are in face millimetres (a, b); image points in ideal (undistorted) pixels, so
+// that lens distortion does not bend the planar mapping.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "recog/base/vector.hpp"
+#include "recog/geometry/rigid_transform.hpp"
+
+namespace sh::texture {
+
+struct PlanarMatch {
+  float a_mm = 0, b_mm = 0;  // on the face
+  float x_px = 0, y_px = 0;  // in the image (ideal pixels)
+  uint16_t keypoint = 0;     // scene keypoint index (bookkeeping for the caller)
+  uint32_t feature = 0;      // database feature index
+};
+
+struct PlanarFitConfig {
+  int affine_iterations = 3;
+  float outlier_factor = 3.0f;  // drop errors above this times the mean error
+  int min_matches = 5;
+  float max_mean_error_px = 2.0f;
+};
+
+struct PlanarFit {
+  Eigen::Matrix3d image_H_face = Eigen::Matrix3d::Identity();  // (x, y, 1) ~ H (a, b, 1)
+  int matches = 0;                                             // kept after the outlier removal
+  double mean_error_px = 0;  // of the homography over the kept matches
+  bool accepted = false;     // >= min_matches kept and mean error below the limit
+};
+
+// Fits and filters in place: `matches` keeps the correspondences that survive (order not
+// kept). Returns the fit; accepted tells whether the face counts as found.
+PlanarFit FitFacePlane(Vector<PlanarMatch>& matches, const PlanarFitConfig& config);
+
+// Least-squares affine map (x, y) = A (a, b, 1) of the matches (2 x 3); false when degenerate
+// (fewer than three non-collinear points).
+bool FitAffine(const Vector<PlanarMatch>& matches, Eigen::Matrix<double, 2, 3>* affine);
+
+// Least-squares homography with h9 = 1 (the paper's linear system, on coordinates centred and
+// scaled for conditioning); false when degenerate (fewer than four points in general position).
+bool FitHomography(const Vector<PlanarMatch>& matches, Eigen::Matrix3d* image_H_face);
+
+Eigen::Vector2d ApplyHomography(const Eigen::Matrix3d& H, double a, double b);
+
+// Pose of the face frame (a, b, 0) in the camera from a homography to ideal pixels of a camera
+// with focal lengths fx, fy and principal point cx, cy: H ~ K [r1 r2 t]. The rotation is the
+// nearest one to [r1 r2 r1 x r2]; false when the homography puts the face behind the camera or is
+// degenerate.
+bool PoseFromHomography(const Eigen::Matrix3d& image_H_face, double fx, double fy, double cx,
+                        double cy, RigidTransform* cam_T_face);
+
+}  // namespace sh::texture

@@ -1,0 +1,381 @@
+#include "recog/texture/texture_recognizer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include "recog/texture/absolute_orientation.hpp"
+
+namespace sh::texture {
+namespace {
+
+Eigen::Vector3f Vec3(const float* v) { return {v[0], v[1], v[2]}; }
+
+// Face frame of a printed face: model point = origin + a axis_a + b axis_b.
+struct FaceFrame {
+  Eigen::Vector3f o, a, b, n;
+  explicit FaceFrame(const TexturedFace& f)
+      : o(Vec3(f.origin_mm)), a(Vec3(f.axis_a)), b(Vec3(f.axis_b)), n(a.cross(b)) {}
+  Eigen::Vector3f Point(float aa, float bb) const { return o + aa * a + bb * b; }
+  Eigen::Vector2f Coordinates(const Eigen::Vector3f& x) const {
+    return {(x - o).dot(a), (x - o).dot(b)};
+  }
+  // face_T_model: model point -> (a, b, height above the face).
+  RigidTransform FaceFromModel() const {
+    RigidTransform t;
+    t.R.row(0) = a.transpose();
+    t.R.row(1) = b.transpose();
+    t.R.row(2) = n.transpose();
+    t.t_mm = -(t.R * o);
+    return t;
+  }
+};
+
+}  // namespace
+
+Status TextureRecognizer::Init(const StereoCalibration& calib, const FeatureDbView& db,
+                               const TextureRecognizerConfig& config, ClockFn now_ns) {
+  initialised_ = false;
+  if (db.empty()) {
+    return Status::Error(StatusCode::kFailedPrecondition,
+                         "texture recogniser: no feature database");
+  }
+  if (calib.left.width <= 0 || calib.left.height <= 0 || calib.left.width > kMaxImageWidth ||
+      calib.left.height > kMaxImageHeight || calib.right.width > kMaxImageWidth ||
+      calib.right.height > kMaxImageHeight) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "texture recogniser: image size %dx%d outside 1..%dx%d", calib.left.width,
+                         calib.left.height, kMaxImageWidth, kMaxImageHeight);
+  }
+  extraction_ = ExtractionConfig(db.header().extraction);
+  extraction_.max_keypoints = std::min(config.max_keypoints, kMaxTextureKeypoints);
+  SH_RETURN_IF_ERROR(extraction_.Validate());
+  if (config.hough.n_scales < 1 || config.hough.n_scales > kMaxHoughScales ||
+      !(config.hough.resolution > 0.0f && config.hough.resolution <= 1.0f)) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "texture recogniser: Hough needs 1..%d scales and a resolution in (0, 1]",
+                         kMaxHoughScales);
+  }
+  if (config.matching.max_checks < 1 ||
+      !(config.matching.ratio > 0.0f && config.matching.ratio <= 1.0f)) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "texture recogniser: matching needs max_checks >= 1 and ratio in (0, 1]");
+  }
+  if (config.stereo.window_radius_px < 1 || config.stereo.window_radius_px > kMaxZnccRadiusPx ||
+      config.stereo.max_points < 3 ||
+      config.stereo.max_points > static_cast<int>(kMaxFaceStereoPoints)) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "texture recogniser: stereo window radius 1..%d and 3..%zu points",
+                         kMaxZnccRadiusPx, kMaxFaceStereoPoints);
+  }
+  calib_ = calib;
+  db_ = db;
+  config_ = config;
+  now_ns_ = now_ns;
+  initialised_ = true;
+  return Status::Ok();
+}
+
+float TextureRecognizer::MsSince(int64_t start_ns) const {
+  return now_ns_ ? static_cast<float>(now_ns_() - start_ns) * 1e-6f : 0.0f;
+}
+
+void TextureRecognizer::MatchFeatures() {
+  matches_.clear();
+  const KdTreeView tree = db_.tree();
+  const float ratio2 = config_.matching.ratio * config_.matching.ratio;
+  const float same2 = config_.matching.same_point_mm * config_.matching.same_point_mm;
+  for (size_t i = 0; i < features_.keypoints.size(); ++i) {
+    KdNeighbour nb[kMatchNeighbours];
+    const int n = searcher_.Search(tree, features_.descriptors[i], kMatchNeighbours,
+                                   config_.matching.max_checks, nb);
+    if (n == 0) continue;
+    const FeatureRecord& f0 = db_.feature(nb[0].index);
+    const uint16_t face0 = db_.view(f0.view).face;
+    const Eigen::Vector3f x0 = Vec3(f0.model_mm);
+    // Distance of the nearest other physical point: another face, or the same face further
+    // than same_point_mm (the same point learnt in several views and levels does not count).
+    // If all k neighbours are the same point, the k-th distance bounds it from below.
+    uint32_t other = n < kMatchNeighbours ? UINT32_MAX : nb[n - 1].dist2;
+    for (int j = 1; j < n; ++j) {
+      const FeatureRecord& fj = db_.feature(nb[j].index);
+      if (db_.view(fj.view).face != face0 || (Vec3(fj.model_mm) - x0).squaredNorm() > same2) {
+        other = nb[j].dist2;
+        break;
+      }
+    }
+    if (!(static_cast<float>(nb[0].dist2) < ratio2 * static_cast<float>(other))) continue;
+    (void)matches_.push_back({static_cast<uint16_t>(i), nb[0].index});
+  }
+}
+
+void TextureRecognizer::FindFaces() {
+  for (size_t i = 0; i < matches_.size(); ++i) {
+    const Match& m = matches_[i];
+    const TextureKeypoint& kp = features_.keypoints[m.keypoint];
+    const FeatureRecord& f = db_.feature(m.feature);
+    HoughInput& in = hough_inputs_[i];
+    in.x_px = ideal_px_[m.keypoint].x();
+    in.y_px = ideal_px_[m.keypoint].y();
+    in.angle_rad = kp.angle_rad;
+    in.u_px = f.u_px;
+    in.v_px = f.v_px;
+    in.db_angle_rad = f.angle_rad;
+    in.face = db_.view(f.view).face;
+  }
+  hough_.Vote(hough_inputs_, matches_.size(), config_.hough);
+  hough_.Clusters(config_.hough, clusters_);
+  std::fill(keypoint_used_, keypoint_used_ + kMaxTextureKeypoints, false);
+  for (const HoughCluster& c : clusters_) {
+    if (detections_.full()) break;
+    hough_.ClusterMatches(c, cluster_matches_);
+    const FaceFrame frame(db_.face(c.face));
+    cluster_planar_.clear();
+    for (uint16_t mi : cluster_matches_) {
+      const Match& m = matches_[mi];
+      if (keypoint_used_[m.keypoint]) continue;
+      const Eigen::Vector2f ab = frame.Coordinates(Vec3(db_.feature(m.feature).model_mm));
+      PlanarMatch pm;
+      pm.a_mm = ab.x();
+      pm.b_mm = ab.y();
+      pm.x_px = ideal_px_[m.keypoint].x();
+      pm.y_px = ideal_px_[m.keypoint].y();
+      pm.keypoint = m.keypoint;
+      pm.feature = m.feature;
+      (void)cluster_planar_.push_back(pm);
+    }
+    if (cluster_planar_.size() < static_cast<size_t>(config_.planar.min_matches)) continue;
+    const PlanarFit fit = FitFacePlane(cluster_planar_, config_.planar);
+    if (!fit.accepted) continue;
+    // The print seen from the front: a mirrored mapping is no view of the face.
+    const Eigen::Matrix3d& H = fit.image_H_face;
+    if ((H(0, 0) * H(1, 1) - H(0, 1) * H(1, 0)) * H(2, 2) >= 0.0) continue;  // b up, y down
+    if (planar_.size() + cluster_planar_.size() > planar_.capacity()) break;
+    FaceDetection d;
+    d.face = c.face;
+    d.fit = fit;
+    d.first_match = static_cast<uint16_t>(planar_.size());
+    d.n_matches = static_cast<uint16_t>(cluster_planar_.size());
+    for (const PlanarMatch& pm : cluster_planar_) {
+      (void)planar_.push_back(pm);
+      keypoint_used_[pm.keypoint] = true;
+    }
+    (void)detections_.push_back(d);
+  }
+}
+
+void TextureRecognizer::LocateFace(FaceDetection& d) {
+  const TexturedFace& face = db_.face(d.face);
+  const FaceFrame frame(face);
+  const CameraIntrinsics& cam = calib_.left;
+  RigidTransform cam_T_face;
+  if (!PoseFromHomography(d.fit.image_H_face, cam.fx, cam.fy, cam.cx, cam.cy, &cam_T_face)) return;
+  // Provisional plane and the face's contour in the (distorted) left image.
+  Plane3 prior;
+  prior.normal = cam_T_face.R.col(2).cast<double>();
+  prior.d_mm = prior.normal.dot(cam_T_face.t_mm.cast<double>());
+  Eigen::Vector2f contour[kMaxFaceVertices];
+  for (int k = 0; k < face.n_corners; ++k) {
+    const Eigen::Vector3f x =
+        cam_T_face * Eigen::Vector3f(face.corners_ab_mm[k][0], face.corners_ab_mm[k][1], 0.0f);
+    Eigen::Vector2d px;
+    if (!ProjectToPixel(cam, x.cast<double>(), &px)) return;
+    contour[k] = px.cast<float>();
+  }
+  SelectContourPoints(extractor_.min_eigenvalue(), contour, face.n_corners, config_.stereo,
+                      contour_points_);
+  face_stereo_.clear();
+  for (const Eigen::Vector2f& p : contour_points_) {
+    StereoPoint sp;
+    if (stereo_matcher_.Match(p, prior, config_.stereo, &sp)) (void)face_stereo_.push_back(sp);
+  }
+  Plane3 plane;
+  if (!FitPlaneRansac(face_stereo_, config_.stereo, &plane, &d.plane)) return;
+  // Corner rays (from the homography, ideal pixels) cut with the measured plane; Horn against
+  // the model's corners.
+  Eigen::Vector3d measured[kMaxFaceVertices], model_corners[kMaxFaceVertices];
+  for (int k = 0; k < face.n_corners; ++k) {
+    const Eigen::Vector2d px =
+        ApplyHomography(d.fit.image_H_face, face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]);
+    const Eigen::Vector3d ray =
+        Eigen::Vector3d((px.x() - cam.cx) / cam.fx, (px.y() - cam.cy) / cam.fy, 1.0).normalized();
+    if (!IntersectRayPlane(ray, plane, &measured[k])) return;
+    model_corners[k] =
+        frame.Point(face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]).cast<double>();
+  }
+  if (!AbsoluteOrientation(model_corners, measured, nullptr, face.n_corners, &d.cam_T_model))
+    return;
+  d.first_stereo = static_cast<uint16_t>(stereo_points_.size());
+  for (const StereoPoint& sp : face_stereo_) {
+    if (sp.inlier && !stereo_points_.full()) (void)stereo_points_.push_back(sp);
+  }
+  d.n_stereo = static_cast<uint16_t>(stereo_points_.size() - d.first_stereo);
+  d.posed = true;
+}
+
+void TextureRecognizer::AssembleObjects(TextureResult* out) {
+  // Group the posed faces into objects: same model, agreeing poses. Detections come strongest
+  // first (the Hough order), so each group's first member is its strongest face.
+  int group_of[kMaxFaceDetections];
+  int n_groups = 0;
+  int group_first[kMaxFaceDetections];
+  for (size_t i = 0; i < detections_.size(); ++i) {
+    group_of[i] = -1;
+    const FaceDetection& d = detections_[i];
+    if (!d.posed) continue;
+    const uint16_t model = db_.face(d.face).model;
+    for (int g = 0; g < n_groups && group_of[i] < 0; ++g) {
+      const FaceDetection& lead = detections_[static_cast<size_t>(group_first[g])];
+      if (db_.face(lead.face).model != model) continue;
+      const float dist = (lead.cam_T_model.t_mm - d.cam_T_model.t_mm).norm();
+      const float angle = RotationAngleDeg(lead.cam_T_model.R.transpose() * d.cam_T_model.R);
+      if (dist < config_.merge_distance_mm && angle < config_.merge_angle_deg) group_of[i] = g;
+    }
+    if (group_of[i] < 0) {
+      group_first[n_groups] = static_cast<int>(i);
+      group_of[i] = n_groups++;
+    }
+  }
+  out->stats.hypotheses = static_cast<uint32_t>(n_groups);
+  // Strongest groups first: total correspondences.
+  int order[kMaxFaceDetections];
+  int strength[kMaxFaceDetections] = {};
+  for (size_t i = 0; i < detections_.size(); ++i) {
+    if (group_of[i] >= 0) strength[group_of[i]] += detections_[i].n_matches;
+  }
+  for (int g = 0; g < n_groups; ++g) order[g] = g;
+  std::stable_sort(order, order + n_groups,
+                   [&](int a, int b) { return strength[a] > strength[b]; });
+
+  PlacedModel placed[kMaxTextureObjects];
+  for (int oi = 0; oi < n_groups && !out->objects.full(); ++oi) {
+    const int g = order[oi];
+    const FaceDetection& lead = detections_[static_cast<size_t>(group_first[g])];
+    const uint16_t model = db_.face(lead.face).model;
+    size_t nf = 0, ns = 0;
+    TextureObject obj;
+    obj.model = model;
+    obj.cam_T_model = lead.cam_T_model;
+    for (size_t i = 0; i < detections_.size(); ++i) {
+      if (group_of[i] != g) continue;
+      const FaceDetection& d = detections_[i];
+      ++obj.faces;
+      obj.plane_mean_mm += static_cast<float>(d.plane.mean_abs_mm);
+      obj.plane_max_mm = std::max(obj.plane_max_mm, static_cast<float>(d.plane.max_abs_mm));
+      for (uint16_t k = 0; k < d.n_matches && nf < kMaxPoseObservations; ++k) {
+        const PlanarMatch& pm = planar_[d.first_match + k];
+        const TextureKeypoint& kp = features_.keypoints[pm.keypoint];
+        PoseFeatureObservation& o = feature_obs_[nf++];
+        o.model_mm = Vec3(db_.feature(pm.feature).model_mm).cast<double>();
+        o.left_px = Eigen::Vector2d(kp.x_px, kp.y_px);
+        o.sigma_px = 0.7 * kp.scale;  // Harris maxima localise to about a level pixel
+      }
+      const FaceFrame frame(db_.face(d.face));
+      for (uint16_t k = 0; k < d.n_stereo && ns < kMaxPoseObservations; ++k) {
+        const StereoPoint& sp = stereo_points_[d.first_stereo + k];
+        PoseStereoObservation& o = stereo_obs_[ns++];
+        o.left_px = sp.left_px.cast<double>();
+        o.right_px = sp.right_px.cast<double>();
+        o.plane_normal_model = frame.n.cast<double>();
+        o.plane_d_mm = frame.n.dot(frame.o);
+      }
+    }
+    obj.plane_mean_mm /= static_cast<float>(std::max<uint16_t>(1, obj.faces));
+    PoseRefineStats rs;
+    if (refiner_.Refine(calib_, feature_obs_, nf, stereo_obs_, ns, config_.refine, &obj.cam_T_model,
+                        &rs)) {
+      obj.feature_matches = static_cast<uint16_t>(rs.features_used);
+      obj.stereo_points = static_cast<uint16_t>(rs.stereo_used);
+      obj.feature_rms_px = static_cast<float>(rs.feature_rms_px);
+      obj.stereo_rms_px = static_cast<float>(rs.stereo_rms_px);
+    } else {
+      obj.feature_matches = static_cast<uint16_t>(nf);
+      obj.stereo_points = static_cast<uint16_t>(ns);
+    }
+    // Duplicates: another group on an object already accepted.
+    bool duplicate = false;
+    for (const TextureObject& a : out->objects) {
+      duplicate |=
+          (a.cam_T_model.t_mm - obj.cam_T_model.t_mm).norm() < config_.duplicate_distance_mm;
+    }
+    if (duplicate) {
+      ++out->stats.rejected;
+      continue;
+    }
+    obj.print =
+        verifier_.Score(model, obj.cam_T_model, placed, out->objects.size(), config_.verify);
+    if (!PrintVerifier::Accept(obj.print, config_.verify)) {
+      ++out->stats.rejected;
+      continue;
+    }
+    placed[out->objects.size()] = {&db_.model(model), obj.cam_T_model};
+    (void)out->objects.push_back(obj);
+  }
+}
+
+Status TextureRecognizer::Process(ConstGrayView left, ConstGrayView right, TextureResult* out) {
+  out->objects.clear();
+  out->stats = {};
+  out->time = {};
+  if (!initialised_) {
+    return Status::Error(StatusCode::kFailedPrecondition, "texture recogniser: not initialised");
+  }
+  for (const auto& [img, cam, name] :
+       {std::tuple{left, &calib_.left, "left"}, std::tuple{right, &calib_.right, "right"}}) {
+    SH_RETURN_IF_ERROR(ValidateGrayImage(img, name));
+    if (img.width != cam->width || img.height != cam->height) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "texture recogniser: %s image %dx%d, calibration says %dx%d", name,
+                           img.width, img.height, cam->width, cam->height);
+    }
+  }
+  left_ = left;
+  right_ = right;
+  const int64_t t0 = now_ns_ ? now_ns_() : 0;
+  int64_t t = t0;
+  auto lap = [&](float* ms) {
+    if (!now_ns_) return;
+    const int64_t now = now_ns_();
+    *ms = static_cast<float>(now - t) * 1e-6f;
+    t = now;
+  };
+  SH_RETURN_IF_ERROR(extractor_.Extract(left, extraction_, &features_));
+  for (size_t i = 0; i < features_.keypoints.size(); ++i) {
+    const TextureKeypoint& kp = features_.keypoints[i];
+    const Eigen::Vector2d n = UndistortPixel(calib_.left, {kp.x_px, kp.y_px});
+    ideal_px_[i] = Eigen::Vector2f(static_cast<float>(calib_.left.fx * n.x() + calib_.left.cx),
+                                   static_cast<float>(calib_.left.fy * n.y() + calib_.left.cy));
+  }
+  out->stats.keypoints = static_cast<uint32_t>(features_.keypoints.size());
+  lap(&out->time.features_ms);
+
+  searcher_.ResetStats();
+  MatchFeatures();
+  out->stats.matches = static_cast<uint32_t>(matches_.size());
+  out->stats.descriptors_compared = searcher_.stats().descriptors_compared;
+  lap(&out->time.matching_ms);
+
+  detections_.clear();
+  planar_.clear();
+  FindFaces();
+  out->stats.votes = static_cast<uint32_t>(hough_.vote_count());
+  out->stats.clusters = static_cast<uint32_t>(clusters_.size());
+  out->stats.faces_2d = static_cast<uint32_t>(detections_.size());
+  lap(&out->time.clustering_ms);
+
+  stereo_points_.clear();
+  stereo_matcher_.Reset(&calib_, left, right);
+  for (FaceDetection& d : detections_) {
+    LocateFace(d);
+    out->stats.faces_3d += d.posed ? 1 : 0;
+  }
+  lap(&out->time.stereo_ms);
+
+  verifier_.Reset(&calib_, &db_, left, right);
+  AssembleObjects(out);
+  lap(&out->time.verify_ms);
+  out->time.total_ms = MsSince(t0);
+  return Status::Ok();
+}
+
+}  // namespace sh::texture

@@ -1,0 +1,514 @@
+#include "tables/feature_db_builder.hpp"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <numeric>
+
+#include "recog/base/crc32.hpp"
+#include "recog/image/gaussian.hpp"
+#include "recog/texture/descriptor.hpp"
+#include "recog/texture/float_planes.hpp"
+#include "recog/texture/polygon.hpp"
+#include "tables/feature_db_format.hpp"
+#include "tables/feature_db_view.hpp"
+
+namespace sh {
+namespace {
+
+using texture::FloatView;
+using texture::TextureDescriptor;
+
+struct FloatImage {
+  int width = 0, height = 0;
+  std::vector<float> pixels;
+  FloatImage() = default;
+  FloatImage(int w, int h, float fill = 0.0f)
+      : width(w), height(h), pixels(static_cast<size_t>(w) * h, fill) {}
+  FloatView view() { return {pixels.data(), width, height, width}; }
+  texture::ConstFloatView view() const { return {pixels.data(), width, height, width}; }
+};
+
+// Gaussian blur of a float image (no-op below the smallest kernel).
+Status Blur(FloatImage& image, float sigma_px) {
+  if (sigma_px < kMinGaussianSigmaPx) return Status::Ok();
+  GaussianKernel k;
+  SH_RETURN_IF_ERROR(MakeGaussianKernel(std::min(sigma_px, kMaxGaussianSigmaPx), 0, k));
+  FloatImage tmp(image.width, image.height);
+  texture::BlurPlane(image.view(), k, tmp.view(), image.view());
+  return Status::Ok();
+}
+
+// Face frame and polygon (feature_db_format.hpp, TexturedFace).
+TexturedFace FaceGeometry(const Model& m, int model_index, int f) {
+  const ModelFace& face = m.faces[f];
+  TexturedFace out{};
+  out.model = static_cast<uint16_t>(model_index);
+  out.model_face = static_cast<uint8_t>(f);
+  out.n_corners = face.n_vertices;
+  const Eigen::Vector3f o = m.corner(face.vertices[0]);
+  const Eigen::Vector3f a = (m.corner(face.vertices[1]) - o).normalized();
+  const Eigen::Vector3f b = m.face_normal(f).cross(a).normalized();
+  for (int k = 0; k < 3; ++k) {
+    out.origin_mm[k] = o[k];
+    out.axis_a[k] = a[k];
+    out.axis_b[k] = b[k];
+  }
+  out.min_ab_mm[0] = out.min_ab_mm[1] = 1e30f;
+  out.max_ab_mm[0] = out.max_ab_mm[1] = -1e30f;
+  for (int k = 0; k < face.n_vertices; ++k) {
+    const Eigen::Vector3f d = m.corner(face.vertices[k]) - o;
+    const float ab[2] = {d.dot(a), d.dot(b)};
+    for (int c = 0; c < 2; ++c) {
+      out.corners_ab_mm[k][c] = ab[c];
+      out.min_ab_mm[c] = std::min(out.min_ab_mm[c], ab[c]);
+      out.max_ab_mm[c] = std::max(out.max_ab_mm[c], ab[c]);
+    }
+  }
+  return out;
+}
+
+Eigen::Vector3f FacePoint(const TexturedFace& f, float a, float b) {
+  return Eigen::Vector3f(f.origin_mm[0], f.origin_mm[1], f.origin_mm[2]) +
+         a * Eigen::Vector3f(f.axis_a[0], f.axis_a[1], f.axis_a[2]) +
+         b * Eigen::Vector3f(f.axis_b[0], f.axis_b[1], f.axis_b[2]);
+}
+
+// The face's texture rectified at `ppm` (texel (i, j) centre at a = min_a + (i + 0.5) / ppm,
+// b = max_b - (j + 0.5) / ppm), sampled bilinearly from the texture image (already blurred for
+// this resolution); texels outside the polygon get the mean of those inside.
+FloatImage RectifyFace(const TexturedFace& face, const FaceTextureMap& map,
+                       const FloatImage& texture, float ppm) {
+  const int w =
+      std::max(1, static_cast<int>(std::lround((face.max_ab_mm[0] - face.min_ab_mm[0]) * ppm)));
+  const int h =
+      std::max(1, static_cast<int>(std::lround((face.max_ab_mm[1] - face.min_ab_mm[1]) * ppm)));
+  FloatImage out(w, h);
+  std::vector<uint8_t> inside(static_cast<size_t>(w) * h, 0);
+  Eigen::Vector2f poly[kMaxFaceVertices];
+  for (int k = 0; k < face.n_corners; ++k)
+    poly[k] = {face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]};
+  double sum = 0.0;
+  size_t n_inside = 0;
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      const float a = face.min_ab_mm[0] + (i + 0.5f) / ppm;
+      const float b = face.max_ab_mm[1] - (j + 0.5f) / ppm;
+      const Eigen::Vector3f x = FacePoint(face, a, b);
+      float uv[2];
+      FaceUv(map, x.data(), uv);
+      // Texture coordinates to texture pixels (pixel centres at integers, row 0 at v = 1).
+      const float tx = uv[0] * texture.width - 0.5f;
+      const float ty = (1.0f - uv[1]) * texture.height - 0.5f;
+      const size_t k = static_cast<size_t>(j) * w + i;
+      out.pixels[k] = texture::SampleBilinear(texture.view(), tx, ty);
+      if (texture::InsideDistance(poly, face.n_corners, {a, b}) > -0.5f / ppm) {
+        inside[k] = 1;
+        sum += out.pixels[k];
+        ++n_inside;
+      }
+    }
+  }
+  const float mean = n_inside > 0 ? static_cast<float>(sum / n_inside) : 0.5f;
+  for (size_t k = 0; k < inside.size(); ++k) {
+    if (!inside[k]) out.pixels[k] = mean;
+  }
+  return out;
+}
+
+// Texels per millimetre of the texture image along the face (the larger of the two axes).
+float TextureDensity(const TexturedFace& face, const FaceTextureMap& map, const FloatImage& tex) {
+  float uv0[2], uva[2], uvb[2];
+  const Eigen::Vector3f x0 = FacePoint(face, 0, 0), xa = FacePoint(face, 1, 0),
+                        xb = FacePoint(face, 0, 1);
+  FaceUv(map, x0.data(), uv0);
+  FaceUv(map, xa.data(), uva);
+  FaceUv(map, xb.data(), uvb);
+  const float da = std::hypot((uva[0] - uv0[0]) * tex.width, (uva[1] - uv0[1]) * tex.height);
+  const float db = std::hypot((uvb[0] - uv0[0]) * tex.width, (uvb[1] - uv0[1]) * tex.height);
+  return std::max(da, db);
+}
+
+// Blur that takes a texture of `density` texels per mm down to `ppm` without aliasing (the
+// image is assumed sharp: 0.5 texel of blur).
+float AntiAliasSigma(float density, float ppm) {
+  const float ratio = density / ppm;
+  return ratio > 1.0f ? 0.5f * std::sqrt(ratio * ratio - 1.0f) : 0.0f;
+}
+
+std::vector<uint8_t> ToBytes(const FloatImage& image) {
+  std::vector<uint8_t> out(image.pixels.size());
+  for (size_t i = 0; i < out.size(); ++i) {
+    out[i] = static_cast<uint8_t>(std::clamp(image.pixels[i] * 255.0f + 0.5f, 0.0f, 255.0f));
+  }
+  return out;
+}
+
+struct LearntFeature {
+  FeatureRecord record;
+  TextureDescriptor descriptor;
+};
+
+// A view of the rectified face (tilt 0: the rectified image itself). `view_from_rect` acts on
+// rectified pixel offsets from the image centre.
+struct ViewImage {
+  FloatImage image;
+  Eigen::Matrix2f view_from_rect = Eigen::Matrix2f::Identity();
+  Eigen::Vector2f rect_centre = Eigen::Vector2f::Zero();
+  Eigen::Vector2f view_centre = Eigen::Vector2f::Zero();
+};
+
+Result<ViewImage> TiltedView(const FloatImage& rect, float tilt, float phi_rad) {
+  ViewImage v;
+  const Eigen::Rotation2Df r(phi_rad);
+  const Eigen::Matrix2f rot = r.toRotationMatrix();
+  v.view_from_rect = rot * Eigen::Vector2f(1.0f, 1.0f / tilt).asDiagonal() * rot.transpose();
+  v.rect_centre = {0.5f * (rect.width - 1), 0.5f * (rect.height - 1)};
+  Eigen::Vector2f lo(1e30f, 1e30f), hi(-1e30f, -1e30f);
+  for (float cx : {-0.5f, rect.width - 0.5f}) {
+    for (float cy : {-0.5f, rect.height - 0.5f}) {
+      const Eigen::Vector2f p = v.view_from_rect * (Eigen::Vector2f(cx, cy) - v.rect_centre);
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  }
+  const int w = static_cast<int>(std::ceil(hi.x() - lo.x()));
+  const int h = static_cast<int>(std::ceil(hi.y() - lo.y()));
+  if (w > kMaxImageWidth || h > kMaxImageHeight) {
+    return Status::Error(StatusCode::kOutOfRange, "tilted view %dx%d larger than %dx%d", w, h,
+                         kMaxImageWidth, kMaxImageHeight);
+  }
+  v.view_centre = {0.5f * (w - 1), 0.5f * (h - 1)};
+  // Anti-aliasing for the compression by 1 / tilt (isotropic: slightly more than needed across
+  // the tilt direction), as ASIFT does.
+  FloatImage src = rect;
+  SH_RETURN_IF_ERROR(Blur(src, 0.8f * std::sqrt(tilt * tilt - 1.0f)));
+  double sum = 0.0;
+  for (float p : rect.pixels) sum += p;
+  const float mean = static_cast<float>(sum / static_cast<double>(rect.pixels.size()));
+  v.image = FloatImage(w, h, mean);
+  const Eigen::Matrix2f rect_from_view = v.view_from_rect.inverse();
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const Eigen::Vector2f p =
+          rect_from_view *
+              (Eigen::Vector2f(static_cast<float>(x), static_cast<float>(y)) - v.view_centre) +
+          v.rect_centre;
+      if (p.x() < -0.5f || p.y() < -0.5f || p.x() > rect.width - 0.5f || p.y() > rect.height - 0.5f)
+        continue;
+      v.image.pixels[static_cast<size_t>(y) * w + x] =
+          texture::SampleBilinear(src.view(), p.x(), p.y());
+    }
+  }
+  return v;
+}
+
+// Kd-tree over descriptors[order[begin .. end)], preorder into `nodes`; `order` is permuted so
+// that every leaf covers a contiguous range.
+uint32_t BuildKd(const std::vector<LearntFeature>& learnt, std::vector<uint32_t>& order,
+                 uint32_t begin, uint32_t end, uint32_t leaf_size, uint32_t depth,
+                 std::vector<texture::KdNode>& nodes, uint32_t* max_depth) {
+  const uint32_t index = static_cast<uint32_t>(nodes.size());
+  nodes.emplace_back();
+  *max_depth = std::max(*max_depth, depth);
+  auto make_leaf = [&]() {
+    texture::KdNode& n = nodes[index];
+    n.leaf = 1;
+    n.first = begin;
+    n.second = end - begin;
+    return index;
+  };
+  if (end - begin <= leaf_size) return make_leaf();
+  // Split on the component of largest variance.
+  double mean[texture::kDescriptorSize] = {}, var[texture::kDescriptorSize] = {};
+  for (uint32_t i = begin; i < end; ++i) {
+    const uint8_t* v = learnt[order[i]].descriptor.v;
+    for (int d = 0; d < texture::kDescriptorSize; ++d) mean[d] += v[d];
+  }
+  const double count = end - begin;
+  for (double& m : mean) m /= count;
+  for (uint32_t i = begin; i < end; ++i) {
+    const uint8_t* v = learnt[order[i]].descriptor.v;
+    for (int d = 0; d < texture::kDescriptorSize; ++d)
+      var[d] += (v[d] - mean[d]) * (v[d] - mean[d]);
+  }
+  const int dim = static_cast<int>(std::max_element(var, var + texture::kDescriptorSize) - var);
+  if (var[dim] == 0.0) return make_leaf();  // identical descriptors
+  auto value = [&](uint32_t i) { return learnt[i].descriptor.v[dim]; };
+  const uint32_t mid = begin + (end - begin) / 2;
+  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                   [&](uint32_t a, uint32_t b) { return value(a) < value(b); });
+  // Integer components: split at median - 0.5 (values below go left) or, when the median is
+  // the smallest value, at median + 0.5; both sides are non-empty because the variance is not 0.
+  int m = value(order[mid]);
+  auto below = [&](uint32_t i) { return value(i) < m; };
+  uint32_t split_at = static_cast<uint32_t>(
+      std::partition(order.begin() + begin, order.begin() + end, below) - order.begin());
+  float split = static_cast<float>(m) - 0.5f;
+  if (split_at == begin) {
+    split_at = static_cast<uint32_t>(std::partition(order.begin() + begin, order.begin() + end,
+                                                    [&](uint32_t i) { return value(i) <= m; }) -
+                                     order.begin());
+    split = static_cast<float>(m) + 0.5f;
+  }
+  const uint32_t left =
+      BuildKd(learnt, order, begin, split_at, leaf_size, depth + 1, nodes, max_depth);
+  const uint32_t right =
+      BuildKd(learnt, order, split_at, end, leaf_size, depth + 1, nodes, max_depth);
+  texture::KdNode& n = nodes[index];
+  n.leaf = 0;
+  n.dim = static_cast<uint16_t>(dim);
+  n.split = split;
+  n.first = left;
+  n.second = right;
+  return index;
+}
+
+template <typename T>
+void Put(std::vector<uint8_t>& blob, const SectionRef& s, const T* data, size_t count) {
+  if (count > 0) std::memcpy(blob.data() + s.offset, data, count * sizeof(T));
+}
+
+}  // namespace
+
+Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& models,
+                                            const FeatureDbBuildOptions& options,
+                                            FeatureDbBuildReport* report) {
+  SH_RETURN_IF_ERROR(options.features.Validate());
+  if (models.empty() || models.size() > kMaxFeatureDbModels) {
+    return Status::Error(StatusCode::kOutOfRange, "feature database: %zu models (1..%u)",
+                         models.size(), kMaxFeatureDbModels);
+  }
+  if (!(options.feature_px_per_mm > 0.0f && options.feature_px_per_mm <= 50.0f) ||
+      !(options.texture_px_per_mm > 0.0f && options.texture_px_per_mm <= 50.0f)) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "feature database: resolutions must be in (0, 50] px/mm");
+  }
+  for (float t : options.tilts) {
+    if (!(t > 1.0f && t <= 4.0f)) {
+      return Status::Error(StatusCode::kOutOfRange,
+                           "feature database: tilt %.2f not in (1, 4] (1 / cos of the angle)",
+                           static_cast<double>(t));
+    }
+  }
+  if (options.tilt_directions < 1 || options.tilt_directions > 16 || options.leaf_size < 1 ||
+      options.leaf_size > 256) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "feature database: 1..16 tilt directions and leaf size 1..256 required");
+  }
+  FeatureDbBuildReport local_report;
+  FeatureDbBuildReport& rep = report ? *report : local_report;
+  rep = {};
+
+  auto extractor = std::make_unique<texture::TextureFeatureExtractor>();
+  auto features = std::make_unique<texture::TextureFeatures>();
+  std::vector<Model> db_models;
+  std::vector<TexturedFace> faces;
+  std::vector<FaceView> views;
+  std::vector<LearntFeature> learnt;
+  std::vector<uint8_t> texels;
+  const float ppm = options.feature_px_per_mm;
+
+  for (size_t mi = 0; mi < models.size(); ++mi) {
+    const TexturedModel& tm = models[mi];
+    if (!tm.texturing.textured()) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "feature database: model '%s' has no printed face", tm.model.name);
+    }
+    db_models.push_back(tm.model);
+    // Texture images as float planes on [0, 1].
+    std::vector<FloatImage> textures;
+    for (const GreyImage& g : tm.textures) {
+      FloatImage f(g.width, g.height);
+      for (size_t i = 0; i < g.pixels.size(); ++i) f.pixels[i] = g.pixels[i] / 255.0f;
+      textures.push_back(std::move(f));
+    }
+    for (int fi = 0; fi < tm.model.n_faces; ++fi) {
+      const FaceTextureMap& map = tm.texturing.faces[fi];
+      if (map.material < 0) continue;
+      if (faces.size() >= kMaxFeatureDbFaces) {
+        return Status::Error(StatusCode::kResourceExhausted,
+                             "feature database: more than %u printed faces", kMaxFeatureDbFaces);
+      }
+      TexturedFace face = FaceGeometry(tm.model, static_cast<int>(mi), fi);
+      const FloatImage& tex = textures[static_cast<size_t>(map.material)];
+      const float density = TextureDensity(face, map, tex);
+      const float width_mm = face.max_ab_mm[0] - face.min_ab_mm[0];
+      const float height_mm = face.max_ab_mm[1] - face.min_ab_mm[1];
+      if (width_mm * ppm > kMaxImageWidth || height_mm * ppm > kMaxImageHeight ||
+          width_mm * options.texture_px_per_mm > kMaxFaceTextureSide ||
+          height_mm * options.texture_px_per_mm > kMaxFaceTextureSide) {
+        return Status::Error(StatusCode::kOutOfRange,
+                             "feature database: face %d of '%s' (%.0f x %.0f mm) is too large at "
+                             "%.1f px/mm; lower the resolution",
+                             fi, tm.model.name, static_cast<double>(width_mm),
+                             static_cast<double>(height_mm), static_cast<double>(ppm));
+      }
+      // Verification texture.
+      FloatImage blurred = tex;
+      SH_RETURN_IF_ERROR(Blur(blurred, AntiAliasSigma(density, options.texture_px_per_mm)));
+      const FloatImage small = RectifyFace(face, map, blurred, options.texture_px_per_mm);
+      face.texel_offset = texels.size();
+      face.texel_width = static_cast<uint16_t>(small.width);
+      face.texel_height = static_cast<uint16_t>(small.height);
+      const std::vector<uint8_t> bytes = ToBytes(small);
+      texels.insert(texels.end(), bytes.begin(), bytes.end());
+      // Feature views.
+      blurred = tex;
+      SH_RETURN_IF_ERROR(Blur(blurred, AntiAliasSigma(density, ppm)));
+      const FloatImage rect = RectifyFace(face, map, blurred, ppm);
+      const uint32_t face_index = static_cast<uint32_t>(faces.size());
+      const Eigen::Vector2f centre_ab(0.5f * (face.min_ab_mm[0] + face.max_ab_mm[0]),
+                                      0.5f * (face.min_ab_mm[1] + face.max_ab_mm[1]));
+      // Rectified pixels per millimetre offset from the centre: a right, b up (rows down).
+      const Eigen::Matrix2f rect_from_face = Eigen::Vector2f(ppm, -ppm).asDiagonal();
+      uint32_t face_features = 0;
+      for (int t = 0; t <= static_cast<int>(options.tilts.size()); ++t) {
+        const int directions = t == 0 ? 1 : options.tilt_directions;
+        for (int d = 0; d < directions; ++d) {
+          ViewImage view;
+          if (t == 0) {
+            view.image = rect;
+            view.rect_centre =
+                view.view_centre = {0.5f * (rect.width - 1), 0.5f * (rect.height - 1)};
+          } else {
+            const float phi = 3.14159265f * static_cast<float>(d) / static_cast<float>(directions);
+            Result<ViewImage> v = TiltedView(rect, options.tilts[static_cast<size_t>(t - 1)], phi);
+            if (!v.ok()) return v.status();
+            view = std::move(*v);
+          }
+          if (views.size() >= kMaxFeatureDbViews) {
+            return Status::Error(StatusCode::kResourceExhausted,
+                                 "feature database: more than %u views", kMaxFeatureDbViews);
+          }
+          // Face millimetres (from the centre) to view pixels (from the face centre's image).
+          // The rectified image centre is the face centre: the rectified image spans the
+          // face's bounding box exactly (up to rounding of its size, corrected here).
+          const Eigen::Vector2f rect_centre_of_face(
+              (centre_ab.x() - face.min_ab_mm[0]) * ppm - 0.5f,
+              (face.max_ab_mm[1] - centre_ab.y()) * ppm - 0.5f);
+          const Eigen::Matrix2f view_from_face = view.view_from_rect * rect_from_face;
+          const Eigen::Vector2f view_of_centre =
+              view.view_from_rect * (rect_centre_of_face - view.rect_centre) + view.view_centre;
+          FaceView fv{};
+          fv.face = static_cast<uint16_t>(face_index);
+          fv.tilt = static_cast<uint8_t>(t);
+          fv.view_from_face[0] = view_from_face(0, 0);
+          fv.view_from_face[1] = view_from_face(0, 1);
+          fv.view_from_face[2] = view_from_face(1, 0);
+          fv.view_from_face[3] = view_from_face(1, 1);
+          fv.centre_ab_mm[0] = centre_ab.x();
+          fv.centre_ab_mm[1] = centre_ab.y();
+          const uint32_t view_index = static_cast<uint32_t>(views.size());
+          views.push_back(fv);
+          // The face polygon in view pixels, for the window test.
+          Eigen::Vector2f poly[kMaxFaceVertices];
+          for (int k = 0; k < face.n_corners; ++k) {
+            poly[k] = view_from_face *
+                          (Eigen::Vector2f(face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]) -
+                           centre_ab) +
+                      view_of_centre;
+          }
+          const std::vector<uint8_t> bytes8 = ToBytes(view.image);
+          const ConstGrayView gray{bytes8.data(), view.image.width, view.image.height,
+                                   view.image.width};
+          SH_RETURN_IF_ERROR(extractor->Extract(gray, options.features, features.get()));
+          const Eigen::Matrix2f face_from_view = view_from_face.inverse();
+          for (size_t k = 0; k < features->keypoints.size(); ++k) {
+            const texture::TextureKeypoint& kp = features->keypoints[k];
+            const Eigen::Vector2f p(kp.x_px, kp.y_px);
+            const float window = static_cast<float>(texture::DescriptorBorderPx()) * kp.scale;
+            if (texture::InsideDistance(poly, face.n_corners, p) < window) continue;
+            const Eigen::Vector2f uv = p - view_of_centre;
+            const Eigen::Vector2f ab = centre_ab + face_from_view * uv;
+            const Eigen::Vector3f x = FacePoint(face, ab.x(), ab.y());
+            if (learnt.size() >= kMaxFeatureDbFeatures) {
+              return Status::Error(StatusCode::kResourceExhausted,
+                                   "feature database: more than %u features",
+                                   kMaxFeatureDbFeatures);
+            }
+            LearntFeature lf;
+            lf.record = FeatureRecord{};
+            lf.record.u_px = uv.x();
+            lf.record.v_px = uv.y();
+            lf.record.angle_rad = kp.angle_rad;
+            lf.record.scale = kp.scale;
+            for (int c = 0; c < 3; ++c) lf.record.model_mm[c] = x[c];
+            lf.record.view = static_cast<uint16_t>(view_index);
+            lf.record.level = kp.level;
+            lf.descriptor = features->descriptors[k];
+            learnt.push_back(lf);
+            ++face_features;
+          }
+        }
+      }
+      face.n_features = face_features;
+      faces.push_back(face);
+      rep.faces.push_back({tm.model.name, fi, small.width, small.height, face_features});
+    }
+  }
+
+  // Kd-tree, and the features in its leaf order.
+  std::vector<uint32_t> order(learnt.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::vector<texture::KdNode> nodes;
+  if (!learnt.empty()) {
+    BuildKd(learnt, order, 0, static_cast<uint32_t>(learnt.size()), options.leaf_size, 0, nodes,
+            &rep.tree_depth);
+  }
+  std::vector<FeatureRecord> records(learnt.size());
+  std::vector<TextureDescriptor> descriptors(learnt.size());
+  for (size_t i = 0; i < order.size(); ++i) {
+    records[i] = learnt[order[i]].record;
+    descriptors[i] = learnt[order[i]].descriptor;
+  }
+
+  FeatureDbHeader h{};
+  std::memcpy(h.magic, kFeatureDbMagic, sizeof(kFeatureDbMagic));
+  h.format_version = kFeatureDbFormatVersion;
+  h.descriptor_size = texture::kDescriptorSize;
+  h.header_size = sizeof(FeatureDbHeader);
+  h.n_models = static_cast<uint32_t>(db_models.size());
+  h.n_faces = static_cast<uint32_t>(faces.size());
+  h.n_views = static_cast<uint32_t>(views.size());
+  h.n_features = static_cast<uint32_t>(records.size());
+  h.n_nodes = static_cast<uint32_t>(nodes.size());
+  h.n_texel_bytes = texels.size();
+  h.feature_px_per_mm = options.feature_px_per_mm;
+  h.texture_px_per_mm = options.texture_px_per_mm;
+  h.extraction = ExtractionRecord(options.features);
+  size_t offset = AlignSection(sizeof(FeatureDbHeader));
+  auto place = [&](SectionRef& s, size_t bytes) {
+    s.offset = offset;
+    s.size = bytes;
+    offset = AlignSection(offset + bytes);
+  };
+  place(h.models, db_models.size() * sizeof(Model));
+  place(h.faces, faces.size() * sizeof(TexturedFace));
+  place(h.views, views.size() * sizeof(FaceView));
+  place(h.features, records.size() * sizeof(FeatureRecord));
+  place(h.descriptors, descriptors.size() * sizeof(TextureDescriptor));
+  place(h.nodes, nodes.size() * sizeof(texture::KdNode));
+  place(h.texels, texels.size());
+  h.total_size = offset;
+  std::vector<uint8_t> blob(offset, 0);
+  Put(blob, h.models, db_models.data(), db_models.size());
+  Put(blob, h.faces, faces.data(), faces.size());
+  Put(blob, h.views, views.data(), views.size());
+  Put(blob, h.features, records.data(), records.size());
+  Put(blob, h.descriptors, descriptors.data(), descriptors.size());
+  Put(blob, h.nodes, nodes.data(), nodes.size());
+  Put(blob, h.texels, texels.data(), texels.size());
+  h.payload_crc32 =
+      Crc32(blob.data() + sizeof(FeatureDbHeader), blob.size() - sizeof(FeatureDbHeader));
+  std::memcpy(blob.data(), &h, sizeof(h));
+  rep.views = h.n_views;
+  rep.features = h.n_features;
+  rep.nodes = h.n_nodes;
+  return blob;
+}
+
+}  // namespace sh

@@ -1,0 +1,64 @@
+// Read-only, validated, zero-copy access to a feature database blob (feature_db_format.hpp).
+//
+// Open() checks everything a corrupt, truncated or foreign blob could get wrong (sizes, CRC,
+// every index, the kd-tree's structure, finite numbers) before any pointer into it is handed
+// out; afterwards accessors are plain pointer arithmetic. The blob memory must outlive the view
+// and be at least 16-byte aligned (mmap and linked-in data are 64-byte aligned).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "recog/base/status.hpp"
+#include "recog/image/image.hpp"
+#include "recog/texture/feature_extractor.hpp"
+#include "recog/texture/kd_tree.hpp"
+#include "tables/feature_db_format.hpp"
+
+namespace sh {
+
+// The feature extractor's settings stored in a database, and back. Recognition must extract
+// its features with the settings the database was learnt with (max_keypoints is not stored).
+texture::TextureFeatureConfig ExtractionConfig(const FeatureDbExtraction& e);
+FeatureDbExtraction ExtractionRecord(const texture::TextureFeatureConfig& c);
+
+class FeatureDbView {
+ public:
+  FeatureDbView() = default;
+  static Result<FeatureDbView> Open(const void* blob, size_t size);
+
+  bool empty() const { return header_ == nullptr; }
+  const FeatureDbHeader& header() const { return *header_; }
+
+  uint32_t model_count() const { return header_->n_models; }
+  const Model& model(uint32_t i) const { return models_[i]; }
+  int FindModel(const char* name) const;  // index, or -1
+
+  uint32_t face_count() const { return header_->n_faces; }
+  const TexturedFace& face(uint32_t i) const { return faces_[i]; }
+  // Grey texture of face i (texture_px_per_mm; see TexturedFace).
+  ConstGrayView face_texture(uint32_t i) const;
+
+  uint32_t view_count() const { return header_->n_views; }
+  const FaceView& view(uint32_t i) const { return views_[i]; }
+
+  uint32_t feature_count() const { return header_->n_features; }
+  const FeatureRecord& feature(uint32_t i) const { return features_[i]; }
+  const texture::TextureDescriptor& descriptor(uint32_t i) const { return descriptors_[i]; }
+
+  texture::KdTreeView tree() const {
+    return {nodes_, header_->n_nodes, descriptors_, header_->n_features};
+  }
+
+ private:
+  const FeatureDbHeader* header_ = nullptr;
+  const Model* models_ = nullptr;
+  const TexturedFace* faces_ = nullptr;
+  const FaceView* views_ = nullptr;
+  const FeatureRecord* features_ = nullptr;
+  const texture::TextureDescriptor* descriptors_ = nullptr;
+  const texture::KdNode* nodes_ = nullptr;
+  const uint8_t* texels_ = nullptr;
+};
+
+}  // namespace sh
