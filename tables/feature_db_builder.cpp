@@ -88,7 +88,7 @@ FloatImage RectifyFace(const TexturedFace& face, const FaceTextureMap& map,
       std::max(1, static_cast<int>(std::lround((face.max_ab_mm[1] - face.min_ab_mm[1]) * ppm)));
   FloatImage out(w, h);
   std::vector<uint8_t> inside(static_cast<size_t>(w) * h, 0);
-  Eigen::Vector2f poly[kMaxFaceVertices];
+  Eigen::Vector2f poly[kMaxTexturedFaceCorners];
   for (int k = 0; k < face.n_corners; ++k)
     poly[k] = {face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]};
   double sum = 0.0;
@@ -333,6 +333,13 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
         return Status::Error(StatusCode::kResourceExhausted,
                              "feature database: more than %u printed faces", kMaxFeatureDbFaces);
       }
+      if (tm.model.faces[fi].n_vertices > kMaxTexturedFaceCorners) {
+        return Status::Error(StatusCode::kOutOfRange,
+                             "feature database: printed face %d of '%s' has %d corners (at most "
+                             "%d)",
+                             fi, tm.model.name, tm.model.faces[fi].n_vertices,
+                             kMaxTexturedFaceCorners);
+      }
       TexturedFace face = FaceGeometry(tm.model, static_cast<int>(mi), fi);
       const FloatImage& tex = textures[static_cast<size_t>(map.material)];
       const float density = TextureDensity(face, map, tex);
@@ -405,7 +412,7 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
           const uint32_t view_index = static_cast<uint32_t>(views.size());
           views.push_back(fv);
           // The face polygon in view pixels, for the window test.
-          Eigen::Vector2f poly[kMaxFaceVertices];
+          Eigen::Vector2f poly[kMaxTexturedFaceCorners];
           for (int k = 0; k < face.n_corners; ++k) {
             poly[k] = view_from_face *
                           (Eigen::Vector2f(face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]) -

@@ -37,7 +37,8 @@ inline constexpr uint32_t kMaxFeatureDbViews = 2048;
 inline constexpr uint32_t kMaxFeatureDbFeatures = 262144;
 inline constexpr uint32_t kMaxFeatureDbNodes = 2 * kMaxFeatureDbFeatures;
 inline constexpr uint64_t kMaxFeatureDbTexelBytes = 64ull << 20;
-inline constexpr int kMaxFaceTextureSide = 4096;  // texels per side of one face texture
+inline constexpr int kMaxFaceTextureSide = 4096;    // texels per side of one face texture
+inline constexpr int kMaxTexturedFaceCorners = 16;  // corners of a printed face's polygon
 
 // Settings the features were learnt with; recognition extracts its features with the same.
 struct FeatureDbExtraction {
@@ -83,7 +84,7 @@ struct TexturedFace {
   float origin_mm[3];
   float axis_a[3];
   float axis_b[3];
-  float corners_ab_mm[kMaxFaceVertices][2];
+  float corners_ab_mm[kMaxTexturedFaceCorners][2];
   float min_ab_mm[2];
   float max_ab_mm[2];
   uint64_t texel_offset;  // into the texel section
@@ -91,7 +92,7 @@ struct TexturedFace {
   uint16_t texel_height;
   uint32_t n_features;  // learnt on this face, all views
 };
-static_assert(sizeof(TexturedFace) == 192);
+static_assert(sizeof(TexturedFace) == 200);
 
 // One learnt view of a face: the face's rectified image warped by an affine map (identity for
 // the frontal view, a tilt otherwise). View pixel coordinates relative to the face centre's

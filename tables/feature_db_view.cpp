@@ -43,12 +43,13 @@ Status CheckFace(const TexturedFace& f, uint32_t i, const Model* models, uint32_
                  uint64_t texel_bytes, uint32_t n_features) {
   if (f.model >= n_models) return Corrupt("model index of face", i);
   const Model& m = models[f.model];
-  if (f.model_face >= m.n_faces || f.n_corners != m.faces[f.model_face].n_vertices)
+  if (f.model_face >= m.n_faces || f.n_corners != m.faces[f.model_face].n_vertices ||
+      f.n_corners < 3 || f.n_corners > kMaxTexturedFaceCorners)
     return Corrupt("model face of face", i);
   if (!AllFinite(f.origin_mm, 3) || !AllFinite(f.axis_a, 3) || !AllFinite(f.axis_b, 3) ||
-      !AllFinite(&f.corners_ab_mm[0][0], 2 * kMaxFaceVertices) || !AllFinite(f.min_ab_mm, 2) ||
-      !AllFinite(f.max_ab_mm, 2) || !(f.max_ab_mm[0] > f.min_ab_mm[0]) ||
-      !(f.max_ab_mm[1] > f.min_ab_mm[1]))
+      !AllFinite(&f.corners_ab_mm[0][0], 2 * kMaxTexturedFaceCorners) ||
+      !AllFinite(f.min_ab_mm, 2) || !AllFinite(f.max_ab_mm, 2) ||
+      !(f.max_ab_mm[0] > f.min_ab_mm[0]) || !(f.max_ab_mm[1] > f.min_ab_mm[1]))
     return Corrupt("geometry of face", i);
   if (f.texel_width == 0 || f.texel_height == 0 || f.texel_width > kMaxFaceTextureSide ||
       f.texel_height > kMaxFaceTextureSide)

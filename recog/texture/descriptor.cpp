@@ -73,34 +73,50 @@ int DescriptorBorderPx() {
   return static_cast<int>(std::ceil(corner)) + 2;
 }
 
+void MakeOrientationWindow(const OrientationConfig& config, OrientationWindow* window) {
+  *window = OrientationWindow{};
+  const int radius =
+      std::min(kMaxOrientationRadius, static_cast<int>(std::ceil(3.0f * config.sigma_px)));
+  window->radius = radius;
+  const float inv_two_sigma2 = 1.0f / (2.0f * config.sigma_px * config.sigma_px);
+  for (int dy = -radius; dy <= radius; ++dy) {
+    for (int dx = -radius; dx <= radius; ++dx) {
+      const int r2 = dx * dx + dy * dy;
+      if (r2 > radius * radius) continue;
+      window->weight[dy + kMaxOrientationRadius][dx + kMaxOrientationRadius] =
+          std::exp(-static_cast<float>(r2) * inv_two_sigma2);
+    }
+  }
+}
+
 int DominantOrientations(const ConstFloatView& gx, const ConstFloatView& gy, float x, float y,
-                         const OrientationConfig& config, float* angles_rad) {
+                         const OrientationConfig& config, const OrientationWindow& window,
+                         float* angles_rad) {
   float hist[kOrientationBins] = {};
-  const int radius = static_cast<int>(std::ceil(3.0f * config.sigma_px));
+  const int radius = window.radius;
   const int cx = static_cast<int>(std::lround(x));
   const int cy = static_cast<int>(std::lround(y));
-  const float inv_two_sigma2 = 1.0f / (2.0f * config.sigma_px * config.sigma_px);
   constexpr float kBinsPerRad = kOrientationBins / kTwoPi;
+  const int x_lo = std::max(-radius, -cx), x_hi = std::min(radius, gx.width - 1 - cx);
   for (int dy = -radius; dy <= radius; ++dy) {
     const int py = cy + dy;
     if (py < 0 || py >= gx.height) continue;
-    const float* rx = gx.row(py);
-    const float* ry = gy.row(py);
-    for (int dx = -radius; dx <= radius; ++dx) {
-      const int px = cx + dx;
-      if (px < 0 || px >= gx.width) continue;
-      const float r2 = static_cast<float>(dx * dx + dy * dy);
-      if (r2 > static_cast<float>(radius * radius)) continue;
-      const float gxv = rx[px];
-      const float gyv = ry[px];
-      const float mag = std::sqrt(gxv * gxv + gyv * gyv);
-      if (mag == 0.0f) continue;
-      const float w = mag * std::exp(-r2 * inv_two_sigma2);
+    const float* rx = gx.row(py) + cx;
+    const float* ry = gy.row(py) + cx;
+    const float* wrow = window.weight[dy + kMaxOrientationRadius] + kMaxOrientationRadius;
+    for (int dx = x_lo; dx <= x_hi; ++dx) {
+      const float wg = wrow[dx];
+      if (wg == 0.0f) continue;
+      const float gxv = rx[dx];
+      const float gyv = ry[dx];
+      const float mag2 = gxv * gxv + gyv * gyv;
+      if (mag2 == 0.0f) continue;
+      const float w = std::sqrt(mag2) * wg;
       float bin = FastAtan2(gyv, gxv) * kBinsPerRad;  // (-18, 18]
       if (bin < 0.0f) bin += kOrientationBins;
-      const int b0 = static_cast<int>(bin) % kOrientationBins;
-      const float f = bin - std::floor(bin);
-      hist[b0] += w * (1.0f - f);
+      const int b0 = static_cast<int>(bin);
+      const float f = bin - static_cast<float>(b0);
+      hist[b0 % kOrientationBins] += w * (1.0f - f);
       hist[(b0 + 1) % kOrientationBins] += w * f;
     }
   }
@@ -156,8 +172,19 @@ void ComputeDescriptor(const ConstFloatView& gx, const ConstFloatView& gy, float
       const float lx = g.offset[i];
       const float px = x + c * lx - s * ly;
       const float py = y + s * lx + c * ly;
-      const float gxv = SampleBilinear(gx, px, py);
-      const float gyv = SampleBilinear(gy, px, py);
+      // Bilinear, no clamping: the caller keeps the grid inside the planes.
+      const int x0 = static_cast<int>(px);
+      const int y0 = static_cast<int>(py);
+      const float fx = px - static_cast<float>(x0);
+      const float fy = py - static_cast<float>(y0);
+      const float w00 = (1.0f - fx) * (1.0f - fy), w01 = fx * (1.0f - fy);
+      const float w10 = (1.0f - fx) * fy, w11 = fx * fy;
+      const float* ax = gx.row(y0) + x0;
+      const float* bx = ax + gx.stride;
+      const float* ay = gy.row(y0) + x0;
+      const float* by = ay + gy.stride;
+      const float gxv = w00 * ax[0] + w01 * ax[1] + w10 * bx[0] + w11 * bx[1];
+      const float gyv = w00 * ay[0] + w01 * ay[1] + w10 * by[0] + w11 * by[1];
       // Gradient in the point's frame.
       const float rx = c * gxv + s * gyv;
       const float ry = -s * gxv + c * gyv;
@@ -170,20 +197,20 @@ void ComputeDescriptor(const ConstFloatView& gx, const ConstFloatView& gy, float
       const float fo = o - std::floor(o);
       const int cx0 = g.cell0[i] + 1;
       const int cy0 = g.cell0[j] + 1;
-      const float fx = g.cell_frac[i];
-      const float fy = g.cell_frac[j];
-      const float w00 = mag * (1.0f - fx) * (1.0f - fy);
-      const float w01 = mag * fx * (1.0f - fy);
-      const float w10 = mag * (1.0f - fx) * fy;
-      const float w11 = mag * fx * fy;
-      hist[cy0][cx0][o0] += w00 * (1.0f - fo);
-      hist[cy0][cx0][o1] += w00 * fo;
-      hist[cy0][cx0 + 1][o0] += w01 * (1.0f - fo);
-      hist[cy0][cx0 + 1][o1] += w01 * fo;
-      hist[cy0 + 1][cx0][o0] += w10 * (1.0f - fo);
-      hist[cy0 + 1][cx0][o1] += w10 * fo;
-      hist[cy0 + 1][cx0 + 1][o0] += w11 * (1.0f - fo);
-      hist[cy0 + 1][cx0 + 1][o1] += w11 * fo;
+      const float cfx = g.cell_frac[i];
+      const float cfy = g.cell_frac[j];
+      const float c00 = mag * (1.0f - cfx) * (1.0f - cfy);
+      const float c01 = mag * cfx * (1.0f - cfy);
+      const float c10 = mag * (1.0f - cfx) * cfy;
+      const float c11 = mag * cfx * cfy;
+      hist[cy0][cx0][o0] += c00 * (1.0f - fo);
+      hist[cy0][cx0][o1] += c00 * fo;
+      hist[cy0][cx0 + 1][o0] += c01 * (1.0f - fo);
+      hist[cy0][cx0 + 1][o1] += c01 * fo;
+      hist[cy0 + 1][cx0][o0] += c10 * (1.0f - fo);
+      hist[cy0 + 1][cx0][o1] += c10 * fo;
+      hist[cy0 + 1][cx0 + 1][o0] += c11 * (1.0f - fo);
+      hist[cy0 + 1][cx0 + 1][o1] += c11 * fo;
     }
   }
   float v[kDescriptorSize];

@@ -17,18 +17,27 @@ struct OrientationConfig {
   int max_orientations = 2;      // 1 .. kMaxPointOrientations
 };
 
+// Gaussian window of the orientation histogram, tabulated once per configuration.
+inline constexpr int kMaxOrientationRadius = 18;  // 3 sigma for sigma up to 6 px
+struct OrientationWindow {
+  int radius = 0;
+  float weight[2 * kMaxOrientationRadius + 1][2 * kMaxOrientationRadius + 1] = {};  // 0 outside
+};
+void MakeOrientationWindow(const OrientationConfig& config, OrientationWindow* window);
+
 // Dominant gradient orientations around (x, y): the peaks of a 36-bin histogram of gradient
-// directions weighted by magnitude and a Gaussian window, smoothed, with the peak positions
+// directions weighted by magnitude and the Gaussian window, smoothed, with the peak positions
 // interpolated by a parabola. Writes up to config.max_orientations angles in (-pi, pi], highest
 // peak first; returns how many (0 when there is no gradient at all).
 int DominantOrientations(const ConstFloatView& gx, const ConstFloatView& gy, float x, float y,
-                         const OrientationConfig& config, float* angles_rad);
+                         const OrientationConfig& config, const OrientationWindow& window,
+                         float* angles_rad);
 
-// Descriptor of the point at (x, y) with orientation angle_rad: gradients sampled bilinearly on
-// a 16 x 16 grid turned by angle_rad (one sample per level pixel), rotated into the point's
-// frame, weighted by a Gaussian of sigma half the window, and spread trilinearly over 4 x 4 cells
-// x 8 orientations; then Lowe's normalisation (unit length, clip at 0.2, unit length) and bytes
-// (x 512, at most 255).
+// Descriptor of the point at (x, y), at least DescriptorBorderPx() inside the planes, with
+// orientation angle_rad: gradients sampled bilinearly on a 16 x 16 grid turned by angle_rad (one
+// sample per level pixel), rotated into the point's frame, weighted by a Gaussian of sigma half the
+// window, and spread trilinearly over 4 x 4 cells x 8 orientations; then Lowe's normalisation (unit
+// length, clip at 0.2, unit length) and bytes (x 512, at most 255).
 void ComputeDescriptor(const ConstFloatView& gx, const ConstFloatView& gy, float x, float y,
                        float angle_rad, TextureDescriptor* out);
 

@@ -137,6 +137,7 @@ Status TextureFeatureExtractor::Extract(const ConstGrayView& image,
   const float s_next = s / kPyramidStep;
   SH_RETURN_IF_ERROR(MakeGaussianKernel(std::sqrt(s_next * s_next - s * s), 0, step));
   SH_RETURN_IF_ERROR(MakeGaussianKernel(config.integration_sigma_px, 0, integration));
+  MakeOrientationWindow(config.orientation, &orientation_window_);
 
   // Level sizes and the keypoint budget of each (in proportion to its area).
   int widths[kMaxPyramidLevels], heights[kMaxPyramidLevels];
@@ -225,7 +226,8 @@ Status TextureFeatureExtractor::Extract(const ConstGrayView& image,
       const float y =
           c.y + ParabolaOffset(response.at(c.x, c.y - 1), c.response, response.at(c.x, c.y + 1));
       float angles[kMaxPointOrientations];
-      const int n_angles = DominantOrientations(gx, gy, x, y, config.orientation, angles);
+      const int n_angles =
+          DominantOrientations(gx, gy, x, y, config.orientation, orientation_window_, angles);
       for (int a = 0; a < n_angles; ++a) {
         TextureKeypoint kp;
         kp.x_px = x * to_level0;

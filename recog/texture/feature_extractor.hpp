@@ -63,6 +63,7 @@ class TextureFeatureExtractor {
                       TextureFeatureStats* stats);
 
   int width_ = 0, height_ = 0;
+  OrientationWindow orientation_window_;
   Candidate candidates_[kMaxLevelCandidates];
   float planes_[kPlanes][kMaxImagePixels];
 };

@@ -136,6 +136,17 @@ PlanarFit FitFacePlane(Vector<PlanarMatch>& matches, const PlanarFitConfig& conf
   return fit;
 }
 
+double MaxImageScale(const Eigen::Matrix3d& H, double a, double b) {
+  const Eigen::Vector3d p = H * Eigen::Vector3d(a, b, 1.0);
+  const double w = p.z();
+  if (std::fabs(w) < 1e-300) return 0.0;
+  const double x = p.x() / w, y = p.y() / w;
+  Eigen::Matrix2d J;
+  J << H(0, 0) - x * H(2, 0), H(0, 1) - x * H(2, 1), H(1, 0) - y * H(2, 0), H(1, 1) - y * H(2, 1);
+  J /= w;
+  return Eigen::JacobiSVD<Eigen::Matrix2d>(J).singularValues()(0);
+}
+
 bool PoseFromHomography(const Eigen::Matrix3d& image_H_face, double fx, double fy, double cx,
                         double cy, RigidTransform* cam_T_face) {
   Eigen::Matrix3d Kinv;

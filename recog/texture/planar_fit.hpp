@@ -49,6 +49,12 @@ bool FitHomography(const Vector<PlanarMatch>& matches, Eigen::Matrix3d* image_H_
 
 Eigen::Vector2d ApplyHomography(const Eigen::Matrix3d& H, double a, double b);
 
+// Largest singular value of the homography's Jacobian at face point (a, b): image pixels per
+// millimetre along the face direction least foreshortened. A face at depth Z (along the viewing
+// ray) seen by a camera of focal length f shows about f / Z there, whatever its tilt: a depth
+// estimate that stays stable when the homography's perspective terms are not (a narrow face).
+double MaxImageScale(const Eigen::Matrix3d& image_H_face, double a, double b);
+
 // Pose of the face frame (a, b, 0) in the camera from a homography to ideal pixels of a camera
 // with focal lengths fx, fy and principal point cx, cy: H ~ K [r1 r2 t]. The rotation is the
 // nearest one to [r1 r2 r1 x r2]; false when the homography puts the face behind the camera or is

@@ -172,24 +172,24 @@ bool PlaneStereoMatcher::Match(const Eigen::Vector2f& left_px, const Plane3& pri
     return false;
   const int steps =
       std::clamp(static_cast<int>(std::ceil((p_hi - p_lo).norm())) + 1, 5, kMaxEpipolarSamples);
-  float score[kMaxEpipolarSamples];
   const double margin =
       r * (std::fabs(jx.x()) + std::fabs(jy.x()) + std::fabs(jx.y()) + std::fabs(jy.y())) + 2.0;
-  int best = -1;
-  for (int s = 0; s < steps; ++s) {
-    score[s] = -2.0f;
+  // ZNCC of the warped window centred on sample s of the interval (-2 where it leaves the
+  // image).
+  auto zncc_at = [&](int s) {
     const double rho = rho_lo + (rho_hi - rho_lo) * s / (steps - 1);
     Eigen::Vector2d c;
-    if (!RightPixelAt(calib, ray, rho, &c)) continue;
+    if (!RightPixelAt(calib, ray, rho, &c)) return -2.0f;
     if (c.x() < margin || c.y() < margin || c.x() > right_.width - 1 - margin ||
         c.y() > right_.height - 1 - margin)
-      continue;
+      return -2.0f;
     float rw[kMaxWindow];
     float rsum = 0;
     int k = 0;
     for (int dy = -r; dy <= r; ++dy) {
+      const Eigen::Vector2d row = c + dy * jy;
       for (int dx = -r; dx <= r; ++dx) {
-        const Eigen::Vector2d q = c + dx * jx + dy * jy;
+        const Eigen::Vector2d q = row + dx * jx;
         rw[k] = SampleGray(right_, static_cast<float>(q.x()), static_cast<float>(q.y()));
         rsum += rw[k++];
       }
@@ -201,9 +201,24 @@ bool PlaneStereoMatcher::Match(const Eigen::Vector2f& left_px, const Plane3& pri
       cross += lw[i] * d;
       rvar += d * d;
     }
-    score[s] = rvar > 1e-6f ? cross / std::sqrt(lvar * rvar) : -1.0f;
+    return rvar > 1e-6f ? cross / std::sqrt(lvar * rvar) : -1.0f;
+  };
+  // Coarse to fine: every second sample (the correlation peak of a window this wide spans
+  // several pixels), then the odd neighbours of the best.
+  float score[kMaxEpipolarSamples];
+  int best = -1;
+  for (int s = 0; s < steps; s += 2) {
+    score[s] = zncc_at(s);
     if (best < 0 || score[s] > score[best]) best = s;
   }
+  for (int s : {best - 1, best + 1}) {
+    if (s < 0 || s >= steps) continue;
+    score[s] = zncc_at(s);
+  }
+  for (int s : {best - 1, best + 1}) {
+    if (s >= 0 && s < steps && score[s] > score[best]) best = s;
+  }
+  // Both neighbours of the best are now evaluated (an odd best lies between two even ones).
   if (best <= 0 || best >= steps - 1 || score[best] < config.min_zncc) return false;
   // Sub-sample peak by a parabola through the neighbours.
   const float a = score[best - 1], b = score[best], c = score[best + 1];

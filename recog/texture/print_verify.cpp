@@ -89,7 +89,21 @@ PrintScore PrintVerifier::Score(uint32_t model, const RigidTransform& cam_T_mode
   const CameraIntrinsics* cams[2] = {&calib.left, &calib.right};
   const float ppm = db_->header().texture_px_per_mm;
   const int step = std::max(1, config.sample_step_texels);
-  double weighted[2] = {0, 0};
+  double weighted[2] = {0, 0}, weight[2] = {0, 0};
+  // Bounding spheres of the occluders in the camera frame: most samples miss them, and the
+  // sphere test is cheaper than clipping against every face.
+  struct Sphere {
+    Eigen::Vector3f centre;
+    float radius;
+  };
+  Sphere spheres[kMaxPrintOccluders];
+  n_occluders = std::min(n_occluders, kMaxPrintOccluders);
+  for (size_t k = 0; k < n_occluders; ++k) {
+    const Model& m = *occluders[k].model;
+    float radius = 0;
+    for (int c = 0; c < m.n_corners; ++c) radius = std::max(radius, m.corner(c).norm());
+    spheres[k] = {occluders[k].cam_T_model.t_mm, radius};
+  }
   for (uint32_t fi = 0; fi < db_->face_count(); ++fi) {
     const TexturedFace& face = db_->face(fi);
     if (face.model != model) continue;
@@ -97,11 +111,16 @@ PrintScore PrintVerifier::Score(uint32_t model, const RigidTransform& cam_T_mode
     const Eigen::Vector3f a(face.axis_a[0], face.axis_a[1], face.axis_a[2]);
     const Eigen::Vector3f b(face.axis_b[0], face.axis_b[1], face.axis_b[2]);
     const Eigen::Vector3f n_cam = cam_T_model.Rotate(a.cross(b));
-    const Eigen::Vector3f o_cam = cam_T_model * o;
     const ConstGrayView tex = db_->face_texture(fi);
     for (int cam = 0; cam < 2; ++cam) {
-      // Back-face culling: the face must turn towards this camera.
-      if (n_cam.dot(o_cam - centres[cam]) >= 0.0f) continue;
+      // The face must turn towards this camera, and not be seen edge-on: at grazing angles
+      // every image pixel mixes many texels (and the face's edges), so the correlation says
+      // little. Faces count in proportion to their area in the image (cosine of the angle).
+      const Eigen::Vector3f centre_cam =
+          cam_T_model * (o + 0.5f * (face.min_ab_mm[0] + face.max_ab_mm[0]) * a +
+                         0.5f * (face.min_ab_mm[1] + face.max_ab_mm[1]) * b);
+      const float cos_view = -n_cam.dot((centre_cam - centres[cam]).normalized());
+      if (cos_view < config.min_view_cosine) continue;
       const ConstGrayView& img = images_[cam];
       Correlation corr;
       for (int j = step / 2; j < tex.height; j += step) {
@@ -117,6 +136,11 @@ PrintScore PrintVerifier::Score(uint32_t model, const RigidTransform& cam_T_mode
             continue;
           bool hidden = false;
           for (size_t k = 0; k < n_occluders && !hidden; ++k) {
+            // Distance of the sphere's centre from the segment camera -> sample.
+            const Eigen::Vector3f d = x_cam - centres[cam];
+            const Eigen::Vector3f v = spheres[k].centre - centres[cam];
+            const float t = std::clamp(v.dot(d) / d.squaredNorm(), 0.0f, 1.0f);
+            if ((v - t * d).squaredNorm() > spheres[k].radius * spheres[k].radius) continue;
             hidden = SegmentHitsConvexModel(*occluders[k].model, occluders[k].cam_T_model,
                                             centres[cam], x_cam, 1.0f);
           }
@@ -129,14 +153,14 @@ PrintScore PrintVerifier::Score(uint32_t model, const RigidTransform& cam_T_mode
         }
       }
       if (corr.n < config.min_face_samples || corr.TextureStd() < config.min_texture_std) continue;
-      weighted[cam] += corr.n * corr.Zncc();
+      weighted[cam] += cos_view * corr.n * corr.Zncc();
+      weight[cam] += cos_view * corr.n;
       score.samples[cam] += static_cast<uint32_t>(corr.n);
       ++score.faces[cam];
     }
   }
   for (int cam = 0; cam < 2; ++cam) {
-    if (score.samples[cam] > 0)
-      score.zncc[cam] = static_cast<float>(weighted[cam] / score.samples[cam]);
+    if (weight[cam] > 0) score.zncc[cam] = static_cast<float>(weighted[cam] / weight[cam]);
   }
   return score;
 }

@@ -4,7 +4,7 @@
 // objects already accepted (convex models ray-cast in their poses) or outside the image are
 // left out. Per image, the score is the zero-mean normalised cross-correlation between texture
 // and image over each face (faces are lit differently), averaged over the faces weighted by
-// their sample counts.
+// their area in the image (samples times the cosine of the viewing angle).
 #pragma once
 
 #include <cstddef>
@@ -18,12 +18,16 @@
 
 namespace sh::texture {
 
+// Occluders considered per score (the nearest first is the caller's choice); more are ignored.
+inline constexpr size_t kMaxPrintOccluders = 32;
+
 struct PrintVerifyConfig {
   float min_zncc = 0.5f;         // in each image
   int sample_step_texels = 2;    // grid spacing on the stored texture
   int min_samples = 100;         // visible samples per image
   int min_face_samples = 30;     // a face with fewer visible samples is not scored
   float min_texture_std = 4.0f;  // grey levels: flatter faces carry no evidence
+  float min_view_cosine = 0.2f;  // faces seen more obliquely (78 degrees) are not scored
 };
 
 struct PrintScore {

@@ -31,6 +31,13 @@ struct FaceFrame {
   }
 };
 
+// Distorted pixel of an ideal (undistorted) pixel.
+Eigen::Vector2d DistortIdeal(const CameraIntrinsics& cam, const Eigen::Vector2d& ideal) {
+  const Eigen::Vector2d d =
+      Distort(cam, {(ideal.x() - cam.cx) / cam.fx, (ideal.y() - cam.cy) / cam.fy});
+  return {cam.fx * d.x() + cam.cx, cam.fy * d.y() + cam.cy};
+}
+
 }  // namespace
 
 Status TextureRecognizer::Init(const StereoCalibration& calib, const FeatureDbView& db,
@@ -168,20 +175,35 @@ void TextureRecognizer::LocateFace(FaceDetection& d) {
   const TexturedFace& face = db_.face(d.face);
   const FaceFrame frame(face);
   const CameraIntrinsics& cam = calib_.left;
-  RigidTransform cam_T_face;
-  if (!PoseFromHomography(d.fit.image_H_face, cam.fx, cam.fy, cam.cx, cam.cy, &cam_T_face)) return;
-  // Provisional plane and the face's contour in the (distorted) left image.
-  Plane3 prior;
-  prior.normal = cam_T_face.R.col(2).cast<double>();
-  prior.d_mm = prior.normal.dot(cam_T_face.t_mm.cast<double>());
-  Eigen::Vector2f contour[kMaxFaceVertices];
+  // The face's contour in the (distorted) left image, from the homography.
+  Eigen::Vector2f contour[kMaxTexturedFaceCorners];
   for (int k = 0; k < face.n_corners; ++k) {
-    const Eigen::Vector3f x =
-        cam_T_face * Eigen::Vector3f(face.corners_ab_mm[k][0], face.corners_ab_mm[k][1], 0.0f);
-    Eigen::Vector2d px;
-    if (!ProjectToPixel(cam, x.cast<double>(), &px)) return;
-    contour[k] = px.cast<float>();
+    const Eigen::Vector2d px =
+        ApplyHomography(d.fit.image_H_face, face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]);
+    contour[k] = DistortIdeal(cam, px).cast<float>();
   }
+  // Provisional plane: its depth at the face centre from the image scale there (stable), its
+  // tilt from the homography's pose when that pose agrees with this depth; otherwise facing the
+  // camera (the correlation window then follows only the rotation between the cameras).
+  const float ca = 0.5f * (face.min_ab_mm[0] + face.max_ab_mm[0]);
+  const float cb = 0.5f * (face.min_ab_mm[1] + face.max_ab_mm[1]);
+  const double scale = MaxImageScale(d.fit.image_H_face, ca, cb);
+  if (!(scale > 0)) return;
+  const Eigen::Vector2d centre_px = ApplyHomography(d.fit.image_H_face, ca, cb);
+  const Eigen::Vector3d centre_ray((centre_px.x() - cam.cx) / cam.fx,
+                                   (centre_px.y() - cam.cy) / cam.fy, 1.0);
+  const double depth = 0.5 * (cam.fx + cam.fy) / scale;  // along the optical axis
+  const Eigen::Vector3d centre = centre_ray * depth;
+  Plane3 prior;
+  prior.normal = -centre.normalized();
+  RigidTransform cam_T_face;
+  if (PoseFromHomography(d.fit.image_H_face, cam.fx, cam.fy, cam.cx, cam.cy, &cam_T_face)) {
+    const double z_h = (cam_T_face * Eigen::Vector3f(ca, cb, 0.0f)).z();
+    if (std::fabs(z_h / depth - 1.0) < config_.stereo.depth_search_fraction) {
+      prior.normal = cam_T_face.R.col(2).cast<double>();
+    }
+  }
+  prior.d_mm = prior.normal.dot(centre);
   SelectContourPoints(extractor_.min_eigenvalue(), contour, face.n_corners, config_.stereo,
                       contour_points_);
   face_stereo_.clear();
@@ -189,11 +211,22 @@ void TextureRecognizer::LocateFace(FaceDetection& d) {
     StereoPoint sp;
     if (stereo_matcher_.Match(p, prior, config_.stereo, &sp)) (void)face_stereo_.push_back(sp);
   }
+  // A tilt from the homography that warps the window wrongly: retry facing the camera.
+  if (face_stereo_.size() < static_cast<size_t>(config_.stereo.min_plane_points) &&
+      prior.normal.dot(centre.normalized()) > -0.999) {
+    prior.normal = -centre.normalized();
+    prior.d_mm = prior.normal.dot(centre);
+    face_stereo_.clear();
+    for (const Eigen::Vector2f& p : contour_points_) {
+      StereoPoint sp;
+      if (stereo_matcher_.Match(p, prior, config_.stereo, &sp)) (void)face_stereo_.push_back(sp);
+    }
+  }
   Plane3 plane;
   if (!FitPlaneRansac(face_stereo_, config_.stereo, &plane, &d.plane)) return;
   // Corner rays (from the homography, ideal pixels) cut with the measured plane; Horn against
   // the model's corners.
-  Eigen::Vector3d measured[kMaxFaceVertices], model_corners[kMaxFaceVertices];
+  Eigen::Vector3d measured[kMaxTexturedFaceCorners], model_corners[kMaxTexturedFaceCorners];
   for (int k = 0; k < face.n_corners; ++k) {
     const Eigen::Vector2d px =
         ApplyHomography(d.fit.image_H_face, face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]);
@@ -247,8 +280,9 @@ void TextureRecognizer::AssembleObjects(TextureResult* out) {
   std::stable_sort(order, order + n_groups,
                    [&](int a, int b) { return strength[a] > strength[b]; });
 
-  PlacedModel placed[kMaxTextureObjects];
-  for (int oi = 0; oi < n_groups && !out->objects.full(); ++oi) {
+  // Each group's pose, refined; verification follows once all are known.
+  candidates_.clear();
+  for (int oi = 0; oi < n_groups && !candidates_.full(); ++oi) {
     const int g = order[oi];
     const FaceDetection& lead = detections_[static_cast<size_t>(group_first[g])];
     const uint16_t model = db_.face(lead.face).model;
@@ -292,29 +326,62 @@ void TextureRecognizer::AssembleObjects(TextureResult* out) {
       obj.feature_matches = static_cast<uint16_t>(nf);
       obj.stereo_points = static_cast<uint16_t>(ns);
     }
-    // Duplicates: another group on an object already accepted.
-    bool duplicate = false;
-    for (const TextureObject& a : out->objects) {
-      duplicate |=
-          (a.cam_T_model.t_mm - obj.cam_T_model.t_mm).norm() < config_.duplicate_distance_mm;
+    (void)candidates_.push_back(obj);
+  }
+  // Verification passes: an object hidden in part by another is verified again once that one
+  // is accepted (its samples there no longer count), until a pass accepts nothing new.
+  HypothesisOutcome outcome[kMaxFaceDetections];
+  for (size_t i = 0; i < candidates_.size(); ++i) outcome[i] = HypothesisOutcome::kPrintRejected;
+  bool pending[kMaxFaceDetections];
+  std::fill(pending, pending + candidates_.size(), true);
+  PlacedModel placed[kMaxTextureObjects];
+  for (bool progress = true; progress;) {
+    progress = false;
+    for (size_t i = 0; i < candidates_.size(); ++i) {
+      if (!pending[i]) continue;
+      TextureObject& obj = candidates_[i];
+      bool duplicate = false;
+      for (const TextureObject& a : out->objects) {
+        duplicate |=
+            (a.cam_T_model.t_mm - obj.cam_T_model.t_mm).norm() < config_.duplicate_distance_mm;
+      }
+      if (duplicate) {
+        pending[i] = false;
+        outcome[i] = HypothesisOutcome::kDuplicate;
+        continue;
+      }
+      if (out->objects.full()) {
+        pending[i] = false;
+        outcome[i] = HypothesisOutcome::kObjectsFull;
+        continue;
+      }
+      obj.print =
+          verifier_.Score(obj.model, obj.cam_T_model, placed, out->objects.size(), config_.verify);
+      if (!PrintVerifier::Accept(obj.print, config_.verify)) continue;
+      pending[i] = false;
+      outcome[i] = HypothesisOutcome::kAccepted;
+      placed[out->objects.size()] = {&db_.model(obj.model), obj.cam_T_model};
+      (void)out->objects.push_back(obj);
+      progress = true;
     }
-    if (duplicate) {
-      ++out->stats.rejected;
-      continue;
-    }
-    obj.print =
-        verifier_.Score(model, obj.cam_T_model, placed, out->objects.size(), config_.verify);
-    if (!PrintVerifier::Accept(obj.print, config_.verify)) {
-      ++out->stats.rejected;
-      continue;
-    }
-    placed[out->objects.size()] = {&db_.model(model), obj.cam_T_model};
-    (void)out->objects.push_back(obj);
+  }
+  for (size_t i = 0; i < candidates_.size(); ++i) {
+    const TextureObject& obj = candidates_[i];
+    TextureHypothesisInfo info;
+    info.model = obj.model;
+    info.faces = obj.faces;
+    info.cam_T_model = obj.cam_T_model;
+    info.print = obj.print;
+    info.outcome = outcome[i];
+    out->stats.rejected += outcome[i] == HypothesisOutcome::kAccepted ? 0 : 1;
+    (void)out->hypotheses.push_back(info);
   }
 }
 
 Status TextureRecognizer::Process(ConstGrayView left, ConstGrayView right, TextureResult* out) {
   out->objects.clear();
+  out->faces.clear();
+  out->hypotheses.clear();
   out->stats = {};
   out->time = {};
   if (!initialised_) {
@@ -368,6 +435,22 @@ Status TextureRecognizer::Process(ConstGrayView left, ConstGrayView right, Textu
   for (FaceDetection& d : detections_) {
     LocateFace(d);
     out->stats.faces_3d += d.posed ? 1 : 0;
+    TextureFaceInfo info;
+    info.face = d.face;
+    info.matches = d.n_matches;
+    info.mean_error_px = static_cast<float>(d.fit.mean_error_px);
+    info.stereo_points = static_cast<uint16_t>(d.plane.points);
+    info.plane_inliers = static_cast<uint16_t>(d.plane.inliers);
+    info.posed = d.posed;
+    const TexturedFace& face = db_.face(d.face);
+    info.n_corners = face.n_corners;
+    for (int k = 0; k < face.n_corners; ++k) {
+      const Eigen::Vector2d px =
+          ApplyHomography(d.fit.image_H_face, face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]);
+      info.corners_px[k][0] = static_cast<float>(px.x());
+      info.corners_px[k][1] = static_cast<float>(px.y());
+    }
+    (void)out->faces.push_back(info);
   }
   lap(&out->time.stereo_ms);
 

@@ -92,8 +92,35 @@ struct TextureStats {
   uint64_t descriptors_compared = 0;
 };
 
+// What happened to each face found in 2-D and to each object hypothesis (diagnostics: the
+// bench explains misses with them).
+struct TextureFaceInfo {
+  uint16_t face = 0;           // database face
+  uint16_t matches = 0;        // after the planar fit
+  float mean_error_px = 0;     // of the homography
+  uint16_t stereo_points = 0;  // matched in the right image
+  uint16_t plane_inliers = 0;
+  bool posed = false;
+  // The face's contour in the left image by the homography (ideal pixels): the 2-D
+  // localisation of the paper's figure 6.
+  uint8_t n_corners = 0;
+  float corners_px[kMaxTexturedFaceCorners][2] = {};
+};
+
+enum class HypothesisOutcome : uint8_t { kAccepted, kDuplicate, kPrintRejected, kObjectsFull };
+
+struct TextureHypothesisInfo {
+  uint16_t model = 0;
+  uint16_t faces = 0;
+  RigidTransform cam_T_model;
+  PrintScore print;
+  HypothesisOutcome outcome = HypothesisOutcome::kAccepted;
+};
+
 struct TextureResult {
   Vector<TextureObject, kMaxTextureObjects> objects;
+  Vector<TextureFaceInfo, kMaxFaceDetections> faces;
+  Vector<TextureHypothesisInfo, kMaxFaceDetections> hypotheses;
   TextureStats stats;
   TextureTimings time;
 };
@@ -163,6 +190,7 @@ class TextureRecognizer {
   PoseFeatureObservation feature_obs_[kMaxPoseObservations];
   PoseStereoObservation stereo_obs_[kMaxPoseObservations];
   TexturePoseRefiner refiner_;
+  Vector<TextureObject, kMaxFaceDetections> candidates_;
   PrintVerifier verifier_;
   ConstGrayView left_{}, right_{};
 };
