@@ -18,6 +18,10 @@ struct DescriptorGrid {
   float weight[kN][kN];  // exp(-(x^2 + y^2) / (2 (window / 2)^2))
   int cell0[kN];         // floor of the cell coordinate (-1 .. 3)
   float cell_frac[kN];   // its fractional part
+  // Per sample: the four cells it spreads into (offsets into the padded histogram of
+  // (kC + 2)^2 cells x 8 orientations) and the Gaussian-weighted bilinear spatial weights.
+  int cell_offset[kN * kN][4];
+  float cell_weight[kN * kN][4];
   DescriptorGrid() {
     const float half = 0.5f * kN;
     const float inv_two_sigma2 = 1.0f / (2.0f * half * half);
@@ -27,9 +31,22 @@ struct DescriptorGrid {
       cell0[i] = static_cast<int>(std::floor(c));
       cell_frac[i] = c - static_cast<float>(cell0[i]);
     }
+    constexpr int kPadded = kDescriptorCells + 2;
+    constexpr int kO = kDescriptorOrientations;
     for (int j = 0; j < kN; ++j) {
       for (int i = 0; i < kN; ++i) {
         weight[j][i] = std::exp(-(offset[i] * offset[i] + offset[j] * offset[j]) * inv_two_sigma2);
+        const int k = j * kN + i;
+        const int cx = cell0[i] + 1, cy = cell0[j] + 1;  // padded cell indices
+        const float fx = cell_frac[i], fy = cell_frac[j];
+        cell_offset[k][0] = (cy * kPadded + cx) * kO;
+        cell_offset[k][1] = (cy * kPadded + cx + 1) * kO;
+        cell_offset[k][2] = ((cy + 1) * kPadded + cx) * kO;
+        cell_offset[k][3] = ((cy + 1) * kPadded + cx + 1) * kO;
+        cell_weight[k][0] = weight[j][i] * (1.0f - fx) * (1.0f - fy);
+        cell_weight[k][1] = weight[j][i] * fx * (1.0f - fy);
+        cell_weight[k][2] = weight[j][i] * (1.0f - fx) * fy;
+        cell_weight[k][3] = weight[j][i] * fx * fy;
       }
     }
   }
@@ -38,6 +55,23 @@ struct DescriptorGrid {
 const DescriptorGrid& Grid() {
   static const DescriptorGrid grid;  // constant tables, built on first use (no heap)
   return grid;
+}
+
+// atan2 without branches (the same polynomial as FastAtan2), so that loops over arrays of
+// gradients vectorise.
+inline float Atan2Branchless(float y, float x) {
+  const float ax = std::fabs(x);
+  const float ay = std::fabs(y);
+  const float z = std::min(ax, ay) / (std::max(ax, ay) + 1e-30f);
+  const float z2 = z * z;
+  float a =
+      z *
+      (0.99997726f +
+       z2 * (-0.33262347f +
+             z2 * (0.19354346f + z2 * (-0.11643287f + z2 * (0.05265332f + z2 * -0.01172120f)))));
+  a = ay > ax ? 0.5f * kPi - a : a;
+  a = x < 0.0f ? kPi - a : a;
+  return std::copysign(a, y);
 }
 
 float WrapAngle(float a) {
@@ -98,26 +132,26 @@ int DominantOrientations(const ConstFloatView& gx, const ConstFloatView& gy, flo
   const int cy = static_cast<int>(std::lround(y));
   constexpr float kBinsPerRad = kOrientationBins / kTwoPi;
   const int x_lo = std::max(-radius, -cx), x_hi = std::min(radius, gx.width - 1 - cx);
-  for (int dy = -radius; dy <= radius; ++dy) {
+  const int n_row = x_hi - x_lo + 1;
+  // Per row: weights and bins in a loop that vectorises, then the histogram.
+  float w[2 * kMaxOrientationRadius + 1], bin[2 * kMaxOrientationRadius + 1];
+  for (int dy = -radius; dy <= radius && n_row > 0; ++dy) {
     const int py = cy + dy;
     if (py < 0 || py >= gx.height) continue;
-    const float* rx = gx.row(py) + cx;
-    const float* ry = gy.row(py) + cx;
-    const float* wrow = window.weight[dy + kMaxOrientationRadius] + kMaxOrientationRadius;
-    for (int dx = x_lo; dx <= x_hi; ++dx) {
-      const float wg = wrow[dx];
-      if (wg == 0.0f) continue;
-      const float gxv = rx[dx];
-      const float gyv = ry[dx];
-      const float mag2 = gxv * gxv + gyv * gyv;
-      if (mag2 == 0.0f) continue;
-      const float w = std::sqrt(mag2) * wg;
-      float bin = FastAtan2(gyv, gxv) * kBinsPerRad;  // (-18, 18]
-      if (bin < 0.0f) bin += kOrientationBins;
-      const int b0 = static_cast<int>(bin);
-      const float f = bin - static_cast<float>(b0);
-      hist[b0 % kOrientationBins] += w * (1.0f - f);
-      hist[(b0 + 1) % kOrientationBins] += w * f;
+    const float* rx = gx.row(py) + cx + x_lo;
+    const float* ry = gy.row(py) + cx + x_lo;
+    const float* wrow = window.weight[dy + kMaxOrientationRadius] + kMaxOrientationRadius + x_lo;
+    for (int i = 0; i < n_row; ++i) {
+      w[i] = std::sqrt(rx[i] * rx[i] + ry[i] * ry[i]) * wrow[i];
+      const float b = Atan2Branchless(ry[i], rx[i]) * kBinsPerRad;  // [-18, 18]
+      bin[i] = b < 0.0f ? b + kOrientationBins : b;
+    }
+    for (int i = 0; i < n_row; ++i) {
+      if (w[i] == 0.0f) continue;
+      const int b0 = static_cast<int>(bin[i]);
+      const float f = bin[i] - static_cast<float>(b0);
+      hist[b0 % kOrientationBins] += w[i] * (1.0f - f);
+      hist[(b0 + 1) % kOrientationBins] += w[i] * f;
     }
   }
   // Two passes of the circular (1/4, 1/2, 1/4) kernel.
@@ -166,13 +200,17 @@ void ComputeDescriptor(const ConstFloatView& gx, const ConstFloatView& gy, float
   const float c = std::cos(angle_rad);
   const float s = std::sin(angle_rad);
   constexpr float kBinsPerRad = kO / kTwoPi;
-  for (int j = 0; j < DescriptorGrid::kN; ++j) {
+  constexpr int kN = DescriptorGrid::kN;
+  constexpr int kSamples = kN * kN;
+  // 1. Gradients at the turned grid's samples (bilinear, no clamping: the caller keeps the grid
+  // inside the planes).
+  float sgx[kSamples], sgy[kSamples];
+  for (int j = 0; j < kN; ++j) {
     const float ly = g.offset[j];
-    for (int i = 0; i < DescriptorGrid::kN; ++i) {
+    for (int i = 0; i < kN; ++i) {
       const float lx = g.offset[i];
       const float px = x + c * lx - s * ly;
       const float py = y + s * lx + c * ly;
-      // Bilinear, no clamping: the caller keeps the grid inside the planes.
       const int x0 = static_cast<int>(px);
       const int y0 = static_cast<int>(py);
       const float fx = px - static_cast<float>(x0);
@@ -183,34 +221,32 @@ void ComputeDescriptor(const ConstFloatView& gx, const ConstFloatView& gy, float
       const float* bx = ax + gx.stride;
       const float* ay = gy.row(y0) + x0;
       const float* by = ay + gy.stride;
-      const float gxv = w00 * ax[0] + w01 * ax[1] + w10 * bx[0] + w11 * bx[1];
-      const float gyv = w00 * ay[0] + w01 * ay[1] + w10 * by[0] + w11 * by[1];
-      // Gradient in the point's frame.
-      const float rx = c * gxv + s * gyv;
-      const float ry = -s * gxv + c * gyv;
-      const float mag = std::sqrt(rx * rx + ry * ry) * g.weight[j][i];
-      if (mag == 0.0f) continue;
-      float o = FastAtan2(ry, rx) * kBinsPerRad;  // (-4, 4]
-      if (o < 0.0f) o += kO;
-      const int o0 = static_cast<int>(o) % kO;
-      const int o1 = (o0 + 1) % kO;
-      const float fo = o - std::floor(o);
-      const int cx0 = g.cell0[i] + 1;
-      const int cy0 = g.cell0[j] + 1;
-      const float cfx = g.cell_frac[i];
-      const float cfy = g.cell_frac[j];
-      const float c00 = mag * (1.0f - cfx) * (1.0f - cfy);
-      const float c01 = mag * cfx * (1.0f - cfy);
-      const float c10 = mag * (1.0f - cfx) * cfy;
-      const float c11 = mag * cfx * cfy;
-      hist[cy0][cx0][o0] += c00 * (1.0f - fo);
-      hist[cy0][cx0][o1] += c00 * fo;
-      hist[cy0][cx0 + 1][o0] += c01 * (1.0f - fo);
-      hist[cy0][cx0 + 1][o1] += c01 * fo;
-      hist[cy0 + 1][cx0][o0] += c10 * (1.0f - fo);
-      hist[cy0 + 1][cx0][o1] += c10 * fo;
-      hist[cy0 + 1][cx0 + 1][o0] += c11 * (1.0f - fo);
-      hist[cy0 + 1][cx0 + 1][o1] += c11 * fo;
+      sgx[j * kN + i] = w00 * ax[0] + w01 * ax[1] + w10 * bx[0] + w11 * bx[1];
+      sgy[j * kN + i] = w00 * ay[0] + w01 * ay[1] + w10 * by[0] + w11 * by[1];
+    }
+  }
+  // 2. Magnitudes and orientation bins in the point's frame (vectorises).
+  float mag[kSamples], ori[kSamples];
+  for (int k = 0; k < kSamples; ++k) {
+    const float rx = c * sgx[k] + s * sgy[k];
+    const float ry = -s * sgx[k] + c * sgy[k];
+    mag[k] = std::sqrt(rx * rx + ry * ry);
+    const float o = Atan2Branchless(ry, rx) * kBinsPerRad;  // [-4, 4]
+    ori[k] = o < 0.0f ? o + kO : o;
+  }
+  // 3. Trilinear spread into cells x orientations (spatial weights from the grid's tables).
+  float* h = &hist[0][0][0];
+  for (int k = 0; k < kSamples; ++k) {
+    const float m = mag[k];
+    if (m == 0.0f) continue;
+    const int o0 = static_cast<int>(ori[k]) & (kO - 1);  // ori may round to exactly kO
+    const int o1 = (o0 + 1) & (kO - 1);
+    const float fo = ori[k] - static_cast<float>(static_cast<int>(ori[k]));
+    const float m1 = m * fo, m0 = m - m1;
+    for (int q = 0; q < 4; ++q) {
+      float* cell = h + g.cell_offset[k][q];
+      cell[o0] += m0 * g.cell_weight[k][q];
+      cell[o1] += m1 * g.cell_weight[k][q];
     }
   }
   float v[kDescriptorSize];

@@ -24,7 +24,7 @@ struct TextureFeatureConfig {
   int levels = 6;                     // 1 .. kMaxPyramidLevels (fewer when the image gets small)
   float input_sigma_px = 0.5f;        // blur the input already has (optics, anti-aliasing)
   float level_sigma_px = 1.0f;        // blur of every level in its own pixels
-  float integration_sigma_px = 1.5f;  // window of the structure tensor, level pixels
+  float integration_sigma_px = 1.0f;  // window of the structure tensor, level pixels
   float harris_k = 0.04f;
   // Harris response floor (intensities on [0, 1]); about a corner of contrast 0.1 (26 grey
   // levels) at the default scales.

@@ -14,7 +14,7 @@ struct Candidate {
   int x, y;
 };
 
-float SampleGray(const ConstGrayView& img, float x, float y) {
+inline float SampleGray(const ConstGrayView& img, float x, float y) {
   // Bilinear; the caller keeps (x, y) at least one pixel inside the image.
   const int x0 = static_cast<int>(x);
   const int y0 = static_cast<int>(y);
@@ -174,6 +174,8 @@ bool PlaneStereoMatcher::Match(const Eigen::Vector2f& left_px, const Plane3& pri
       std::clamp(static_cast<int>(std::ceil((p_hi - p_lo).norm())) + 1, 5, kMaxEpipolarSamples);
   const double margin =
       r * (std::fabs(jx.x()) + std::fabs(jy.x()) + std::fabs(jx.y()) + std::fabs(jy.y())) + 2.0;
+  const float jxx = static_cast<float>(jx.x()), jxy = static_cast<float>(jx.y());
+  const float jyx = static_cast<float>(jy.x()), jyy = static_cast<float>(jy.y());
   // ZNCC of the warped window centred on sample s of the interval (-2 where it leaves the
   // image).
   auto zncc_at = [&](int s) {
@@ -187,10 +189,11 @@ bool PlaneStereoMatcher::Match(const Eigen::Vector2f& left_px, const Plane3& pri
     float rsum = 0;
     int k = 0;
     for (int dy = -r; dy <= r; ++dy) {
-      const Eigen::Vector2d row = c + dy * jy;
-      for (int dx = -r; dx <= r; ++dx) {
-        const Eigen::Vector2d q = row + dx * jx;
-        rw[k] = SampleGray(right_, static_cast<float>(q.x()), static_cast<float>(q.y()));
+      // Window row dy, stepping along the warped x direction.
+      float qx = static_cast<float>(c.x()) + dy * jyx - r * jxx;
+      float qy = static_cast<float>(c.y()) + dy * jyy - r * jxy;
+      for (int dx = -r; dx <= r; ++dx, qx += jxx, qy += jxy) {
+        rw[k] = SampleGray(right_, qx, qy);
         rsum += rw[k++];
       }
     }

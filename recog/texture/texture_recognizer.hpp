@@ -42,7 +42,7 @@ inline constexpr size_t kMaxTextureObjects = 32;
 inline constexpr int kMatchNeighbours = 6;
 
 struct MatchConfig {
-  int max_checks = 256;        // descriptors compared per query (best-bin-first)
+  int max_checks = 128;        // descriptors compared per query (best-bin-first)
   float ratio = 0.8f;          // nearest / nearest other physical point, distances
   float same_point_mm = 3.0f;  // learnt features this close on one face are one physical point
 };
