@@ -15,6 +15,7 @@
 #include "recog/texture/polygon.hpp"
 #include "tables/feature_db_format.hpp"
 #include "tables/feature_db_view.hpp"
+#include "tables/kd_tree_builder.hpp"
 
 namespace sh {
 namespace {
@@ -148,7 +149,7 @@ std::vector<uint8_t> ToBytes(const FloatImage& image) {
 }
 
 struct LearntFeature {
-  FeatureRecord record;
+  FeatureRecord record{};
   TextureDescriptor descriptor;
 };
 
@@ -204,67 +205,6 @@ Result<ViewImage> TiltedView(const FloatImage& rect, float tilt, float phi_rad) 
     }
   }
   return v;
-}
-
-// Kd-tree over descriptors[order[begin .. end)], preorder into `nodes`; `order` is permuted so
-// that every leaf covers a contiguous range.
-uint32_t BuildKd(const std::vector<LearntFeature>& learnt, std::vector<uint32_t>& order,
-                 uint32_t begin, uint32_t end, uint32_t leaf_size, uint32_t depth,
-                 std::vector<texture::KdNode>& nodes, uint32_t* max_depth) {
-  const uint32_t index = static_cast<uint32_t>(nodes.size());
-  nodes.emplace_back();
-  *max_depth = std::max(*max_depth, depth);
-  auto make_leaf = [&]() {
-    texture::KdNode& n = nodes[index];
-    n.leaf = 1;
-    n.first = begin;
-    n.second = end - begin;
-    return index;
-  };
-  if (end - begin <= leaf_size) return make_leaf();
-  // Split on the component of largest variance.
-  double mean[texture::kDescriptorSize] = {}, var[texture::kDescriptorSize] = {};
-  for (uint32_t i = begin; i < end; ++i) {
-    const uint8_t* v = learnt[order[i]].descriptor.v;
-    for (int d = 0; d < texture::kDescriptorSize; ++d) mean[d] += v[d];
-  }
-  const double count = end - begin;
-  for (double& m : mean) m /= count;
-  for (uint32_t i = begin; i < end; ++i) {
-    const uint8_t* v = learnt[order[i]].descriptor.v;
-    for (int d = 0; d < texture::kDescriptorSize; ++d)
-      var[d] += (v[d] - mean[d]) * (v[d] - mean[d]);
-  }
-  const int dim = static_cast<int>(std::max_element(var, var + texture::kDescriptorSize) - var);
-  if (var[dim] == 0.0) return make_leaf();  // identical descriptors
-  auto value = [&](uint32_t i) { return learnt[i].descriptor.v[dim]; };
-  const uint32_t mid = begin + (end - begin) / 2;
-  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
-                   [&](uint32_t a, uint32_t b) { return value(a) < value(b); });
-  // Integer components: split at median - 0.5 (values below go left) or, when the median is
-  // the smallest value, at median + 0.5; both sides are non-empty because the variance is not 0.
-  int m = value(order[mid]);
-  auto below = [&](uint32_t i) { return value(i) < m; };
-  uint32_t split_at = static_cast<uint32_t>(
-      std::partition(order.begin() + begin, order.begin() + end, below) - order.begin());
-  float split = static_cast<float>(m) - 0.5f;
-  if (split_at == begin) {
-    split_at = static_cast<uint32_t>(std::partition(order.begin() + begin, order.begin() + end,
-                                                    [&](uint32_t i) { return value(i) <= m; }) -
-                                     order.begin());
-    split = static_cast<float>(m) + 0.5f;
-  }
-  const uint32_t left =
-      BuildKd(learnt, order, begin, split_at, leaf_size, depth + 1, nodes, max_depth);
-  const uint32_t right =
-      BuildKd(learnt, order, split_at, end, leaf_size, depth + 1, nodes, max_depth);
-  texture::KdNode& n = nodes[index];
-  n.leaf = 0;
-  n.dim = static_cast<uint16_t>(dim);
-  n.split = split;
-  n.first = left;
-  n.second = right;
-  return index;
 }
 
 template <typename T>
@@ -459,13 +399,11 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
   }
 
   // Kd-tree, and the features in its leaf order.
-  std::vector<uint32_t> order(learnt.size());
-  std::iota(order.begin(), order.end(), 0u);
+  std::vector<TextureDescriptor> unordered(learnt.size());
+  for (size_t i = 0; i < learnt.size(); ++i) unordered[i] = learnt[i].descriptor;
+  std::vector<uint32_t> order;
   std::vector<texture::KdNode> nodes;
-  if (!learnt.empty()) {
-    BuildKd(learnt, order, 0, static_cast<uint32_t>(learnt.size()), options.leaf_size, 0, nodes,
-            &rep.tree_depth);
-  }
+  BuildKdTree(unordered, options.leaf_size, &nodes, &order, &rep.tree_depth);
   std::vector<FeatureRecord> records(learnt.size());
   std::vector<TextureDescriptor> descriptors(learnt.size());
   for (size_t i = 0; i < order.size(); ++i) {

@@ -18,17 +18,20 @@ Status Corrupt(const char* what, uint32_t index) {
 
 Status CheckSection(const SectionRef& s, uint64_t count, size_t element_size, uint64_t total,
                     const char* name) {
-  if (s.offset % kSectionAlignment != 0)
+  if (s.offset % kSectionAlignment != 0) {
     return Status::Error(StatusCode::kDataLoss, "feature database corrupt: %s section misaligned",
                          name);
-  if (s.offset > total || s.size > total - s.offset)
+  }
+  if (s.offset > total || s.size > total - s.offset) {
     return Status::Error(StatusCode::kDataLoss,
                          "feature database truncated: %s section ends past the blob", name);
-  if (s.size != count * element_size)
-    return Status::Error(StatusCode::kDataLoss,
-                         "feature database corrupt: %s section has %llu bytes, expected %llu", name,
-                         static_cast<unsigned long long>(s.size),
-                         static_cast<unsigned long long>(count * element_size));
+  }
+  const uint64_t expected = count * uint64_t{element_size};
+  if (s.size != expected) {
+    return Status::Error(
+        StatusCode::kDataLoss, "feature database corrupt: %s section has %llu bytes, expected %llu",
+        name, static_cast<unsigned long long>(s.size), static_cast<unsigned long long>(expected));
+  }
   return Status::Ok();
 }
 
@@ -67,48 +70,56 @@ Result<FeatureDbView> FeatureDbView::Open(const void* blob, size_t size) {
   if (blob == nullptr) return Status::Error(StatusCode::kInvalidArgument, "%s: no data", kBlob);
   if (reinterpret_cast<uintptr_t>(blob) % 16 != 0)
     return Status::Error(StatusCode::kInvalidArgument, "%s: memory not 16-byte aligned", kBlob);
-  if (size < sizeof(FeatureDbHeader))
+  if (size < sizeof(FeatureDbHeader)) {
     return Status::Error(StatusCode::kDataLoss,
                          "%s truncated: %zu bytes, the header alone needs %zu", kBlob, size,
                          sizeof(FeatureDbHeader));
+  }
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = reinterpret_cast<const FeatureDbHeader*>(bytes);
-  if (std::memcmp(h->magic, kFeatureDbMagic, sizeof(kFeatureDbMagic)) != 0)
+  if (std::memcmp(h->magic, kFeatureDbMagic, sizeof(kFeatureDbMagic)) != 0) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "not a stereohash feature database (bad magic number)");
-  if (h->format_version != kFeatureDbFormatVersion)
+  }
+  if (h->format_version != kFeatureDbFormatVersion) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "%s format version %u, this build reads version %u", kBlob,
                          h->format_version, kFeatureDbFormatVersion);
+  }
   if (h->header_size != sizeof(FeatureDbHeader) || h->descriptor_size != texture::kDescriptorSize)
     return Status::Error(StatusCode::kDataLoss, "%s corrupt: header or descriptor size", kBlob);
-  if (h->total_size != size)
+  if (h->total_size != size) {
     return Status::Error(StatusCode::kDataLoss,
                          "%s truncated or padded: header says %llu bytes, got %zu", kBlob,
                          static_cast<unsigned long long>(h->total_size), size);
+  }
   const uint32_t crc = Crc32(bytes + sizeof(FeatureDbHeader), size - sizeof(FeatureDbHeader));
-  if (crc != h->payload_crc32)
+  if (crc != h->payload_crc32) {
     return Status::Error(StatusCode::kDataLoss, "%s corrupt: payload CRC-32 %08x, header says %08x",
                          kBlob, crc, h->payload_crc32);
+  }
   if (h->n_models == 0 || h->n_models > kMaxFeatureDbModels || h->n_faces == 0 ||
       h->n_faces > kMaxFeatureDbFaces || h->n_views > kMaxFeatureDbViews ||
       h->n_features > kMaxFeatureDbFeatures || h->n_nodes > kMaxFeatureDbNodes ||
-      h->n_texel_bytes > kMaxFeatureDbTexelBytes)
+      h->n_texel_bytes > kMaxFeatureDbTexelBytes) {
     return Status::Error(StatusCode::kOutOfRange,
                          "%s too large for this build: %u models (max %u), %u faces (max %u), %u "
                          "views (max %u), %u features (max %u)",
                          kBlob, h->n_models, kMaxFeatureDbModels, h->n_faces, kMaxFeatureDbFaces,
                          h->n_views, kMaxFeatureDbViews, h->n_features, kMaxFeatureDbFeatures);
-  if ((h->n_features > 0) != (h->n_nodes > 0))
+  }
+  if ((h->n_features > 0) != (h->n_nodes > 0)) {
     return Status::Error(StatusCode::kDataLoss, "%s corrupt: kd-tree does not match the features",
                          kBlob);
+  }
   if (!(std::isfinite(h->feature_px_per_mm) && h->feature_px_per_mm > 0.0f &&
         std::isfinite(h->texture_px_per_mm) && h->texture_px_per_mm > 0.0f))
     return Status::Error(StatusCode::kDataLoss, "%s corrupt: resolution fields", kBlob);
   const Status extraction = ExtractionConfig(h->extraction).Validate();
-  if (!extraction.ok())
+  if (!extraction.ok()) {
     return Status::Error(StatusCode::kDataLoss, "%s corrupt: extraction settings: %s", kBlob,
                          extraction.message());
+  }
   const uint64_t total = h->total_size;
   SH_RETURN_IF_ERROR(CheckSection(h->models, h->n_models, sizeof(Model), total, "model"));
   SH_RETURN_IF_ERROR(CheckSection(h->faces, h->n_faces, sizeof(TexturedFace), total, "face"));

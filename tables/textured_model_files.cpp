@@ -1,6 +1,7 @@
 #include "tables/textured_model_files.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -40,16 +41,17 @@ Status LoadMaterials(const std::string& path, TexturedModel* model) {
     image.pixels.resize(kMaxImagePixels);
     Result<hal::ImageInfo> info = hal::ReadImageFile(image_path.c_str(), hal::PixelFormat::kGray8,
                                                      image.pixels.data(), image.pixels.size());
-    if (!info.ok())
+    if (!info.ok()) {
       return Status::Error(info.status().code(), "%s: %s", image_path.c_str(),
                            info.status().message());
+    }
     image.width = info->width;
     image.height = info->height;
     image.pixels.resize(static_cast<size_t>(image.width) * image.height);
     // Kd multiplies the texture: its luma scales the grey image.
     const float luma = 0.299f * material.kd[0] + 0.587f * material.kd[1] + 0.114f * material.kd[2];
     if (luma < 0.999f) {
-      for (uint8_t& p : image.pixels) p = static_cast<uint8_t>(p * luma + 0.5f);
+      for (uint8_t& p : image.pixels) p = static_cast<uint8_t>(std::lround(p * luma));
     }
   }
   return Status::Ok();
@@ -78,9 +80,9 @@ Result<TexturedModel> LoadTexturedModelFile(const std::string& path) {
   if (out.texturing.mtllib[0] != '\0') SH_RETURN_IF_ERROR(LoadMaterials(path, &out));
   // A face whose material has no image (a plain Kd colour) carries no print.
   for (int f = 0; f < out.model.n_faces; ++f) {
-    const int m = out.texturing.faces[f].material;
-    if (m >= 0 && out.textures[static_cast<size_t>(m)].pixels.empty()) {
-      out.texturing.faces[f].material = -1;
+    int8_t& material = out.texturing.faces[f].material;
+    if (material >= 0 && out.textures[static_cast<size_t>(material)].pixels.empty()) {
+      material = -1;
     }
   }
   return out;

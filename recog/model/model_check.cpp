@@ -5,42 +5,49 @@
 namespace sh {
 
 Status ValidateModelRecord(const Model& m, uint32_t index, const char* blob) {
-  if (m.name[kMaxModelNameLength] != '\0' || m.name[0] == '\0')
+  if (m.name[kMaxModelNameLength] != '\0' || m.name[0] == '\0') {
     return Status::Error(StatusCode::kDataLoss, "%s corrupt: model %u has no valid name", blob,
                          index);
+  }
   if (m.n_corners < 3 || m.n_corners > kMaxModelCorners || m.n_edges > kMaxModelEdges ||
-      m.n_faces > kMaxModelFaces || m.n_symmetries == 0 || m.n_symmetries > kMaxModelSymmetries)
+      m.n_faces > kMaxModelFaces || m.n_symmetries == 0 || m.n_symmetries > kMaxModelSymmetries) {
     return Status::Error(StatusCode::kDataLoss, "%s corrupt: model '%s' counts out of range", blob,
                          m.name);
+  }
   for (int i = 0; i < m.n_corners; ++i) {
     for (float c : m.corners_mm[i]) {
-      if (!std::isfinite(c))
+      if (!std::isfinite(c)) {
         return Status::Error(StatusCode::kDataLoss,
                              "%s corrupt: model '%s' has a non-finite corner", blob, m.name);
+      }
     }
   }
   for (int i = 0; i < m.n_edges; ++i) {
     const ModelEdge& e = m.edges[i];
-    if (e.a >= m.n_corners || e.b >= m.n_corners || e.face0 >= m.n_faces || e.face1 >= m.n_faces)
+    if (e.a >= m.n_corners || e.b >= m.n_corners || e.face0 >= m.n_faces || e.face1 >= m.n_faces) {
       return Status::Error(StatusCode::kDataLoss,
                            "%s corrupt: model '%s' edge %d indexes out of range", blob, m.name, i);
+    }
   }
   for (int f = 0; f < m.n_faces; ++f) {
     const ModelFace& face = m.faces[f];
-    if (face.n_vertices < 3 || face.n_vertices > kMaxFaceVertices)
+    if (face.n_vertices < 3 || face.n_vertices > kMaxFaceVertices) {
       return Status::Error(StatusCode::kDataLoss, "%s corrupt: model '%s' face %d has %u vertices",
                            blob, m.name, f, face.n_vertices);
+    }
     for (int k = 0; k < face.n_vertices; ++k) {
-      if (face.vertices[k] >= m.n_corners)
+      if (face.vertices[k] >= m.n_corners) {
         return Status::Error(StatusCode::kDataLoss,
                              "%s corrupt: model '%s' face %d indexes out of range", blob, m.name,
                              f);
+      }
     }
     for (float c : face.normal) {
-      if (!std::isfinite(c))
+      if (!std::isfinite(c)) {
         return Status::Error(StatusCode::kDataLoss,
                              "%s corrupt: model '%s' face %d has a non-finite normal", blob, m.name,
                              f);
+      }
     }
   }
   return Status::Ok();

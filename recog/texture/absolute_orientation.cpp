@@ -38,7 +38,7 @@ bool AbsoluteOrientation(const Eigen::Vector3d* a, const Eigen::Vector3d* b, con
       sxy - syx, szx + sxz, syz + szy, -sxx - syy + szz;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(N);
   if (eig.info() != Eigen::Success) return false;
-  const Eigen::Vector4d ev = eig.eigenvalues();
+  const Eigen::Vector4d& ev = eig.eigenvalues();
   // Collinear points: the two largest eigenvalues coincide (rotation about the line free).
   if (!(spread > 0) || ev(3) - ev(2) < 1e-9 * spread) return false;
   const Eigen::Vector4d q = eig.eigenvectors().col(3);  // (w, x, y, z), largest eigenvalue

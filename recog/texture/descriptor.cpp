@@ -14,14 +14,14 @@ constexpr float kTwoPi = 2.0f * kPi;
 // (cell centres at 0 .. 3) do not depend on the image, so they are computed once.
 struct DescriptorGrid {
   static constexpr int kN = kDescriptorWindowPx;
-  float offset[kN];      // i - 7.5
-  float weight[kN][kN];  // exp(-(x^2 + y^2) / (2 (window / 2)^2))
-  int cell0[kN];         // floor of the cell coordinate (-1 .. 3)
-  float cell_frac[kN];   // its fractional part
+  float offset[kN] = {};      // i - 7.5
+  float weight[kN][kN] = {};  // exp(-(x^2 + y^2) / (2 (window / 2)^2))
+  int cell0[kN] = {};         // floor of the cell coordinate (-1 .. 3)
+  float cell_frac[kN] = {};   // its fractional part
   // Per sample: the four cells it spreads into (offsets into the padded histogram of
   // (kC + 2)^2 cells x 8 orientations) and the Gaussian-weighted bilinear spatial weights.
-  int cell_offset[kN * kN][4];
-  float cell_weight[kN * kN][4];
+  int cell_offset[kN * kN][4] = {};
+  float cell_weight[kN * kN][4] = {};
   DescriptorGrid() {
     const float half = 0.5f * kN;
     const float inv_two_sigma2 = 1.0f / (2.0f * half * half);
@@ -57,9 +57,18 @@ const DescriptorGrid& Grid() {
   return grid;
 }
 
-// atan2 without branches (the same polynomial as FastAtan2), so that loops over arrays of
-// gradients vectorise.
-inline float Atan2Branchless(float y, float x) {
+float WrapAngle(float a) {
+  while (a > kPi) a -= kTwoPi;
+  while (a <= -kPi) a += kTwoPi;
+  return a;
+}
+
+}  // namespace
+
+float FastAtan2(float y, float x) {
+  // Minimax polynomial for atan on [0, 1] (absolute error about 1e-5 rad) of the smaller over
+  // the larger component, then the octant. No branches: loops over arrays of gradients that
+  // call it vectorise.
   const float ax = std::fabs(x);
   const float ay = std::fabs(y);
   const float z = std::min(ax, ay) / (std::max(ax, ay) + 1e-30f);
@@ -72,32 +81,6 @@ inline float Atan2Branchless(float y, float x) {
   a = ay > ax ? 0.5f * kPi - a : a;
   a = x < 0.0f ? kPi - a : a;
   return std::copysign(a, y);
-}
-
-float WrapAngle(float a) {
-  while (a > kPi) a -= kTwoPi;
-  while (a <= -kPi) a += kTwoPi;
-  return a;
-}
-
-}  // namespace
-
-float FastAtan2(float y, float x) {
-  const float ax = std::fabs(x);
-  const float ay = std::fabs(y);
-  if (ax == 0.0f && ay == 0.0f) return 0.0f;
-  const bool swap = ay > ax;
-  const float z = swap ? ax / ay : ay / ax;  // in [0, 1]
-  const float z2 = z * z;
-  // Minimax polynomial for atan on [0, 1] (absolute error about 1e-5 rad).
-  float a =
-      z *
-      (0.99997726f +
-       z2 * (-0.33262347f +
-             z2 * (0.19354346f + z2 * (-0.11643287f + z2 * (0.05265332f + z2 * -0.01172120f)))));
-  if (swap) a = 0.5f * kPi - a;
-  if (x < 0.0f) a = kPi - a;
-  return y < 0.0f ? -a : a;
 }
 
 int DescriptorBorderPx() {
@@ -143,7 +126,7 @@ int DominantOrientations(const ConstFloatView& gx, const ConstFloatView& gy, flo
     const float* wrow = window.weight[dy + kMaxOrientationRadius] + kMaxOrientationRadius + x_lo;
     for (int i = 0; i < n_row; ++i) {
       w[i] = std::sqrt(rx[i] * rx[i] + ry[i] * ry[i]) * wrow[i];
-      const float b = Atan2Branchless(ry[i], rx[i]) * kBinsPerRad;  // [-18, 18]
+      const float b = FastAtan2(ry[i], rx[i]) * kBinsPerRad;  // [-18, 18]
       bin[i] = b < 0.0f ? b + kOrientationBins : b;
     }
     for (int i = 0; i < n_row; ++i) {
@@ -231,7 +214,7 @@ void ComputeDescriptor(const ConstFloatView& gx, const ConstFloatView& gy, float
     const float rx = c * sgx[k] + s * sgy[k];
     const float ry = -s * sgx[k] + c * sgy[k];
     mag[k] = std::sqrt(rx * rx + ry * ry);
-    const float o = Atan2Branchless(ry, rx) * kBinsPerRad;  // [-4, 4]
+    const float o = FastAtan2(ry, rx) * kBinsPerRad;  // [-4, 4]
     ori[k] = o < 0.0f ? o + kO : o;
   }
   // 3. Trilinear spread into cells x orientations (spatial weights from the grid's tables).

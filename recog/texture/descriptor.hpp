@@ -45,7 +45,9 @@ void ComputeDescriptor(const ConstFloatView& gx, const ConstFloatView& gy, float
 // angle) to lie inside the level.
 int DescriptorBorderPx();
 
-// atan2 with an absolute error below 1e-4 rad, for binning gradient directions.
+// atan2 with an absolute error below 1e-4 rad, for binning gradient directions; 0 at (0, 0).
+// Branch-free, so that the loops over gradients of the descriptor and the orientation
+// histogram, which inline it, vectorise.
 float FastAtan2(float y, float x);
 
 }  // namespace sh::texture

@@ -46,7 +46,8 @@ struct HoughCluster {
   uint16_t votes = 0;        // distinct matches in the 3 x 3 neighbourhood
 };
 
-class FaceHough {
+// The ballots are scratch that Vote() writes before anything reads them: not zeroed.
+class FaceHough {  // NOLINT(cppcoreguidelines-pro-type-member-init)
  public:
   // Casts the votes of `inputs` (match i votes as i).
   void Vote(const HoughInput* inputs, size_t count, const HoughConfig& config);

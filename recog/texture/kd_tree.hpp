@@ -51,8 +51,9 @@ struct KdSearchStats {
   uint64_t branches_dropped = 0;
 };
 
-// Holds the branch queue of a query (no heap); one per thread.
-class KdSearcher {
+// Holds the branch queue of a query (no heap); one per thread. The queue is scratch written
+// before it is read: not zeroed.
+class KdSearcher {  // NOLINT(cppcoreguidelines-pro-type-member-init)
  public:
   // The k (<= kMaxKdNeighbours) nearest of the descriptors compared, closest first, written to
   // `out`; returns how many (fewer when the tree is small). max_checks bounds the descriptors

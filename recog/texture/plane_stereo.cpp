@@ -14,18 +14,6 @@ struct Candidate {
   int x, y;
 };
 
-inline float SampleGray(const ConstGrayView& img, float x, float y) {
-  // Bilinear; the caller keeps (x, y) at least one pixel inside the image.
-  const int x0 = static_cast<int>(x);
-  const int y0 = static_cast<int>(y);
-  const float fx = x - x0, fy = y - y0;
-  const uint8_t* r0 = img.row(y0) + x0;
-  const uint8_t* r1 = img.row(y0 + 1) + x0;
-  const float top = r0[0] + fx * (r0[1] - r0[0]);
-  const float bottom = r1[0] + fx * (r1[1] - r1[0]);
-  return top + fy * (bottom - top);
-}
-
 // Right pixel of the point at inverse depth rho on the left ray.
 bool RightPixelAt(const StereoCalibration& calib, const Eigen::Vector3d& ray, double rho,
                   Eigen::Vector2d* px) {
@@ -193,7 +181,7 @@ bool PlaneStereoMatcher::Match(const Eigen::Vector2f& left_px, const Plane3& pri
       float qx = static_cast<float>(c.x()) + dy * jyx - r * jxx;
       float qy = static_cast<float>(c.y()) + dy * jyy - r * jxy;
       for (int dx = -r; dx <= r; ++dx, qx += jxx, qy += jxy) {
-        rw[k] = SampleGray(right_, qx, qy);
+        rw[k] = SampleGrayInside(right_, qx, qy);
         rsum += rw[k++];
       }
     }

@@ -3,19 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "recog/texture/float_planes.hpp"
+
 namespace sh::texture {
 namespace {
-
-float SampleGrayClamped(const ConstGrayView& img, float x, float y) {
-  const int x0 = static_cast<int>(x);
-  const int y0 = static_cast<int>(y);
-  const float fx = x - x0, fy = y - y0;
-  const uint8_t* r0 = img.row(y0) + x0;
-  const uint8_t* r1 = img.row(y0 + 1) + x0;
-  const float top = r0[0] + fx * (r0[1] - r0[0]);
-  const float bottom = r1[0] + fx * (r1[1] - r1[0]);
-  return top + fy * (bottom - top);
-}
 
 // Running sums of one face's samples in one image.
 struct Correlation {
@@ -93,8 +84,8 @@ PrintScore PrintVerifier::Score(uint32_t model, const RigidTransform& cam_T_mode
   // Bounding spheres of the occluders in the camera frame: most samples miss them, and the
   // sphere test is cheaper than clipping against every face.
   struct Sphere {
-    Eigen::Vector3f centre;
-    float radius;
+    Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+    float radius = 0.0f;
   };
   Sphere spheres[kMaxPrintOccluders];
   n_occluders = std::min(n_occluders, kMaxPrintOccluders);
@@ -149,7 +140,7 @@ PrintScore PrintVerifier::Score(uint32_t model, const RigidTransform& cam_T_mode
             continue;
           }
           corr.Add(tex.at(i, j),
-                   SampleGrayClamped(img, static_cast<float>(px.x()), static_cast<float>(px.y())));
+                   SampleGrayInside(img, static_cast<float>(px.x()), static_cast<float>(px.y())));
         }
       }
       if (corr.n < config.min_face_samples || corr.TextureStd() < config.min_texture_std) continue;

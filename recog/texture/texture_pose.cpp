@@ -20,45 +20,86 @@ constexpr double kInvalidResidual = 1e3;
 
 }  // namespace
 
+bool TexturePoseRefiner::FeatureError(size_t i, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                                      double* e) const {
+  const PoseFeatureObservation& o = features_[i];
+  Eigen::Vector2d px;
+  if (!ProjectToPixel(calib_->left, R * o.model_mm + t, &px)) return false;
+  e[0] = px.x() - o.left_px.x();
+  e[1] = px.y() - o.left_px.y();
+  return true;
+}
+
+bool TexturePoseRefiner::StereoError(size_t i, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                                     double* e) const {
+  const StereoCalibration& c = *calib_;
+  const PoseStereoObservation& o = stereo_[i];
+  // The face plane in the camera: n_c . x = d + n_c . t.
+  const Eigen::Vector3d n = R * o.plane_normal_model;
+  const double d = o.plane_d_mm + n.dot(t);
+  const double denom = n.dot(rays_[i]);
+  if (std::fabs(denom) < 1e-9) return false;
+  const double depth = d / denom;
+  Eigen::Vector2d px;
+  if (!(depth > 0) ||
+      !ProjectToPixel(c.right, c.right_R_left * (depth * rays_[i]) + c.right_t_left_mm, &px))
+    return false;
+  e[0] = px.x() - o.right_px.x();
+  e[1] = px.y() - o.right_px.y();
+  return true;
+}
+
 size_t TexturePoseRefiner::Residuals(const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
                                      double* out) const {
-  const StereoCalibration& c = *calib_;
   size_t k = 0;
   for (size_t i = 0; i < n_features_; ++i) {
     if (!active_[i]) continue;
-    const PoseFeatureObservation& o = features_[i];
-    Eigen::Vector2d px;
-    if (ProjectToPixel(c.left, R * o.model_mm + t, &px)) {
-      out[k++] = (px.x() - o.left_px.x()) / o.sigma_px;
-      out[k++] = (px.y() - o.left_px.y()) / o.sigma_px;
+    if (FeatureError(i, R, t, out + k)) {
+      out[k] /= features_[i].sigma_px;
+      out[k + 1] /= features_[i].sigma_px;
     } else {
-      out[k++] = kInvalidResidual;
-      out[k++] = kInvalidResidual;
+      out[k] = out[k + 1] = kInvalidResidual;
     }
+    k += 2;
   }
+  // Unweighted: Solve scales the stereo block by 1 / stereo_sigma_px.
   for (size_t i = 0; i < n_stereo_; ++i) {
     if (!active_[kMaxPoseObservations + i]) continue;
-    const PoseStereoObservation& o = stereo_[i];
-    // The face plane in the camera: n_c . x = d + n_c . t.
-    const Eigen::Vector3d n = R * o.plane_normal_model;
-    const double d = o.plane_d_mm + n.dot(t);
-    const double denom = n.dot(rays_[i]);
-    Eigen::Vector2d px;
-    bool ok = std::fabs(denom) > 1e-9;
-    if (ok) {
-      const double depth = d / denom;
-      ok = depth > 0 &&
-           ProjectToPixel(c.right, c.right_R_left * (depth * rays_[i]) + c.right_t_left_mm, &px);
-    }
-    if (ok) {  // unweighted: Solve scales the stereo block by 1 / stereo_sigma_px
-      out[k++] = px.x() - o.right_px.x();
-      out[k++] = px.y() - o.right_px.y();
-    } else {
-      out[k++] = kInvalidResidual;
-      out[k++] = kInvalidResidual;
-    }
+    if (!StereoError(i, R, t, out + k)) out[k] = out[k + 1] = kInvalidResidual;
+    k += 2;
   }
   return k;
+}
+
+void TexturePoseRefiner::Gate(const PoseRefineConfig& config, const Eigen::Matrix3d& R,
+                              const Eigen::Vector3d& t) {
+  // Pixel errors of every observation, kept or not, so that a better pose can readmit one.
+  double* e = shifted_;
+  size_t n = 0;
+  for (size_t i = 0; i < n_features_; ++i) {
+    double r[2];
+    e[n++] = FeatureError(i, R, t, r) ? std::hypot(r[0], r[1]) : kInvalidResidual;
+  }
+  for (size_t i = 0; i < n_stereo_; ++i) {
+    double r[2];
+    e[n++] = StereoError(i, R, t, r) ? std::hypot(r[0], r[1]) : kInvalidResidual;
+  }
+  // Median over the currently kept ones.
+  double* kept = shifted_ + n;
+  size_t m = 0;
+  for (size_t i = 0; i < n_features_; ++i) {
+    if (active_[i]) kept[m++] = e[i];
+  }
+  for (size_t i = 0; i < n_stereo_; ++i) {
+    if (active_[kMaxPoseObservations + i]) kept[m++] = e[n_features_ + i];
+  }
+  if (m == 0) return;
+  std::nth_element(kept, kept + m / 2, kept + m);
+  const double gate = std::max(config.min_gate_px, config.gate_factor * kept[m / 2]);
+  for (size_t i = 0; i < n_features_; ++i) active_[i] = e[i] <= gate;
+  for (size_t i = 0; i < n_stereo_; ++i) {
+    active_[kMaxPoseObservations + i] = e[n_features_ + i] <= gate;
+  }
 }
 
 bool TexturePoseRefiner::Solve(const PoseRefineConfig& config, Eigen::Matrix3d* R,
@@ -131,39 +172,12 @@ bool TexturePoseRefiner::Refine(const StereoCalibration& calib,
   Eigen::Matrix3d R = cam_T_model->R.cast<double>();
   Eigen::Vector3d t = cam_T_model->t_mm.cast<double>();
   if (!Solve(config, &R, &t)) return false;
-  // Gate: errors (pixels, per observation) against a multiple of the median.
-  auto errors = [&](double* e, size_t* n_e) {
-    const size_t m = Residuals(R, t, residuals_);
-    (void)m;
-    size_t k = 0, j = 0;
-    for (size_t i = 0; i < n_features_; ++i) {
-      if (!active_[i]) continue;
-      e[j++] = std::hypot(residuals_[k], residuals_[k + 1]) * features[i].sigma_px;
-      k += 2;
-    }
-    for (size_t i = 0; i < n_stereo_; ++i) {
-      if (!active_[kMaxPoseObservations + i]) continue;
-      e[j++] = std::hypot(residuals_[k], residuals_[k + 1]);
-      k += 2;
-    }
-    *n_e = j;
-  };
-  size_t n_e = 0;
-  errors(shifted_, &n_e);
-  if (n_e == 0) return false;
-  double* sorted = shifted_ + n_e;
-  std::copy(shifted_, shifted_ + n_e, sorted);
-  std::nth_element(sorted, sorted + n_e / 2, sorted + n_e);
-  const double gate = std::max(config.min_gate_px, config.gate_factor * sorted[n_e / 2]);
-  size_t j = 0;
-  for (size_t i = 0; i < n_features_; ++i) {
-    if (active_[i]) active_[i] = shifted_[j++] <= gate;
+  // Gate against a multiple of the median error and solve again; twice, so that observations
+  // a biased first pose pushed out come back once the outliers are gone.
+  for (int round = 0; round < 2; ++round) {
+    Gate(config, R, t);
+    if (!Solve(config, &R, &t)) return false;
   }
-  for (size_t i = 0; i < n_stereo_; ++i) {
-    bool& a = active_[kMaxPoseObservations + i];
-    if (a) a = shifted_[j++] <= gate;
-  }
-  if (!Solve(config, &R, &t)) return false;
   // Statistics over the kept observations.
   Residuals(R, t, residuals_);
   size_t k = 0;

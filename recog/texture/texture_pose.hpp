@@ -7,7 +7,8 @@
 //    (the plane's transfer from the left to the right image).
 // The first term fixes the print's position and rotation in the image, the second the depth and
 // the tilt of every face found. Observations whose error exceeds gate_factor times the median
-// (and min_gate_px) after the first solve are dropped and the solve is repeated.
+// (and min_gate_px) are set aside and the solve is repeated, twice (an observation set aside
+// under the first, biased pose may come back).
 #pragma once
 
 #include <Eigen/Core>
@@ -58,6 +59,11 @@ class TexturePoseRefiner {
   // Weighted residuals of all active observations under the pose (R, t); returns the count.
   size_t Residuals(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double* out) const;
   bool Solve(const PoseRefineConfig& config, Eigen::Matrix3d* R, Eigen::Vector3d* t);
+  // Pixel error (x, y) of one observation under (R, t); false when it does not project.
+  bool FeatureError(size_t i, const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double* e) const;
+  bool StereoError(size_t i, const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double* e) const;
+  // Keeps the observations whose error is within the gate (see the file comment).
+  void Gate(const PoseRefineConfig& config, const Eigen::Matrix3d& R, const Eigen::Vector3d& t);
 
   const StereoCalibration* calib_ = nullptr;
   const PoseFeatureObservation* features_ = nullptr;

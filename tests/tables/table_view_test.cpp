@@ -7,21 +7,12 @@
 #include "tables/model_files.hpp"
 #include "tables/table_builder.hpp"
 #include "tables/table_view.hpp"
+#include "tests/tables/aligned_blob.hpp"
 
 namespace sh {
 namespace {
 
-// 64-byte aligned copy, as mmap and the linked-in blob provide.
-struct AlignedBlob {
-  explicit AlignedBlob(const std::vector<uint8_t>& bytes) : size(bytes.size()) {
-    storage.resize(bytes.size() + 64);
-    data = storage.data() + (64 - reinterpret_cast<uintptr_t>(storage.data()) % 64) % 64;
-    std::memcpy(data, bytes.data(), bytes.size());
-  }
-  std::vector<uint8_t> storage;
-  uint8_t* data;
-  size_t size;
-};
+using testing::AlignedBlob;
 
 std::vector<uint8_t> BuildReferenceBlob(HashFunction hf = HashFunction::kLinePointMidway) {
   std::vector<Model> models;

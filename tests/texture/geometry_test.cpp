@@ -1,0 +1,290 @@
+// Geometry of the texture path by its identities: homographies and their poses, Horn's absolute
+// orientation (against Eigen's Umeyama), the RANSAC plane, the final pose refinement, and the
+// occlusion test of the print verification.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "recog/texture/absolute_orientation.hpp"
+#include "recog/texture/planar_fit.hpp"
+#include "recog/texture/plane_stereo.hpp"
+#include "recog/texture/print_verify.hpp"
+#include "recog/texture/texture_pose.hpp"
+#include "tests/texture/print_images.hpp"
+
+namespace sh::texture {
+namespace {
+
+RigidTransform RandomPose(std::mt19937& rng, float max_angle, const Eigen::Vector3f& t) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  const Eigen::Vector3f axis = Eigen::Vector3f(u(rng), u(rng), u(rng)).normalized();
+  RigidTransform T;
+  T.R = Eigen::AngleAxisf(max_angle * u(rng), axis).toRotationMatrix();
+  T.t_mm = t;
+  return T;
+}
+
+// The homography of a face frame (a, b, 0) under cam_T_face for an ideal camera.
+Eigen::Matrix3d HomographyOf(const RigidTransform& cam_T_face, double f, double cx, double cy) {
+  Eigen::Matrix3d K;
+  K << f, 0, cx, 0, f, cy, 0, 0, 1;
+  Eigen::Matrix3d M;
+  M.col(0) = cam_T_face.R.col(0).cast<double>();
+  M.col(1) = cam_T_face.R.col(1).cast<double>();
+  M.col(2) = cam_T_face.t_mm.cast<double>();
+  const Eigen::Matrix3d H = K * M;
+  return H / H(2, 2);
+}
+
+TEST(PlanarFit, RecoversTheHomographyAndDropsOutliers) {
+  std::mt19937 rng(1);
+  const RigidTransform pose = RandomPose(rng, 0.6f, {10, -20, 450});
+  const Eigen::Matrix3d H = HomographyOf(pose, 1100, 380, 290);
+  std::uniform_real_distribution<float> ab(-40.0f, 40.0f);
+  std::normal_distribution<float> noise(0.0f, 0.3f);
+  auto m = std::make_unique<Vector<PlanarMatch, 256>>();
+  for (int i = 0; i < 60; ++i) {
+    PlanarMatch p;
+    p.a_mm = ab(rng);
+    p.b_mm = ab(rng);
+    const Eigen::Vector2d x = ApplyHomography(H, p.a_mm, p.b_mm);
+    p.x_px = static_cast<float>(x.x()) + noise(rng);
+    p.y_px = static_cast<float>(x.y()) + noise(rng);
+    p.keypoint = static_cast<uint16_t>(i);
+    ASSERT_TRUE(m->push_back(p));
+  }
+  for (int i = 0; i < 8; ++i) {  // gross outliers
+    PlanarMatch p = (*m)[static_cast<size_t>(i)];
+    p.x_px += 40.0f + 10.0f * i;
+    p.keypoint = static_cast<uint16_t>(1000 + i);
+    ASSERT_TRUE(m->push_back(p));
+  }
+  const PlanarFit fit = FitFacePlane(*m, PlanarFitConfig{});
+  ASSERT_TRUE(fit.accepted);
+  EXPECT_LT(fit.mean_error_px, 0.5);
+  for (const PlanarMatch& p : *m) EXPECT_LT(p.keypoint, 1000) << "outlier kept";
+  EXPECT_GE(fit.matches, 50);
+  // The fitted homography maps the face like the true one.
+  for (float a : {-40.0f, 0.0f, 40.0f}) {
+    for (float b : {-40.0f, 0.0f, 40.0f}) {
+      EXPECT_LT((ApplyHomography(fit.image_H_face, a, b) - ApplyHomography(H, a, b)).norm(), 0.5);
+    }
+  }
+}
+
+TEST(PlanarFit, RefusesTooFewOrScatteredMatches) {
+  auto m = std::make_unique<Vector<PlanarMatch, 16>>();
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_TRUE(m->push_back(
+        {static_cast<float>(i), static_cast<float>(i * i), 10.0f * i, 5.0f * i, 0, 0}));
+  }
+  EXPECT_FALSE(FitFacePlane(*m, PlanarFitConfig{}).accepted);  // 4 < 5
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(0.0f, 500.0f);
+  m->clear();
+  for (int i = 0; i < 12; ++i) ASSERT_TRUE(m->push_back({u(rng), u(rng), u(rng), u(rng), 0, 0}));
+  EXPECT_FALSE(FitFacePlane(*m, PlanarFitConfig{}).accepted);  // no mapping explains them
+}
+
+TEST(PlanarFit, PoseFromHomographyInvertsTheProjection) {
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 20; ++trial) {
+    const RigidTransform pose = RandomPose(rng, 1.0f, {-30.0f + trial, 15, 380.0f + 10 * trial});
+    if (pose.R(2, 2) > -0.1f) continue;  // the face must turn towards the camera
+    const Eigen::Matrix3d H = HomographyOf(pose, 1000, 400, 300);
+    RigidTransform got;
+    ASSERT_TRUE(PoseFromHomography(H, 1000, 1000, 400, 300, &got));
+    EXPECT_LT((got.t_mm - pose.t_mm).norm(), 1e-2f);
+    EXPECT_LT(RotationAngleDeg(got.R.transpose() * pose.R), 1e-2f);
+  }
+}
+
+TEST(PlanarFit, MaxImageScaleIsFocalOverDepthForAFacingFace) {
+  RigidTransform pose;  // face frame = camera axes, 500 mm ahead
+  pose.t_mm = {0, 0, 500};
+  const Eigen::Matrix3d H = HomographyOf(pose, 1000, 400, 300);
+  EXPECT_NEAR(MaxImageScale(H, 0, 0), 2.0, 1e-9);
+  // Tilted by 60 degrees about the face's a axis: the a direction keeps f / Z.
+  pose.R = Eigen::AngleAxisf(1.047f, Eigen::Vector3f::UnitX()).toRotationMatrix();
+  EXPECT_NEAR(MaxImageScale(HomographyOf(pose, 1000, 400, 300), 0, 0), 2.0, 1e-6);
+}
+
+TEST(AbsoluteOrientation, EqualsUmeyamaAndRecoversTheTransform) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-50.0, 50.0);
+  std::normal_distribution<double> noise(0.0, 0.2);
+  for (int trial = 0; trial < 20; ++trial) {
+    const RigidTransform T = RandomPose(rng, 3.0f, {10.0f * trial, -5, 400});
+    Eigen::Vector3d a[8], b[8];
+    Eigen::Matrix<double, 3, 8> A, B;
+    for (int i = 0; i < 8; ++i) {
+      a[i] = {u(rng), u(rng), u(rng)};
+      b[i] = (T.R.cast<double>() * a[i] + T.t_mm.cast<double>()) +
+             Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+      A.col(i) = a[i];
+      B.col(i) = b[i];
+    }
+    RigidTransform got;
+    ASSERT_TRUE(AbsoluteOrientation(a, b, nullptr, 8, &got));
+    const Eigen::Matrix4d ref = Eigen::umeyama(A, B, false);
+    EXPECT_LT((got.R.cast<double>() - ref.topLeftCorner<3, 3>()).norm(), 1e-5);
+    EXPECT_LT((got.t_mm.cast<double>() - ref.topRightCorner<3, 1>()).norm(), 1e-3);
+    EXPECT_LT(RotationAngleDeg(got.R.transpose() * T.R), 0.5f);
+  }
+}
+
+TEST(AbsoluteOrientation, FourCoplanarCornersFixThePoseAndCollinearPointsDoNot) {
+  const RigidTransform T = [] {
+    std::mt19937 rng(5);
+    return RandomPose(rng, 2.0f, {5, 6, 420});
+  }();
+  const Eigen::Vector3d corners[4] = {{-35, -25, 35}, {35, -25, 35}, {35, 25, 35}, {-35, 25, 35}};
+  Eigen::Vector3d moved[4];
+  for (int i = 0; i < 4; ++i) moved[i] = T.R.cast<double>() * corners[i] + T.t_mm.cast<double>();
+  RigidTransform got;
+  ASSERT_TRUE(AbsoluteOrientation(corners, moved, nullptr, 4, &got));
+  EXPECT_LT(RotationAngleDeg(got.R.transpose() * T.R), 1e-3f);
+  EXPECT_LT((got.t_mm - T.t_mm).norm(), 1e-3f);
+  const Eigen::Vector3d line[3] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+  EXPECT_FALSE(AbsoluteOrientation(line, line, nullptr, 3, &got));
+  EXPECT_FALSE(AbsoluteOrientation(corners, moved, nullptr, 2, &got));
+}
+
+TEST(PlaneFit, RansacFindsThePlaneAmongOutliers) {
+  std::mt19937 rng(6);
+  const Eigen::Vector3d n = Eigen::Vector3d(0.2, -0.5, -1.0).normalized();
+  const double d = n.dot(Eigen::Vector3d(0, 0, 450));
+  const Eigen::Vector3d e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+  std::uniform_real_distribution<double> u(-40.0, 40.0);
+  std::normal_distribution<double> noise(0.0, 0.2);
+  auto pts = std::make_unique<Vector<StereoPoint, kMaxFaceStereoPoints>>();
+  for (int i = 0; i < 80; ++i) {
+    StereoPoint p;
+    p.x_mm = (d * n + u(rng) * e1 + u(rng) * e2 + noise(rng) * n).cast<float>();
+    ASSERT_TRUE(pts->push_back(p));
+  }
+  for (int i = 0; i < 25; ++i) {  // outliers off the plane by 5 .. 30 mm
+    StereoPoint p;
+    p.x_mm = (d * n + u(rng) * e1 + u(rng) * e2 + (5.0 + i) * n).cast<float>();
+    ASSERT_TRUE(pts->push_back(p));
+  }
+  Plane3 plane;
+  PlaneFitStats stats;
+  ASSERT_TRUE(FitPlaneRansac(*pts, PlaneStereoConfig{}, &plane, &stats));
+  EXPECT_EQ(stats.inliers, 80);
+  EXPECT_LT(std::acos(std::min(1.0, std::fabs(plane.normal.dot(n)))), 0.01);
+  EXPECT_LT(plane.d_mm, 0.0);  // normal towards the camera
+  EXPECT_NEAR(stats.rms_mm, 0.2, 0.08);
+  for (size_t i = 0; i < pts->size(); ++i) EXPECT_EQ((*pts)[i].inlier, i < 80);
+}
+
+// A box 70 x 50 x 40 mm at cam_T_model, seen by a rotated stereo pair with distortion: exact
+// observations of feature points and stereo points on its faces.
+struct BoxScene {
+  StereoCalibration calib;
+  RigidTransform cam_T_model;
+  std::vector<PoseFeatureObservation> features;
+  std::vector<PoseStereoObservation> stereo;
+};
+
+BoxScene MakeBoxScene(uint32_t seed) {
+  BoxScene s;
+  s.calib = test::RotatedStereoRig(756, 581, 1136);
+  std::mt19937 rng(seed);
+  s.cam_T_model = RandomPose(rng, 1.0f, {10, -5, 450});
+  std::uniform_real_distribution<double> u(-0.45, 0.45);
+  const Eigen::Vector3d half(35, 25, 20);
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int sign : {-1, 1}) {
+      Eigen::Vector3d nm = Eigen::Vector3d::Zero();
+      nm[axis] = sign;
+      const Eigen::Vector3d nc = s.cam_T_model.R.cast<double>() * nm;
+      const Eigen::Vector3d centre = s.cam_T_model.R.cast<double>() * nm.cwiseProduct(half) +
+                                     s.cam_T_model.t_mm.cast<double>();
+      if (nc.dot(centre) >= 0) continue;  // back face
+      for (int i = 0; i < 25; ++i) {
+        Eigen::Vector3d x = nm.cwiseProduct(half);
+        for (int k = 0; k < 3; ++k) {
+          if (k != axis) x[k] = 2.0 * half[k] * u(rng);
+        }
+        const Eigen::Vector3d xc =
+            (s.cam_T_model.R.cast<double>() * x) + s.cam_T_model.t_mm.cast<double>();
+        Eigen::Vector2d l, r;
+        if (!ProjectToPixel(s.calib.left, xc, &l) ||
+            !ProjectToPixel(s.calib.right, s.calib.right_R_left * xc + s.calib.right_t_left_mm, &r))
+          continue;
+        s.features.push_back({x, l, 0.7});
+        s.stereo.push_back({l, r, nm, half[axis]});
+      }
+    }
+  }
+  return s;
+}
+
+TEST(TexturePose, RefinementReturnsToThePoseFromAPerturbedStart) {
+  auto refiner = std::make_unique<TexturePoseRefiner>();
+  for (uint32_t seed = 10; seed < 15; ++seed) {
+    BoxScene s = MakeBoxScene(seed);
+    ASSERT_GT(s.stereo.size(), 20u);
+    RigidTransform start = s.cam_T_model;
+    start.R = Eigen::AngleAxisf(0.05f, Eigen::Vector3f(1, 2, 3).normalized()).toRotationMatrix() *
+              start.R;
+    start.t_mm += Eigen::Vector3f(4, -3, 8);
+    // Some wrong observations, which the gate must drop.
+    for (int i = 0; i < 3; ++i)
+      s.features[static_cast<size_t>(i)].left_px += Eigen::Vector2d(25, -20);
+    PoseRefineStats stats;
+    ASSERT_TRUE(refiner->Refine(s.calib, s.features.data(), s.features.size(), s.stereo.data(),
+                                s.stereo.size(), PoseRefineConfig{}, &start, &stats));
+    EXPECT_LT((start.t_mm - s.cam_T_model.t_mm).norm(), 0.01f) << seed;
+    EXPECT_LT(RotationAngleDeg(start.R.transpose() * s.cam_T_model.R), 0.01f) << seed;
+    EXPECT_EQ(stats.features_used, static_cast<int>(s.features.size()) - 3);
+    EXPECT_LT(stats.stereo_rms_px, 1e-3);
+  }
+}
+
+TEST(TexturePose, TooFewObservationsLeaveThePoseAlone) {
+  auto refiner = std::make_unique<TexturePoseRefiner>();
+  BoxScene s = MakeBoxScene(20);
+  RigidTransform pose = s.cam_T_model;
+  pose.t_mm.x() += 3;
+  const RigidTransform before = pose;
+  PoseRefineStats stats;
+  EXPECT_FALSE(refiner->Refine(s.calib, s.features.data(), 2, nullptr, 0, PoseRefineConfig{}, &pose,
+                               &stats));
+  EXPECT_EQ(pose.t_mm, before.t_mm);
+}
+
+TEST(PrintVerify, SegmentsThroughABoxAreHiddenOthersAreNot) {
+  // A 2 x 2 x 2 cube at the origin of its frame, placed 100 mm ahead.
+  Model cube;
+  const float c[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                         {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  cube.n_corners = 8;
+  for (int i = 0; i < 8; ++i) {
+    for (int k = 0; k < 3; ++k) cube.corners_mm[i][k] = c[i][k];
+  }
+  cube.n_faces = 6;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int sign : {0, 1}) {
+      ModelFace& f = cube.faces[2 * axis + sign];
+      f.normal[axis] = sign ? 1.0f : -1.0f;
+      f.offset_mm = 1.0f;
+    }
+  }
+  RigidTransform placed;
+  placed.t_mm = {0, 0, 100};
+  const Eigen::Vector3f eye = Eigen::Vector3f::Zero();
+  EXPECT_TRUE(SegmentHitsConvexModel(cube, placed, eye, {0, 0, 200}, 1.0f));    // through it
+  EXPECT_FALSE(SegmentHitsConvexModel(cube, placed, eye, {10, 0, 200}, 1.0f));  // beside it
+  EXPECT_FALSE(SegmentHitsConvexModel(cube, placed, eye, {0, 0, 50}, 1.0f));    // before it
+  EXPECT_FALSE(SegmentHitsConvexModel(cube, placed, eye, {0, 0, 99}, 1.0f));    // its front face
+  EXPECT_TRUE(SegmentHitsConvexModel(cube, placed, eye, {0.5f, 0.5f, 150}, 1.0f));  // behind it
+}
+
+}  // namespace
+}  // namespace sh::texture
