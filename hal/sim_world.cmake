@@ -10,10 +10,11 @@ stereohash_module(stereohash_image_files
 # simulator's camera plays. Linked by the simulator backends, the simulator program, the tools
 # and the tests; never by the board program.
 stereohash_module(stereohash_sim_world
-  SOURCES sim/world/ray_caster.cpp sim/world/renderer.cpp sim/world/scene_generator.cpp
-          sim/world/sim_world.cpp
+  SOURCES sim/world/ray_caster.cpp sim/world/renderer.cpp sim/world/printed_surface.cpp
+          sim/world/scene_generator.cpp sim/world/sim_world.cpp
   HEADERS sim/world/render_scene.hpp sim/world/rng.hpp sim/world/ray_caster.hpp
-          sim/world/renderer.hpp sim/world/scene_generator.hpp sim/world/sim_world.hpp
+          sim/world/renderer.hpp sim/world/printed_surface.hpp sim/world/scene_generator.hpp
+          sim/world/sim_world.hpp
   PUBLIC stereohash_hal_camera_sim stereohash_camera stereohash_model stereohash_image
          stereohash_geometry stereohash_base
   PRIVATE stereohash_model_files)

@@ -214,6 +214,106 @@ void Put(std::vector<uint8_t>& blob, const SectionRef& s, const T* data, size_t 
 
 }  // namespace
 
+bool LearningView::Inside(const Eigen::Vector2f& p, float margin_px) const {
+  return texture::InsideDistance(polygon_px, n_polygon, p) >= margin_px;
+}
+
+Eigen::Vector3f LearningView::ModelPoint(const TexturedFace& face, const Eigen::Vector2f& p) const {
+  const Eigen::Vector2f ab = centre_ab_mm + view_from_face.inverse() * (p - view_of_centre);
+  return FacePoint(face, ab.x(), ab.y());
+}
+
+Result<FaceLearning> LearnFace(const TexturedModel& tm, int fi,
+                               const FeatureDbBuildOptions& options) {
+  const FaceTextureMap& map = tm.texturing.faces[fi];
+  if (fi < 0 || fi >= tm.model.n_faces || map.material < 0 ||
+      static_cast<size_t>(map.material) >= tm.textures.size() ||
+      tm.textures[static_cast<size_t>(map.material)].pixels.empty()) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "feature database: face %d of '%s' is not printed", fi, tm.model.name);
+  }
+  if (tm.model.faces[fi].n_vertices > kMaxTexturedFaceCorners) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "feature database: printed face %d of '%s' has %d corners (at most %d)",
+                         fi, tm.model.name, tm.model.faces[fi].n_vertices, kMaxTexturedFaceCorners);
+  }
+  const float ppm = options.feature_px_per_mm;
+  FaceLearning out;
+  out.face = FaceGeometry(tm.model, 0, fi);
+  const TexturedFace& face = out.face;
+  // The texture image as a float plane on [0, 1].
+  const GreyImage& g = tm.textures[static_cast<size_t>(map.material)];
+  FloatImage tex(g.width, g.height);
+  for (size_t i = 0; i < g.pixels.size(); ++i) tex.pixels[i] = g.pixels[i] / 255.0f;
+  const float density = TextureDensity(face, map, tex);
+  const float width_mm = face.max_ab_mm[0] - face.min_ab_mm[0];
+  const float height_mm = face.max_ab_mm[1] - face.min_ab_mm[1];
+  if (width_mm * ppm > kMaxImageWidth || height_mm * ppm > kMaxImageHeight ||
+      width_mm * options.texture_px_per_mm > kMaxFaceTextureSide ||
+      height_mm * options.texture_px_per_mm > kMaxFaceTextureSide) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "feature database: face %d of '%s' (%.0f x %.0f mm) is too large at "
+                         "%.1f px/mm; lower the resolution",
+                         fi, tm.model.name, static_cast<double>(width_mm),
+                         static_cast<double>(height_mm), static_cast<double>(ppm));
+  }
+  // Verification texture.
+  FloatImage blurred = tex;
+  SH_RETURN_IF_ERROR(Blur(blurred, AntiAliasSigma(density, options.texture_px_per_mm)));
+  const FloatImage small = RectifyFace(face, map, blurred, options.texture_px_per_mm);
+  out.face.texel_width = static_cast<uint16_t>(small.width);
+  out.face.texel_height = static_cast<uint16_t>(small.height);
+  out.texture.width = small.width;
+  out.texture.height = small.height;
+  out.texture.pixels = ToBytes(small);
+  // The views.
+  blurred = tex;
+  SH_RETURN_IF_ERROR(Blur(blurred, AntiAliasSigma(density, ppm)));
+  const FloatImage rect = RectifyFace(face, map, blurred, ppm);
+  const Eigen::Vector2f centre_ab(0.5f * (face.min_ab_mm[0] + face.max_ab_mm[0]),
+                                  0.5f * (face.min_ab_mm[1] + face.max_ab_mm[1]));
+  // Rectified pixels per millimetre offset from the centre: a right, b up (rows down).
+  const Eigen::Matrix2f rect_from_face = Eigen::Vector2f(ppm, -ppm).asDiagonal();
+  for (int t = 0; t <= static_cast<int>(options.tilts.size()); ++t) {
+    const int directions = t == 0 ? 1 : options.tilt_directions;
+    for (int d = 0; d < directions; ++d) {
+      ViewImage view;
+      if (t == 0) {
+        view.image = rect;
+        view.rect_centre = view.view_centre = {0.5f * (rect.width - 1), 0.5f * (rect.height - 1)};
+      } else {
+        const float phi = 3.14159265f * static_cast<float>(d) / static_cast<float>(directions);
+        Result<ViewImage> v = TiltedView(rect, options.tilts[static_cast<size_t>(t - 1)], phi);
+        if (!v.ok()) return v.status();
+        view = std::move(*v);
+      }
+      LearningView lv;
+      lv.tilt = t;
+      // Face millimetres (from the centre) to view pixels (from the face centre's image). The
+      // rectified image centre is the face centre: the rectified image spans the face's
+      // bounding box exactly (up to rounding of its size, corrected here).
+      const Eigen::Vector2f rect_centre_of_face((centre_ab.x() - face.min_ab_mm[0]) * ppm - 0.5f,
+                                                (face.max_ab_mm[1] - centre_ab.y()) * ppm - 0.5f);
+      lv.view_from_face = view.view_from_rect * rect_from_face;
+      lv.view_of_centre =
+          view.view_from_rect * (rect_centre_of_face - view.rect_centre) + view.view_centre;
+      lv.centre_ab_mm = centre_ab;
+      lv.n_polygon = face.n_corners;
+      for (int k = 0; k < face.n_corners; ++k) {
+        lv.polygon_px[k] =
+            lv.view_from_face *
+                (Eigen::Vector2f(face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]) - centre_ab) +
+            lv.view_of_centre;
+      }
+      lv.image.width = view.image.width;
+      lv.image.height = view.image.height;
+      lv.image.pixels = ToBytes(view.image);
+      out.views.push_back(std::move(lv));
+    }
+  }
+  return out;
+}
+
 Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& models,
                                             const FeatureDbBuildOptions& options,
                                             FeatureDbBuildReport* report) {
@@ -250,7 +350,6 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
   std::vector<FaceView> views;
   std::vector<LearntFeature> learnt;
   std::vector<uint8_t> texels;
-  const float ppm = options.feature_px_per_mm;
 
   for (size_t mi = 0; mi < models.size(); ++mi) {
     const TexturedModel& tm = models[mi];
@@ -259,142 +358,64 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
                            "feature database: model '%s' has no printed face", tm.model.name);
     }
     db_models.push_back(tm.model);
-    // Texture images as float planes on [0, 1].
-    std::vector<FloatImage> textures;
-    for (const GreyImage& g : tm.textures) {
-      FloatImage f(g.width, g.height);
-      for (size_t i = 0; i < g.pixels.size(); ++i) f.pixels[i] = g.pixels[i] / 255.0f;
-      textures.push_back(std::move(f));
-    }
     for (int fi = 0; fi < tm.model.n_faces; ++fi) {
-      const FaceTextureMap& map = tm.texturing.faces[fi];
-      if (map.material < 0) continue;
+      if (tm.texturing.faces[fi].material < 0) continue;
       if (faces.size() >= kMaxFeatureDbFaces) {
         return Status::Error(StatusCode::kResourceExhausted,
                              "feature database: more than %u printed faces", kMaxFeatureDbFaces);
       }
-      if (tm.model.faces[fi].n_vertices > kMaxTexturedFaceCorners) {
-        return Status::Error(StatusCode::kOutOfRange,
-                             "feature database: printed face %d of '%s' has %d corners (at most "
-                             "%d)",
-                             fi, tm.model.name, tm.model.faces[fi].n_vertices,
-                             kMaxTexturedFaceCorners);
-      }
-      TexturedFace face = FaceGeometry(tm.model, static_cast<int>(mi), fi);
-      const FloatImage& tex = textures[static_cast<size_t>(map.material)];
-      const float density = TextureDensity(face, map, tex);
-      const float width_mm = face.max_ab_mm[0] - face.min_ab_mm[0];
-      const float height_mm = face.max_ab_mm[1] - face.min_ab_mm[1];
-      if (width_mm * ppm > kMaxImageWidth || height_mm * ppm > kMaxImageHeight ||
-          width_mm * options.texture_px_per_mm > kMaxFaceTextureSide ||
-          height_mm * options.texture_px_per_mm > kMaxFaceTextureSide) {
-        return Status::Error(StatusCode::kOutOfRange,
-                             "feature database: face %d of '%s' (%.0f x %.0f mm) is too large at "
-                             "%.1f px/mm; lower the resolution",
-                             fi, tm.model.name, static_cast<double>(width_mm),
-                             static_cast<double>(height_mm), static_cast<double>(ppm));
-      }
-      // Verification texture.
-      FloatImage blurred = tex;
-      SH_RETURN_IF_ERROR(Blur(blurred, AntiAliasSigma(density, options.texture_px_per_mm)));
-      const FloatImage small = RectifyFace(face, map, blurred, options.texture_px_per_mm);
+      Result<FaceLearning> learning = LearnFace(tm, fi, options);
+      if (!learning.ok()) return learning.status();
+      TexturedFace face = learning->face;
+      face.model = static_cast<uint16_t>(mi);
       face.texel_offset = texels.size();
-      face.texel_width = static_cast<uint16_t>(small.width);
-      face.texel_height = static_cast<uint16_t>(small.height);
-      const std::vector<uint8_t> bytes = ToBytes(small);
-      texels.insert(texels.end(), bytes.begin(), bytes.end());
-      // Feature views.
-      blurred = tex;
-      SH_RETURN_IF_ERROR(Blur(blurred, AntiAliasSigma(density, ppm)));
-      const FloatImage rect = RectifyFace(face, map, blurred, ppm);
+      texels.insert(texels.end(), learning->texture.pixels.begin(), learning->texture.pixels.end());
       const uint32_t face_index = static_cast<uint32_t>(faces.size());
-      const Eigen::Vector2f centre_ab(0.5f * (face.min_ab_mm[0] + face.max_ab_mm[0]),
-                                      0.5f * (face.min_ab_mm[1] + face.max_ab_mm[1]));
-      // Rectified pixels per millimetre offset from the centre: a right, b up (rows down).
-      const Eigen::Matrix2f rect_from_face = Eigen::Vector2f(ppm, -ppm).asDiagonal();
       uint32_t face_features = 0;
-      for (int t = 0; t <= static_cast<int>(options.tilts.size()); ++t) {
-        const int directions = t == 0 ? 1 : options.tilt_directions;
-        for (int d = 0; d < directions; ++d) {
-          ViewImage view;
-          if (t == 0) {
-            view.image = rect;
-            view.rect_centre =
-                view.view_centre = {0.5f * (rect.width - 1), 0.5f * (rect.height - 1)};
-          } else {
-            const float phi = 3.14159265f * static_cast<float>(d) / static_cast<float>(directions);
-            Result<ViewImage> v = TiltedView(rect, options.tilts[static_cast<size_t>(t - 1)], phi);
-            if (!v.ok()) return v.status();
-            view = std::move(*v);
-          }
-          if (views.size() >= kMaxFeatureDbViews) {
+      for (const LearningView& view : learning->views) {
+        if (views.size() >= kMaxFeatureDbViews) {
+          return Status::Error(StatusCode::kResourceExhausted,
+                               "feature database: more than %u views", kMaxFeatureDbViews);
+        }
+        FaceView fv{};
+        fv.face = static_cast<uint16_t>(face_index);
+        fv.tilt = static_cast<uint8_t>(view.tilt);
+        fv.view_from_face[0] = view.view_from_face(0, 0);
+        fv.view_from_face[1] = view.view_from_face(0, 1);
+        fv.view_from_face[2] = view.view_from_face(1, 0);
+        fv.view_from_face[3] = view.view_from_face(1, 1);
+        fv.centre_ab_mm[0] = view.centre_ab_mm.x();
+        fv.centre_ab_mm[1] = view.centre_ab_mm.y();
+        const uint32_t view_index = static_cast<uint32_t>(views.size());
+        views.push_back(fv);
+        SH_RETURN_IF_ERROR(extractor->Extract(view.image.view(), options.features, features.get()));
+        for (size_t k = 0; k < features->keypoints.size(); ++k) {
+          const texture::TextureKeypoint& kp = features->keypoints[k];
+          const Eigen::Vector2f p(kp.x_px, kp.y_px);
+          const float window = static_cast<float>(texture::DescriptorBorderPx()) * kp.scale;
+          if (!view.Inside(p, window)) continue;
+          if (learnt.size() >= kMaxFeatureDbFeatures) {
             return Status::Error(StatusCode::kResourceExhausted,
-                                 "feature database: more than %u views", kMaxFeatureDbViews);
+                                 "feature database: more than %u features", kMaxFeatureDbFeatures);
           }
-          // Face millimetres (from the centre) to view pixels (from the face centre's image).
-          // The rectified image centre is the face centre: the rectified image spans the
-          // face's bounding box exactly (up to rounding of its size, corrected here).
-          const Eigen::Vector2f rect_centre_of_face(
-              (centre_ab.x() - face.min_ab_mm[0]) * ppm - 0.5f,
-              (face.max_ab_mm[1] - centre_ab.y()) * ppm - 0.5f);
-          const Eigen::Matrix2f view_from_face = view.view_from_rect * rect_from_face;
-          const Eigen::Vector2f view_of_centre =
-              view.view_from_rect * (rect_centre_of_face - view.rect_centre) + view.view_centre;
-          FaceView fv{};
-          fv.face = static_cast<uint16_t>(face_index);
-          fv.tilt = static_cast<uint8_t>(t);
-          fv.view_from_face[0] = view_from_face(0, 0);
-          fv.view_from_face[1] = view_from_face(0, 1);
-          fv.view_from_face[2] = view_from_face(1, 0);
-          fv.view_from_face[3] = view_from_face(1, 1);
-          fv.centre_ab_mm[0] = centre_ab.x();
-          fv.centre_ab_mm[1] = centre_ab.y();
-          const uint32_t view_index = static_cast<uint32_t>(views.size());
-          views.push_back(fv);
-          // The face polygon in view pixels, for the window test.
-          Eigen::Vector2f poly[kMaxTexturedFaceCorners];
-          for (int k = 0; k < face.n_corners; ++k) {
-            poly[k] = view_from_face *
-                          (Eigen::Vector2f(face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]) -
-                           centre_ab) +
-                      view_of_centre;
-          }
-          const std::vector<uint8_t> bytes8 = ToBytes(view.image);
-          const ConstGrayView gray{bytes8.data(), view.image.width, view.image.height,
-                                   view.image.width};
-          SH_RETURN_IF_ERROR(extractor->Extract(gray, options.features, features.get()));
-          const Eigen::Matrix2f face_from_view = view_from_face.inverse();
-          for (size_t k = 0; k < features->keypoints.size(); ++k) {
-            const texture::TextureKeypoint& kp = features->keypoints[k];
-            const Eigen::Vector2f p(kp.x_px, kp.y_px);
-            const float window = static_cast<float>(texture::DescriptorBorderPx()) * kp.scale;
-            if (texture::InsideDistance(poly, face.n_corners, p) < window) continue;
-            const Eigen::Vector2f uv = p - view_of_centre;
-            const Eigen::Vector2f ab = centre_ab + face_from_view * uv;
-            const Eigen::Vector3f x = FacePoint(face, ab.x(), ab.y());
-            if (learnt.size() >= kMaxFeatureDbFeatures) {
-              return Status::Error(StatusCode::kResourceExhausted,
-                                   "feature database: more than %u features",
-                                   kMaxFeatureDbFeatures);
-            }
-            LearntFeature lf;
-            lf.record = FeatureRecord{};
-            lf.record.u_px = uv.x();
-            lf.record.v_px = uv.y();
-            lf.record.angle_rad = kp.angle_rad;
-            lf.record.scale = kp.scale;
-            for (int c = 0; c < 3; ++c) lf.record.model_mm[c] = x[c];
-            lf.record.view = static_cast<uint16_t>(view_index);
-            lf.record.level = kp.level;
-            lf.descriptor = features->descriptors[k];
-            learnt.push_back(lf);
-            ++face_features;
-          }
+          const Eigen::Vector2f uv = p - view.view_of_centre;
+          const Eigen::Vector3f x = view.ModelPoint(learning->face, p);
+          LearntFeature lf;
+          lf.record.u_px = uv.x();
+          lf.record.v_px = uv.y();
+          lf.record.angle_rad = kp.angle_rad;
+          lf.record.scale = kp.scale;
+          for (int c = 0; c < 3; ++c) lf.record.model_mm[c] = x[c];
+          lf.record.view = static_cast<uint16_t>(view_index);
+          lf.record.level = kp.level;
+          lf.descriptor = features->descriptors[k];
+          learnt.push_back(lf);
+          ++face_features;
         }
       }
       face.n_features = face_features;
       faces.push_back(face);
-      rep.faces.push_back({tm.model.name, fi, small.width, small.height, face_features});
+      rep.faces.push_back({tm.model.name, fi, face.texel_width, face.texel_height, face_features});
     }
   }
 

@@ -13,12 +13,14 @@
 // Runs on the host; allocates freely; never on the per-frame path.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "recog/base/status.hpp"
 #include "recog/texture/feature_extractor.hpp"
+#include "tables/feature_db_format.hpp"
 #include "tables/textured_model_files.hpp"
 
 namespace sh {
@@ -47,6 +49,32 @@ struct FeatureDbBuildReport {
   uint32_t nodes = 0;
   uint32_t tree_depth = 0;
 };
+
+// One training image of a printed face: the rectified face (tilt 0) or a tilted view of it.
+struct LearningView {
+  int tilt = 0;  // 0: frontal; k: options.tilts[k - 1]
+  GreyImage image;
+  Eigen::Matrix2f view_from_face = Eigen::Matrix2f::Identity();  // view pixels per face mm
+  Eigen::Vector2f view_of_centre = Eigen::Vector2f::Zero();      // view pixel of the face centre
+  Eigen::Vector2f centre_ab_mm = Eigen::Vector2f::Zero();        // face centre, face frame
+  Eigen::Vector2f polygon_px[kMaxTexturedFaceCorners];           // the face in the view
+  int n_polygon = 0;
+
+  // Whether view pixel p lies at least margin_px inside the face.
+  bool Inside(const Eigen::Vector2f& p, float margin_px) const;
+  // The model point (millimetres) at view pixel p.
+  Eigen::Vector3f ModelPoint(const TexturedFace& face, const Eigen::Vector2f& p) const;
+};
+
+// A printed face's frame (model index 0; the caller sets it), its verification texture and its
+// training images, as the database learns them.
+struct FaceLearning {
+  TexturedFace face{};
+  GreyImage texture;  // at texture_px_per_mm
+  std::vector<LearningView> views;
+};
+Result<FaceLearning> LearnFace(const TexturedModel& model, int face,
+                               const FeatureDbBuildOptions& options);
 
 // Builds the blob from the textured faces of `models` (untextured faces are left out; models
 // without any printed face are refused).

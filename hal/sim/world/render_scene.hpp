@@ -18,10 +18,14 @@ enum class Background : uint8_t {
   kLight,  // light table with a faint mirror reflection of the objects
 };
 
+struct PrintedSurface;
+
 struct SceneObject {
   uint16_t model_index = 0;  // into the model array passed to the renderer
   RigidTransform table_T_model;
   float albedo = 0.8f;  // diffuse reflectance in [0, 1]
+  // The model's print (printed_surface.hpp), which multiplies the albedo; null: plain.
+  const PrintedSurface* print = nullptr;
 };
 
 struct PointLight {

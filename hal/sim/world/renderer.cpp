@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "hal/sim/world/printed_surface.hpp"
 #include "hal/sim/world/ray_caster.hpp"
 #include "hal/sim/world/rng.hpp"
 
@@ -79,7 +80,13 @@ class Shader {
     const bool is_table = hit.object == kTableHit;
     const Eigen::Vector3f p = o + hit.t_mm * d;
     const Eigen::Vector3f n = caster_.normal(hit);
-    const float albedo = is_table ? table_.albedo : caster_.albedo(hit.object);
+    float albedo = is_table ? table_.albedo : caster_.albedo(hit.object);
+    if (!is_table) {
+      const SceneObject& object = scene_.objects[static_cast<size_t>(hit.object)];
+      if (object.print != nullptr) {
+        albedo *= object.print->Reflectance(hit.face, object.table_T_model.Inverse() * p);
+      }
+    }
     const float ks = is_table ? table_.specular : kObjectSpecular;
     const int shininess = is_table ? table_.shininess : kObjectShininess;
     float diffuse = scene_.ambient, specular = 0;
