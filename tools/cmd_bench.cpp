@@ -21,6 +21,7 @@
 #include "tables/table_builder.hpp"
 #include "tables/table_file.hpp"
 #include "tools/bench_recorded.hpp"
+#include "tools/bench_textured.hpp"
 #include "tools/command.hpp"
 #include "tools/eval/rendered_eval.hpp"
 #include "tools/eval/synthetic_scene.hpp"
@@ -610,6 +611,7 @@ int RunBench(int argc, char** argv) {
   if (argc >= 2 && std::strcmp(argv[1], "scenes") == 0) return RunBenchScenes(argc, argv);
   if (argc >= 2 && std::strcmp(argv[1], "synthetic") == 0) return RunBenchSynthetic(argc, argv);
   if (argc >= 2 && std::strcmp(argv[1], "recorded") == 0) return RunBenchRecorded(argc, argv);
+  if (argc >= 2 && std::strcmp(argv[1], "textured") == 0) return RunBenchTextured(argc, argv);
   std::fprintf(
       stderr,
       "usage: stereohash bench scenes [--scenes-per-row N] [--json OUT] [--budget-ms MS]\n"
@@ -617,12 +619,15 @@ int RunBench(int argc, char** argv) {
       "                               [--features dark|light|row] [--verbose]\n"
       "       stereohash bench synthetic [--scenes N] [--features N] [--json OUT]\n"
       "       stereohash bench recorded DIR [--json OUT] [--verbose] [--no-table] [options]\n"
+      "       stereohash bench textured (--recorded DIR | --rendered N) [--no-peer] [--json OUT]\n"
       "scenes:    rendered stereo pairs (dark/light x no/some/severe occlusion) through the whole\n"
       "           pipeline, reported like the thesis's table 5.5.\n"
       "synthetic: the recogniser alone on synthetic 3-D scenes, all five hash functions, and the\n"
       "           time per scene for 100..2000 features.\n"
       "recorded:  recorded stereo scenes with ground truth (DIR/sceneNN/...) through the\n"
-      "           pipeline as `stereohash recognize` runs it.\n");
+      "           pipeline as `stereohash recognize` runs it.\n"
+      "textured:  printed cartons (recorded or rendered) through the texture path and an OpenCV\n"
+      "           peer.\n");
   return 2;
 }
 

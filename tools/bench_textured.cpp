@@ -1,0 +1,520 @@
+// `stereohash bench textured`: the texture path on printed cartons, beside a peer made of
+// OpenCV's parts, on a recorded set (DIR/calib.yaml, DIR/sceneNN/{left,right}.png, truth.json)
+// or on scenes of our own renderer (held-out seeds), scored as the recorded sets' README says:
+// same model, within 5 mm and 5 degrees (no symmetries: the print breaks them).
+#include "tools/bench_textured.hpp"
+
+#include <dirent.h>
+#include <errno.h>
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "hal/sim/image_files.hpp"
+#include "hal/sim/render/printed_surface.hpp"
+#include "hal/sim/render/ray_caster.hpp"
+#include "hal/sim/render/renderer.hpp"
+#include "hal/sim/render/scene_generator.hpp"
+#include "recog/camera/calibration_yaml.hpp"
+#include "recog/texture/texture_recognizer.hpp"
+#include "tables/feature_db_builder.hpp"
+#include "tables/feature_db_view.hpp"
+#include "tests/pipeline/mini_json.hpp"
+#include "tests/support/synthetic_scene.hpp"
+#include "tools/command.hpp"
+#include "tools/recognize_setup.hpp"
+#include "tools/report_util.hpp"
+#ifdef STEREOHASH_OPENCV_PEER
+#include "tools/opencv_texture_peer.hpp"
+#endif
+
+namespace sh::tools {
+namespace {
+
+constexpr float kMaxPositionErrorMm = 5.0f;
+constexpr float kMaxRotationErrorDeg = 5.0f;
+constexpr const char* kCartons[] = {"tea", "cereal", "pills", "tools"};
+
+void PrintHelp() {
+  std::printf(
+      "usage: stereohash bench textured (--recorded DIR | --rendered N) [--seed S]\n"
+      "                                 [--models DIR] [--no-peer] [--json OUT] [--verbose]\n"
+      "                                 [--save DIR]\n"
+      "Runs the texture path (and a peer of OpenCV SIFT + FLANN + RANSAC homography + solvePnP\n"
+      "+ stereo, unless --no-peer) on printed cartons and scores both: correct = same model\n"
+      "within 5 mm and 5 deg. The feature database is learnt from the models first.\n"
+      "  --recorded DIR  a recorded set (DIR/calib.yaml, DIR/sceneNN/left.png, right.png,\n"
+      "                  truth.json; a scene's own calib.yaml takes precedence)\n"
+      "  --rendered N    N scenes per background x occlusion row from our renderer, seeds from\n"
+      "                  S (default 1000, never used for tuning)\n"
+      "  --models DIR    the printed models (default models/textured): tea, cereal, pills, tools\n"
+      "  --save DIR      with --rendered: also write the scenes as a recorded set to DIR\n");
+}
+
+struct Scene {
+  std::string name, background, occlusion;
+  std::vector<TruthObject> truth;
+  std::vector<float> visible;  // mean of left and right
+  std::vector<uint8_t> left, right;
+  int width = 0, height = 0;
+  StereoCalibration calib;  // the rendered rigs differ from scene to scene
+};
+
+struct Score {
+  int objects = 0, correct = 0, missed = 0, false_alarms = 0, reported = 0;
+  int vis_total[3] = {0, 0, 0}, vis_found[3] = {0, 0, 0};
+  std::vector<float> t_err, r_err, total_ms;
+  std::vector<float> stage_ms[4];  // features, matching, clustering, stereo (+ verification)
+};
+
+int VisibilityBin(float v) { return v < 0.4f ? 0 : v < 0.7f ? 1 : 2; }
+
+void ScoreScene(const std::vector<Model>& models, const Scene& s,
+                const std::vector<RecognizedPose>& found, Score* score, bool verbose,
+                const char* who) {
+  const MatchCounts c =
+      MatchToTruth(models, s.truth, found, kMaxPositionErrorMm, kMaxRotationErrorDeg);
+  score->objects += static_cast<int>(s.truth.size());
+  score->correct += c.correct;
+  score->missed += c.missed;
+  score->false_alarms += c.false_alarms;
+  score->reported += static_cast<int>(found.size());
+  score->t_err.insert(score->t_err.end(), c.translation_errors_mm.begin(),
+                      c.translation_errors_mm.end());
+  score->r_err.insert(score->r_err.end(), c.rotation_errors_deg.begin(),
+                      c.rotation_errors_deg.end());
+  for (size_t i = 0; i < s.truth.size(); ++i) {
+    const int bin = VisibilityBin(s.visible[i]);
+    ++score->vis_total[bin];
+    score->vis_found[bin] += c.truth_found[i] ? 1 : 0;
+    if (verbose && !c.truth_found[i]) {
+      std::printf("  %s %s: missed %s (%.0f %% visible)\n", who, s.name.c_str(),
+                  models[static_cast<size_t>(s.truth[i].model)].name, 100.0f * s.visible[i]);
+    }
+  }
+  if (verbose && c.false_alarms > 0) {
+    std::printf("  %s %s: %d false alarm(s)\n", who, s.name.c_str(), c.false_alarms);
+  }
+}
+
+void PrintScore(const char* who, const Score& s) {
+  const double pct = s.objects > 0 ? 100.0 * s.correct / s.objects : 0;
+  const double fa = s.reported > 0 ? 100.0 * s.false_alarms / s.reported : 0;
+  std::printf(
+      "%-8s %3d/%3d correct (%5.1f %%), %2d missed, %2d false alarms (%4.1f %% of reported); "
+      "recall by visibility <40 %%: %d/%d, 40-70 %%: %d/%d, >=70 %%: %d/%d; median error %.2f mm "
+      "%.2f deg; frame median %.1f ms, worst %.1f ms (features %.1f, matching %.1f, clustering "
+      "%.1f, stereo + pose %.1f)\n",
+      who, s.correct, s.objects, pct, s.missed, s.false_alarms, fa, s.vis_found[0], s.vis_total[0],
+      s.vis_found[1], s.vis_total[1], s.vis_found[2], s.vis_total[2], Median(s.t_err),
+      Median(s.r_err), Median(s.total_ms), Max(s.total_ms), Median(s.stage_ms[0]),
+      Median(s.stage_ms[1]), Median(s.stage_ms[2]), Median(s.stage_ms[3]));
+}
+
+std::string ScoreJson(const Score& s) {
+  char b[1024];
+  std::snprintf(b, sizeof(b),
+                "{\"objects\": %d, \"correct\": %d, \"missed\": %d, \"false_alarms\": %d, "
+                "\"reported\": %d, \"recall_by_visibility\": [[%d, %d], [%d, %d], [%d, %d]], "
+                "\"median_t_err_mm\": %.3f, \"median_r_err_deg\": %.3f, \"median_ms\": %.2f, "
+                "\"worst_ms\": %.2f, \"median_stage_ms\": {\"features\": %.2f, \"matching\": "
+                "%.2f, \"clustering\": %.2f, \"stereo_pose\": %.2f}}",
+                s.objects, s.correct, s.missed, s.false_alarms, s.reported, s.vis_found[0],
+                s.vis_total[0], s.vis_found[1], s.vis_total[1], s.vis_found[2], s.vis_total[2],
+                Median(s.t_err), Median(s.r_err), Median(s.total_ms), Max(s.total_ms),
+                Median(s.stage_ms[0]), Median(s.stage_ms[1]), Median(s.stage_ms[2]),
+                Median(s.stage_ms[3]));
+  return b;
+}
+
+bool ReadText(const std::string& path, std::string* text) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  *text = ss.str();
+  return true;
+}
+
+int ModelIndex(const std::vector<Model>& models, const std::string& name) {
+  for (size_t i = 0; i < models.size(); ++i) {
+    if (name == models[i].name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+// The scenes of a recorded set, in folder order.
+Status LoadRecorded(const std::string& dir, const StereoCalibration& calib,
+                    const std::vector<Model>& models, std::vector<Scene>* scenes) {
+  std::vector<std::string> names;
+  if (DIR* d = opendir(dir.c_str())) {
+    while (const dirent* e = readdir(d)) {
+      struct stat st;
+      const std::string base = dir + "/" + e->d_name;
+      if (e->d_name[0] != '.' && stat((base + "/truth.json").c_str(), &st) == 0) {
+        names.push_back(e->d_name);
+      }
+    }
+    closedir(d);
+  }
+  if (names.empty()) {
+    return Status::Error(StatusCode::kNotFound, "%s holds no scene folders (sceneNN/truth.json)",
+                         dir.c_str());
+  }
+  std::sort(names.begin(), names.end());
+  for (const std::string& name : names) {
+    Scene s;
+    s.name = name;
+    const std::string base = dir + "/" + name + "/";
+    std::string text;
+    testing_support::Json json;
+    if (!ReadText(base + "truth.json", &text) || !testing_support::JsonReader(text).Parse(&json)) {
+      return Status::Error(StatusCode::kInvalidArgument, "%s/truth.json: not readable JSON",
+                           name.c_str());
+    }
+    s.background = json["background"].text;
+    s.occlusion = json["occlusion"].text;
+    for (const testing_support::Json& o : json["objects"].items) {
+      TruthObject t;
+      t.model = ModelIndex(models, o["model"].text);
+      if (t.model < 0 || o["R"].size() != 3 || o["t"].size() != 3) {
+        return Status::Error(StatusCode::kInvalidArgument,
+                             "%s/truth.json: object '%s' is not one of the models or has no pose",
+                             name.c_str(), o["model"].text.c_str());
+      }
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) t.cam_T_model.R(r, c) = static_cast<float>(o["R"][r][c].number);
+        t.cam_T_model.t_mm(r) = static_cast<float>(o["t"][r].number);
+      }
+      s.truth.push_back(t);
+      const testing_support::Json& v = o["visible"];
+      s.visible.push_back(v.size() == 2 ? static_cast<float>(0.5 * (v[0].number + v[1].number))
+                                        : 1.0f);
+    }
+    LoadedImage l, r;
+    Status st = LoadImage((base + "left.png").c_str(), "left", &l);
+    if (st.ok()) st = LoadImage((base + "right.png").c_str(), "right", &r);
+    if (!st.ok()) return st;
+    s.calib = calib;
+    struct stat own;
+    if (stat((base + "calib.yaml").c_str(), &own) == 0) {  // a rig of its own (--save)
+      const Result<StereoCalibration> c = LoadCalibration((base + "calib.yaml").c_str());
+      if (!c.ok()) return c.status();
+      s.calib = *c;
+    }
+    s.width = l.view.width;
+    s.height = l.view.height;
+    s.left.assign(l.view.data, l.view.data + size_t{1} * s.width * s.height);
+    s.right.assign(r.view.data, r.view.data + size_t{1} * s.width * s.height);
+    scenes->push_back(std::move(s));
+  }
+  return Status::Ok();
+}
+
+// Fraction of each object's silhouette seen in one camera: rays through every second pixel
+// against the whole scene, and against the object alone.
+void Visibility(const render::RenderScene& scene, const std::vector<Model>& models,
+                const CameraIntrinsics& cam, const RigidTransform& cam_T_table,
+                std::vector<float>* fraction) {
+  const RigidTransform table_T_cam = cam_T_table.Inverse();
+  auto full = std::make_unique<render::RayCaster>();
+  auto alone = std::make_unique<render::RayCaster>();
+  (void)full->Prepare(scene, models.data(), static_cast<int>(models.size()));
+  const size_t n = scene.objects.size();
+  std::vector<int> seen(n, 0), whole(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    render::RenderScene one = scene;
+    one.objects.clear();
+    (void)one.objects.push_back(scene.objects[i]);
+    (void)alone->Prepare(one, models.data(), static_cast<int>(models.size()));
+    for (int y = 0; y < cam.height; y += 2) {
+      for (int x = 0; x < cam.width; x += 2) {
+        const Eigen::Vector3f d = table_T_cam.Rotate(
+            PixelRay(cam, {static_cast<double>(x), static_cast<double>(y)}).cast<float>());
+        if (alone->Cast(table_T_cam.t_mm, d).object != 0) continue;
+        ++whole[i];
+        seen[i] += full->Cast(table_T_cam.t_mm, d).object == static_cast<int>(i) ? 1 : 0;
+      }
+    }
+  }
+  fraction->assign(n, 1.0f);
+  for (size_t i = 0; i < n; ++i) {
+    if (whole[i] > 0) (*fraction)[i] = static_cast<float>(seen[i]) / static_cast<float>(whole[i]);
+  }
+}
+
+// Scenes of our renderer: per background x occlusion row, n scenes with seeds from `seed`.
+Status RenderScenes(int n, uint64_t seed, const std::vector<TexturedModel>& printed,
+                    std::vector<Scene>* scenes, StereoCalibration* calib) {
+  std::vector<Model> models;
+  for (const TexturedModel& t : printed) models.push_back(t.model);
+  std::vector<render::PrintedSurface> prints(printed.size());
+  for (size_t i = 0; i < printed.size(); ++i) {
+    prints[i].texturing = &printed[i].texturing;
+    for (size_t m = 0; m < printed[i].textures.size(); ++m)
+      prints[i].images[m] = printed[i].textures[m].view();
+  }
+  const struct {
+    render::Background bg;
+    render::Occlusion occ;
+    const char *b, *o;
+  } rows[] = {{render::Background::kDark, render::Occlusion::kNone, "dark", "none"},
+              {render::Background::kDark, render::Occlusion::kSome, "dark", "some"},
+              {render::Background::kDark, render::Occlusion::kSevere, "dark", "severe"},
+              {render::Background::kLight, render::Occlusion::kNone, "light", "none"},
+              {render::Background::kLight, render::Occlusion::kSome, "light", "some"},
+              {render::Background::kLight, render::Occlusion::kSevere, "light", "severe"}};
+  for (const auto& row : rows) {
+    for (int i = 0; i < n; ++i) {
+      render::ScenarioParams p;
+      p.background = row.bg;
+      p.occlusion = row.occ;
+      p.n_objects = 3 + (i % 2);
+      p.camera_distance_mm = 400.0f + 10.0f * static_cast<float>((i * 7) % 10);
+      p.spread_mm = 300.0f;
+      const uint64_t s = seed++;
+      Result<render::GeneratedScene> g =
+          render::GenerateScene(s, p, models.data(), static_cast<int>(models.size()));
+      if (!g.ok()) return g.status();
+      for (render::SceneObject& o : g->scene.objects) {
+        o.albedo = 0.95f;  // the print sets the reflectance
+        o.print = &prints[o.model_index];
+      }
+      *calib = g->calib;
+      Scene sc;
+      sc.calib = g->calib;
+      char name[32];
+      std::snprintf(name, sizeof(name), "seed%llu", static_cast<unsigned long long>(s));
+      sc.name = name;
+      sc.background = row.b;
+      sc.occlusion = row.o;
+      sc.width = g->calib.left.width;
+      sc.height = g->calib.left.height;
+      sc.left.resize(size_t{1} * sc.width * sc.height);
+      sc.right.resize(sc.left.size());
+      const GrayView left_view{sc.left.data(), sc.width, sc.height, sc.width};
+      const GrayView right_view{sc.right.data(), sc.width, sc.height, sc.width};
+      SH_RETURN_IF_ERROR(render::RenderStereo(g->scene, models.data(),
+                                              static_cast<int>(models.size()), g->calib, left_view,
+                                              right_view));
+      std::vector<float> vis_left, vis_right;
+      Visibility(g->scene, models, g->calib.left, g->scene.left_T_table, &vis_left);
+      Visibility(g->scene, models, g->calib.right, render::RightFromTable(g->scene, g->calib),
+                 &vis_right);
+      for (size_t k = 0; k < g->scene.objects.size(); ++k) {
+        sc.truth.push_back({g->scene.objects[k].model_index, g->left_T_model[k]});
+        sc.visible.push_back(0.5f * (vis_left[k] + vis_right[k]));
+      }
+      scenes->push_back(std::move(sc));
+    }
+  }
+  return Status::Ok();
+}
+
+// Writes the scenes as recorded pairs: DIR/<scene>/{calib.yaml, left.png, right.png,
+// truth.json} (poses and visible fractions, as the recorded sets' README describes).
+Status SaveScenes(const std::string& dir, const std::vector<Model>& models,
+                  const std::vector<Scene>& scenes) {
+  if (mkdir(dir.c_str(), 0777) != 0 && errno != EEXIST) {
+    return Status::Error(StatusCode::kNotFound, "cannot create %s", dir.c_str());
+  }
+  for (const Scene& s : scenes) {
+    const std::string base = dir + "/" + s.name;
+    if (mkdir(base.c_str(), 0777) != 0 && errno != EEXIST) {
+      return Status::Error(StatusCode::kNotFound, "cannot create %s", base.c_str());
+    }
+    // Each rendered scene has its own rig: its calibration goes beside it.
+    std::vector<char> yaml(8192);
+    const Result<size_t> n = WriteCalibrationYaml(s.calib, yaml.data(), yaml.size());
+    if (!n.ok()) return n.status();
+    if (!WriteTextFile((base + "/calib.yaml").c_str(), std::string(yaml.data(), *n))) {
+      return Status::Error(StatusCode::kNotFound, "cannot write %s/calib.yaml", base.c_str());
+    }
+    SH_RETURN_IF_ERROR(hal::WritePng((base + "/left.png").c_str(),
+                                     ConstGrayView{s.left.data(), s.width, s.height, s.width}));
+    SH_RETURN_IF_ERROR(hal::WritePng((base + "/right.png").c_str(),
+                                     ConstGrayView{s.right.data(), s.width, s.height, s.width}));
+    std::string json = "{\"background\": \"" + s.background + "\", \"occlusion\": \"" +
+                       s.occlusion + "\", \"objects\": [";
+    for (size_t i = 0; i < s.truth.size(); ++i) {
+      const RigidTransform& T = s.truth[i].cam_T_model;
+      char b[512];
+      std::snprintf(b, sizeof(b),
+                    "%s{\"model\": \"%s\", \"R\": [[%.9f, %.9f, %.9f], [%.9f, %.9f, %.9f], "
+                    "[%.9f, %.9f, %.9f]], \"t\": [%.6f, %.6f, %.6f], \"visible\": [%.3f, %.3f]}",
+                    i > 0 ? ", " : "", models[static_cast<size_t>(s.truth[i].model)].name,
+                    T.R(0, 0), T.R(0, 1), T.R(0, 2), T.R(1, 0), T.R(1, 1), T.R(1, 2), T.R(2, 0),
+                    T.R(2, 1), T.R(2, 2), T.t_mm.x(), T.t_mm.y(), T.t_mm.z(), s.visible[i],
+                    s.visible[i]);
+      json += b;
+    }
+    json += "]}\n";
+    if (!WriteTextFile((base + "/truth.json").c_str(), json)) {
+      return Status::Error(StatusCode::kNotFound, "cannot write %s/truth.json", base.c_str());
+    }
+  }
+  return Status::Ok();
+}
+
+int Fail(const char* message) {
+  std::fprintf(stderr, "stereohash bench textured: %s\n", message);
+  return 1;
+}
+
+}  // namespace
+
+int RunBenchTextured(int argc, char** argv) {
+  const char* recorded = nullptr;
+  const char* json_path = nullptr;
+  const char* save_dir = nullptr;
+  std::string models_dir = "models/textured";
+  int rendered = 0;
+  uint64_t seed = 1000;
+  bool peer = true, verbose = false;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
+    if (a == "--help" || a == "-h") {
+      PrintHelp();
+      return 0;
+    } else if (a == "--no-peer") {
+      peer = false;
+    } else if (a == "--verbose") {
+      verbose = true;
+    } else if (a == "--recorded" || a == "--rendered" || a == "--seed" || a == "--models" ||
+               a == "--json" || a == "--save") {
+      const char* v = value();
+      if (v == nullptr) {
+        std::fprintf(stderr, "stereohash bench textured: %s needs a value\n", a.c_str());
+        return 2;
+      }
+      if (a == "--recorded") recorded = v;
+      if (a == "--rendered") rendered = std::atoi(v);
+      if (a == "--seed") seed = std::strtoull(v, nullptr, 10);
+      if (a == "--models") models_dir = v;
+      if (a == "--json") json_path = v;
+      if (a == "--save") save_dir = v;
+    } else {
+      std::fprintf(stderr, "stereohash bench textured: unknown option '%s' (see --help)\n",
+                   a.c_str());
+      return 2;
+    }
+  }
+  if ((recorded == nullptr) == (rendered <= 0)) {
+    std::fprintf(stderr, "stereohash bench textured: give --recorded DIR or --rendered N\n");
+    return 2;
+  }
+  // The models and the feature database.
+  std::vector<TexturedModel> printed;
+  for (const char* name : kCartons) {
+    Result<TexturedModel> m = LoadTexturedModelFile(models_dir + "/" + name + ".obj");
+    if (!m.ok()) return Fail(m.status().message());
+    printed.push_back(std::move(*m));
+  }
+  std::vector<Model> models;
+  for (const TexturedModel& t : printed) models.push_back(t.model);
+  FeatureDbBuildOptions build;
+  FeatureDbBuildReport report;
+  Result<std::vector<uint8_t>> blob = BuildFeatureDb(printed, build, &report);
+  if (!blob.ok()) return Fail(blob.status().message());
+  std::vector<uint8_t> aligned_storage(blob->size() + 64);
+  uint8_t* aligned =
+      aligned_storage.data() + (64 - reinterpret_cast<uintptr_t>(aligned_storage.data()) % 64) % 64;
+  std::memcpy(aligned, blob->data(), blob->size());
+  Result<FeatureDbView> db = FeatureDbView::Open(aligned, blob->size());
+  if (!db.ok()) return Fail(db.status().message());
+  std::printf("feature database: %u models, %u faces, %u views, %u features, %zu bytes\n",
+              db->model_count(), db->face_count(), db->view_count(), db->feature_count(),
+              blob->size());
+  // The scenes.
+  std::vector<Scene> scenes;
+  StereoCalibration calib;
+  if (recorded != nullptr) {
+    // The set's calibration (scene folders may hold their own).
+    struct stat st_calib;
+    const std::string set_calib = std::string(recorded) + "/calib.yaml";
+    if (stat(set_calib.c_str(), &st_calib) == 0) {
+      const Result<StereoCalibration> c = LoadCalibration(set_calib.c_str());
+      if (!c.ok()) return Fail(c.status().message());
+      calib = *c;
+    }
+    const Status st = LoadRecorded(recorded, calib, models, &scenes);
+    if (!st.ok()) return Fail(st.message());
+  } else {
+    Status st = RenderScenes(rendered, seed, printed, &scenes, &calib);
+    if (st.ok() && save_dir != nullptr) st = SaveScenes(save_dir, models, scenes);
+    if (!st.ok()) return Fail(st.message());
+  }
+  auto recognizer = std::make_unique<texture::TextureRecognizer>();
+  Status st = Status::Ok();
+#ifdef STEREOHASH_OPENCV_PEER
+  auto opencv = std::make_unique<OpenCvTexturePeer>();
+  if (peer) {
+    st = opencv->Learn(printed, build);
+    if (!st.ok()) return Fail(st.message());
+  }
+#else
+  if (peer) std::printf("(no OpenCV peer in this build)\n");
+  peer = false;
+#endif
+  auto result = std::make_unique<texture::TextureResult>();
+  Score ours, theirs;
+  std::string rows_json;
+  for (const Scene& s : scenes) {
+    const ConstGrayView l{s.left.data(), s.width, s.height, s.width};
+    const ConstGrayView r{s.right.data(), s.width, s.height, s.width};
+    st = recognizer->Init(s.calib, *db, texture::TextureRecognizerConfig{}, NowNs);
+    if (st.ok()) st = recognizer->Process(l, r, result.get());
+    if (!st.ok()) return Fail(st.message());
+    std::vector<RecognizedPose> found;
+    for (const texture::TextureObject& o : result->objects)
+      found.push_back({o.model, o.cam_T_model});
+    ScoreScene(models, s, found, &ours, verbose, "texture");
+    const texture::TextureTimings& t = result->time;
+    ours.total_ms.push_back(t.total_ms);
+    ours.stage_ms[0].push_back(t.features_ms);
+    ours.stage_ms[1].push_back(t.matching_ms);
+    ours.stage_ms[2].push_back(t.clustering_ms);
+    ours.stage_ms[3].push_back(t.stereo_ms + t.verify_ms);
+#ifdef STEREOHASH_OPENCV_PEER
+    if (peer) {
+      std::vector<PeerObject> objects;
+      PeerTimings pt;
+      st = opencv->Process(s.calib, l, r, &objects, &pt);
+      if (!st.ok()) return Fail(st.message());
+      std::vector<RecognizedPose> peer_found;
+      for (const PeerObject& o : objects) peer_found.push_back({o.model, o.cam_T_model});
+      ScoreScene(models, s, peer_found, &theirs, verbose, "opencv");
+      theirs.total_ms.push_back(pt.total_ms);
+      theirs.stage_ms[0].push_back(pt.features_ms);
+      theirs.stage_ms[1].push_back(pt.matching_ms);
+      theirs.stage_ms[2].push_back(pt.clustering_ms);
+      theirs.stage_ms[3].push_back(pt.stereo_ms);
+    }
+#endif
+  }
+  std::printf("%zu scenes, %s\n", scenes.size(),
+              recorded != nullptr ? recorded : "rendered (held-out seeds)");
+  PrintScore("texture", ours);
+  if (peer) PrintScore("opencv", theirs);
+  std::printf("(the paper: about 1 s per scene on a 3 GHz CPU, SIFT 0.4 s, matching 0.6 s)\n");
+  if (json_path != nullptr) {
+    std::string json = "{\"command\": \"" + CommandLine(argc, argv) +
+                       "\", \"scenes\": " + std::to_string(scenes.size()) +
+                       ", \"texture\": " + ScoreJson(ours);
+    if (peer) json += ", \"opencv\": " + ScoreJson(theirs);
+    json += "}\n";
+    if (!WriteTextFile(json_path, json)) return Fail("cannot write the JSON file");
+  }
+  return 0;
+}
+
+}  // namespace sh::tools
