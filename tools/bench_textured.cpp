@@ -157,7 +157,7 @@ Status LoadRecorded(const std::string& dir, const StereoCalibration& calib,
   std::vector<std::string> names;
   if (DIR* d = opendir(dir.c_str())) {
     while (const dirent* e = readdir(d)) {
-      struct stat st;
+      struct stat st {};
       const std::string base = dir + "/" + e->d_name;
       if (e->d_name[0] != '.' && stat((base + "/truth.json").c_str(), &st) == 0) {
         names.push_back(e->d_name);
@@ -173,7 +173,8 @@ Status LoadRecorded(const std::string& dir, const StereoCalibration& calib,
   for (const std::string& name : names) {
     Scene s;
     s.name = name;
-    const std::string base = dir + "/" + name + "/";
+    std::string base = dir;
+    base.append("/").append(name).append("/");
     std::string text;
     testing_support::Json json;
     if (!ReadText(base + "truth.json", &text) || !testing_support::JsonReader(text).Parse(&json)) {
@@ -204,7 +205,7 @@ Status LoadRecorded(const std::string& dir, const StereoCalibration& calib,
     if (st.ok()) st = LoadImage((base + "right.png").c_str(), "right", &r);
     if (!st.ok()) return st;
     s.calib = calib;
-    struct stat own;
+    struct stat own {};
     if (stat((base + "calib.yaml").c_str(), &own) == 0) {  // a rig of its own (--save)
       const Result<StereoCalibration> c = LoadCalibration((base + "calib.yaml").c_str());
       if (!c.ok()) return c.status();
@@ -255,6 +256,7 @@ void Visibility(const render::RenderScene& scene, const std::vector<Model>& mode
 Status RenderScenes(int n, uint64_t seed, const std::vector<TexturedModel>& printed,
                     std::vector<Scene>* scenes, StereoCalibration* calib) {
   std::vector<Model> models;
+  models.reserve(printed.size());
   for (const TexturedModel& t : printed) models.push_back(t.model);
   std::vector<render::PrintedSurface> prints(printed.size());
   for (size_t i = 0; i < printed.size(); ++i) {
@@ -420,6 +422,7 @@ int RunBenchTextured(int argc, char** argv) {
     printed.push_back(std::move(*m));
   }
   std::vector<Model> models;
+  models.reserve(printed.size());
   for (const TexturedModel& t : printed) models.push_back(t.model);
   FeatureDbBuildOptions build;
   FeatureDbBuildReport report;
@@ -439,7 +442,7 @@ int RunBenchTextured(int argc, char** argv) {
   StereoCalibration calib;
   if (recorded != nullptr) {
     // The set's calibration (scene folders may hold their own).
-    struct stat st_calib;
+    struct stat st_calib {};
     const std::string set_calib = std::string(recorded) + "/calib.yaml";
     if (stat(set_calib.c_str(), &st_calib) == 0) {
       const Result<StereoCalibration> c = LoadCalibration(set_calib.c_str());
@@ -491,6 +494,7 @@ int RunBenchTextured(int argc, char** argv) {
       st = opencv->Process(s.calib, l, r, &objects, &pt);
       if (!st.ok()) return Fail(st.message());
       std::vector<RecognizedPose> peer_found;
+      peer_found.reserve(objects.size());
       for (const PeerObject& o : objects) peer_found.push_back({o.model, o.cam_T_model});
       ScoreScene(models, s, peer_found, &theirs, verbose, "opencv");
       theirs.total_ms.push_back(pt.total_ms);

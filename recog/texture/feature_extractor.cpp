@@ -72,7 +72,7 @@ size_t TextureFeatureExtractor::SelectMaxima(int w, int h, const TextureFeatureC
   const ConstFloatView r = plane(kSxx, w, h);
   const int nms = config.nms_radius_px;
   const int border = std::max(nms, DescriptorBorderPx());
-  const size_t capacity = std::min(budget, kMaxLevelCandidates);
+  const size_t capacity = std::min({budget, kMaxLevelCandidates, kMaxTextureKeypoints});
   size_t n = 0;
   // Min-heap on response: the weakest kept candidate on top, replaced by stronger ones.
   auto weaker_first = [](const Candidate& a, const Candidate& b) {
@@ -119,8 +119,30 @@ size_t TextureFeatureExtractor::SelectMaxima(int w, int h, const TextureFeatureC
   return n;
 }
 
+template <typename Job>
+void TextureFeatureExtractor::DescribeCandidate(const Job& j, int i) {
+  const Candidate& c = candidates_[i];
+  const ConstFloatView& r = j.response;
+  const float x = c.x + ParabolaOffset(r.at(c.x - 1, c.y), c.response, r.at(c.x + 1, c.y));
+  const float y = c.y + ParabolaOffset(r.at(c.x, c.y - 1), c.response, r.at(c.x, c.y + 1));
+  float angles[kMaxPointOrientations];
+  Described& d = described_[i];
+  d.n = DominantOrientations(j.gx, j.gy, x, y, j.config->orientation, orientation_window_, angles);
+  for (int a = 0; a < d.n; ++a) {
+    TextureKeypoint& kp = d.keypoints[a];
+    kp.x_px = x * j.to_level0;
+    kp.y_px = y * j.to_level0;
+    kp.angle_rad = angles[a];
+    kp.scale = j.to_level0;
+    kp.response = c.response;
+    kp.level = static_cast<uint8_t>(j.level);
+    ComputeDescriptor(j.gx, j.gy, x, y, angles[a], &d.descriptors[a]);
+  }
+}
+
 Status TextureFeatureExtractor::Extract(const ConstGrayView& image,
-                                        const TextureFeatureConfig& config, TextureFeatures* out) {
+                                        const TextureFeatureConfig& config, TextureFeatures* out,
+                                        const ParallelFor& parallel) {
   out->clear();
   width_ = height_ = 0;
   SH_RETURN_IF_ERROR(ValidateGrayImage(image, "texture features"));
@@ -162,7 +184,7 @@ Status TextureFeatureExtractor::Extract(const ConstGrayView& image,
   h = image.height;
   ToUnitFloat(image, plane(kGx, w, h));
   Plane current = kLevelA, next = kLevelB;
-  BlurPlane(plane(kGx, w, h), pre, plane(kTmp, w, h), plane(current, w, h));
+  BlurPlane(plane(kGx, w, h), pre, plane(kTmp, w, h), plane(current, w, h), parallel);
   if (levels == 0) {
     // Too small for keypoints; the Shi-Tomasi plane is still defined (all zero).
     std::fill(planes_[kMinEig], planes_[kMinEig] + size_t{1} * w * h, 0.0f);
@@ -175,33 +197,34 @@ Status TextureFeatureExtractor::Extract(const ConstGrayView& image,
     h = heights[k];
     const ConstFloatView level = plane(current, w, h);
     FloatView gx = plane(kGx, w, h), gy = plane(kGy, w, h);
-    CentralGradients(level, gx, gy);
+    CentralGradients(level, gx, gy, parallel);
     // Structure tensor products, integrated.
     FloatView sxx = plane(kSxx, w, h), sxy = plane(kSxy, w, h), syy = plane(kSyy, w, h);
-    const size_t n = size_t{1} * w * h;
-    {
+    ForRowBands(parallel, h, [&](int y0, int y1) {
+      const size_t begin = size_t{1} * y0 * w, end = size_t{1} * y1 * w;
       const float* __restrict ax = gx.data;
       const float* __restrict ay = gy.data;
       float* __restrict pxx = sxx.data;
       float* __restrict pxy = sxy.data;
       float* __restrict pyy = syy.data;
-      for (size_t i = 0; i < n; ++i) {
+      for (size_t i = begin; i < end; ++i) {
         pxx[i] = ax[i] * ax[i];
         pxy[i] = ax[i] * ay[i];
         pyy[i] = ay[i] * ay[i];
       }
-    }
+    });
     FloatView tmp = plane(kTmp, w, h);
-    BlurPlane(sxx, integration, tmp, sxx);
-    BlurPlane(sxy, integration, tmp, sxy);
-    BlurPlane(syy, integration, tmp, syy);
-    {
+    BlurPlane(sxx, integration, tmp, sxx, parallel);
+    BlurPlane(sxy, integration, tmp, sxy, parallel);
+    BlurPlane(syy, integration, tmp, syy, parallel);
+    const float hk = config.harris_k;
+    ForRowBands(parallel, h, [&](int y0, int y1) {
+      const size_t begin = size_t{1} * y0 * w, end = size_t{1} * y1 * w;
       float* __restrict pxx = sxx.data;
       const float* __restrict pxy = sxy.data;
       const float* __restrict pyy = syy.data;
       float* __restrict min_eig = planes_[kMinEig];
-      const float hk = config.harris_k;
-      for (size_t i = 0; i < n; ++i) {
+      for (size_t i = begin; i < end; ++i) {
         const float a = pxx[i], b = pxy[i], c = pyy[i];
         const float tr = a + c;
         if (k == 0) {
@@ -210,36 +233,35 @@ Status TextureFeatureExtractor::Extract(const ConstGrayView& image,
         }
         pxx[i] = a * c - b * b - hk * tr * tr;  // Harris response replaces Sxx
       }
-    }
+    });
     // Keypoints of this level.
     const size_t budget =
         static_cast<size_t>(config.max_keypoints * (double{1.0} * w * h) / total_area) +
         budget_carry;
     const size_t n_candidates = SelectMaxima(w, h, config, budget, &out->stats);
-    size_t used = 0;
+    // Orientations and descriptors of the candidates, spread over the threads (each writes its
+    // own slot), then kept in candidate order while there is room.
     const float to_level0 = std::pow(1.0f / kPyramidStep, static_cast<float>(k));
-    const ConstFloatView response = plane(kSxx, w, h);
+    struct DescribeJob {
+      TextureFeatureExtractor* self = nullptr;
+      const TextureFeatureConfig* config = nullptr;
+      ConstFloatView response, gx, gy;
+      float to_level0 = 1.0f;
+      int level = 0;
+    } job{this, &config, plane(kSxx, w, h), gx, gy, to_level0, k};
+    parallel(
+        static_cast<int>(n_candidates),
+        [](void* context, int i) {
+          const auto& j = *static_cast<const DescribeJob*>(context);
+          j.self->DescribeCandidate(j, i);
+        },
+        &job);
+    size_t used = 0;
     for (size_t i = 0; i < n_candidates && !out->keypoints.full(); ++i) {
-      const Candidate& c = candidates_[i];
-      const float x =
-          c.x + ParabolaOffset(response.at(c.x - 1, c.y), c.response, response.at(c.x + 1, c.y));
-      const float y =
-          c.y + ParabolaOffset(response.at(c.x, c.y - 1), c.response, response.at(c.x, c.y + 1));
-      float angles[kMaxPointOrientations];
-      const int n_angles =
-          DominantOrientations(gx, gy, x, y, config.orientation, orientation_window_, angles);
-      for (int a = 0; a < n_angles; ++a) {
-        TextureKeypoint kp;
-        kp.x_px = x * to_level0;
-        kp.y_px = y * to_level0;
-        kp.angle_rad = angles[a];
-        kp.scale = to_level0;
-        kp.response = c.response;
-        kp.level = static_cast<uint8_t>(k);
-        TextureDescriptor d;
-        ComputeDescriptor(gx, gy, x, y, angles[a], &d);
-        if (!out->keypoints.push_back(kp)) break;
-        (void)out->descriptors.push_back(d);  // same capacity as keypoints
+      const Described& d = described_[i];
+      for (int a = 0; a < d.n; ++a) {
+        if (!out->keypoints.push_back(d.keypoints[a])) break;
+        (void)out->descriptors.push_back(d.descriptors[a]);  // same capacity as keypoints
         if (a > 0) ++out->stats.extra_orientations;
       }
       ++used;
@@ -250,8 +272,9 @@ Status TextureFeatureExtractor::Extract(const ConstGrayView& image,
 
     // Next level: blur, then resample by kPyramidStep.
     if (k + 1 < levels) {
-      BlurPlane(level, step, tmp, gx);
-      ResampleBilinear(plane(kGx, w, h), kPyramidStep, plane(next, widths[k + 1], heights[k + 1]));
+      BlurPlane(level, step, tmp, gx, parallel);
+      ResampleBilinear(plane(kGx, w, h), kPyramidStep, plane(next, widths[k + 1], heights[k + 1]),
+                       parallel);
       std::swap(current, next);
     }
   }

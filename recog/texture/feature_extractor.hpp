@@ -16,6 +16,7 @@
 #include "recog/image/image.hpp"
 #include "recog/texture/descriptor.hpp"
 #include "recog/texture/float_planes.hpp"
+#include "recog/texture/parallel.hpp"
 #include "recog/texture/texture_features.hpp"
 
 namespace sh::texture {
@@ -45,8 +46,9 @@ class TextureFeatureExtractor {  // NOLINT(cppcoreguidelines-pro-type-member-ini
  public:
   // Detects and describes the image's features; `out` is cleared first. Fails (leaving `out`
   // empty) on an empty or oversized image or an invalid configuration.
+  // `parallel` spreads rows and keypoints over threads; the result does not depend on it.
   Status Extract(const ConstGrayView& image, const TextureFeatureConfig& config,
-                 TextureFeatures* out);
+                 TextureFeatures* out, const ParallelFor& parallel = {});
 
   // Smaller eigenvalue of the level-0 structure tensor of the last image (Shi-Tomasi strength,
   // intensities on [0, 1]); valid until the next Extract().
@@ -64,8 +66,18 @@ class TextureFeatureExtractor {  // NOLINT(cppcoreguidelines-pro-type-member-ini
   size_t SelectMaxima(int w, int h, const TextureFeatureConfig& config, size_t budget,
                       TextureFeatureStats* stats);
 
+  // One candidate's keypoints (one per orientation) and descriptors.
+  struct Described {
+    int n = 0;
+    TextureKeypoint keypoints[kMaxPointOrientations];
+    TextureDescriptor descriptors[kMaxPointOrientations];
+  };
+  template <typename Job>
+  void DescribeCandidate(const Job& job, int i);
+
   int width_ = 0, height_ = 0;
   OrientationWindow orientation_window_;
+  Described described_[kMaxTextureKeypoints];
   Candidate candidates_[kMaxLevelCandidates];
   float planes_[kPlanes][kMaxImagePixels];
 };

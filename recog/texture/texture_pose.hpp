@@ -24,13 +24,13 @@ inline constexpr size_t kMaxPoseObservations = 2048;
 struct PoseFeatureObservation {
   Eigen::Vector3d model_mm;
   Eigen::Vector2d left_px;  // distorted, as detected
-  double sigma_px;          // expected error (grows with the feature's scale)
+  double sigma_px = 1.0;    // expected error (grows with the feature's scale)
 };
 
 struct PoseStereoObservation {
   Eigen::Vector2d left_px, right_px;   // distorted
   Eigen::Vector3d plane_normal_model;  // the face's plane in the model: n . x = d
-  double plane_d_mm;
+  double plane_d_mm = 0.0;
 };
 
 struct PoseRefineConfig {

@@ -41,7 +41,8 @@ Eigen::Vector2d DistortIdeal(const CameraIntrinsics& cam, const Eigen::Vector2d&
 }  // namespace
 
 Status TextureRecognizer::Init(const StereoCalibration& calib, const FeatureDbView& db,
-                               const TextureRecognizerConfig& config, ClockFn now_ns) {
+                               const TextureRecognizerConfig& config, ClockFn now_ns,
+                               const ParallelFor& parallel) {
   initialised_ = false;
   if (db.empty()) {
     return Status::Error(StatusCode::kFailedPrecondition,
@@ -79,6 +80,7 @@ Status TextureRecognizer::Init(const StereoCalibration& calib, const FeatureDbVi
   db_ = db;
   config_ = config;
   now_ns_ = now_ns;
+  parallel_ = parallel;
   initialised_ = true;
   return Status::Ok();
 }
@@ -87,15 +89,19 @@ float TextureRecognizer::MsSince(int64_t start_ns) const {
   return now_ns_ ? static_cast<float>(now_ns_() - start_ns) * 1e-6f : 0.0f;
 }
 
-void TextureRecognizer::MatchFeatures() {
-  matches_.clear();
+void TextureRecognizer::MatchBand(int band) {
   const KdTreeView tree = db_.tree();
   const float ratio2 = config_.matching.ratio * config_.matching.ratio;
   const float same2 = config_.matching.same_point_mm * config_.matching.same_point_mm;
-  for (size_t i = 0; i < features_.keypoints.size(); ++i) {
+  const size_t n_kp = features_.keypoints.size();
+  const size_t begin = n_kp * static_cast<size_t>(band) / kParallelBands;
+  const size_t end = n_kp * static_cast<size_t>(band + 1) / kParallelBands;
+  KdSearcher& searcher = searchers_[band];
+  for (size_t i = begin; i < end; ++i) {
+    match_of_[i] = UINT32_MAX;
     KdNeighbour nb[kMatchNeighbours];
-    const int n = searcher_.Search(tree, features_.descriptors[i], kMatchNeighbours,
-                                   config_.matching.max_checks, nb);
+    const int n = searcher.Search(tree, features_.descriptors[i], kMatchNeighbours,
+                                  config_.matching.max_checks, nb);
     if (n == 0) continue;
     const FeatureRecord& f0 = db_.feature(nb[0].index);
     const uint16_t face0 = db_.view(f0.view).face;
@@ -111,8 +117,22 @@ void TextureRecognizer::MatchFeatures() {
         break;
       }
     }
-    if (!(static_cast<float>(nb[0].dist2) < ratio2 * static_cast<float>(other))) continue;
-    (void)matches_.push_back({static_cast<uint16_t>(i), nb[0].index});
+    if (static_cast<float>(nb[0].dist2) < ratio2 * static_cast<float>(other)) {
+      match_of_[i] = nb[0].index;
+    }
+  }
+}
+
+void TextureRecognizer::MatchFeatures() {
+  // Bands of keypoints over the threads, each with its own searcher; then the matches in
+  // keypoint order.
+  parallel_(
+      kParallelBands,
+      [](void* self, int band) { static_cast<TextureRecognizer*>(self)->MatchBand(band); }, this);
+  matches_.clear();
+  for (size_t i = 0; i < features_.keypoints.size(); ++i) {
+    if (match_of_[i] != UINT32_MAX)
+      (void)matches_.push_back({static_cast<uint16_t>(i), match_of_[i]});
   }
 }
 
@@ -171,7 +191,10 @@ void TextureRecognizer::FindFaces() {
   }
 }
 
-void TextureRecognizer::LocateFace(FaceDetection& d) {
+void TextureRecognizer::LocateFace(size_t index) {
+  FaceDetection& d = detections_[index];
+  Vector<Eigen::Vector2f>& contour_points = face_scratch_[index].contour;
+  Vector<StereoPoint>& face_stereo = face_scratch_[index].stereo;
   const TexturedFace& face = db_.face(d.face);
   const FaceFrame frame(face);
   const CameraIntrinsics& cam = calib_.left;
@@ -205,25 +228,25 @@ void TextureRecognizer::LocateFace(FaceDetection& d) {
   }
   prior.d_mm = prior.normal.dot(centre);
   SelectContourPoints(extractor_.min_eigenvalue(), contour, face.n_corners, config_.stereo,
-                      contour_points_);
-  face_stereo_.clear();
-  for (const Eigen::Vector2f& p : contour_points_) {
+                      contour_points);
+  face_stereo.clear();
+  for (const Eigen::Vector2f& p : contour_points) {
     StereoPoint sp;
-    if (stereo_matcher_.Match(p, prior, config_.stereo, &sp)) (void)face_stereo_.push_back(sp);
+    if (stereo_matcher_.Match(p, prior, config_.stereo, &sp)) (void)face_stereo.push_back(sp);
   }
   // A tilt from the homography that warps the window wrongly: retry facing the camera.
-  if (face_stereo_.size() < static_cast<size_t>(config_.stereo.min_plane_points) &&
+  if (face_stereo.size() < static_cast<size_t>(config_.stereo.min_plane_points) &&
       prior.normal.dot(centre.normalized()) > -0.999) {
     prior.normal = -centre.normalized();
     prior.d_mm = prior.normal.dot(centre);
-    face_stereo_.clear();
-    for (const Eigen::Vector2f& p : contour_points_) {
+    face_stereo.clear();
+    for (const Eigen::Vector2f& p : contour_points) {
       StereoPoint sp;
-      if (stereo_matcher_.Match(p, prior, config_.stereo, &sp)) (void)face_stereo_.push_back(sp);
+      if (stereo_matcher_.Match(p, prior, config_.stereo, &sp)) (void)face_stereo.push_back(sp);
     }
   }
   Plane3 plane;
-  if (!FitPlaneRansac(face_stereo_, config_.stereo, &plane, &d.plane)) return;
+  if (!FitPlaneRansac(face_stereo, config_.stereo, &plane, &d.plane)) return;
   // Corner rays (from the homography, ideal pixels) cut with the measured plane; Horn against
   // the model's corners.
   Eigen::Vector3d measured[kMaxTexturedFaceCorners], model_corners[kMaxTexturedFaceCorners];
@@ -238,11 +261,13 @@ void TextureRecognizer::LocateFace(FaceDetection& d) {
   }
   if (!AbsoluteOrientation(model_corners, measured, nullptr, face.n_corners, &d.cam_T_model))
     return;
-  d.first_stereo = static_cast<uint16_t>(stereo_points_.size());
-  for (const StereoPoint& sp : face_stereo_) {
-    if (sp.inlier && !stereo_points_.full()) (void)stereo_points_.push_back(sp);
+  // The plane's inliers first.
+  size_t kept = 0;
+  for (size_t i = 0; i < face_stereo.size(); ++i) {
+    if (face_stereo[i].inlier) face_stereo[kept++] = face_stereo[i];
   }
-  d.n_stereo = static_cast<uint16_t>(stereo_points_.size() - d.first_stereo);
+  (void)face_stereo.resize(kept);
+  d.n_stereo = static_cast<uint16_t>(kept);
   d.posed = true;
 }
 
@@ -277,8 +302,10 @@ void TextureRecognizer::AssembleObjects(TextureResult* out) {
     if (group_of[i] >= 0) strength[group_of[i]] += detections_[i].n_matches;
   }
   for (int g = 0; g < n_groups; ++g) order[g] = g;
-  std::stable_sort(order, order + n_groups,
-                   [&](int a, int b) { return strength[a] > strength[b]; });
+  // Ties keep group order (std::stable_sort would take a heap buffer).
+  std::sort(order, order + n_groups, [&](int a, int b) {
+    return strength[a] > strength[b] || (strength[a] == strength[b] && a < b);
+  });
 
   // Each group's pose, refined; verification follows once all are known.
   candidates_.clear();
@@ -306,7 +333,7 @@ void TextureRecognizer::AssembleObjects(TextureResult* out) {
       }
       const FaceFrame frame(db_.face(d.face));
       for (uint16_t k = 0; k < d.n_stereo && ns < kMaxPoseObservations; ++k) {
-        const StereoPoint& sp = stereo_points_[d.first_stereo + k];
+        const StereoPoint& sp = face_scratch_[i].stereo[k];
         PoseStereoObservation& o = stereo_obs_[ns++];
         o.left_px = sp.left_px.cast<double>();
         o.right_px = sp.right_px.cast<double>();
@@ -406,7 +433,7 @@ Status TextureRecognizer::Process(ConstGrayView left, ConstGrayView right, Textu
     *ms = static_cast<float>(now - t) * 1e-6f;
     t = now;
   };
-  SH_RETURN_IF_ERROR(extractor_.Extract(left, extraction_, &features_));
+  SH_RETURN_IF_ERROR(extractor_.Extract(left, extraction_, &features_, parallel_));
   for (size_t i = 0; i < features_.keypoints.size(); ++i) {
     const TextureKeypoint& kp = features_.keypoints[i];
     const Eigen::Vector2d n = UndistortPixel(calib_.left, {kp.x_px, kp.y_px});
@@ -416,10 +443,12 @@ Status TextureRecognizer::Process(ConstGrayView left, ConstGrayView right, Textu
   out->stats.keypoints = static_cast<uint32_t>(features_.keypoints.size());
   lap(&out->time.features_ms);
 
-  searcher_.ResetStats();
+  for (KdSearcher& s : searchers_) s.ResetStats();
   MatchFeatures();
   out->stats.matches = static_cast<uint32_t>(matches_.size());
-  out->stats.descriptors_compared = searcher_.stats().descriptors_compared;
+  for (const KdSearcher& s : searchers_) {
+    out->stats.descriptors_compared += s.stats().descriptors_compared;
+  }
   lap(&out->time.matching_ms);
 
   detections_.clear();
@@ -430,10 +459,14 @@ Status TextureRecognizer::Process(ConstGrayView left, ConstGrayView right, Textu
   out->stats.faces_2d = static_cast<uint32_t>(detections_.size());
   lap(&out->time.clustering_ms);
 
-  stereo_points_.clear();
   stereo_matcher_.Reset(&calib_, left, right);
-  for (FaceDetection& d : detections_) {
-    LocateFace(d);
+  parallel_(
+      static_cast<int>(detections_.size()),
+      [](void* self, int i) {
+        static_cast<TextureRecognizer*>(self)->LocateFace(static_cast<size_t>(i));
+      },
+      this);
+  for (const FaceDetection& d : detections_) {
     out->stats.faces_3d += d.posed ? 1 : 0;
     TextureFaceInfo info;
     info.face = d.face;

@@ -29,6 +29,7 @@
 #include "recog/texture/face_hough.hpp"
 #include "recog/texture/feature_extractor.hpp"
 #include "recog/texture/kd_tree.hpp"
+#include "recog/texture/parallel.hpp"
 #include "recog/texture/planar_fit.hpp"
 #include "recog/texture/plane_stereo.hpp"
 #include "recog/texture/print_verify.hpp"
@@ -125,14 +126,18 @@ struct TextureResult {
   TextureTimings time;
 };
 
-class TextureRecognizer {
+// The per-frame arrays are scratch written before they are read: not zeroed by design.
+class TextureRecognizer {  // NOLINT(cppcoreguidelines-pro-type-member-init)
  public:
   using ClockFn = int64_t (*)();
 
   // The database must outlive the recogniser. Fails when its extraction settings are invalid
   // or the calibration's image size exceeds the static buffers.
+  // `parallel` spreads the features, matching and stereo over threads (the caller's pool);
+  // results do not depend on it.
   Status Init(const StereoCalibration& calib, const FeatureDbView& db,
-              const TextureRecognizerConfig& config, ClockFn now_ns = nullptr);
+              const TextureRecognizerConfig& config, ClockFn now_ns = nullptr,
+              const ParallelFor& parallel = {});
 
   // Grey images of the calibration's size. On error the result is empty and the Status names
   // the problem.
@@ -147,7 +152,7 @@ class TextureRecognizer {
     uint16_t face = 0;
     PlanarFit fit;
     uint16_t first_match = 0, n_matches = 0;  // into planar_ (inliers)
-    uint16_t first_stereo = 0, n_stereo = 0;  // into stereo_points_ (plane inliers)
+    uint16_t n_stereo = 0;                    // plane inliers, first in its scratch's stereo points
     bool posed = false;
     RigidTransform cam_T_model;
     PlaneFitStats plane;
@@ -155,7 +160,8 @@ class TextureRecognizer {
 
   void MatchFeatures();
   void FindFaces();
-  void LocateFace(FaceDetection& d);
+  void LocateFace(size_t index);
+  void MatchBand(int band);
   void AssembleObjects(TextureResult* out);
   float MsSince(int64_t start_ns) const;
 
@@ -165,11 +171,13 @@ class TextureRecognizer {
   TextureRecognizerConfig config_;
   TextureFeatureConfig extraction_;
   ClockFn now_ns_ = nullptr;
+  ParallelFor parallel_;
 
   TextureFeatureExtractor extractor_;
   TextureFeatures features_;
   Eigen::Vector2f ideal_px_[kMaxTextureKeypoints];  // undistorted keypoint positions
-  KdSearcher searcher_;
+  KdSearcher searchers_[kParallelBands];            // one per band of keypoints
+  uint32_t match_of_[kMaxTextureKeypoints] = {};    // learnt feature per keypoint, or none
   struct Match {
     uint16_t keypoint;
     uint32_t feature;
@@ -184,9 +192,12 @@ class TextureRecognizer {
   Vector<PlanarMatch, 4 * kMaxTextureMatches> planar_;  // inliers of all detections
   Vector<FaceDetection, kMaxFaceDetections> detections_;
   PlaneStereoMatcher stereo_matcher_;
-  Vector<Eigen::Vector2f, kMaxFaceStereoPoints> contour_points_;
-  Vector<StereoPoint, kMaxFaceStereoPoints> face_stereo_;
-  Vector<StereoPoint, kMaxFaceDetections * kMaxFaceStereoPoints> stereo_points_;
+  // Per face detection (they are located in parallel): its Shi-Tomasi points and stereo points.
+  struct FaceScratch {
+    Vector<Eigen::Vector2f, kMaxFaceStereoPoints> contour;
+    Vector<StereoPoint, kMaxFaceStereoPoints> stereo;
+  };
+  FaceScratch face_scratch_[kMaxFaceDetections];
   PoseFeatureObservation feature_obs_[kMaxPoseObservations];
   PoseStereoObservation stereo_obs_[kMaxPoseObservations];
   TexturePoseRefiner refiner_;
