@@ -392,7 +392,7 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
         for (size_t k = 0; k < features->keypoints.size(); ++k) {
           const texture::TextureKeypoint& kp = features->keypoints[k];
           const Eigen::Vector2f p(kp.x_px, kp.y_px);
-          const float window = static_cast<float>(texture::DescriptorBorderPx()) * kp.scale;
+          const float window = 0.5f * static_cast<float>(texture::DescriptorBorderPx()) * kp.scale;
           if (!view.Inside(p, window)) continue;
           if (learnt.size() >= kMaxFeatureDbFeatures) {
             return Status::Error(StatusCode::kResourceExhausted,

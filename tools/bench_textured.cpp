@@ -47,7 +47,7 @@ void PrintHelp() {
   std::printf(
       "usage: stereohash bench textured (--recorded DIR | --rendered N) [--seed S]\n"
       "                                 [--models DIR] [--no-peer] [--json OUT] [--verbose]\n"
-      "                                 [--save DIR]\n"
+      "                                 [--save DIR] [--camera wide|tele|hd]\n"
       "Runs the texture path (and a peer of OpenCV SIFT + FLANN + RANSAC homography + solvePnP\n"
       "+ stereo, unless --no-peer) on printed cartons and scores both: correct = same model\n"
       "within 5 mm and 5 deg. The feature database is learnt from the models first.\n"
@@ -56,7 +56,9 @@ void PrintHelp() {
       "  --rendered N    N scenes per background x occlusion row from our renderer, seeds from\n"
       "                  S (default 1000, never used for tuning)\n"
       "  --models DIR    the printed models (default models/textured): tea, cereal, pills, tools\n"
-      "  --save DIR      with --rendered: also write the scenes as a recorded set to DIR\n");
+      "  --save DIR      with --rendered: also write the scenes as a recorded set to DIR\n"
+      "  --camera NAME   with --rendered: another camera than the thesis's "
+      "(scene_generator.hpp)\n");
 }
 
 struct Scene {
@@ -253,8 +255,9 @@ void Visibility(const render::RenderScene& scene, const std::vector<Model>& mode
 }
 
 // Scenes of our renderer: per background x occlusion row, n scenes with seeds from `seed`.
-Status RenderScenes(int n, uint64_t seed, const std::vector<TexturedModel>& printed,
-                    std::vector<Scene>* scenes, StereoCalibration* calib) {
+Status RenderScenes(int n, uint64_t seed, const render::ScenarioParams& camera,
+                    const std::vector<TexturedModel>& printed, std::vector<Scene>* scenes,
+                    StereoCalibration* calib) {
   std::vector<Model> models;
   models.reserve(printed.size());
   for (const TexturedModel& t : printed) models.push_back(t.model);
@@ -276,7 +279,7 @@ Status RenderScenes(int n, uint64_t seed, const std::vector<TexturedModel>& prin
               {render::Background::kLight, render::Occlusion::kSevere, "light", "severe"}};
   for (const auto& row : rows) {
     for (int i = 0; i < n; ++i) {
-      render::ScenarioParams p;
+      render::ScenarioParams p = camera;
       p.background = row.bg;
       p.occlusion = row.occ;
       p.n_objects = 3 + (i % 2);
@@ -381,6 +384,7 @@ int RunBenchTextured(int argc, char** argv) {
   int rendered = 0;
   uint64_t seed = 1000;
   bool peer = true, verbose = false;
+  render::ScenarioParams camera;  // the thesis camera unless --camera
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
@@ -391,6 +395,12 @@ int RunBenchTextured(int argc, char** argv) {
       peer = false;
     } else if (a == "--verbose") {
       verbose = true;
+    } else if (a == "--camera") {
+      const char* v = value();
+      if (v == nullptr || !render::NamedCamera(v, &camera)) {
+        std::fprintf(stderr, "stereohash bench textured: --camera needs wide, tele or hd\n");
+        return 2;
+      }
     } else if (a == "--recorded" || a == "--rendered" || a == "--seed" || a == "--models" ||
                a == "--json" || a == "--save") {
       const char* v = value();
@@ -452,7 +462,7 @@ int RunBenchTextured(int argc, char** argv) {
     const Status st = LoadRecorded(recorded, calib, models, &scenes);
     if (!st.ok()) return Fail(st.message());
   } else {
-    Status st = RenderScenes(rendered, seed, printed, &scenes, &calib);
+    Status st = RenderScenes(rendered, seed, camera, printed, &scenes, &calib);
     if (st.ok() && save_dir != nullptr) st = SaveScenes(save_dir, models, scenes);
     if (!st.ok()) return Fail(st.message());
   }
@@ -470,7 +480,19 @@ int RunBenchTextured(int argc, char** argv) {
 #endif
   auto result = std::make_unique<texture::TextureResult>();
   Score ours, theirs;
-  std::string rows_json;
+  // Per background x occlusion row (the thesis's table 5.5): correct / missed / false alarms.
+  std::vector<std::string> row_names;
+  std::vector<Score> row_ours, row_theirs;
+  auto row_of = [&](const Scene& s) {
+    const std::string name = s.background + " " + s.occlusion;
+    for (size_t i = 0; i < row_names.size(); ++i) {
+      if (row_names[i] == name) return i;
+    }
+    row_names.push_back(name);
+    row_ours.emplace_back();
+    row_theirs.emplace_back();
+    return row_names.size() - 1;
+  };
   for (const Scene& s : scenes) {
     const ConstGrayView l{s.left.data(), s.width, s.height, s.width};
     const ConstGrayView r{s.right.data(), s.width, s.height, s.width};
@@ -481,6 +503,8 @@ int RunBenchTextured(int argc, char** argv) {
     for (const texture::TextureObject& o : result->objects)
       found.push_back({o.model, o.cam_T_model});
     ScoreScene(models, s, found, &ours, verbose, "texture");
+    const size_t row = row_of(s);
+    ScoreScene(models, s, found, &row_ours[row], false, "texture");
     const texture::TextureTimings& t = result->time;
     ours.total_ms.push_back(t.total_ms);
     ours.stage_ms[0].push_back(t.features_ms);
@@ -497,6 +521,7 @@ int RunBenchTextured(int argc, char** argv) {
       peer_found.reserve(objects.size());
       for (const PeerObject& o : objects) peer_found.push_back({o.model, o.cam_T_model});
       ScoreScene(models, s, peer_found, &theirs, verbose, "opencv");
+      ScoreScene(models, s, peer_found, &row_theirs[row], false, "opencv");
       theirs.total_ms.push_back(pt.total_ms);
       theirs.stage_ms[0].push_back(pt.features_ms);
       theirs.stage_ms[1].push_back(pt.matching_ms);
@@ -507,6 +532,17 @@ int RunBenchTextured(int argc, char** argv) {
   }
   std::printf("%zu scenes, %s\n", scenes.size(),
               recorded != nullptr ? recorded : "rendered (held-out seeds)");
+  std::printf("%-14s %7s  %-22s%s\n", "row", "objects", "texture: ok / miss / FA",
+              peer ? "  opencv: ok / miss / FA" : "");
+  for (size_t i = 0; i < row_names.size(); ++i) {
+    std::printf("%-14s %7d  %5d / %4d / %2d        ", row_names[i].c_str(), row_ours[i].objects,
+                row_ours[i].correct, row_ours[i].missed, row_ours[i].false_alarms);
+    if (peer) {
+      std::printf("  %5d / %4d / %2d", row_theirs[i].correct, row_theirs[i].missed,
+                  row_theirs[i].false_alarms);
+    }
+    std::printf("\n");
+  }
   PrintScore("texture", ours);
   if (peer) PrintScore("opencv", theirs);
   std::printf("(the paper: about 1 s per scene on a 3 GHz CPU, SIFT 0.4 s, matching 0.6 s)\n");

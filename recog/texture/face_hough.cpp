@@ -23,6 +23,17 @@ bool InRange(int b) { return b >= -kOffset && b < kOffset; }
 
 }  // namespace
 
+void ScalesForCamera(double focal_px, double learnt_px_per_mm, double min_depth_mm,
+                     double max_depth_mm, HoughConfig* config) {
+  const double lo = focal_px / (max_depth_mm * learnt_px_per_mm);
+  const double hi = focal_px / (min_depth_mm * learnt_px_per_mm);
+  config->n_scales = kMaxHoughScales;
+  for (int k = 0; k < kMaxHoughScales; ++k) {
+    const double t = static_cast<double>(k) / (kMaxHoughScales - 1);
+    config->scales[k] = static_cast<float>(lo * std::pow(hi / lo, t));
+  }
+}
+
 void FaceHough::Vote(const HoughInput* inputs, size_t count, const HoughConfig& config) {
   n_votes_ = 0;
   const int n_scales = std::clamp(config.n_scales, 1, kMaxHoughScales);

@@ -29,9 +29,17 @@ inline constexpr size_t kMaxHoughClusters = 256;
 struct HoughConfig {
   float resolution = 0.05f;  // r: bins per image pixel
   int n_scales = 6;
-  float scales[kMaxHoughScales] = {0.5f, 0.6f, 0.7f, 0.8f, 0.9f, 1.0f};  // s_k
+  float scales[kMaxHoughScales] = {0.5f, 0.6f, 0.7f, 0.8f, 0.9f, 1.0f};  // s_k (the paper's)
   int min_votes = 5;  // distinct matches in a maximum's neighbourhood
 };
+
+// The scales s_k for a camera: a face at depth Z appears at about focal_px / Z image pixels per
+// millimetre, the learnt views have learnt_px_per_mm, so faces between min_depth_mm and
+// max_depth_mm appear at s in [focal / (max_depth ppm), focal / (min_depth ppm)]. The list
+// spreads kMaxHoughScales scales evenly in log s over that range (the paper's 0.5 .. 1.0 in steps
+// of 0.1 is its own camera's range at one resolution).
+void ScalesForCamera(double focal_px, double learnt_px_per_mm, double min_depth_mm,
+                     double max_depth_mm, HoughConfig* config);
 
 // One match of a scene keypoint to a learnt feature, with what the vote needs.
 struct HoughInput {

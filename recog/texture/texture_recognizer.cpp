@@ -76,9 +76,19 @@ Status TextureRecognizer::Init(const StereoCalibration& calib, const FeatureDbVi
                          "texture recogniser: stereo window radius 1..%d and 3..%zu points",
                          kMaxZnccRadiusPx, kMaxFaceStereoPoints);
   }
+  if (config.auto_scales &&
+      !(config.min_depth_mm > 0.0f && config.max_depth_mm > config.min_depth_mm)) {
+    return Status::Error(
+        StatusCode::kOutOfRange, "texture recogniser: depth range %.0f .. %.0f mm is empty",
+        static_cast<double>(config.min_depth_mm), static_cast<double>(config.max_depth_mm));
+  }
   calib_ = calib;
   db_ = db;
   config_ = config;
+  if (config.auto_scales) {
+    ScalesForCamera(0.5 * (calib.left.fx + calib.left.fy), db.header().feature_px_per_mm,
+                    config.min_depth_mm, config.max_depth_mm, &config_.hough);
+  }
   now_ns_ = now_ns;
   parallel_ = parallel;
   initialised_ = true;

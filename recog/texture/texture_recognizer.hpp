@@ -61,6 +61,12 @@ struct TextureRecognizerConfig {
   float merge_angle_deg = 10.0f;
   // Objects of any model closer than this (centres) to an accepted one are duplicates.
   float duplicate_distance_mm = 20.0f;
+  // Depths (along the optical axis) faces are expected at. With auto_scales, Init sets the
+  // Hough scales for the camera and the database's resolution from them (face_hough.hpp,
+  // ScalesForCamera); otherwise hough.scales are used as given.
+  bool auto_scales = true;
+  float min_depth_mm = 300.0f;
+  float max_depth_mm = 900.0f;
 };
 
 struct TextureObject {
