@@ -69,15 +69,6 @@ bool IsFile(const std::string& path) {
   return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 
-bool ReadText(const std::string& path, std::string* text) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  *text = ss.str();
-  return true;
-}
-
 // Scene folders of DIR: sub-folders holding left.png, right.png and truth.json, sorted by name.
 std::vector<std::string> SceneFolders(const std::string& dir) {
   std::vector<std::string> names;
@@ -104,7 +95,7 @@ struct SceneTruth {
 
 Status ParseTruth(const std::string& path, const TableView& tables, SceneTruth* out) {
   std::string text;
-  if (!ReadText(path, &text)) {
+  if (!ReadTextFile(path, &text)) {
     return Status::Error(StatusCode::kNotFound, "cannot read %s", path.c_str());
   }
   Json json;

@@ -137,15 +137,6 @@ std::string ScoreJson(const Score& s) {
   return b;
 }
 
-bool ReadText(const std::string& path, std::string* text) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  *text = ss.str();
-  return true;
-}
-
 int ModelIndex(const std::vector<Model>& models, const std::string& name) {
   for (size_t i = 0; i < models.size(); ++i) {
     if (name == models[i].name) return static_cast<int>(i);
@@ -179,7 +170,8 @@ Status LoadRecorded(const std::string& dir, const StereoCalibration& calib,
     base.append("/").append(name).append("/");
     std::string text;
     testing_support::Json json;
-    if (!ReadText(base + "truth.json", &text) || !testing_support::JsonReader(text).Parse(&json)) {
+    if (!ReadTextFile(base + "truth.json", &text) ||
+        !testing_support::JsonReader(text).Parse(&json)) {
       return Status::Error(StatusCode::kInvalidArgument, "%s/truth.json: not readable JSON",
                            name.c_str());
     }

@@ -13,6 +13,7 @@
 #include "tools/mono_setup.hpp"
 #include "tools/overlay.hpp"
 #include "tools/recognize_setup.hpp"
+#include "tools/recognize_texture.hpp"
 #include "tools/recorded_pair.hpp"
 #include "tools/report_util.hpp"
 
@@ -27,7 +28,9 @@ void PrintHelp() {
       "                            [--table TABLE.yaml] [--budget-ms N] [--background dark|light]\n"
       "                            [--threads N] [--overlay-features OUT.png]\n"
       "Recognises the reference objects in a calibrated stereo pair (PNG or PGM, grey or colour)\n"
-      "and prints their poses: x_cam = R x_model + t, model and left-camera millimetres.\n"
+      "and prints their poses: x_cam = R x_model + t, model and left-camera millimetres. With a\n"
+      "feature database as --tables (`stereohash tables build --models models/textured`), the\n"
+      "printed models it holds (docs/texture.md).\n"
       "  --json        write {\"objects\": [...], \"features\": {...}, \"time_ms\": {...}, ...}\n"
       "  --overlay     write left | right with the recognised models' visible edges (RGB PNG)\n"
       "  --overlay-features  write left | right with what the detectors found: edge pixels\n"
@@ -208,12 +211,23 @@ int RunRecognize(int argc, char** argv) {
     table.left_T_table = *pose;
     table.source = options.table_path;
   }
-  LoadedTables tables;
-  Status s = LoadTables(options.tables_path, &tables);
-  if (!s.ok()) return Fail("%s", s.message());
   LoadedImage left, right;
-  s = LoadImage(left_path, "left", &left);
+  Status s = LoadImage(left_path, "left", &left);
   if (s.ok()) s = LoadImage(right_path, "right", &right);
+  if (!s.ok()) return Fail("%s", s.message());
+  // A feature database (printed models) goes through the texture path.
+  if (IsFeatureDbFile(options.tables_path)) {
+    LoadedFeatureDb db;
+    s = LoadFeatureDb(options.tables_path, &db);
+    if (!s.ok()) return Fail("%s", s.message());
+    TextureRun run;
+    run.json_path = json_path;
+    run.overlay_path = overlay_path;
+    run.threads = options.threads;
+    return RecognizePrinted(*calib, db.view, left.view, right.view, run);
+  }
+  LoadedTables tables;
+  s = LoadTables(options.tables_path, &tables);
   if (!s.ok()) return Fail("%s", s.message());
 
   const PipelineConfig config = MakePipelineConfig(options, table);

@@ -10,7 +10,10 @@
 #include "tables/table_builder.hpp"
 #include "tables/table_file.hpp"
 #include "tools/command.hpp"
+#include "tools/recognize_texture.hpp"
+#include "tools/report_util.hpp"
 #include "tools/tables_aspects.hpp"
+#include "tools/tables_printed.hpp"
 
 namespace sh::tools {
 namespace {
@@ -31,7 +34,8 @@ void BuildUsage() {
       "usage: stereohash tables build --out FILE [--hash-fn 1..5] [--models DIR]\n"
       "                               [--names cube,hexagon,...]\n"
       "Builds the hash table blob of one hash function (default 5) for the models\n"
-      "DIR/<name>.obj (default: the six reference models in ./models).\n"
+      "DIR/<name>.obj (default: the six reference models in ./models). A folder of printed\n"
+      "models (OBJ with vt, MTL with map_Kd: models/textured) gives their feature database.\n"
       "       stereohash tables build --hash-2d similarity|affine --out FILE ...\n"
       "Builds the aspect table of the monocular mode ('--hash-2d x --help' for more).\n");
 }
@@ -92,6 +96,7 @@ int RunBuild(int argc, char** argv) {
     if (std::strcmp(argv[i], "--hash-2d") == 0) return BuildAspectTable(argc, argv);
   }
   std::string out, models_dir = "models", names;
+  bool models_given = false;
   int hf = 5;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -111,6 +116,7 @@ int RunBuild(int argc, char** argv) {
       hf = std::atoi(value().c_str());
     } else if (a == "--models") {
       models_dir = value();
+      models_given = true;
     } else if (a == "--names") {
       names = value();
     } else {
@@ -118,6 +124,24 @@ int RunBuild(int argc, char** argv) {
       BuildUsage();
       return 2;
     }
+  }
+  // A folder of printed models (OBJ with texture coordinates and an image) gives their feature
+  // database; the hash tables are for the others.
+  if (names.empty() && models_given && !out.empty()) {
+    std::vector<std::string> printed, plain;
+    const Status s = ClassifyModelFolder(models_dir, &printed, &plain);
+    if (!s.ok()) {
+      std::fprintf(stderr, "stereohash tables build: %s\n", s.message());
+      return 1;
+    }
+    if (!printed.empty() && !plain.empty()) {
+      std::fprintf(stderr,
+                   "stereohash tables build: %s holds printed and plain models; build each kind "
+                   "from its own folder\n",
+                   models_dir.c_str());
+      return 2;
+    }
+    if (!printed.empty()) return BuildPrintedTables(printed, out);
   }
   if (out.empty() || !IsValidHashFunction(hf)) {
     std::fprintf(stderr, "stereohash tables build: need --out FILE and --hash-fn 1..5\n");
@@ -138,9 +162,7 @@ int RunBuild(int argc, char** argv) {
     std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
     return 1;
   }
-  FILE* f = std::fopen(out.c_str(), "wb");
-  if (f == nullptr || std::fwrite(blob->data(), 1, blob->size(), f) != blob->size() ||
-      std::fclose(f) != 0) {
+  if (!WriteFileBytes(out.c_str(), blob->data(), blob->size())) {
     std::fprintf(stderr, "stereohash tables build: cannot write '%s'\n", out.c_str());
     return 1;
   }
@@ -244,6 +266,18 @@ int RunInfo(int argc, char** argv) {
         continue;
       }
       Describe(*view, DefaultTableBlobSize());
+      continue;
+    }
+    if (IsFeatureDbFile(file.c_str())) {
+      LoadedFeatureDb db;
+      const Status s = LoadFeatureDb(file.c_str(), &db);
+      if (!s.ok()) {
+        std::printf("\n");
+        std::fprintf(stderr, "stereohash tables info: %s\n", s.message());
+        rc = 1;
+        continue;
+      }
+      DescribeFeatureDb(db.view, db.view.header().total_size);
       continue;
     }
     MappedTable table;

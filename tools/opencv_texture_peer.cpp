@@ -31,6 +31,12 @@ constexpr int kNeighbours = 6;
 constexpr int kMinFaceInliers = 8;
 constexpr double kRansacPx = 3.0;
 
+// OpenCV's camera matrix and distortion coefficients (k1 k2 p1 p2 k3) of a camera.
+void CameraMatrices(const CameraIntrinsics& c, cv::Mat* K, cv::Mat* D) {
+  *K = (cv::Mat_<double>(3, 3) << c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1);
+  *D = (cv::Mat_<double>(1, 5) << c.k1, c.k2, c.p1, c.p2, c.k3);
+}
+
 struct Learnt {
   int model, face;  // face: index over all printed faces
   Eigen::Vector3f model_mm;
@@ -132,10 +138,8 @@ Status OpenCvTexturePeer::Process(const StereoCalibration& calib, ConstGrayView 
   const double t2 = NowMs();
   time->matching_ms = static_cast<float>(t2 - t1);
   // A RANSAC homography per face (face millimetres to undistorted left pixels).
-  cv::Mat K1 = (cv::Mat_<double>(3, 3) << calib.left.fx, 0, calib.left.cx, 0, calib.left.fy,
-                calib.left.cy, 0, 0, 1);
-  cv::Mat D1 = (cv::Mat_<double>(1, 5) << calib.left.k1, calib.left.k2, calib.left.p1,
-                calib.left.p2, calib.left.k3);
+  cv::Mat K1, D1;
+  CameraMatrices(calib.left, &K1, &D1);
   std::map<int, std::vector<std::pair<int, int>>> by_model;
   for (const auto& [face, list] : by_face) {
     if (static_cast<int>(list.size()) < kMinFaceInliers) continue;
@@ -160,10 +164,8 @@ Status OpenCvTexturePeer::Process(const StereoCalibration& calib, ConstGrayView 
   const double t3 = NowMs();
   time->clustering_ms = static_cast<float>(t3 - t2);
   // Pose per model: solvePnP, then stereo.
-  cv::Mat K2 = (cv::Mat_<double>(3, 3) << calib.right.fx, 0, calib.right.cx, 0, calib.right.fy,
-                calib.right.cy, 0, 0, 1);
-  cv::Mat D2 = (cv::Mat_<double>(1, 5) << calib.right.k1, calib.right.k2, calib.right.p1,
-                calib.right.p2, calib.right.k3);
+  cv::Mat K2, D2;
+  CameraMatrices(calib.right, &K2, &D2);
   cv::Mat R, T;
   cv::eigen2cv(calib.right_R_left, R);
   cv::eigen2cv(calib.right_t_left_mm, T);

@@ -181,11 +181,10 @@ void DrawSegment(ImageView<Rgb8> image, float x0, float y0, float x1, float y1, 
 
 }  // namespace
 
-Status DrawLabelledModel(const Pipeline& pipeline, const PosedModel& posed,
+Status DrawLabelledModel(const StereoCalibration& calib, const PosedModel& posed,
                          const PosedModel* occluders, size_t n_occluders, const char* label,
                          Rgb8 colour, std::vector<uint8_t>* rgb, int width, int height) {
   SH_ASSIGN_OR_RETURN(const Halves halves, SplitOverlay(rgb, width, height));
-  const StereoCalibration& calib = pipeline.calibration();
   const ViewCamera views[2] = {LeftView(calib), RightView(calib)};
   for (int v = 0; v < 2; ++v) {
     SH_RETURN_IF_ERROR(
@@ -201,15 +200,10 @@ Status DrawLabelledModel(const Pipeline& pipeline, const PosedModel& posed,
   return Status::Ok();
 }
 
-Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, ConstGrayView left,
-                    ConstGrayView right, std::vector<uint8_t>* rgb, int* width, int* height) {
+Status BuildPosedOverlay(const StereoCalibration& calib, const PosedModel* posed, size_t n,
+                         ConstGrayView left, ConstGrayView right, std::vector<uint8_t>* rgb,
+                         int* width, int* height) {
   SH_RETURN_IF_ERROR(DimmedPair(left, right, 3, rgb, width, height));
-  const TableView& table = pipeline.table();
-  const size_t n = result.objects.size();
-  PosedModel posed[kMaxObjects];
-  for (size_t i = 0; i < n; ++i) {
-    posed[i] = {&table.model(result.objects[i].model), result.objects[i].cam_T_model};
-  }
   for (size_t i = 0; i < n; ++i) {
     // Every other recognised object may hide this one (at most kMaxOccluders of them).
     PosedModel occluders[kMaxOccluders];
@@ -217,11 +211,22 @@ Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, Cons
     for (size_t k = 0; k < n && n_occluders < kMaxOccluders; ++k) {
       if (k != i) occluders[n_occluders++] = posed[k];
     }
-    SH_RETURN_IF_ERROR(DrawLabelledModel(pipeline, posed[i], occluders, n_occluders,
+    SH_RETURN_IF_ERROR(DrawLabelledModel(calib, posed[i], occluders, n_occluders,
                                          posed[i].model->name, ObjectColour(static_cast<int>(i)),
                                          rgb, *width, *height));
   }
   return Status::Ok();
+}
+
+Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, ConstGrayView left,
+                    ConstGrayView right, std::vector<uint8_t>* rgb, int* width, int* height) {
+  const TableView& table = pipeline.table();
+  const size_t n = result.objects.size();
+  PosedModel posed[kMaxObjects];
+  for (size_t i = 0; i < n; ++i) {
+    posed[i] = {&table.model(result.objects[i].model), result.objects[i].cam_T_model};
+  }
+  return BuildPosedOverlay(pipeline.calibration(), posed, n, left, right, rgb, width, height);
 }
 
 Status BuildFeatureOverlay(const Pipeline& pipeline, ConstGrayView left, ConstGrayView right,

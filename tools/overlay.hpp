@@ -23,7 +23,13 @@ int TextWidth(const char* text, int scale);
 // Colour of the i-th object: well separated hues that stand out on grey.
 Rgb8 ObjectColour(int i);
 
-// Builds the side-by-side overlay (2 w x h RGB, packed rows) of one processed frame.
+// Builds the side-by-side overlay (2 w x h RGB, packed rows) of posed models: each one's
+// visible edges (hidden lines removed, the others as occluders) and its name.
+Status BuildPosedOverlay(const StereoCalibration& calib, const PosedModel* posed, size_t n,
+                         ConstGrayView left, ConstGrayView right, std::vector<uint8_t>* rgb,
+                         int* width, int* height);
+
+// The overlay of one processed frame of the pipeline.
 Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, ConstGrayView left,
                     ConstGrayView right, std::vector<uint8_t>* rgb, int* width, int* height);
 
@@ -34,8 +40,8 @@ Status BuildFeatureOverlay(const Pipeline& pipeline, ConstGrayView left, ConstGr
                            std::vector<uint8_t>* rgb, int* width, int* height);
 
 // Draws a posed model's visible edges (hidden by `occluders`) into the left | right overlay of
-// `pipeline`'s calibration, labelled with `label` at the model's centre.
-Status DrawLabelledModel(const Pipeline& pipeline, const PosedModel& posed,
+// the calibration `calib`, labelled with `label` at the model's centre.
+Status DrawLabelledModel(const StereoCalibration& calib, const PosedModel& posed,
                          const PosedModel* occluders, size_t n_occluders, const char* label,
                          Rgb8 colour, std::vector<uint8_t>* rgb, int width, int height);
 

@@ -4,9 +4,11 @@ target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/cmd_recognize.cpp
                                   ${CMAKE_CURRENT_LIST_DIR}/recognize_setup.cpp
                                   ${CMAKE_CURRENT_LIST_DIR}/report_util.cpp
                                   ${CMAKE_CURRENT_LIST_DIR}/overlay.cpp
-                                  ${CMAKE_CURRENT_LIST_DIR}/recorded_pair.cpp)
+                                  ${CMAKE_CURRENT_LIST_DIR}/recorded_pair.cpp
+                                  ${CMAKE_CURRENT_LIST_DIR}/recognize_texture.cpp)
 target_link_libraries(stereohash PRIVATE stereohash_pipeline stereohash_image_files
-                      stereohash_default_tables stereohash_tables stereohash_camera stereohash_stereo)
+                      stereohash_default_tables stereohash_tables stereohash_camera stereohash_stereo
+                      stereohash_texture_recognizer stereohash_feature_db)
 # One camera: `recognize --left L` (or --right, or --monocular with --scene).
 target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/mono_setup.cpp)
 target_link_libraries(stereohash PRIVATE stereohash_mono stereohash_default_aspects

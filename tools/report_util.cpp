@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 
 namespace sh::tools {
 
@@ -22,11 +24,24 @@ std::string CommandLine(int argc, char** argv) {
   return s;
 }
 
-bool WriteTextFile(const char* path, const std::string& text) {
+bool WriteFileBytes(const char* path, const void* data, size_t size) {
   std::FILE* f = std::fopen(path, "wb");
   if (f == nullptr) return false;
-  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  const bool ok = std::fwrite(data, 1, size, f) == size;
   return std::fclose(f) == 0 && ok;
+}
+
+bool WriteTextFile(const char* path, const std::string& text) {
+  return WriteFileBytes(path, text.data(), text.size());
+}
+
+bool ReadTextFile(const std::string& path, std::string* text) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  *text = ss.str();
+  return static_cast<bool>(in) || in.eof();
 }
 
 }  // namespace sh::tools

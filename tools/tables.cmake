@@ -5,3 +5,6 @@ target_link_libraries(stereohash PRIVATE stereohash_table_builder stereohash_def
 target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/tables_aspects.cpp)
 target_link_libraries(stereohash PRIVATE stereohash_aspect_builder stereohash_default_aspects)
 stereohash_headers(stereohash PRIVATE tables_aspects.hpp)
+# Printed models: the feature database (tables/feature_db_builder).
+target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/tables_printed.cpp)
+target_link_libraries(stereohash PRIVATE stereohash_feature_db_builder stereohash_feature_db)

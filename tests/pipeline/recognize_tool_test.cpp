@@ -17,36 +17,16 @@
 #include "tables/table_file.hpp"
 #include "tools/eval/mini_json.hpp"
 #include "tools/eval/synthetic_scene.hpp"
+#include "tests/support/tool_run.hpp"
 
 namespace sh {
 namespace {
 
-struct ToolRun {
-  int exit_code = -1;
-  bool signalled = false;
-  std::string output;  // stdout and stderr
-};
+using testing::ToolRun;
 
-ToolRun RunTool(const std::string& args) {
-  ToolRun r;
-  const std::string command = std::string(STEREOHASH_EXE) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) r.output.append(buffer, n);
-  const int status = pclose(pipe);
-  r.signalled = WIFSIGNALED(status);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+ToolRun RunTool(const std::string& args) { return testing::RunTool(STEREOHASH_EXE, args); }
 
-std::string ReadText(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+std::string ReadText(const std::string& path) { return testing::ReadFileText(path); }
 
 void WriteText(const std::string& path, const std::string& text) {
   std::ofstream f(path, std::ios::binary);

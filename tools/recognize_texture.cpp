@@ -1,0 +1,147 @@
+#include "tools/recognize_texture.hpp"
+
+#include <Eigen/Geometry>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include "recog/pipeline/worker_pool.hpp"
+#include "tools/overlay.hpp"
+#include "tools/recognize_setup.hpp"
+#include "tools/report_util.hpp"
+
+namespace sh::tools {
+namespace {
+
+int Fail(const char* fmt, const char* a, const char* b = "") {
+  std::fprintf(stderr, "stereohash recognize: ");
+  std::fprintf(stderr, fmt, a, b);
+  std::fprintf(stderr, "\n");
+  return 1;
+}
+
+void PrintObjects(const FeatureDbView& db, const texture::TextureResult& r) {
+  std::printf("%zu printed object%s recognised\n", r.objects.size(),
+              r.objects.size() == 1 ? "" : "s");
+  if (!r.objects.empty()) {
+    std::printf("  %-2s %-10s %28s %28s %13s %5s %7s %6s\n", "#", "model", "t (mm, left camera)",
+                "rotation vector (deg)", "print l / r", "faces", "matches", "stereo");
+  }
+  for (size_t i = 0; i < r.objects.size(); ++i) {
+    const texture::TextureObject& o = r.objects[i];
+    const Eigen::AngleAxisf aa(o.cam_T_model.R);
+    const Eigen::Vector3f rv = aa.axis() * aa.angle() * 57.29577951f;  // radians to degrees
+    const Eigen::Vector3f& t = o.cam_T_model.t_mm;
+    std::printf("  %-2zu %-10s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %6.3f %6.3f %5u %7u %6u\n", i,
+                db.model(o.model).name, t.x(), t.y(), t.z(), rv.x(), rv.y(), rv.z(),
+                o.print.zncc[0], o.print.zncc[1], o.faces, o.feature_matches, o.stereo_points);
+  }
+  const texture::TextureStats& s = r.stats;
+  std::printf(
+      "texture: %u keypoints, %u matches, %u clusters, %u faces in 2-D, %u with a stereo plane, "
+      "%u hypotheses, %u rejected\n",
+      s.keypoints, s.matches, s.clusters, s.faces_2d, s.faces_3d, s.hypotheses, s.rejected);
+  const texture::TextureTimings& t = r.time;
+  std::printf(
+      "time: features %.1f ms, matching %.1f ms, clustering %.1f ms, stereo %.1f ms, pose and "
+      "verification %.1f ms, total %.1f ms\n",
+      t.features_ms, t.matching_ms, t.clustering_ms, t.stereo_ms, t.verify_ms, t.total_ms);
+}
+
+}  // namespace
+
+bool IsFeatureDbFile(const char* path) {
+  if (path == nullptr) return false;
+  std::ifstream in(path, std::ios::binary);
+  char magic[sizeof(kFeatureDbMagic)] = {};
+  return in.read(magic, sizeof(magic)) &&
+         std::memcmp(magic, kFeatureDbMagic, sizeof(kFeatureDbMagic)) == 0;
+}
+
+Status LoadFeatureDb(const char* path, LoadedFeatureDb* out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Status::Error(StatusCode::kNotFound, "cannot open %s", path);
+  const std::vector<char> bytes((std::istreambuf_iterator<char>(in)),
+                                std::istreambuf_iterator<char>());
+  out->storage.assign(bytes.size() + 64, 0);
+  uint8_t* aligned =
+      out->storage.data() + (64 - reinterpret_cast<uintptr_t>(out->storage.data()) % 64) % 64;
+  std::memcpy(aligned, bytes.data(), bytes.size());
+  Result<FeatureDbView> view = FeatureDbView::Open(aligned, bytes.size());
+  if (!view.ok())
+    return Status::Error(view.status().code(), "%s: %s", path, view.status().message());
+  out->view = *view;
+  return Status::Ok();
+}
+
+std::string TextureResultJson(const FeatureDbView& db, const texture::TextureResult& r,
+                              int threads) {
+  std::string json = "{\"frame\": \"camera\", \"objects\": [";
+  char buffer[1024];
+  for (size_t i = 0; i < r.objects.size(); ++i) {
+    const texture::TextureObject& o = r.objects[i];
+    const Eigen::Matrix3f& R = o.cam_T_model.R;
+    const Eigen::Vector3f& t = o.cam_T_model.t_mm;
+    std::snprintf(buffer, sizeof(buffer),
+                  "%s{\"model\": \"%s\", \"R\": [[%.7f, %.7f, %.7f], [%.7f, %.7f, %.7f], [%.7f, "
+                  "%.7f, %.7f]], \"t\": [%.4f, %.4f, %.4f], \"verify\": [%.4f, %.4f], \"faces\": "
+                  "%u, \"feature_matches\": %u, \"stereo_points\": %u, \"plane_mean_mm\": %.3f}",
+                  i ? ", " : "", db.model(o.model).name, R(0, 0), R(0, 1), R(0, 2), R(1, 0),
+                  R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z(), o.print.zncc[0],
+                  o.print.zncc[1], o.faces, o.feature_matches, o.stereo_points, o.plane_mean_mm);
+    json += buffer;
+  }
+  const texture::TextureStats& s = r.stats;
+  const texture::TextureTimings& t = r.time;
+  std::snprintf(buffer, sizeof(buffer),
+                "], \"texture\": {\"keypoints\": %u, \"matches\": %u, \"clusters\": %u, "
+                "\"faces_2d\": %u, \"faces_3d\": %u, \"hypotheses\": %u, \"rejected\": %u}, "
+                "\"time_ms\": {\"features\": %.3f, \"matching\": %.3f, \"clustering\": %.3f, "
+                "\"stereo\": %.3f, \"verify\": %.3f, \"total\": %.3f}, \"threads\": %d}\n",
+                s.keypoints, s.matches, s.clusters, s.faces_2d, s.faces_3d, s.hypotheses,
+                s.rejected, t.features_ms, t.matching_ms, t.clustering_ms, t.stereo_ms, t.verify_ms,
+                t.total_ms, threads);
+  json += buffer;
+  return json;
+}
+
+int RecognizePrinted(const StereoCalibration& calib, const FeatureDbView& db, ConstGrayView left,
+                     ConstGrayView right, const TextureRun& run) {
+  WorkerPool pool;
+  Status s = pool.Start(run.threads);
+  if (!s.ok()) return Fail("%s", s.message());
+  texture::ParallelFor parallel;
+  if (pool.threads() > 1) {
+    parallel.pool = &pool;
+    parallel.run = [](void* p, int n, void (*fn)(void*, int), void* c) {
+      static_cast<WorkerPool*>(p)->ParallelFor(n, fn, c);
+    };
+  }
+  auto recognizer = std::make_unique<texture::TextureRecognizer>();  // ~63 MiB of buffers
+  s = recognizer->Init(calib, db, texture::TextureRecognizerConfig{}, NowNs, parallel);
+  if (!s.ok()) return Fail("%s", s.message());
+  auto result = std::make_unique<texture::TextureResult>();
+  s = recognizer->Process(left, right, result.get());
+  if (!s.ok()) return Fail("%s", s.message());
+  PrintObjects(db, *result);
+  if (run.json_path != nullptr &&
+      !WriteTextFile(run.json_path, TextureResultJson(db, *result, pool.threads()))) {
+    return Fail("cannot write %s: %s", run.json_path, std::strerror(errno));
+  }
+  if (run.overlay_path != nullptr) {
+    PosedModel posed[texture::kMaxTextureObjects];
+    for (size_t i = 0; i < result->objects.size(); ++i) {
+      posed[i] = {&db.model(result->objects[i].model), result->objects[i].cam_T_model};
+    }
+    std::vector<uint8_t> rgb;
+    int w = 0, h = 0;
+    s = BuildPosedOverlay(calib, posed, result->objects.size(), left, right, &rgb, &w, &h);
+    if (s.ok()) s = WriteRgbPng(run.overlay_path, rgb.data(), w, h);
+    if (!s.ok()) return Fail("overlay %s: %s", run.overlay_path, s.message());
+  }
+  return 0;
+}
+
+}  // namespace sh::tools

@@ -1,0 +1,43 @@
+// `stereohash recognize` with a feature database (printed models): the texture path on one
+// stereo pair, printed like the polyhedral results, as JSON in the same form, and as the same
+// side-by-side overlay.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "recog/base/status.hpp"
+#include "recog/camera/camera_model.hpp"
+#include "recog/image/image.hpp"
+#include "recog/texture/texture_recognizer.hpp"
+#include "tables/feature_db_view.hpp"
+
+namespace sh::tools {
+
+// Whether the file at `path` starts like a feature database (its magic number).
+bool IsFeatureDbFile(const char* path);
+
+// A feature database read from a file into 64-byte aligned memory and validated.
+struct LoadedFeatureDb {
+  std::vector<uint8_t> storage;
+  FeatureDbView view;
+};
+Status LoadFeatureDb(const char* path, LoadedFeatureDb* out);
+
+struct TextureRun {
+  const char* json_path = nullptr;
+  const char* overlay_path = nullptr;
+  int threads = 0;  // 0: all cores
+};
+
+// Recognises the printed models of `db` in the pair and reports them; returns the exit code.
+int RecognizePrinted(const StereoCalibration& calib, const FeatureDbView& db, ConstGrayView left,
+                     ConstGrayView right, const TextureRun& run);
+
+// {"frame": "camera", "objects": [{"model", "R", "t", "verify": [left, right], "faces",
+// "feature_matches", "stereo_points"}], "texture": {...}, "time_ms": {...}, "threads": N}
+std::string TextureResultJson(const FeatureDbView& db, const texture::TextureResult& result,
+                              int threads);
+
+}  // namespace sh::tools
