@@ -6,6 +6,14 @@ stereohash_module(stereohash_image_files
   PUBLIC stereohash_image stereohash_base
   PRIVATE PNG::PNG)
 
+# Printed models from disk (OBJ, MTL and texture images) for the database builder's callers: the
+# tools, the tests and the simulated world.
+stereohash_module(stereohash_textured_model_files
+  SOURCES sim/textured_model_files.cpp
+  HEADERS sim/textured_model_files.hpp
+  PUBLIC stereohash_feature_db_builder stereohash_base
+  PRIVATE stereohash_image_files stereohash_model stereohash_image)
+
 # The simulated world (hal/sim/world): ray caster, renderer, scene generator and the scenes the
 # simulator's camera plays. Linked by the simulator backends, the simulator program, the tools
 # and the tests; never by the board program.

@@ -21,7 +21,7 @@
 #include "recog/base/status.hpp"
 #include "recog/texture/feature_extractor.hpp"
 #include "tables/feature_db_format.hpp"
-#include "tables/textured_model_files.hpp"
+#include "tables/textured_model.hpp"
 
 namespace sh {
 

@@ -19,17 +19,18 @@
 #include <vector>
 
 #include "hal/sim/image_files.hpp"
-#include "hal/sim/render/printed_surface.hpp"
-#include "hal/sim/render/ray_caster.hpp"
-#include "hal/sim/render/renderer.hpp"
-#include "hal/sim/render/scene_generator.hpp"
+#include "hal/sim/textured_model_files.hpp"
+#include "hal/sim/world/printed_surface.hpp"
+#include "hal/sim/world/ray_caster.hpp"
+#include "hal/sim/world/renderer.hpp"
+#include "hal/sim/world/scene_generator.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/texture/texture_recognizer.hpp"
 #include "tables/feature_db_builder.hpp"
 #include "tables/feature_db_view.hpp"
-#include "tests/pipeline/mini_json.hpp"
-#include "tests/support/synthetic_scene.hpp"
 #include "tools/command.hpp"
+#include "tools/eval/mini_json.hpp"
+#include "tools/eval/synthetic_scene.hpp"
 #include "tools/recognize_setup.hpp"
 #include "tools/report_util.hpp"
 #ifdef STEREOHASH_OPENCV_PEER
@@ -169,15 +170,14 @@ Status LoadRecorded(const std::string& dir, const StereoCalibration& calib,
     std::string base = dir;
     base.append("/").append(name).append("/");
     std::string text;
-    testing_support::Json json;
-    if (!ReadTextFile(base + "truth.json", &text) ||
-        !testing_support::JsonReader(text).Parse(&json)) {
+    Json json;
+    if (!ReadTextFile(base + "truth.json", &text) || !JsonReader(text).Parse(&json)) {
       return Status::Error(StatusCode::kInvalidArgument, "%s/truth.json: not readable JSON",
                            name.c_str());
     }
     s.background = json["background"].text;
     s.occlusion = json["occlusion"].text;
-    for (const testing_support::Json& o : json["objects"].items) {
+    for (const Json& o : json["objects"].items) {
       TruthObject t;
       t.model = ModelIndex(models, o["model"].text);
       if (t.model < 0 || o["R"].size() != 3 || o["t"].size() != 3) {
@@ -190,7 +190,7 @@ Status LoadRecorded(const std::string& dir, const StereoCalibration& calib,
         t.cam_T_model.t_mm(r) = static_cast<float>(o["t"][r].number);
       }
       s.truth.push_back(t);
-      const testing_support::Json& v = o["visible"];
+      const Json& v = o["visible"];
       s.visible.push_back(v.size() == 2 ? static_cast<float>(0.5 * (v[0].number + v[1].number))
                                         : 1.0f);
     }

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "hal/sim/image_files.hpp"
 #include "recog/pipeline/worker_pool.hpp"
 #include "tools/overlay.hpp"
 #include "tools/recognize_setup.hpp"
@@ -138,7 +139,7 @@ int RecognizePrinted(const StereoCalibration& calib, const FeatureDbView& db, Co
     std::vector<uint8_t> rgb;
     int w = 0, h = 0;
     s = BuildPosedOverlay(calib, posed, result->objects.size(), left, right, &rgb, &w, &h);
-    if (s.ok()) s = WriteRgbPng(run.overlay_path, rgb.data(), w, h);
+    if (s.ok()) s = hal::WritePngRgb(run.overlay_path, rgb.data(), w, h, 3 * w);
     if (!s.ok()) return Fail("overlay %s: %s", run.overlay_path, s.message());
   }
   return 0;

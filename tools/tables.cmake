@@ -7,4 +7,6 @@ target_link_libraries(stereohash PRIVATE stereohash_aspect_builder stereohash_de
 stereohash_headers(stereohash PRIVATE tables_aspects.hpp)
 # Printed models: the feature database (tables/feature_db_builder).
 target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/tables_printed.cpp)
-target_link_libraries(stereohash PRIVATE stereohash_feature_db_builder stereohash_feature_db)
+stereohash_headers(stereohash PRIVATE tables_printed.hpp)
+target_link_libraries(stereohash PRIVATE stereohash_feature_db_builder stereohash_feature_db
+                      stereohash_textured_model_files)

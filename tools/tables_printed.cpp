@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "hal/sim/textured_model_files.hpp"
 #include "tables/feature_db_builder.hpp"
 #include "tools/report_util.hpp"
 

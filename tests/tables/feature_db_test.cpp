@@ -8,11 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "hal/sim/textured_model_files.hpp"
 #include "recog/base/crc32.hpp"
 #include "recog/texture/polygon.hpp"
 #include "tables/feature_db_builder.hpp"
 #include "tables/feature_db_view.hpp"
-#include "tests/tables/aligned_blob.hpp"
+#include "tests/support/aligned_blob.hpp"
 
 namespace sh {
 namespace {

@@ -7,7 +7,7 @@
 #include "tables/model_files.hpp"
 #include "tables/table_builder.hpp"
 #include "tables/table_view.hpp"
-#include "tests/tables/aligned_blob.hpp"
+#include "tests/support/aligned_blob.hpp"
 
 namespace sh {
 namespace {

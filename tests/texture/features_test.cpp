@@ -9,14 +9,14 @@
 #include "recog/texture/feature_extractor.hpp"
 #include "recog/texture/kd_tree.hpp"
 #include "tests/support/counting_allocator.hpp"
-#include "tests/texture/print_images.hpp"
+#include "tests/support/print_images.hpp"
 
 namespace sh::texture {
 namespace {
 
-using test::PrintPattern;
-using test::RenderPattern;
-using test::TestImage;
+using testing::PrintPattern;
+using testing::RenderPattern;
+using testing::TestImage;
 
 constexpr float kPi = 3.14159265f;
 
@@ -228,9 +228,9 @@ TEST(TextureFeatures, ExtractionDoesNotTouchTheHeap) {
   const TestImage img = View(PrintPattern(100.0f, 40, 9), 256, 3.0f, 0.2f);
   TextureFeatureConfig config;
   ASSERT_TRUE(ex->Extract(img.view(), config, f.get()).ok());  // first use builds tables
-  const uint64_t before = testing_support::HeapAllocations();
+  const uint64_t before = testing::HeapAllocations();
   ASSERT_TRUE(ex->Extract(img.view(), config, f.get()).ok());
-  EXPECT_EQ(testing_support::HeapAllocations(), before);
+  EXPECT_EQ(testing::HeapAllocations(), before);
   EXPECT_GT(f->keypoints.size(), 20u);
 }
 

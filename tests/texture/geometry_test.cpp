@@ -14,7 +14,7 @@
 #include "recog/texture/plane_stereo.hpp"
 #include "recog/texture/print_verify.hpp"
 #include "recog/texture/texture_pose.hpp"
-#include "tests/texture/print_images.hpp"
+#include "tests/support/print_images.hpp"
 
 namespace sh::texture {
 namespace {
@@ -193,7 +193,7 @@ struct BoxScene {
 
 BoxScene MakeBoxScene(uint32_t seed) {
   BoxScene s;
-  s.calib = test::RotatedStereoRig(756, 581, 1136);
+  s.calib = testing::RotatedStereoRig(756, 581, 1136);
   std::mt19937 rng(seed);
   s.cam_T_model = RandomPose(rng, 1.0f, {10, -5, 450});
   std::uniform_real_distribution<double> u(-0.45, 0.45);

@@ -10,7 +10,7 @@
 #include "recog/geometry/rigid_transform.hpp"
 #include "recog/texture/feature_extractor.hpp"
 #include "recog/texture/plane_stereo.hpp"
-#include "tests/texture/print_images.hpp"
+#include "tests/support/print_images.hpp"
 
 namespace sh::texture {
 namespace {
@@ -18,12 +18,12 @@ namespace {
 struct PlaneScene {
   StereoCalibration calib;
   RigidTransform cam_T_face;  // face frame: the pattern's (x, y) in millimetres, z = 0
-  test::PrintPattern pattern{80.0f, 70, 21};
+  testing::PrintPattern pattern{80.0f, 70, 21};
 };
 
 PlaneScene MakeScene() {
   PlaneScene s;
-  s.calib = test::RotatedStereoRig(400, 320, 900);
+  s.calib = testing::RotatedStereoRig(400, 320, 900);
   // The face tilted by 45 degrees, its centre 400 mm ahead.
   s.cam_T_face.R = (Eigen::AngleAxisf(3.14159265f, Eigen::Vector3f::UnitX()) *
                     Eigen::AngleAxisf(-0.8f, Eigen::Vector3f(1, 0.3f, 0).normalized()))
@@ -39,7 +39,7 @@ Plane3 FacePlane(const RigidTransform& cam_T_face) {
   return p;
 }
 
-test::TestImage Render(const PlaneScene& s, int camera) {
+testing::TestImage Render(const PlaneScene& s, int camera) {
   const CameraIntrinsics& cam = camera == 0 ? s.calib.left : s.calib.right;
   // Face pose in this camera.
   RigidTransform T = s.cam_T_face;
@@ -50,7 +50,7 @@ test::TestImage Render(const PlaneScene& s, int camera) {
   }
   const Plane3 plane = FacePlane(T);
   const RigidTransform face_T_cam = T.Inverse();
-  return test::RenderPattern(
+  return testing::RenderPattern(
       s.pattern, cam.width, cam.height,
       [&](float x, float y, Eigen::Vector2f* q) {
         Eigen::Vector3d hit;
@@ -64,8 +64,8 @@ test::TestImage Render(const PlaneScene& s, int camera) {
 
 TEST(PlaneStereo, ContourPointsTriangulateOntoThePlane) {
   const PlaneScene s = MakeScene();
-  const test::TestImage left = Render(s, 0);
-  const test::TestImage right = Render(s, 1);
+  const testing::TestImage left = Render(s, 0);
+  const testing::TestImage right = Render(s, 1);
   auto ex = std::make_unique<TextureFeatureExtractor>();
   auto features = std::make_unique<TextureFeatures>();
   ASSERT_TRUE(ex->Extract(left.view(), TextureFeatureConfig{}, features.get()).ok());
@@ -123,7 +123,7 @@ TEST(PlaneStereo, ContourPointsTriangulateOntoThePlane) {
 
 TEST(PlaneStereo, AFlatWindowHasNoMatch) {
   const PlaneScene s = MakeScene();
-  test::TestImage flat(s.calib.left.width, s.calib.left.height, 128);
+  testing::TestImage flat(s.calib.left.width, s.calib.left.height, 128);
   PlaneStereoMatcher matcher;
   matcher.Reset(&s.calib, flat.view(), flat.view());
   StereoPoint sp;

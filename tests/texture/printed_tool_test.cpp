@@ -14,20 +14,17 @@
 #include <string>
 
 #include "recog/geometry/rigid_transform.hpp"
-#include "tests/pipeline/mini_json.hpp"
 #include "tests/support/tool_run.hpp"
+#include "tools/eval/mini_json.hpp"
 
 namespace sh {
 namespace {
 
-using testing_support::Json;
-using testing_support::JsonReader;
+using testing::ToolRun;
 
-using testing_support::ToolRun;
+ToolRun RunTool(const std::string& args) { return testing::RunTool(STEREOHASH_EXE, args); }
 
-ToolRun RunTool(const std::string& args) { return testing_support::RunTool(STEREOHASH_EXE, args); }
-
-std::string ReadText(const std::string& path) { return testing_support::ReadFileText(path); }
+std::string ReadText(const std::string& path) { return testing::ReadFileText(path); }
 
 Json ReadJson(const std::string& path) {
   Json j;

@@ -8,9 +8,10 @@
 #include <memory>
 #include <vector>
 
-#include "hal/sim/render/printed_surface.hpp"
-#include "hal/sim/render/renderer.hpp"
-#include "hal/sim/render/scene_generator.hpp"
+#include "hal/sim/textured_model_files.hpp"
+#include "hal/sim/world/printed_surface.hpp"
+#include "hal/sim/world/renderer.hpp"
+#include "hal/sim/world/scene_generator.hpp"
 #include "recog/pipeline/worker_pool.hpp"
 #include "tables/feature_db_builder.hpp"
 #include "tests/support/counting_allocator.hpp"
@@ -150,9 +151,9 @@ TEST(TextureRecognizer, TwoThreadsGiveTheSamePosesAndNoHeapPerFrame) {
   ASSERT_TRUE(one->Process(r.left_view(), r.right_view(), a.get()).ok());
   ASSERT_TRUE(two->Process(r.left_view(), r.right_view(), b.get()).ok());
   // Later frames: every table built on first use exists; nothing may allocate now.
-  const uint64_t before = testing_support::HeapAllocations();
+  const uint64_t before = testing::HeapAllocations();
   ASSERT_TRUE(two->Process(r.left_view(), r.right_view(), b.get()).ok());
-  EXPECT_EQ(testing_support::HeapAllocations(), before);
+  EXPECT_EQ(testing::HeapAllocations(), before);
   ExpectFoundAtTheirPoses(f, r, *a);
   ASSERT_EQ(a->objects.size(), b->objects.size());
   for (size_t i = 0; i < a->objects.size(); ++i) {

@@ -13,7 +13,7 @@
 #include "recog/camera/camera_model.hpp"
 #include "recog/image/image.hpp"
 
-namespace sh::test {
+namespace sh::testing {
 
 class PrintPattern {
  public:
@@ -99,19 +99,20 @@ struct TestImage {
 // smooth map), one sample per pixel (the pattern's edge ramp of blur_mm anti-aliases it); pixels
 // mapping outside the pattern get `outside`.
 template <typename Map>
-TestImage RenderPattern(const PrintPattern& p, int w, int h, Map pattern_from_pixel,
-                        float blur_mm, uint8_t outside = 20) {
+TestImage RenderPattern(const PrintPattern& p, int w, int h, Map pattern_from_pixel, float blur_mm,
+                        uint8_t outside = 20) {
   TestImage img(w, h);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       Eigen::Vector2f q;
       const bool inside = pattern_from_pixel(static_cast<float>(x), static_cast<float>(y), &q) &&
                           q.x() >= 0 && q.y() >= 0 && q.x() <= p.size_mm() && q.y() <= p.size_mm();
-      img.at(x, y) =
-          inside ? static_cast<uint8_t>(std::lround(255.0f * p.At(q.x(), q.y(), blur_mm))) : outside;
+      img.at(x, y) = inside
+                         ? static_cast<uint8_t>(std::lround(255.0f * p.At(q.x(), q.y(), blur_mm)))
+                         : outside;
     }
   }
   return img;
 }
 
-}  // namespace sh::test
+}  // namespace sh::testing

@@ -1,12 +1,10 @@
-// Loading printed (textured) models from disk: the OBJ, its MTL and the texture images
-// (host tools, the database builder and the simulator; never per frame).
+// A printed (textured) model in memory: the polyhedron, its faces' UV maps and materials, and
+// the grey texture images the database builder learns from (host only; never per frame).
 #pragma once
 
 #include <cstdint>
-#include <string>
 #include <vector>
 
-#include "recog/base/status.hpp"
 #include "recog/image/image.hpp"
 #include "recog/model/model.hpp"
 #include "recog/model/obj_texture.hpp"
@@ -25,10 +23,5 @@ struct TexturedModel {
   ModelTexturing texturing;
   std::vector<GreyImage> textures;  // per material; empty when the material has no map_Kd
 };
-
-// Reads `path` (an OBJ), the MTL it names and the images the MTL's map_Kd name (relative to the
-// MTL's folder). Images are converted to grey (ITU-R BT.601) and multiplied by the material's
-// Kd luma. The model is named after the file stem. Errors name the file.
-Result<TexturedModel> LoadTexturedModelFile(const std::string& path);
 
 }  // namespace sh

@@ -1,4 +1,4 @@
-#include "tables/textured_model_files.hpp"
+#include "hal/sim/textured_model_files.hpp"
 
 #include <algorithm>
 #include <cmath>
