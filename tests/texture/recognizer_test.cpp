@@ -14,6 +14,7 @@
 #include "hal/sim/world/scene_generator.hpp"
 #include "recog/pipeline/worker_pool.hpp"
 #include "tables/feature_db_builder.hpp"
+#include "tests/support/aligned_blob.hpp"
 #include "tests/support/counting_allocator.hpp"
 
 namespace sh::texture {
@@ -23,7 +24,7 @@ struct Fixture {
   std::vector<TexturedModel> printed;
   std::vector<Model> models;
   std::vector<render::PrintedSurface> prints;
-  std::vector<uint8_t> blob_storage;
+  std::unique_ptr<testing::AlignedBlob> blob;
   FeatureDbView db;
 };
 
@@ -47,11 +48,8 @@ const Fixture& Cartons() {
     }
     Result<std::vector<uint8_t>> blob = BuildFeatureDb(fx->printed, FeatureDbBuildOptions{});
     EXPECT_TRUE(blob.ok()) << blob.status().message();
-    fx->blob_storage.resize(blob->size() + 64);
-    uint8_t* aligned = fx->blob_storage.data() +
-                       (64 - reinterpret_cast<uintptr_t>(fx->blob_storage.data()) % 64) % 64;
-    std::memcpy(aligned, blob->data(), blob->size());
-    Result<FeatureDbView> view = FeatureDbView::Open(aligned, blob->size());
+    fx->blob = std::make_unique<testing::AlignedBlob>(*blob);
+    Result<FeatureDbView> view = FeatureDbView::Open(fx->blob->data, fx->blob->size);
     EXPECT_TRUE(view.ok()) << view.status().message();
     fx->db = *view;
     return fx;
