@@ -9,12 +9,18 @@
 namespace sh::fw {
 
 FileDataSource::FileDataSource(const char* tables_path, const char* calibration_path,
+                               RigCalibration* rig)
+    : tables_path_(tables_path), calibration_path_(calibration_path), rig_(rig) {}
+
+FileDataSource::FileDataSource(const char* tables_path, const char* calibration_path,
                                const StereoCalibration* fallback_calibration)
     : tables_path_(tables_path),
       calibration_path_(calibration_path),
       fallback_(fallback_calibration) {}
 
 Result<TableView> FileDataSource::LoadTable() {
+  // Whatever happens below, the previous view may point into a mapping about to be replaced.
+  table_ = TableView();
   const bool builtin = std::strcmp(tables_path_, "builtin") == 0;
   const void* blob = nullptr;
   size_t size = 0;
@@ -51,6 +57,7 @@ Result<StereoCalibration> FileDataSource::LoadCalibration() {
     return Status::Error(StatusCode::kNotFound, "calibration missing (injected)");
   }
   if (calibration_path_[0] == '\0') {
+    if (rig_ != nullptr) return rig_->Calibration();
     if (fallback_ == nullptr) {
       return Status::Error(StatusCode::kNotFound, "no calibration file configured");
     }

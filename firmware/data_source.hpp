@@ -11,10 +11,20 @@
 
 namespace sh::fw {
 
+// A calibration that is not read from a file: the simulator's rig, known once its world is
+// built (which can fail, and succeed at a later try).
+class RigCalibration {
+ public:
+  virtual ~RigCalibration() = default;
+  virtual Result<StereoCalibration> Calibration() = 0;
+};
+
 class FileDataSource final : public DataSource {
  public:
   // tables_path: "builtin" or a table blob file. calibration_path: a YAML file, or "" to use
-  // *fallback_calibration (the simulator rig; nullptr = none, which is a missing calibration).
+  // the rig's calibration (nullptr = none, which is a missing calibration).
+  FileDataSource(const char* tables_path, const char* calibration_path, RigCalibration* rig);
+  // The same with a fixed calibration in place of the rig (nullptr = none).
   FileDataSource(const char* tables_path, const char* calibration_path,
                  const StereoCalibration* fallback_calibration);
 
@@ -26,13 +36,15 @@ class FileDataSource final : public DataSource {
   void InjectCorruptTables(bool corrupt) { corrupt_tables_ = corrupt; }
   void InjectMissingCalibration(bool missing) { missing_calibration_ = missing; }
 
-  // The last table loaded successfully (valid while this object lives).
+  // The table of the last load if it succeeded, else an empty view (valid while this object
+  // lives and until the next load).
   const TableView& table() const { return table_; }
 
  private:
   const char* tables_path_;
   const char* calibration_path_;
-  const StereoCalibration* fallback_;
+  RigCalibration* rig_ = nullptr;
+  const StereoCalibration* fallback_ = nullptr;
   bool corrupt_tables_ = false;
   bool missing_calibration_ = false;
   MappedTable mapped_;

@@ -173,6 +173,7 @@ void FirmwareCore::LoadData() {
   applied_mask_ = mask;
   canopen_.SetSettings(CurrentSettings());
   Log("loaded %zu models, model mask 0x%x", model_count_, mask);
+  if (dev_.observer != nullptr) dev_.observer->OnDataLoaded(*table);
 }
 
 // ---------------------------------------------------------------------------------------------

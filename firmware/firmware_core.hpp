@@ -54,6 +54,9 @@ class CoreObserver {
   virtual void OnResult(const protocol::ResultSet& set, const hal::StereoFrame* frame) {}
   virtual void OnEmcy(const protocol::Emcy& emcy) {}
   virtual void OnStateChange(FirmwareState state) {}
+  // After the boot checks (or a cleared data fault) loaded the tables and initialised
+  // recognition; `table` stays valid until the next load.
+  virtual void OnDataLoaded(const TableView& table) {}
   virtual void OnAlive() {}  // from the heartbeat thread while the worker loop is responsive
 };
 

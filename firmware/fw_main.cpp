@@ -88,13 +88,13 @@ void DefaultModelsDir(char* out, size_t capacity) {
 // stdout reporting of the simulator and the systemd watchdog.
 class Reporter final : public CoreObserver {
  public:
-  Reporter(const render::SimWorld* world, const FileDataSource* data, SdNotifier* notifier,
-           bool print, canopen::OutputFrame frame)
-      : world_(world), data_(data), notifier_(notifier), print_(print), frame_(frame) {}
+  Reporter(const render::SimWorld* world, SdNotifier* notifier, bool print,
+           canopen::OutputFrame frame)
+      : world_(world), notifier_(notifier), print_(print), frame_(frame) {}
 
-  void PrintModels() {
+  // The models of the tables just loaded (at boot, and again when a data fault is cleared).
+  void OnDataLoaded(const TableView& t) override {
     if (!print_) return;
-    const TableView& t = data_->table();
     std::printf("MODELS {\"names\": [");
     for (uint32_t m = 0; m < t.model_count(); ++m) {
       std::printf("%s\"%s\"", m ? ", " : "", t.model(m).name);
@@ -182,11 +182,20 @@ class Reporter final : public CoreObserver {
 
  private:
   const render::SimWorld* world_;
-  const FileDataSource* data_;
   SdNotifier* notifier_;
   bool print_;
   canopen::OutputFrame frame_;
   int table_ids_[kMaxFolderModels] = {};
+};
+
+// The simulator rig's calibration for the data source: known once the world is built.
+class WorldCalibration final : public RigCalibration {
+ public:
+  explicit WorldCalibration(render::SimWorld* world) : world_(world) {}
+  Result<StereoCalibration> Calibration() override { return world_->Calibration(); }
+
+ private:
+  render::SimWorld* world_;
 };
 
 int Fail(const char* what, const Status& s) {
@@ -388,8 +397,13 @@ int main(int argc, char** argv) {
       wc.scenes = config.sim_scenes;
       wc.objects = config.sim_objects;
       wc.light_background = config.sim_light_background;
-      const Status built = world.Build(wc);
-      if (!built.ok()) return Fail("simulator scenes", built);
+      // A world that cannot be built (no model folder) is a fault, not an exit: the camera and
+      // the calibration report it, and a clear-fault tries again.
+      world.Configure(wc);
+      const Status built = world.EnsureBuilt();
+      if (!built.ok()) {
+        std::fprintf(stderr, "stereohash-fw: simulator scenes: %s\n", built.message());
+      }
       hal::SimCameraConfig cc;
       if (config.sim_camera_fault == SimCameraFault::kRightSilent) cc.right_stop_after = 3;
       if (config.sim_camera_fault == SimCameraFault::kDropRight) cc.drop_right_every = 3;
@@ -459,11 +473,13 @@ int main(int argc, char** argv) {
   }
 
   // --- data and recognition --------------------------------------------------------------
+  static WorldCalibration world_calibration(&world);
   static std::unique_ptr<FileDataSource> data;
   data = std::make_unique<FileDataSource>(config.tables_path, config.calibration_path,
-                                          is_sim && !replay ? &world.calibration() : nullptr);
+                                          is_sim && !replay ? &world_calibration : nullptr);
 
-  // The table (conveyor) pose: table.yaml, the two config keys, or the rendered rig's table.
+  // The table (conveyor) pose: table.yaml, the two config keys, or the rendered rig's table
+  // (known once the simulator's world is built: recognition reads it at each init).
   bool table_known = false;
   RigidTransform left_T_table;
   if (config.table_file[0] != '\0') {
@@ -476,18 +492,21 @@ int main(int argc, char** argv) {
     left_T_table = TablePose(config);
     table_known = true;
   } else if (is_sim && !replay) {
-    left_T_table = world.scene(0).scene.left_T_table;
+    left_T_table = world.left_T_table();
     table_known = true;
   }
+  const bool table_from_world =
+      table_known && is_sim && !replay && config.table_file[0] == '\0' && !config.table_pose_set;
 
   // The frame of the reported poses.
   canopen::OutputFrame output_frame = canopen::OutputFrame::kCamera;
   RigidTransform out_T_camera;
   if (config.output_frame == OutputFrameKey::kTable) {
-    if (!table_known) {
+    if (!table_known || (table_from_world && !world.built())) {
       return Fail("configuration", Status::Error(StatusCode::kInvalidArgument,
                                                  "output_frame = table needs the table pose "
-                                                 "(table_file or table_rotation_deg/_origin_mm)"));
+                                                 "(table_file or table_rotation_deg/_origin_mm, "
+                                                 "or the simulator's built world)"));
     }
     output_frame = canopen::OutputFrame::kTable;
     out_T_camera = left_T_table.Inverse();
@@ -526,6 +545,7 @@ int main(int argc, char** argv) {
     pc.volume_in_table_frame = config.volume_in_table_frame;
     pc.volume_over_table = !pc.volume_set && table_known;
     pc.left_T_table = left_T_table;
+    if (table_from_world) pc.left_T_table_at_init = &world.left_T_table();
     // The table the objects stand on, for rejecting hypotheses that sink into it: a configured
     // pose only. The simulator's scenes tilt the rig differently, so scene 0's table bounds the
     // volume but is not every scene's support plane.
@@ -544,16 +564,19 @@ int main(int argc, char** argv) {
   }
   PrefaultStack();
 
-  static Reporter reporter(is_sim && !replay ? &world : nullptr, data.get(), &notifier,
+  static Reporter reporter(is_sim && !replay ? &world : nullptr, &notifier,
                            is_sim && config.sim_print_truth, output_frame);
   if (demo) {
-    static const char* names[32] = {};
-    static Model name_models[1];
-    (void)name_models;
+    // Copies: the boot checks load the tables again, which replaces a mapped file.
+    static char name_text[kMaxTableModels][kMaxModelNameLength + 1] = {};
+    static const char* names[kMaxTableModels] = {};
     const Result<TableView> t = data->LoadTable();
     int n_names = 0;
     if (t.ok()) {
-      for (uint32_t m = 0; m < t->model_count() && m < 32; ++m) names[n_names++] = t->model(m).name;
+      for (uint32_t m = 0; m < t->model_count() && m < kMaxTableModels; ++m) {
+        std::snprintf(name_text[m], sizeof(name_text[m]), "%s", t->model(m).name);
+        names[n_names++] = name_text[m];
+      }
     }
     const Status s = demo_client.Start(&sim_bus, config.node_id, names, n_names);
     if (!s.ok()) return Fail("demo client", s);
@@ -621,7 +644,6 @@ int main(int argc, char** argv) {
   const Status started = core.Start(cc, devices);
   if (!started.ok()) return Fail("start", started);
   if (!recording.ok()) core.OnRecordFailed(EIO);
-  if (data->table().model_count() > 0) reporter.PrintModels();
   if (is_sim && config.sim_print_truth) {
     std::printf("READY\n");
     std::fflush(stdout);

@@ -13,9 +13,12 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const TableView
                           : config_.light_background ? PipelineConfig::LightBackground()
                                                      : PipelineConfig::DarkBackground();
   config.threads = config_.threads;
+  const RigidTransform& left_T_table = config_.left_T_table_at_init != nullptr
+                                           ? *config_.left_T_table_at_init
+                                           : config_.left_T_table;
   if (config_.table_known) {
     config.table.known = true;
-    config.table.left_T_table = config_.left_T_table;
+    config.table.left_T_table = left_T_table;
   }
   if (config_.volume_set) {
     const Eigen::Vector3f min_mm(config_.volume_min_mm[0], config_.volume_min_mm[1],
@@ -23,10 +26,10 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const TableView
     const Eigen::Vector3f max_mm(config_.volume_max_mm[0], config_.volume_max_mm[1],
                                  config_.volume_max_mm[2]);
     config.stereo.volume = config_.volume_in_table_frame
-                               ? WorkingVolume::InFrame(config_.left_T_table, min_mm, max_mm)
+                               ? WorkingVolume::InFrame(left_T_table, min_mm, max_mm)
                                : WorkingVolume::InLeftCamera(min_mm, max_mm);
   } else if (config_.volume_over_table) {
-    config.stereo.volume = WorkingVolume::OverTable(config_.left_T_table);
+    config.stereo.volume = WorkingVolume::OverTable(left_T_table);
   }
   config.recognizer.model_mask = model_mask;
   return pipeline_->Init(calib, table, config, &MonotonicNs);

@@ -19,6 +19,9 @@ struct PipelineRecognitionConfig {
   // as `stereohash recognize --table` bounds it.
   bool volume_over_table = false;
   RigidTransform left_T_table;  // table (conveyor) frame -> left camera, mm
+  // When set, read at each Init() in place of left_T_table: the simulator's rendered table,
+  // known only once its world is built.
+  const RigidTransform* left_T_table_at_init = nullptr;
 };
 
 class PipelineRecognition final : public Recognition {

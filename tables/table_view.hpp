@@ -40,16 +40,20 @@ class TableView {
   TableView() = default;
   static Result<TableView> Open(const void* blob, size_t size);
 
+  // True for a default-constructed view (no blob opened): it has no models and no bases, and
+  // only model_count() and basis_count() may be called on it.
+  bool empty() const { return header_ == nullptr; }
+
   const TableHeader& header() const { return *header_; }
   HashFunction hash_function() const { return static_cast<HashFunction>(header_->hash_function); }
   BasisLimits limits() const;
 
-  uint32_t model_count() const { return header_->n_models; }
+  uint32_t model_count() const { return header_ != nullptr ? header_->n_models : 0; }
   const Model& model(uint32_t i) const { return models_[i]; }
   // Index of the model with this name, or -1.
   int FindModel(const char* name) const;
 
-  uint32_t basis_count() const { return header_->n_bases; }
+  uint32_t basis_count() const { return header_ != nullptr ? header_->n_bases : 0; }
   const BasisRecord& basis(uint32_t i) const { return bases_[i]; }
 
   const GridGeometry& point_grid() const { return header_->point_grid; }

@@ -48,3 +48,17 @@ if(TARGET stereohash-fw AND TARGET stereohash AND TARGET stereohash_fw_pipeline)
                    --scenes 4)
   set_tests_properties(python_firmware_replay PROPERTIES TIMEOUT 600)
 endif()
+
+# The real boot path (main) with broken data: fault, EMCY, heartbeat, clear-fault after repair.
+if(TARGET stereohash-fw AND TARGET stereohash_default_tables)
+  add_test(NAME python_firmware_boot_faults
+           COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_firmware_boot_faults.py
+                   --firmware $<TARGET_FILE:stereohash-fw>
+                   --dbc ${PROJECT_SOURCE_DIR}/firmware/stereohash.dbc
+                   --table ${PROJECT_BINARY_DIR}/tables/reference_hf5.bin
+                   --models ${PROJECT_SOURCE_DIR}/models)
+  set_tests_properties(python_firmware_boot_faults PROPERTIES TIMEOUT 300 SKIP_RETURN_CODE 77)
+  if(CMAKE_CROSSCOMPILING)
+    set_tests_properties(python_firmware_boot_faults PROPERTIES LABELS host_only)
+  endif()
+endif()

@@ -7,12 +7,22 @@
 
 namespace sh::render {
 
-Status SimWorld::Build(const SimWorldConfig& config) {
+void SimWorld::Configure(const SimWorldConfig& config) {
+  config_ = config;
+  n_scenes_ = 0;
+}
+
+Status SimWorld::EnsureBuilt() {
+  if (built()) return Status::Ok();
+  return BuildNow();  // sets n_scenes_ only when complete
+}
+
+Status SimWorld::BuildNow() {
+  const SimWorldConfig& config = config_;
   if (config.scenes < 1 || config.scenes > kMaxSimScenes) {
     return Status::Error(StatusCode::kOutOfRange, "sim scenes %d outside 1..%d", config.scenes,
                          kMaxSimScenes);
   }
-  config_ = config;
   SH_RETURN_IF_ERROR(LoadModelFolder(config.models_dir, &models_));
   ScenarioParams params;
   params.n_objects = config.objects;
@@ -40,25 +50,30 @@ Status SimWorld::Build(const SimWorldConfig& config) {
     // One calibration for every scene (the rigs agree up to float rounding).
     scenes_[i].calib = c0;
   }
-  n_scenes_ = config.scenes;
   width_ = scenes_[0].calib.left.width;
   height_ = scenes_[0].calib.left.height;
   const size_t per_image = size_t(width_) * size_t(height_);
-  pixels_.reset(new uint8_t[per_image * 2 * size_t(n_scenes_)]);
-  for (int i = 0; i < n_scenes_; ++i) {
+  pixels_.reset(new uint8_t[per_image * 2 * size_t(config.scenes)]);
+  for (int i = 0; i < config.scenes; ++i) {
     uint8_t* left = pixels_.get() + per_image * 2 * size_t(i);
     GrayView l{left, width_, height_, width_};
     GrayView r{left + per_image, width_, height_, width_};
     SH_RETURN_IF_ERROR(
         RenderStereo(scenes_[i].scene, models_.data(), model_count(), scenes_[i].calib, l, r));
   }
+  left_T_table_ = scenes_[0].scene.left_T_table;
+  n_scenes_ = config.scenes;  // last: built() means complete
   return Status::Ok();
 }
 
+Result<StereoCalibration> SimWorld::Calibration() {
+  SH_RETURN_IF_ERROR(
+      EnsureBuilt().WithContext("the simulator's rig is unknown until its world is built"));
+  return scenes_[0].calib;
+}
+
 Status SimWorld::Open(int* width, int* height) {
-  if (n_scenes_ == 0) {
-    return Status::Error(StatusCode::kFailedPrecondition, "sim world not built");
-  }
+  SH_RETURN_IF_ERROR(EnsureBuilt().WithContext("simulator world"));
   *width = width_;
   *height = height_;
   return Status::Ok();

@@ -1,7 +1,8 @@
 // The simulator's world as the firmware sees it: reproducible scenes of the reference objects,
-// rendered once at boot into buffers owned here and played to the SimCamera as frames (frame n
-// shows scene n mod scene_count), with the ground truth kept per scene. Rendering in advance keeps
-// the trigger path free of allocation and of the renderer's cost.
+// rendered at boot (or at the first clear-fault that finds the model folder) into buffers owned
+// here and played to the SimCamera as frames (frame n shows scene n mod scene_count), with the
+// ground truth kept per scene. Rendering in advance keeps the trigger path free of allocation and
+// of the renderer's cost.
 #pragma once
 
 #include <cstdint>
@@ -25,15 +26,32 @@ struct SimWorldConfig {
 
 class SimWorld final : public hal::FrameSource {
  public:
-  // Loads the models, generates and renders every scene (allocates; boot only). All scenes share
-  // one stereo rig, whose calibration is calibration().
-  Status Build(const SimWorldConfig& config);
+  // Keeps the configuration; nothing is built yet.
+  void Configure(const SimWorldConfig& config);
+  // Loads the models, generates and renders every scene (allocates: boot, and a clear-fault
+  // after a failed build) unless that has been done. A failure (a missing model folder) is
+  // kept and tried again at the next call, so a folder repaired on the machine is picked up
+  // without a restart. All scenes share one stereo rig.
+  Status EnsureBuilt();
+  Status Build(const SimWorldConfig& config) {
+    Configure(config);
+    return EnsureBuilt();
+  }
+  bool built() const { return n_scenes_ > 0; }
 
+  // FrameSource: builds the world if needed (SimCamera::Start), then the frame size.
   Status Open(int* width, int* height) override;
   // Copies the pre-rendered images of scene frame_index mod scene_count().
   Status Render(uint64_t frame_index, GrayView left, GrayView right) override;
 
+  // The rig of the rendered scenes: builds the world if needed, refuses while it cannot be.
+  Result<StereoCalibration> Calibration();
+
+  // Built worlds only (built() true).
   const StereoCalibration& calibration() const { return scenes_[0].calib; }
+  // The rendered table (conveyor) frame in the left camera; identity until the world is built,
+  // then the rig's. The address stays the same, so it can be read at recognition init.
+  const RigidTransform& left_T_table() const { return left_T_table_; }
   int scene_count() const { return n_scenes_; }
   int SceneOfFrame(uint64_t frame_index) const {
     return static_cast<int>(frame_index % static_cast<uint64_t>(n_scenes_));
@@ -45,12 +63,15 @@ class SimWorld final : public hal::FrameSource {
   uint64_t seed() const { return config_.seed; }
 
  private:
+  Status BuildNow();
+
   SimWorldConfig config_;
   std::vector<Model> models_;
   std::unique_ptr<GeneratedScene[]> scenes_;
   int n_scenes_ = 0;
   int width_ = 0, height_ = 0;
   std::unique_ptr<uint8_t[]> pixels_;  // scene i: left then right, width x height each
+  RigidTransform left_T_table_;
 };
 
 }  // namespace sh::render

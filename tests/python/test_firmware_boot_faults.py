@@ -1,0 +1,212 @@
+#!/usr/bin/python3
+"""Boot-path faults of stereohash-fw, run through its real main() in simulation.
+
+Each case starts `stereohash-fw --sim --config FILE` with one piece of its data broken (a
+missing, truncated or corrupt table file, the injected corrupt tables, a missing calibration, a
+missing model folder) and checks, from a python-can/socketcand PLC: the boot-up, an EMCY naming
+the fault with the firmware state "fault", heartbeats that keep coming while the process stays
+alive, and - once the file is repaired - a clear-fault command that is acknowledged, an EMCY
+0x0000 back to "ready" and a trigger that gets its result set.
+"""
+import argparse
+import os
+import shutil
+import socket
+import sys
+import tempfile
+import time
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from test_can_socketcand import Plc  # noqa: E402 (skips without python-can)
+from test_firmware_e2e import Firmware  # noqa: E402
+
+ARGS = None
+NODE = 1
+HEARTBEAT_MS = 100
+EMCY_DATA_SET = 0x6300
+EMCY_SENSOR = 0x7300
+DETAIL_TABLES = 1
+DETAIL_CALIBRATION = 2
+STATE_READY = 1
+STATE_FAULT = 3
+CMD_TRIGGER = 1
+CMD_CLEAR_FAULT = 4
+ACK_NOT_POSSIBLE = 8
+
+# The simulator rig's cameras (hal/sim/render/scene_generator.cpp, MakeRig) as a calibration file.
+SIM_RIG_YAML = """%YAML:1.0
+---
+image_width: 756
+image_height: 581
+K1: !!opencv-matrix
+   rows: 3
+   cols: 3
+   dt: d
+   data: [ 1136.4, 0., 379.2, 0., 1136.4, 289.6, 0., 0., 1. ]
+D1: !!opencv-matrix
+   rows: 1
+   cols: 5
+   dt: d
+   data: [ -0.10, 0.06, 0.0002, -0.0001, 0. ]
+K2: !!opencv-matrix
+   rows: 3
+   cols: 3
+   dt: d
+   data: [ 1131.8, 0., 375.9, 0., 1131.8, 292.3, 0., 0., 1. ]
+D2: !!opencv-matrix
+   rows: 1
+   cols: 5
+   dt: d
+   data: [ -0.095, 0.05, -0.0001, 0.0002, 0. ]
+R: !!opencv-matrix
+   rows: 3
+   cols: 3
+   dt: d
+   data: [ 1., 0., 0., 0., 1., 0., 0., 0., 1. ]
+T: !!opencv-matrix
+   rows: 3
+   cols: 1
+   dt: d
+   data: [ -120., 0., 0. ]
+"""
+
+
+class BootFaultTest(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="stereohash-boot-")
+        self.fw = None
+        self.plc = None
+
+    def tearDown(self):
+        if self.plc is not None:
+            self.plc.close()
+        if self.fw is not None:
+            self.fw.stop()
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+    def path(self, name):
+        return os.path.join(self.dir, name)
+
+    def boot(self, *extra):
+        self.fw = Firmware(ARGS.firmware, "\n".join([
+            "node_id = %d" % NODE, "heartbeat_ms = %d" % HEARTBEAT_MS, "sim_port = 0",
+            "sim_seed = 3", "sim_scenes = 2", "sim_objects = 2", "recognition = truth",
+            "sim_wait_for_client = true"] + list(extra) + [""]))
+        # python-can retries a refused connection for ever: make sure the server is there.
+        deadline = time.time() + 60
+        while True:
+            self.assertIsNone(self.fw.proc.poll(), "stereohash-fw exited (rc %s) at boot:\n%s" % (
+                self.fw.proc.returncode, "\n".join(self.fw.stderr_lines[-20:])))
+            try:
+                socket.create_connection(("127.0.0.1", self.fw.port), timeout=1).close()
+                break
+            except OSError:
+                self.assertLess(time.time(), deadline, "socketcand server never accepted")
+                time.sleep(0.1)
+        self.plc = Plc(self.fw.port, ARGS.dbc, NODE)
+        frames = self.plc.receive_until(lambda n, v, m: n == "SH_Heartbeat", timeout=60)
+        self.assertEqual(frames[-1][1]["HB_NmtState"], 0, "boot-up first")
+
+    def expect_fault(self, code, detail=None):
+        """The fault EMCY, then heartbeats for three seconds from a process that stays alive."""
+        frames = self.plc.receive_until(
+            lambda n, v, m: n == "SH_Emcy" and v["EMCY_ErrorCode"] == code and
+            (detail is None or v["EMCY_Detail"] == detail), timeout=60)
+        self.assertEqual(frames[-1][1]["EMCY_FirmwareState"], STATE_FAULT)
+        self.expect_alive()
+
+    def expect_alive(self):
+        heartbeats = 0
+        watch_until = time.time() + 3.0
+        while time.time() < watch_until:
+            msg = self.plc.bus.recv(0.1)
+            if msg is not None and self.plc.decode(msg)[0] == "SH_Heartbeat":
+                heartbeats += 1
+        self.assertIsNone(self.fw.proc.poll(), "stereohash-fw exited (rc %s) in fault:\n%s" % (
+            self.fw.proc.returncode, "\n".join(self.fw.stderr_lines[-20:])))
+        self.assertGreaterEqual(heartbeats, 5, "heartbeat stopped in fault")
+
+    def clear_fault(self):
+        self.plc.send("SH_Command", {"CMD_Code": CMD_CLEAR_FAULT})
+        frames = self.plc.receive_until(
+            lambda n, v, m: n == "SH_CommandAck" and v["ACK_CommandCode"] == CMD_CLEAR_FAULT,
+            timeout=60)
+        return frames[-1][1]["ACK_Status"]
+
+    def expect_recovery(self):
+        self.assertEqual(self.clear_fault(), 0, "\n".join(self.fw.stderr_lines[-20:]))
+        frames = self.plc.receive_until(
+            lambda n, v, m: n == "SH_Emcy" and v["EMCY_ErrorCode"] == 0, timeout=30)
+        self.assertEqual(frames[-1][1]["EMCY_FirmwareState"], STATE_READY)
+        self.plc.send("SH_Command", {"CMD_Code": CMD_TRIGGER, "CMD_TriggerRequestId": 7})
+        frames = self.plc.receive_until(lambda n, v, m: n == "SH_ResultEnd", timeout=60)
+        headers = [v for n, v, _ in frames if n == "SH_ResultHeader"]
+        self.assertEqual(headers[-1]["RH_RequestId"], 7)
+        self.assertEqual(headers[-1]["RH_Status"], 0)
+
+    def table_case(self, write_broken_table):
+        table = self.path("tables.bin")
+        write_broken_table(table)
+        self.boot("tables = " + table)
+        self.expect_fault(EMCY_DATA_SET, DETAIL_TABLES)
+        shutil.copyfile(ARGS.table, table)
+        self.expect_recovery()
+
+    def test_missing_table_file(self):
+        self.table_case(lambda path: None)
+
+    def test_truncated_table_file(self):
+        def write(path):
+            with open(ARGS.table, "rb") as f:
+                blob = f.read()
+            with open(path, "wb") as f:
+                f.write(blob[:len(blob) // 2])
+        self.table_case(write)
+
+    def test_corrupt_table_file(self):
+        def write(path):
+            with open(ARGS.table, "rb") as f:
+                blob = bytearray(f.read())
+            blob[len(blob) // 2] ^= 0x10
+            with open(path, "wb") as f:
+                f.write(blob)
+        self.table_case(write)
+
+    def test_injected_corrupt_tables_stay_in_fault(self):
+        self.boot("sim_corrupt_tables = true")
+        self.expect_fault(EMCY_DATA_SET, DETAIL_TABLES)
+        self.assertEqual(self.clear_fault(), ACK_NOT_POSSIBLE)
+        self.expect_alive()
+
+    def test_missing_calibration_file(self):
+        calibration = self.path("calib.yaml")
+        self.boot("calibration = " + calibration)
+        self.expect_fault(EMCY_DATA_SET, DETAIL_CALIBRATION)
+        with open(calibration, "w") as f:
+            f.write(SIM_RIG_YAML)
+        self.expect_recovery()
+
+    def test_missing_model_folder(self):
+        # The simulator renders its scenes from the models: without them it has no rig (the
+        # calibration fault) and no frames (the camera fault).
+        models = self.path("models")
+        self.boot("models_dir = " + models)
+        self.expect_fault(EMCY_DATA_SET, DETAIL_CALIBRATION)
+        shutil.copytree(ARGS.models, models)
+        self.expect_recovery()
+
+
+def main():
+    global ARGS
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--firmware", required=True, help="path of stereohash-fw")
+    parser.add_argument("--dbc", required=True)
+    parser.add_argument("--table", required=True, help="a valid table blob file")
+    parser.add_argument("--models", required=True, help="the reference model folder")
+    ARGS, rest = parser.parse_known_args()
+    unittest.main(argv=[sys.argv[0]] + rest, verbosity=2)
+
+
+if __name__ == "__main__":
+    main()
