@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 
 #include "recog/image/image.hpp"
@@ -34,6 +35,84 @@ Status ValidateIntrinsics(const CameraIntrinsics& cam, const char* name) {
   return Status::Ok();
 }
 
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double FieldOfViewDeg(double pixels, double focal_px) {
+  return 2.0 * std::atan(0.5 * pixels / focal_px) * 180.0 / kPi;
+}
+
+// The radial part of the distortion, r_d = r * (1 + k1 r^2 + k2 r^4 + k3 r^6), over undistorted
+// normalised radii r. Walks r outwards until r_d covers `reach` (the distorted radius of the
+// farthest image corner): the mapping must increase all the way (else two rays meet in one
+// pixel and undistortion has no unique answer) and its factor r_d / r stay within range.
+Status CheckRadialMapping(const CameraIntrinsics& cam, double reach, const char* name) {
+  constexpr int kSteps = 4096;
+  constexpr double kMaxRadius = 8.0;  // 83 degrees off axis: past the corners of the widest view
+  double last_rd = 0.0;
+  for (int i = 1; i <= kSteps; ++i) {
+    const double r = kMaxRadius * i / kSteps;
+    const double r2 = r * r;
+    const double factor = 1.0 + r2 * (cam.k1 + r2 * (cam.k2 + r2 * cam.k3));
+    const double rd = r * factor;
+    if (!(rd > last_rd)) {
+      return Status::Error(StatusCode::kOutOfRange,
+                           "%s camera: distortion k1=%g k2=%g k3=%g folds the image: the radial "
+                           "mapping turns back at %.0f px from the principal point, inside the "
+                           "image (its farthest corner is %.0f px away)",
+                           name, cam.k1, cam.k2, cam.k3, last_rd * cam.fx, reach * cam.fx);
+    }
+    if (factor < kMinRadialScale || factor > kMaxRadialScale) {
+      return Status::Error(StatusCode::kOutOfRange,
+                           "%s camera: distortion k1=%g k2=%g k3=%g scales radii by %.3g at %.0f "
+                           "px from the principal point; plausible: %.1f..%.1f",
+                           name, cam.k1, cam.k2, cam.k3, factor, rd * cam.fx, kMinRadialScale,
+                           kMaxRadialScale);
+    }
+    if (rd >= reach) return Status::Ok();
+    last_rd = rd;
+  }
+  return Status::Error(StatusCode::kOutOfRange,
+                       "%s camera: distortion k1=%g k2=%g k3=%g does not reach the image corners",
+                       name, cam.k1, cam.k2, cam.k3);
+}
+
+}  // namespace
+
+Status CheckPlausibleIntrinsics(const CameraIntrinsics& cam, const char* name) {
+  const double fov_x = FieldOfViewDeg(cam.width, cam.fx);
+  const double fov_y = FieldOfViewDeg(cam.height, cam.fy);
+  if (fov_x < kMinFieldOfViewDeg || fov_x > kMaxFieldOfViewDeg || fov_y < kMinFieldOfViewDeg ||
+      fov_y > kMaxFieldOfViewDeg) {
+    const bool x = fov_x < kMinFieldOfViewDeg || fov_x > kMaxFieldOfViewDeg;
+    return Status::Error(StatusCode::kOutOfRange,
+                         "%s camera: focal length %s = %g px gives a %.3g degree field of view "
+                         "over %d px; plausible: %.0f..%.0f degrees",
+                         name, x ? "fx" : "fy", x ? cam.fx : cam.fy, x ? fov_x : fov_y,
+                         x ? cam.width : cam.height, kMinFieldOfViewDeg, kMaxFieldOfViewDeg);
+  }
+  if (cam.fx > kMaxFocalAspect * cam.fy || cam.fy > kMaxFocalAspect * cam.fx) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "%s camera: fx = %g px and fy = %g px differ by more than a factor %.0f",
+                         name, cam.fx, cam.fy, kMaxFocalAspect);
+  }
+  if (cam.cx < 0.0 || cam.cx > cam.width || cam.cy < 0.0 || cam.cy > cam.height) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "%s camera: principal point (%g, %g) px lies outside the %d x %d image",
+                         name, cam.cx, cam.cy, cam.width, cam.height);
+  }
+  if (std::fabs(cam.p1) > kMaxTangential || std::fabs(cam.p2) > kMaxTangential) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "%s camera: tangential distortion p1=%g p2=%g; plausible: |p| <= %g", name,
+                         cam.p1, cam.p2, kMaxTangential);
+  }
+  // Distorted normalised radius of the farthest corner (both axes scaled to fx).
+  const double dx = std::max(cam.cx, cam.width - cam.cx) / cam.fx;
+  const double dy = std::max(cam.cy, cam.height - cam.cy) / cam.fy;
+  return CheckRadialMapping(cam, std::sqrt(dx * dx + dy * dy), name);
+}
+
 Status ValidateRotation(const Eigen::Matrix3d& R, const char* name) {
   if (!R.allFinite()) {
     return Status::Error(StatusCode::kInvalidArgument, "%s: non-finite rotation entry", name);
@@ -60,17 +139,25 @@ Status ValidateStereoCalibration(const StereoCalibration& calib) {
   if (!calib.right_t_left_mm.allFinite()) {
     return Status::Error(StatusCode::kInvalidArgument, "T: non-finite translation entry");
   }
-  if (!(calib.right_t_left_mm.norm() > 0.0)) {
+  const double baseline_mm = calib.right_t_left_mm.norm();
+  if (!(baseline_mm > 0.0)) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "T is zero: the two cameras coincide, no stereo baseline");
   }
-  return Status::Ok();
+  if (baseline_mm < kMinBaselineMm || baseline_mm > kMaxBaselineMm) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "T: stereo baseline %.4g mm; plausible: %.0f..%.0f mm (T is in "
+                         "millimetres)",
+                         baseline_mm, kMinBaselineMm, kMaxBaselineMm);
+  }
+  SH_RETURN_IF_ERROR(CheckPlausibleIntrinsics(calib.left, "left"));
+  return CheckPlausibleIntrinsics(calib.right, "right");
 }
 
 Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& R) {
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d U = svd.matrixU();
-  const Eigen::Matrix3d V = svd.matrixV();
+  const Eigen::Matrix3d& V = svd.matrixV();
   // Keep det +1: a reflection is refused before this is called, but guard anyway.
   if ((U * V.transpose()).determinant() < 0.0) U.col(2) = -U.col(2);
   return U * V.transpose();

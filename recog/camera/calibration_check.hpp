@@ -20,7 +20,28 @@ Status ValidateIntrinsics(const CameraIntrinsics& cam, const char* name);
 // Checks a rotation: finite, orthonormal within kRotationTolerance, det +1 (not a reflection).
 Status ValidateRotation(const Eigen::Matrix3d& R, const char* name);
 
-// Checks both cameras, the rotation, and a finite non-zero baseline.
+// Plausibility limits: what a camera that images the scene at all can have. Values outside
+// come from a failed calibration (inconsistent board views) or a typing error, and would make
+// recognition report nothing rather than fail.
+inline constexpr double kMinFieldOfViewDeg = 1.0;    // horizontal and vertical
+inline constexpr double kMaxFieldOfViewDeg = 150.0;  // beyond: a fisheye, not this lens model
+inline constexpr double kMaxFocalAspect = 2.0;       // fx / fy and fy / fx
+inline constexpr double kMinRadialScale = 0.5;       // radial distortion factor anywhere in
+inline constexpr double kMaxRadialScale = 2.0;       // the image (1 = no distortion)
+inline constexpr double kMaxTangential = 0.1;        // |p1|, |p2|
+inline constexpr double kMinBaselineMm = 5.0;
+inline constexpr double kMaxBaselineMm = 1000.0;
+
+// The lens of one camera is plausible for its image size: field of view within
+// kMinFieldOfViewDeg..kMaxFieldOfViewDeg, pixel aspect within 1/kMaxFocalAspect..kMaxFocalAspect,
+// principal point inside the image, and a distortion that maps the image one to one (radial
+// mapping increasing out to the farthest image corner) with a radial factor within
+// kMinRadialScale..kMaxRadialScale and |p1|, |p2| <= kMaxTangential. The message names the
+// value and the plausible range. Expects ValidateIntrinsics() to have passed.
+Status CheckPlausibleIntrinsics(const CameraIntrinsics& cam, const char* name);
+
+// Checks both cameras and the rotation (ValidateIntrinsics, ValidateRotation), a finite baseline
+// within kMinBaselineMm..kMaxBaselineMm, and the plausibility of both lenses.
 Status ValidateStereoCalibration(const StereoCalibration& calib);
 
 // Nearest rotation to an almost-orthonormal R (polar decomposition through the SVD), so that

@@ -1,6 +1,10 @@
 // The firmware core in-process: boot, triggers from CAN and GPIO, commands, and every fault the
 // board must survive, injected through the simulator backends.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <string>
 
 #include "tests/support/firmware_doubles.hpp"
 
@@ -268,6 +272,49 @@ TEST(FirmwareCore, MissingCalibrationBootsIntoFault) {
   EXPECT_EQ(rig.core.fault_bits(), uint32_t(kFaultCalibration));
   rig.data->InjectMissingCalibration(false);
   ExpectRecoveryByClearFault(rig, 13);
+}
+
+// A calibration file for a 640 x 480 rig with this left focal length.
+std::string CalibrationYaml(const char* left_fx) {
+  std::string k =
+      std::string("K1: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ ") + left_fx +
+      ", 0., 320., 0., 500., 240., 0., 0., 1. ]\n";
+  const char* rest =
+      "D1: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ 0., 0., 0., 0., 0. ]\n"
+      "K2: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+      "   data: [ 500., 0., 320., 0., 500., 240., 0., 0., 1. ]\n"
+      "D2: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ 0., 0., 0., 0., 0. ]\n"
+      "R: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+      "   data: [ 1., 0., 0., 0., 1., 0., 0., 0., 1. ]\n"
+      "T: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ -100., 0., 0. ]\n";
+  return "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n" + k + rest;
+}
+
+TEST(FirmwareCore, ImplausibleCalibrationFileBootsIntoFaultUntilReplaced) {
+  char path[] = "/tmp/stereohash_fw_calib_XXXXXX";
+  const int fd = mkstemp(path);
+  ASSERT_GE(fd, 0);
+  auto write = [&](const std::string& text) {
+    FILE* f = std::fopen(path, "wb");
+    ASSERT_NE(f, nullptr);
+    ASSERT_EQ(std::fwrite(text.data(), 1, text.size(), f), text.size());
+    std::fclose(f);
+  };
+  write(CalibrationYaml("1e30"));  // fx = 1e30 px: no field of view to speak of
+  Rig rig;
+  rig.data =
+      std::make_unique<FileDataSource>("builtin", path, static_cast<RigCalibration*>(nullptr));
+  rig.Start();
+  std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kDataSet));
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->detail, kDetailCalibration);
+  EXPECT_EQ(rig.core.fault_bits(), uint32_t(kFaultCalibration));
+  EXPECT_EQ(rig.recognition.inits.load(), 0);
+  EXPECT_TRUE(rig.SeeHeartbeats(2));
+  write(CalibrationYaml("500."));
+  ExpectRecoveryByClearFault(rig, 14);
+  close(fd);
+  std::remove(path);
 }
 
 TEST(FirmwareCore, RecognitionErrorGivesStatusThreeAndEmcyButStaysReady) {

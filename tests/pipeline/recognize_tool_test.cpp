@@ -185,8 +185,46 @@ TEST_F(RecognizeToolTest, MalformedYamlIsAClearError) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
 }
 
+// The rendered calibration with `from` (a number as the writer prints it) replaced.
+std::string CalibrationWith(const std::string& calib, const std::string& from,
+                            const std::string& to) {
+  std::string text = calib;
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+TEST_F(RecognizeToolTest, ImplausibleCalibrationIsRefusedNamingTheValue) {
+  const std::string calib = ReadText(Path("calib.yaml"));
+  struct Case {
+    const char* from;
+    const char* to;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"[ 1136.4000000000001,", "[ 1e-30,", "fx = 1e-30 px"},
+      {"[ 1136.4000000000001,", "[ 1e30,", "fx = 1e+30 px"},
+      {"379.19999999999999", "5000.", "principal point (5000, 289.6)"},
+      {"[ -0.10000000000000001,", "[ 1e6,", "k1=1e+06"},
+      {"0.00020000000000000001, -0.0001,\n       0. ]",
+       "0.00020000000000000001, -0.0001,\n "
+       "      -10353. ]",
+       "k3=-10353"},
+      {"[ -118.67234802246094,", "[ -1606.,", "baseline 1606 mm"},
+  };
+  for (const Case& c : cases) {
+    WriteText(Path("implausible.yaml"), CalibrationWith(calib, c.from, c.to));
+    const ToolRun r =
+        RunTool(Inputs(Path("implausible.yaml"), Path("left.png"), Path("right.png")));
+    EXPECT_FALSE(r.signalled) << c.to;
+    EXPECT_EQ(r.exit_code, 1) << c.to << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.to << "\n" << r.output;
+  }
+}
+
 TEST_F(RecognizeToolTest, SizeMismatchIsAClearError) {
-  std::vector<uint8_t> small(320 * 240, 40);
+  std::vector<uint8_t> small(size_t{320} * 240, 40);
   ASSERT_TRUE(
       hal::WritePgm(Path("small.pgm").c_str(), ConstGrayView{small.data(), 320, 240, 320}).ok());
   const ToolRun r = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("small.pgm")));
