@@ -6,11 +6,12 @@
 if(OpenCV_FOUND)
   set(calibrate_sources ${CMAKE_CURRENT_LIST_DIR}/cmd_calibrate.cpp
                         ${CMAKE_CURRENT_LIST_DIR}/cmd_calibrate_table.cpp
+                        ${CMAKE_CURRENT_LIST_DIR}/board_detection.cpp
                         ${CMAKE_CURRENT_LIST_DIR}/chessboard.cpp
                         ${CMAKE_CURRENT_LIST_DIR}/cmd_calibrate_handeye.cpp
                         ${CMAKE_CURRENT_LIST_DIR}/handeye.cpp)
   target_sources(stereohash PRIVATE ${calibrate_sources})
-  stereohash_headers(stereohash PRIVATE handeye.hpp)
+  stereohash_headers(stereohash PRIVATE board_detection.hpp handeye.hpp)
   set_source_files_properties(${calibrate_sources} PROPERTIES COMPILE_OPTIONS "-frtti;-fexceptions")
   target_include_directories(stereohash PRIVATE ${OpenCV_INCLUDE_DIRS})
   target_link_libraries(stereohash PRIVATE stereohash_camera ${OpenCV_LIBS})

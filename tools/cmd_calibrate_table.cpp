@@ -11,12 +11,13 @@
 #include <cstdio>
 #include <cstring>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
 #include "recog/camera/table_yaml.hpp"
+#include "recog/image/image.hpp"
 #include "recog/stereo/triangulation.hpp"
+#include "tools/board_detection.hpp"
 #include "tools/chessboard.hpp"
 #include "tools/command.hpp"
 #include "tools/recognize_setup.hpp"
@@ -47,17 +48,20 @@ int CalibrateTable(const char* calib_path, const char* left_path, const char* ri
                    cv::Size board, double square_mm, const char* out_path) {
   const Result<StereoCalibration> calib = LoadCalibration(calib_path);
   if (!calib.ok()) return Fail("", calib.status().message());
-  const cv::Mat left = cv::imread(left_path, cv::IMREAD_GRAYSCALE);
-  const cv::Mat right = cv::imread(right_path, cv::IMREAD_GRAYSCALE);
-  if (left.empty()) return Fail("cannot read left image ", left_path);
-  if (right.empty()) return Fail("cannot read right image ", right_path);
-  if (left.cols != calib->left.width || left.rows != calib->left.height ||
-      right.cols != calib->right.width || right.rows != calib->right.height) {
+  // Read and searched within a time and memory limit, as calibrate does.
+  DetectionLimits limits;
+  limits.max_width = kMaxImageWidth;
+  limits.max_height = kMaxImageHeight;
+  const PairDetection found = DetectBoardPair(left_path, right_path, board, limits);
+  if (found.outcome != PairDetection::Outcome::kFound) return Fail("", found.message.c_str());
+  if (found.image_size.width != calib->left.width ||
+      found.image_size.height != calib->left.height ||
+      found.image_size.width != calib->right.width ||
+      found.image_size.height != calib->right.height) {
     return Fail("the images' size differs from the calibration's: ", calib_path);
   }
-  std::vector<cv::Point2f> lc, rc;
-  if (!FindBoard(left, board, &lc)) return Fail("chessboard not found in ", left_path);
-  if (!FindBoard(right, board, &rc)) return Fail("chessboard not found in ", right_path);
+  const std::vector<cv::Point2f>& lc = found.left;
+  const std::vector<cv::Point2f>& rc = found.right;
 
   // Triangulated corners (left camera) against the board grid (table frame, z = 0). OpenCV
   // orders the corners row by row in both images the same way for a board that is not

@@ -2,6 +2,7 @@
 // with a calibration that OpenCV computes here directly along the route of its stereo_calib
 // sample, and checked through our own geometry (triangulated board squares are square-mm wide).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -186,6 +187,115 @@ TEST(CalibrateTool, SamplePairsAgainstOpenCvStereoCalibrate) {
   // the worst square; the mean and RMS reflect the calibration.
   EXPECT_NEAR(sum / n, kSquareMm, 0.25);
   EXPECT_LT(rms, 1.5);
+}
+
+// A fresh folder under the test's temporary directory.
+std::string TempDir(const char* name) {
+  std::string dir = TempPath(name);
+  (void)std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str());
+  return dir;
+}
+
+// Links sample pair i into `dir` as left<NN>.jpg / right<NN>.jpg, with the right image of
+// sample pair `right_from` (the same pair unless a test mixes them up).
+void LinkPair(const std::string& dir, int name, int i, int right_from) {
+  char l[32], r[32];
+  std::snprintf(l, sizeof(l), "/left%02d.jpg", name);
+  std::snprintf(r, sizeof(r), "/right%02d.jpg", name);
+  ASSERT_EQ(symlink(ImagePath("left", i).c_str(), (dir + l).c_str()), 0);
+  ASSERT_EQ(symlink(ImagePath("right", right_from).c_str(), (dir + r).c_str()), 0);
+}
+
+std::string Globs(const std::string& dir) {
+  return "--left '" + dir + "/left*.jpg' --right '" + dir +
+         "/right*.jpg' --board 9x6 --square-mm 25";
+}
+
+TEST(CalibrateTool, ReprojectionErrorAboveTheLimitIsRefusedUnlessForced) {
+  if (!SampleImagesPresent()) GTEST_SKIP() << "OpenCV sample stereo pairs not found";
+  const std::string data(kDataDir);
+  const std::string out = TempPath("forced.yaml");
+  const std::string args = "--left '" + data + "/left[0-9]*.jpg' --right '" + data +
+                           "/right[0-9]*.jpg' --board 9x6 --square-mm 25 --out " + out;
+  std::remove(out.c_str());
+  std::string output;
+  // The samples reach about 0.45 px: a 0.3 px limit refuses them.
+  EXPECT_EQ(RunTool(args + " --max-rms-px 0.3", &output), 1) << output;
+  EXPECT_NE(output.find("exceeds --max-rms-px 0.3"), std::string::npos) << output;
+  EXPECT_NE(output.find("left02.jpg / " + data + "/right02.jpg: 1.2"), std::string::npos)
+      << "per-pair errors, the worst pair marked: " << output;
+  EXPECT_NE(output.find("(above the limit)"), std::string::npos) << output;
+  EXPECT_NE(access(out.c_str(), F_OK), 0) << "nothing written";
+  output.clear();
+  EXPECT_EQ(RunTool(args + " --max-rms-px 0.3 --force", &output), 0) << output;
+  EXPECT_NE(output.find("written because of --force"), std::string::npos) << output;
+  EXPECT_EQ(access(out.c_str(), F_OK), 0);
+  std::remove(out.c_str());
+}
+
+TEST(CalibrateTool, InconsistentBoardViewsAreRefused) {
+  if (!SampleImagesPresent()) GTEST_SKIP() << "OpenCV sample stereo pairs not found";
+  // Each left image with the right image of another pair: both boards are found, but the
+  // stereo geometry cannot explain them.
+  const std::string dir = TempDir("mixed");
+  const int pairs[] = {1, 3, 4, 6, 7, 8, 9, 11};
+  for (int k = 0; k < 8; ++k) LinkPair(dir, k, pairs[k], pairs[(k + 3) % 8]);
+  std::string output;
+  EXPECT_EQ(RunTool(Globs(dir) + " --out " + dir + "/calib.yaml", &output), 1) << output;
+  EXPECT_NE(output.find("exceeds --max-rms-px 1"), std::string::npos) << output;
+  EXPECT_NE(access((dir + "/calib.yaml").c_str(), F_OK), 0);
+  (void)std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+TEST(CalibrateTool, APairThatNeverArrivesIsSkippedAfterTheTimeLimit) {
+  if (!SampleImagesPresent()) GTEST_SKIP() << "OpenCV sample stereo pairs not found";
+  // left00.jpg is a FIFO nobody writes to: reading it blocks for ever, like an image the
+  // detector never finishes with.
+  const std::string dir = TempDir("fifo");
+  ASSERT_EQ(mkfifo((dir + "/left00.jpg").c_str(), 0600), 0);
+  ASSERT_EQ(symlink(ImagePath("right", 1).c_str(), (dir + "/right00.jpg").c_str()), 0);
+  for (int i : {1, 3, 4, 6, 7}) LinkPair(dir, i, i, i);
+  std::string output;
+  RunTool(Globs(dir) + " --time-limit-s 0.5 --out " + dir + "/calib.yaml", &output);
+  EXPECT_NE(output.find("left00.jpg / " + dir +
+                        "/right00.jpg: reading and searching the pair "
+                        "took longer than 0.5 s"),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find("using 5 of 6 pairs"), std::string::npos) << output;
+  (void)std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+TEST(CalibrateTool, ImagesLargerThanTheRecogniserTakesAreRefused) {
+  const std::string dir = TempDir("large");
+  const cv::Mat big(1500, 2000, CV_8UC1, cv::Scalar(128));
+  ASSERT_TRUE(cv::imwrite(dir + "/left00.png", big));
+  ASSERT_TRUE(cv::imwrite(dir + "/right00.png", big));
+  std::string output;
+  EXPECT_EQ(RunTool("--left '" + dir + "/left*.png' --right '" + dir +
+                        "/right*.png' --board 9x6 --square-mm 25 --out " + dir + "/c.yaml",
+                    &output),
+            1);
+  EXPECT_NE(output.find("is 2000x1500, larger than the 1280x1024"), std::string::npos) << output;
+  (void)std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+TEST(CalibrateTool, SizesAUserGivesAreBounded) {
+  std::string output;
+  EXPECT_EQ(RunTool("--left a --right b --board 100000x100000 --square-mm 25 --out x", &output), 2);
+  EXPECT_NE(output.find("each 2..64"), std::string::npos) << output;
+  output.clear();
+  EXPECT_EQ(RunTool("--left a --right b --board 9x6 --square-mm 1e9 --out x", &output), 2);
+  EXPECT_NE(output.find("0.001..1000"), std::string::npos) << output;
+  output.clear();
+  EXPECT_EQ(
+      RunTool("--left a --right b --board 9x6 --square-mm 25 --time-limit-s 1e9 --out x", &output),
+      2);
+  EXPECT_NE(output.find("--time-limit-s"), std::string::npos) << output;
+  output.clear();
+  EXPECT_EQ(
+      RunTool("--left a --right b --board 9x6 --square-mm 25 --max-rms-px -1 --out x", &output), 2);
+  EXPECT_NE(output.find("--max-rms-px"), std::string::npos) << output;
 }
 
 TEST(CalibrateTool, BadArgumentsGiveClearErrors) {
