@@ -69,6 +69,18 @@ void PrintGrid(const char* what, const GridGeometry& g) {
               double(g.min_mm[1]), double(g.min_mm[2]));
 }
 
+void PrintModels(const TableView& view) {
+  std::vector<uint32_t> bases(view.model_count());
+  for (uint32_t b = 0; b < view.basis_count(); ++b) ++bases[view.basis(b).model];
+  for (uint32_t m = 0; m < view.model_count(); ++m) {
+    const Model& model = view.model(m);
+    std::printf(
+        "  model %u %-10s %2u corners %2u edges %2u faces, symmetry group of order %2u, "
+        "%4u bases\n",
+        m, model.name, model.n_corners, model.n_edges, model.n_faces, model.n_symmetries, bases[m]);
+  }
+}
+
 void Describe(const TableView& view, size_t size) {
   const TableHeader& h = view.header();
   std::printf("hash function %u, format version %u, %zu bytes, CRC-32 %08x\n", h.hash_function,
@@ -80,15 +92,7 @@ void Describe(const TableView& view, size_t size) {
       h.max_line_bin_entries);
   PrintGrid("point", h.point_grid);
   PrintGrid("line ", h.line_grid);
-  std::vector<uint32_t> bases(view.model_count());
-  for (uint32_t b = 0; b < view.basis_count(); ++b) ++bases[view.basis(b).model];
-  for (uint32_t m = 0; m < view.model_count(); ++m) {
-    const Model& model = view.model(m);
-    std::printf(
-        "  model %u %-10s %2u corners %2u edges %2u faces, symmetry group of order %2u, "
-        "%4u bases\n",
-        m, model.name, model.n_corners, model.n_edges, model.n_faces, model.n_symmetries, bases[m]);
-  }
+  PrintModels(view);
 }
 
 int RunBuild(int argc, char** argv) {
@@ -169,6 +173,9 @@ int RunBuild(int argc, char** argv) {
   std::printf("wrote %s: hash fn %d, %zu bytes, %u bases, %u point and %u line entries\n",
               out.c_str(), hf, blob->size(), report.bases, report.point_entries,
               report.line_entries);
+  // What each model became (a changed model shows here: other counts, a smaller symmetry group).
+  const Result<TableView> view = TableView::Open(blob->data(), blob->size());
+  if (view.ok()) PrintModels(*view);
   return 0;
 }
 

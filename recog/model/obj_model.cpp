@@ -1,6 +1,7 @@
 #include "recog/model/obj_model.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -37,6 +38,14 @@ struct ObjMesh {
   }
 };
 
+// Characters of the vertex index at the start of a face token, for messages: indices are quoted
+// as written, never as the number they saturated at.
+int IndexLength(const char* token, const char* end) {
+  const char* p = token;
+  while (p < end && *p != '/' && !IsSpace(*p)) ++p;
+  return static_cast<int>(p - token);
+}
+
 Status ParseText(const char* text, size_t len, ObjMesh& mesh) {
   const char* p = text;
   const char* const end = text + len;
@@ -70,6 +79,14 @@ Status ParseText(const char* text, size_t len, ObjMesh& mesh) {
                                  "OBJ line %d: non-finite vertex coordinate", line);
         }
       }
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(xyz[k]) > kMaxObjCoordinateMm) {
+          return Status::Error(StatusCode::kOutOfRange,
+                               "OBJ line %d: coordinate %g mm is outside +-%g mm (model units "
+                               "are millimetres)",
+                               line, xyz[k], kMaxObjCoordinateMm);
+        }
+      }
       mesh.vertices[mesh.n_vertices++] = {xyz[0], xyz[1], xyz[2]};
     } else if (keyword_len == 1 && keyword[0] == 'f') {
       if (mesh.n_polygons >= kMaxObjPolygons) {
@@ -81,6 +98,7 @@ Status ParseText(const char* text, size_t len, ObjMesh& mesh) {
         SkipSpaces(p, line_end);
         if (p == line_end) break;
         // Token "v", "v/vt", "v/vt/vn" or "v//vn": only v matters.
+        const char* token = p;
         long index = 0, vt = 0;
         if (obj::ParseFaceVertex(p, line_end, &index, &vt) != NumberError::kNone) {
           return Status::Error(StatusCode::kInvalidArgument,
@@ -89,8 +107,8 @@ Status ParseText(const char* text, size_t len, ObjMesh& mesh) {
         const long resolved = obj::ResolveObjIndex(index, mesh.n_vertices);
         if (resolved < 0) {
           return Status::Error(StatusCode::kInvalidArgument,
-                               "OBJ line %d: face refers to vertex %ld but %d are defined", line,
-                               index, mesh.n_vertices);
+                               "OBJ line %d: face refers to vertex %.*s but %d are defined", line,
+                               IndexLength(token, line_end), token, mesh.n_vertices);
         }
         if (mesh.n_half_edges - first >= kMaxObjPolygonVertices ||
             mesh.n_half_edges >= kMaxObjHalfEdges) {
@@ -142,6 +160,60 @@ int ToVertex(const ObjMesh& mesh, const Topology& topo, int h) {
   return mesh.from(mesh.next_in_polygon(h, topo.polygon_of[h]));
 }
 
+constexpr double kPi = 3.14159265358979323846;
+
+struct OffPlane {
+  double distance_mm = 0;
+  int vertex = 0;  // 0-based OBJ vertex index
+};
+
+// The vertex of polygon f farthest from the plane normal . x = offset.
+OffPlane FarthestOffPlane(const ObjMesh& mesh, int f, const Eigen::Vector3d& normal,
+                          double offset) {
+  OffPlane off;
+  for (int h = mesh.polygon_start[f]; h < mesh.polygon_start[f + 1]; ++h) {
+    const double d = std::abs(normal.dot(mesh.vertices[mesh.from(h)]) - offset);
+    if (d > off.distance_mm) off = {d, mesh.from(h)};
+  }
+  return off;
+}
+
+// Polygons merged pairwise can still drift out of one plane (a finely faceted curve): every
+// vertex of a merged face must lie within the tolerance of the face's plane.
+Status CheckMergedFacesFlat(const ObjMesh& mesh, double tolerance_mm, const Topology& topo) {
+  for (int group = 0; group < topo.n_groups; ++group) {
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    double offset_sum = 0;
+    int n_vertices = 0, first = -1;
+    for (int f = 0; f < mesh.n_polygons; ++f) {
+      if (topo.group_of[f] != group) continue;
+      n += topo.newell[f];
+      if (first < 0) first = f;
+    }
+    n.normalize();
+    for (int f = 0; f < mesh.n_polygons; ++f) {
+      if (topo.group_of[f] != group) continue;
+      for (int h = mesh.polygon_start[f]; h < mesh.polygon_start[f + 1]; ++h) {
+        offset_sum += n.dot(mesh.vertices[mesh.from(h)]);
+        ++n_vertices;
+      }
+    }
+    const double offset = offset_sum / n_vertices;
+    for (int f = 0; f < mesh.n_polygons; ++f) {
+      if (topo.group_of[f] != group) continue;
+      const OffPlane off = FarthestOffPlane(mesh, f, n, offset);
+      if (off.distance_mm > tolerance_mm) {
+        return Status::Error(StatusCode::kInvalidArgument,
+                             "OBJ lines %d and %d: the face they form together is not planar: "
+                             "vertex %d lies %.3g mm off its plane (tolerance %.3g mm)",
+                             mesh.polygon_line[first], mesh.polygon_line[f], off.vertex + 1,
+                             off.distance_mm, tolerance_mm);
+      }
+    }
+  }
+  return Status::Ok();
+}
+
 Status BuildTopology(const ObjMesh& mesh, double tolerance_mm, Topology& topo) {
   for (int f = 0; f < mesh.n_polygons; ++f) {
     Eigen::Vector3d n = Eigen::Vector3d::Zero();
@@ -165,11 +237,12 @@ Status BuildTopology(const ObjMesh& mesh, double tolerance_mm, Topology& topo) {
     topo.newell[f] = n;
     const Eigen::Vector3d unit = n.normalized();
     topo.offset[f] = unit.dot(centroid);
-    for (int h = mesh.polygon_start[f]; h < mesh.polygon_start[f + 1]; ++h) {
-      if (std::abs(unit.dot(mesh.vertices[mesh.from(h)]) - topo.offset[f]) > tolerance_mm) {
-        return Status::Error(StatusCode::kInvalidArgument, "OBJ line %d: face is not planar",
-                             mesh.polygon_line[f]);
-      }
+    const OffPlane off = FarthestOffPlane(mesh, f, unit, topo.offset[f]);
+    if (off.distance_mm > tolerance_mm) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "OBJ line %d: face is not planar: vertex %d lies %.3g mm off its plane "
+                           "(tolerance %.3g mm)",
+                           mesh.polygon_line[f], off.vertex + 1, off.distance_mm, tolerance_mm);
     }
     topo.parent[f] = f;
   }
@@ -204,12 +277,33 @@ Status BuildTopology(const ObjMesh& mesh, double tolerance_mm, Topology& topo) {
     topo.twin[h] = twin;
   }
 
-  // Merge adjacent coplanar polygons.
+  // Merge adjacent polygons that lie in one plane; a fold too shallow to be an edge is a face
+  // that should be flat and is not.
   for (int h = 0; h < mesh.n_half_edges; ++h) {
     const int f = topo.polygon_of[h], g = topo.polygon_of[topo.twin[h]];
+    if (f >= g) continue;  // each shared edge once
     const Eigen::Vector3d nf = topo.newell[f].normalized(), ng = topo.newell[g].normalized();
-    if (nf.dot(ng) > 1.0 - 1e-9 && std::abs(topo.offset[f] - topo.offset[g]) < tolerance_mm) {
+    OffPlane off = FarthestOffPlane(mesh, g, nf, topo.offset[f]);
+    int plane_of = f;
+    const OffPlane off_g = FarthestOffPlane(mesh, f, ng, topo.offset[g]);
+    if (off_g.distance_mm > off.distance_mm) {
+      off = off_g;
+      plane_of = g;
+    }
+    if (nf.dot(ng) > 0.0 && off.distance_mm <= tolerance_mm) {
       topo.parent[Find(topo.parent, f)] = Find(topo.parent, g);
+      continue;
+    }
+    const double fold_deg = std::acos(std::clamp(nf.dot(ng), -1.0, 1.0)) * 180.0 / kPi;
+    if (fold_deg < kMinObjEdgeAngleDeg) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "OBJ lines %d and %d: adjacent faces bend by only %.2g degrees at edge "
+                           "%d-%d: vertex %d lies %.3g mm off the plane of the face at line %d "
+                           "(a flat face must be flat within %.3g mm, an edge must bend by at "
+                           "least %g degrees)",
+                           mesh.polygon_line[f], mesh.polygon_line[g], fold_deg, mesh.from(h) + 1,
+                           ToVertex(mesh, topo, h) + 1, off.vertex + 1, off.distance_mm,
+                           mesh.polygon_line[plane_of], tolerance_mm, kMinObjEdgeAngleDeg);
     }
   }
   int root_group[kMaxObjPolygons];
@@ -226,7 +320,7 @@ Status BuildTopology(const ObjMesh& mesh, double tolerance_mm, Topology& topo) {
     }
     topo.group_of[f] = root_group[r];
   }
-  return Status::Ok();
+  return CheckMergedFacesFlat(mesh, tolerance_mm, topo);
 }
 
 bool IsBoundary(const Topology& topo, int h) {
@@ -282,10 +376,11 @@ Status TraceOutlines(const ObjMesh& mesh, double tolerance_mm, Topology& topo) {
       const Eigen::Vector3d& v = mesh.vertices[mesh.from(nh)];
       const Eigen::Vector3d& b = mesh.vertices[ToVertex(mesh, topo, nh)];
       const Eigen::Vector3d in = v - a, out = b - v;
-      // The outline turns at v unless it continues straight on.
-      // sin(turn angle) below 1e-5: straight up to the rounding of printed coordinates.
+      // The outline turns at v unless it continues straight on: v within the planarity
+      // tolerance of the line from a to b (the rounding of printed coordinates).
+      const Eigen::Vector3d chord = b - a;
       const bool straight =
-          in.dot(out) > 0 && in.cross(out).norm() <= 1e-5 * in.norm() * out.norm();
+          in.dot(out) > 0 && in.cross(chord).norm() <= tolerance_mm * chord.norm();
       if (!straight) topo.is_corner[mesh.from(nh)] = true;
       h = nh;
     } while (h != first);
@@ -307,8 +402,14 @@ Result<Model> ParseObjModel(const char* text, size_t len, const char* name) {
     lo = lo.cwiseMin(mesh.vertices[i]);
     hi = hi.cwiseMax(mesh.vertices[i]);
   }
-  // Planarity and coplanarity tolerance relative to the model size (float-printed OBJ files).
-  const double tolerance_mm = 1e-5 * (hi - lo).norm() + 1e-9;
+  const double size_mm = (hi - lo).norm();
+  if (size_mm > kMaxObjSizeMm || size_mm < kMinObjSizeMm) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "OBJ: the model is %.4g mm across (bounding-box diagonal); supported: "
+                         "%g..%g mm (model units are millimetres)",
+                         size_mm, kMinObjSizeMm, kMaxObjSizeMm);
+  }
+  const double tolerance_mm = std::max(kObjPlanarityMm, kObjPlanarityRelative * size_mm);
 
   Topology topo;
   SH_RETURN_IF_ERROR(BuildTopology(mesh, tolerance_mm, topo));

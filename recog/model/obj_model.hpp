@@ -21,6 +21,23 @@ inline constexpr int kMaxObjPolygons = 512;
 inline constexpr int kMaxObjPolygonVertices = 64;
 inline constexpr int kMaxObjHalfEdges = 2048;
 
+// Geometry limits. Coordinates beyond +-kMaxObjCoordinateMm are a unit mistake (metres vs
+// millimetres the other way round) or garbage; a model more than kMaxObjSizeMm across does not
+// fit the hash tables, which store model millimetres in Q10.6 (+-512 mm); one below
+// kMinObjSizeMm is degenerate.
+inline constexpr double kMaxObjCoordinateMm = 10000.0;
+inline constexpr double kMaxObjSizeMm = 500.0;
+inline constexpr double kMinObjSizeMm = 1.0;
+// A face is flat when all its vertices lie within the planarity tolerance of its plane:
+// max(kObjPlanarityMm, kObjPlanarityRelative x model size), which admits coordinates printed
+// with a few decimals. Adjacent polygons within the tolerance of each other's planes are one
+// face; adjacent polygons that bend by less than kMinObjEdgeAngleDeg but are not within it are
+// a face that is meant to be flat and is not (a real edge that shallow would not show in an
+// image either): refused, naming both and the distance.
+inline constexpr double kObjPlanarityMm = 0.01;
+inline constexpr double kObjPlanarityRelative = 1e-4;
+inline constexpr double kMinObjEdgeAngleDeg = 2.0;
+
 // `text` need not be NUL-terminated; `name` (may be null) is stored truncated to
 // kMaxModelNameLength characters.
 Result<Model> ParseObjModel(const char* text, size_t len, const char* name);

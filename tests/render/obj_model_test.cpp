@@ -27,8 +27,9 @@ constexpr Expected kReferenceModels[] = {{"cube", 8, 12},      {"hexagon", 12, 1
 
 // Checks the invariants every parsed model must satisfy: a closed polyhedron (Euler), every
 // corner on the plane of every face that lists it, outward normals, edges between two faces
-// that both list the edge's corners consecutively.
-void CheckConsistent(const Model& m) {
+// that both list the edge's corners consecutively. Corners lie on their faces within
+// `plane_tolerance_mm`.
+void CheckConsistent(const Model& m, float plane_tolerance_mm = 1e-3f) {
   EXPECT_EQ(m.n_corners - m.n_edges + m.n_faces, 2) << m.name;
   Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
   for (int i = 0; i < m.n_corners; ++i) centroid += m.corner(i);
@@ -37,7 +38,8 @@ void CheckConsistent(const Model& m) {
     const ModelFace& face = m.faces[f];
     EXPECT_NEAR(m.face_normal(f).norm(), 1.0f, 1e-5f);
     for (int k = 0; k < face.n_vertices; ++k) {
-      EXPECT_NEAR(m.face_normal(f).dot(m.corner(face.vertices[k])), face.offset_mm, 1e-3f);
+      EXPECT_NEAR(m.face_normal(f).dot(m.corner(face.vertices[k])), face.offset_mm,
+                  plane_tolerance_mm);
     }
     // The models are star-shaped about their centroid: outward normals face away from it.
     EXPECT_GT(face.offset_mm - m.face_normal(f).dot(centroid), 0.0f) << m.name << " face " << f;
@@ -187,6 +189,85 @@ TEST(ObjModel, RejectsBadInputWithClearMessages) {
               "non-manifold");
   // A non-planar quadrilateral.
   ExpectError("v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0\nf 1 2 3 4\n", "not planar");
+}
+
+// The triangulated cube with vertex `moved` (1-based) displaced by `delta_mm`, coordinates
+// printed with `decimals` digits after the point.
+std::string TriangulatedCube(int moved, const Eigen::Vector3d& delta_mm, int decimals = 6) {
+  const double corners[8][3] = {{-15, -15, -20}, {15, -15, -20}, {15, 15, -20}, {-15, 15, -20},
+                                {-15, -15, 20},  {15, -15, 20},  {15, 15, 20},  {-15, 15, 20}};
+  std::string text;
+  char line[128];
+  for (int i = 0; i < 8; ++i) {
+    Eigen::Vector3d v(corners[i][0], corners[i][1], corners[i][2]);
+    if (i + 1 == moved) v += delta_mm;
+    std::snprintf(line, sizeof(line), "v %.*f %.*f %.*f\n", decimals, v.x(), decimals, v.y(),
+                  decimals, v.z());
+    text += line;
+  }
+  text += "f 4 3 2\nf 4 2 1\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\n";
+  text += "f 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+  return text;
+}
+
+TEST(ObjModel, TrianglesWithinThePlanarityToleranceMergeIntoOneFace) {
+  // 4 um off the top plane: coordinates as a CAD export rounds them, far inside 0.01 mm. The
+  // triangles of the top face meet at 0.01 degrees; they are one face all the same.
+  const std::string text = TriangulatedCube(7, {0.0, 0.0, 0.004}, 3);
+  const Result<Model> m = ParseObjModel(text.data(), text.size(), "rounded");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_EQ(m->n_corners, 8);
+  EXPECT_EQ(m->n_edges, 12);
+  EXPECT_EQ(m->n_faces, 6);
+  CheckConsistent(*m, static_cast<float>(kObjPlanarityMm));
+}
+
+TEST(ObjModel, AFaceBentByLessThanAVisibleEdgeIsRefusedWithTheDistance) {
+  // Vertex 7 half a millimetre above the top plane: the top's two triangles bend by 1.3
+  // degrees, a face meant to be flat that is not.
+  const std::string text = TriangulatedCube(7, {0.0, 0.0, 0.5});
+  const Result<Model> m = ParseObjModel(text.data(), text.size(), "bent");
+  ASSERT_FALSE(m.ok());
+  const std::string message = m.status().message();
+  EXPECT_NE(message.find("OBJ lines 11 and 12"), std::string::npos) << message;
+  EXPECT_NE(message.find("bend by only"), std::string::npos) << message;
+  EXPECT_NE(message.find("vertex"), std::string::npos) << message;
+  EXPECT_NE(message.find(" mm off the plane"), std::string::npos) << message;
+}
+
+TEST(ObjModel, NonPlanarPolygonRefusalNamesTheVertexAndDistance) {
+  ExpectError("v 0 0 0\nv 10 0 0\nv 10 10 2\nv 0 10 0\nf 1 2 3 4\n",
+              "OBJ line 5: face is not planar: vertex 1 lies 0.495 mm off its plane "
+              "(tolerance 0.01 mm)");
+}
+
+TEST(ObjModel, CoordinatesAndSizesOutsideTheSupportedRangeAreRefused) {
+  // The cube in micrometres instead of millimetres.
+  std::string text = "v -15000000 -15000000 -20000000\n";
+  const Result<Model> scaled = ParseObjModel(text.data(), text.size(), "um");
+  ASSERT_FALSE(scaled.ok());
+  EXPECT_EQ(scaled.status().code(), StatusCode::kOutOfRange);
+  EXPECT_NE(std::string(scaled.status().message()).find("-1.5e+07 mm is outside +-10000 mm"),
+            std::string::npos)
+      << scaled.status().message();
+  // 20 times the cube: 1.2 m across, beyond what the tables store.
+  text.clear();
+  for (const char* v : {"-300 -300 -400", "300 -300 -400", "300 300 -400", "-300 300 -400",
+                        "-300 -300 400", "300 -300 400", "300 300 400", "-300 300 400"}) {
+    text += std::string("v ") + v + "\n";
+  }
+  text += "f 4 3 2 1\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  ExpectError(text.c_str(), "the model is 1166 mm across");
+  // A speck: 0.03 mm across.
+  ExpectError(
+      "v 0 0 0\nv 0.02 0 0\nv 0 0.02 0\nv 0 0 0.01\nf 1 3 2\nf 1 2 4\nf 2 3 4\n"
+      "f 3 1 4\n",
+      "0.03 mm across");
+}
+
+TEST(ObjModel, LongVertexIndicesAreQuotedWhole) {
+  ExpectError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 123456789012345\n", "vertex 123456789012345 but 3");
+  ExpectError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -98765432109\n", "vertex -98765432109 but 3");
 }
 
 TEST(ObjModel, RejectsModelsBeyondTheRecordCapacity) {
