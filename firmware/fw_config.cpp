@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "firmware/can_protocol.hpp"
+#include "recog/base/printable.hpp"
 #include "recog/pipeline/worker_pool.hpp"
 
 namespace sh::fw {
@@ -19,8 +20,10 @@ constexpr size_t kValueMax = kConfigPathMax;
 bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
 Status LineError(int line, const char* key, const char* what, const char* value) {
-  return Status::Error(StatusCode::kInvalidArgument, "line %d: key '%s': %s (got '%s')", line, key,
-                       what, value);
+  char shown_key[kPrintableNameBytes], shown_value[96];
+  return Status::Error(StatusCode::kInvalidArgument, "line %d: key '%s': %s (got '%s')", line,
+                       Printable(key, std::strlen(key), shown_key, sizeof(shown_key)), what,
+                       Printable(value, std::strlen(value), shown_value, sizeof(shown_value)));
 }
 
 bool ParseInt(const char* text, long long min, long long max, long long* out) {
@@ -32,15 +35,10 @@ bool ParseInt(const char* text, long long min, long long max, long long* out) {
   return true;
 }
 
+// Exactly the two words the documentation and the message name.
 bool ParseBool(const char* text, bool* out) {
-  if (!std::strcmp(text, "true") || !std::strcmp(text, "yes") || !std::strcmp(text, "1") ||
-      !std::strcmp(text, "on")) {
-    *out = true;
-    return true;
-  }
-  if (!std::strcmp(text, "false") || !std::strcmp(text, "no") || !std::strcmp(text, "0") ||
-      !std::strcmp(text, "off")) {
-    *out = false;
+  if (!std::strcmp(text, "true") || !std::strcmp(text, "false")) {
+    *out = text[0] == 't';
     return true;
   }
   return false;
@@ -275,7 +273,9 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
   if (is("sim_wait_for_client")) return bool_key(&c->sim_wait_for_client);
   if (is("sim_print_truth")) return bool_key(&c->sim_print_truth);
   if (is("candump")) return string_key(c->candump_path, sizeof(c->candump_path));
-  return Status::Error(StatusCode::kInvalidArgument, "line %d: unknown key '%s'", line, key);
+  char shown[kPrintableNameBytes];
+  return Status::Error(StatusCode::kInvalidArgument, "line %d: unknown key '%s'", line,
+                       Printable(key, std::strlen(key), shown, sizeof(shown)));
 }
 
 }  // namespace
@@ -283,6 +283,8 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
 Status ParseConfig(const char* text, size_t length, FwConfig* config) {
   SeenKeys seen;
   size_t pos = 0;
+  // A UTF-8 byte-order mark, as some Windows editors write, is not part of the first key.
+  if (length >= 3 && std::memcmp(text, "\xEF\xBB\xBF", 3) == 0) pos = 3;
   int line = 0;
   while (pos < length) {
     ++line;
@@ -314,8 +316,10 @@ Status ParseConfig(const char* text, size_t length, FwConfig* config) {
     if (*p == '\0') continue;
     char* eq = std::strchr(p, '=');
     if (eq == nullptr) {
+      char shown[96];
       return Status::Error(StatusCode::kInvalidArgument,
-                           "line %d: expected 'key = value', got '%s'", line, p);
+                           "line %d: expected 'key = value', got '%s'", line,
+                           Printable(p, std::strlen(p), shown, sizeof(shown)));
     }
     char* key_end = eq;
     while (key_end > p && IsSpace(key_end[-1])) --key_end;
@@ -327,7 +331,9 @@ Status ParseConfig(const char* text, size_t length, FwConfig* config) {
     }
     if (*value == '\0') return LineError(line, p, "missing value", "");
     if (!seen.Add(p)) {
-      return Status::Error(StatusCode::kInvalidArgument, "line %d: key '%s' given twice", line, p);
+      char shown[kPrintableNameBytes];
+      return Status::Error(StatusCode::kInvalidArgument, "line %d: key '%s' given twice", line,
+                           Printable(p, std::strlen(p), shown, sizeof(shown)));
     }
     SH_RETURN_IF_ERROR(ApplyKey(line, p, value, config));
   }

@@ -27,7 +27,7 @@ TEST(FwConfig, ParsesEveryKindOfValue) {
       "volume_min_mm = -100, -200 300\n"
       "volume_max_mm = 100 200 900\n"
       "gpio_trigger_line = 17\n"
-      "gpio_outputs_active_low = yes\n"
+      "gpio_outputs_active_low = true\n"
       "sim_seed = 77\n"
       "sim_camera_fault = drop_right\n"
       "\n",
@@ -129,6 +129,34 @@ TEST(FwConfig, CommissioningKeys) {
     EXPECT_FALSE(r.ok()) << b.text;
     EXPECT_NE(std::strstr(r.message(), b.expected), nullptr) << r.message();
   }
+}
+
+TEST(FwConfig, BooleansAreExactlyTrueOrFalse) {
+  for (const char* word : {"yes", "no", "on", "off", "1", "0", "True", "FALSE"}) {
+    FwConfig c;
+    const Status s = Parse(std::string("mlock = ") + word + "\n", &c);
+    EXPECT_FALSE(s.ok()) << word;
+    EXPECT_NE(std::strstr(s.message(), "expected true or false"), nullptr) << s.message();
+  }
+  FwConfig c;
+  ASSERT_TRUE(Parse("mlock = false\nsim_print_truth = true\n", &c).ok());
+  EXPECT_FALSE(c.mlock);
+  EXPECT_TRUE(c.sim_print_truth);
+}
+
+TEST(FwConfig, ByteOrderMarkIsSkippedAndOtherBytesAreShownEscaped) {
+  FwConfig c;
+  const Status bom = Parse("\xEF\xBB\xBFnode_id = 9\n", &c);
+  ASSERT_TRUE(bom.ok()) << bom.message();
+  EXPECT_EQ(c.node_id, 9);
+  // Not at the start of the text it is a byte like any other, and shown escaped.
+  const Status inner = Parse("node_id = 9\n\xEF\xBB\xBFmlock = true\n", &c);
+  ASSERT_FALSE(inner.ok());
+  EXPECT_NE(std::strstr(inner.message(), "line 2: unknown key '\\xEF\\xBB\\xBFmlock'"), nullptr)
+      << inner.message();
+  const Status control = Parse("mlock = tr\x1b[2Jue\n", &c);
+  ASSERT_FALSE(control.ok());
+  EXPECT_NE(std::strstr(control.message(), "(got 'tr\\x1B[2Jue')"), nullptr) << control.message();
 }
 
 TEST(FwConfig, TextWithNulOrOverlongLineIsRefused) {
