@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "recog/base/crc32.hpp"
+#include "recog/base/printable.hpp"
 #include "tables/model_symmetry.hpp"
 #include "tables/table_format.hpp"
 
@@ -211,9 +212,12 @@ Result<std::vector<uint8_t>> BuildTableBlob(std::vector<Model> models,
   for (size_t mi = 0; mi < models.size(); ++mi) {
     Model& m = models[mi];
     const std::vector<SymmetryAction> group = FindSymmetries(m);
-    if (group.empty())
+    if (group.empty()) {
+      char name[kPrintableNameBytes];
       return Status::Error(StatusCode::kInvalidArgument,
-                           "model '%s': cannot determine its symmetry group", m.name);
+                           "model '%s': cannot determine its symmetry group",
+                           Printable(m.name, sizeof(m.name), name, sizeof(name)));
+    }
     StoreSymmetries(m, group);
     ModelBasisCount count;
     count.model = m.name;

@@ -15,7 +15,8 @@ void ListCommands(void (*print)(const Command&));
 
 // One step of a `--option value` loop over argv[1..]: sets *option and *value and moves *i onto
 // the value. Returns false when the command should end with *exit_code: 0 after `--help`/`-h`
-// (help printed), 2 for an option without a value (message naming `command` printed).
+// (help printed), 2 for an option without a value or given a second time (message naming
+// `command` printed; only `--set` of the bench commands may be repeated).
 bool NextOption(const char* command, int argc, char** argv, void (*print_help)(), int* i,
                 const char** option, const char** value, int* exit_code);
 

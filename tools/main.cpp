@@ -35,6 +35,17 @@ bool NextOption(const char* command, int argc, char** argv, void (*print_help)()
     *exit_code = 2;
     return false;
   }
+  // A second value would silently replace the first.
+  if (std::strcmp(*option, "--set") != 0) {
+    for (int j = 1; j < *i; ++j) {
+      if (std::strcmp(argv[j], *option) == 0 && j + 1 < argc) {
+        std::fprintf(stderr, "stereohash %s: %s given twice ('%s' and '%s'); give it once\n",
+                     command, *option, argv[j + 1], argv[*i + 1]);
+        *exit_code = 2;
+        return false;
+      }
+    }
+  }
   *value = argv[++*i];
   return true;
 }

@@ -1,5 +1,7 @@
 #include "hal/sim/image_files.hpp"
 
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -99,6 +101,12 @@ Status PgmHeaderNumber(const uint8_t* data, size_t size, size_t* pos, const char
   }
   if (digits == 0) {
     return Status::Error(StatusCode::kInvalidArgument, "PGM: %s is not a number", what);
+  }
+  if (digits > 9) {  // v stopped growing: quote the number as written, never a cut one
+    const size_t first = p - digits;
+    return Status::Error(StatusCode::kOutOfRange, "PGM: %s %.*s is out of range", what,
+                         static_cast<int>(digits < 40 ? digits : 40),
+                         reinterpret_cast<const char*>(data + first));
   }
   if (p == size) {
     return Status::Error(StatusCode::kDataLoss, "PGM: header truncated after the %s", what);
@@ -259,6 +267,12 @@ Result<ImageInfo> ReadImageFile(const char* path, PixelFormat format, uint8_t* p
   std::FILE* f = std::fopen(path, "rb");
   if (f == nullptr) {
     return Status::Error(StatusCode::kNotFound, "cannot open %s: %s", path, std::strerror(errno));
+  }
+  struct stat st {};
+  if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+    std::fclose(f);
+    return Status::Error(StatusCode::kInvalidArgument, "%s is %s, not an image file", path,
+                         S_ISDIR(st.st_mode) ? "a directory" : "not a regular file");
   }
   long length = -1;
   if (std::fseek(f, 0, SEEK_END) == 0) length = std::ftell(f);

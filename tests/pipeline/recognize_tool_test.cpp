@@ -179,6 +179,16 @@ TEST_F(RecognizeToolTest, MalformedYamlIsAClearError) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("nan.yaml"), std::string::npos) << r.output;
 
+  // A repeated option would silently keep its last value.
+  r = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) + " --left " +
+              Path("right.png"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--left given twice"), std::string::npos) << r.output;
+  // A directory where an image belongs.
+  r = RunTool(Inputs(Path("calib.yaml"), *dir_, Path("right.png")));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("is a directory, not an image file"), std::string::npos) << r.output;
+
   r = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) + " --budget-ms nan");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   r = RunTool("recognize --left " + Path("left.png"));

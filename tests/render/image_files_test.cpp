@@ -312,6 +312,18 @@ TEST(Png, ReadsGreyAlphaFilesIgnoringTheAlpha) {
   EXPECT_EQ(decoded, grey);
 }
 
+TEST(ImageFile, ADirectoryOrDeviceIsNotAnImageFile) {
+  std::vector<uint8_t> pixels(64);
+  const std::string dir = ::testing::TempDir();
+  Result<ImageInfo> info = ReadImageFile(dir.c_str(), PixelFormat::kGray8, pixels.data(), 64);
+  ASSERT_FALSE(info.ok());
+  EXPECT_EQ(std::string(info.status().message()), dir + " is a directory, not an image file");
+  info = ReadImageFile("/dev/null", PixelFormat::kGray8, pixels.data(), 64);
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(std::string(info.status().message()).find("not a regular file"), std::string::npos)
+      << info.status().message();
+}
+
 std::vector<uint8_t> Bytes(const std::string& s) { return {s.begin(), s.end()}; }
 
 void ExpectPgmError(const std::string& file, StatusCode code, const char* fragment) {
@@ -329,7 +341,7 @@ TEST(Pgm, RoundTripThroughAFileAndHeaderComments) {
   const std::vector<uint8_t> pixels = TestImage(31, 17, 1, 5);
   const std::string path = ::testing::TempDir() + "/image_files_test.pgm";
   ASSERT_TRUE(WritePgm(path.c_str(), ConstGrayView{pixels.data(), 31, 17, 31}).ok());
-  std::vector<uint8_t> decoded(31 * 17 * 3);
+  std::vector<uint8_t> decoded(size_t{31} * 17 * 3);
   Result<ImageInfo> info =
       ReadImageFile(path.c_str(), PixelFormat::kRgb8, decoded.data(), decoded.size());
   ASSERT_TRUE(info.ok()) << info.status().message();
@@ -356,7 +368,12 @@ TEST(Pgm, RejectsBadFilesWithClearErrors) {
   ExpectPgmError("P5\n2 x 255\n", StatusCode::kInvalidArgument, "height is not a number");
   ExpectPgmError("P5\n0 2 255\n", StatusCode::kInvalidArgument, "zero size");
   ExpectPgmError("P5\n5000 2 255\n", StatusCode::kOutOfRange, "exceeds");
-  ExpectPgmError("P5\n99999999999 2 255\n", StatusCode::kOutOfRange, "exceeds");
+  // Quoted as written, not as the number the parser stopped at.
+  ExpectPgmError("P5\n99999999999 2 255\n", StatusCode::kOutOfRange, "width 99999999999 is out");
+  ExpectPgmError("P5\n2 1234567890123 255\n", StatusCode::kOutOfRange,
+                 "height 1234567890123 is out of range");
+  ExpectPgmError("P5\n2 2 00000000000255\n", StatusCode::kOutOfRange,
+                 "maximum value 00000000000255");
   ExpectPgmError("P5\n10 10 255\n", StatusCode::kResourceExhausted, "buffer holds 64");
 }
 

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <string>
 
+#include "recog/base/crc32.hpp"
 #include "tables/model_files.hpp"
 #include "tables/table_builder.hpp"
 #include "tables/table_view.hpp"
@@ -55,7 +56,7 @@ TEST(TableView, OpensWhatTheBuilderWrote) {
   }
 }
 
-std::string OpenError(std::vector<uint8_t> bytes, size_t size) {
+std::string OpenError(const std::vector<uint8_t>& bytes, size_t size) {
   AlignedBlob blob(bytes);
   auto view = TableView::Open(blob.data, size);
   return view.ok() ? std::string("opened") : std::string(view.status().message());
@@ -81,6 +82,20 @@ TEST(TableView, RefusesWrongMagicAndVersion) {
   std::vector<uint8_t> wrong_version = bytes;
   reinterpret_cast<TableHeader*>(wrong_version.data())->format_version = 99;
   EXPECT_NE(OpenError(wrong_version, bytes.size()).find("version 99"), std::string::npos);
+}
+
+TEST(TableView, ModelNamesInErrorsAreEscaped) {
+  // A damaged model record whose CRC was made to match: the name carries terminal control
+  // bytes, the counts are out of range.
+  std::vector<uint8_t> bytes = BuildReferenceBlob();
+  auto* h = reinterpret_cast<TableHeader*>(bytes.data());
+  auto* model = reinterpret_cast<Model*>(bytes.data() + h->models.offset);
+  std::memcpy(model->name, "cu\x1b[2Jbe\xff", 10);
+  model->n_symmetries = 0;
+  h->payload_crc32 = Crc32(bytes.data() + sizeof(TableHeader), bytes.size() - sizeof(TableHeader));
+  const std::string message = OpenError(bytes, bytes.size());
+  EXPECT_NE(message.find("model 'cu\\x1B[2Jbe\\xFF' counts out of range"), std::string::npos)
+      << message;
 }
 
 TEST(TableView, RefusesMisalignedMemory) {
