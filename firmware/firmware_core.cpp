@@ -756,7 +756,9 @@ void FirmwareCore::HeartbeatLoop() {
   const auto period_of = [](uint32_t ms) { return int64_t{ms != 0 ? ms : 100} * 1'000'000; };
   int64_t period = period_of(heartbeat_ms_.load());
   int64_t next = MonotonicNs() + period;
-  hal::CanStats last = dev_.can->stats();
+  // From zero: frames the receive queue lost while the node was still booting (a PLC that
+  // started sending early) are reported with the first overrun EMCY, not forgotten.
+  hal::CanStats last{};
   bool bus_off_reported = false;  // the fault bit was seen; recovery EMCY pending
   bool passive_reported = false;
   bool tx_drop_reported = false;

@@ -247,6 +247,11 @@ Status ApplyKey(int line, const char* key, const char* value, FwConfig* c) {
   if (is("mlock")) return bool_key(&c->mlock);
   if (is("sched_fifo_priority")) return int_key(0, 99, &c->sched_fifo_priority);
   if (is("sim_port")) return int_key(0, 65535, &c->sim_port);
+  // hal::kSocketcandMaxClients (fw_main.cpp asserts the two agree).
+  if (is("sim_socketcand_clients")) return int_key(1, 16, &c->sim_socketcand_clients);
+  if (is("sim_socketcand_handshake_ms")) return int_key(1, 600000, &c->sim_socketcand_handshake_ms);
+  if (is("sim_socketcand_idle_ms")) return int_key(0, 600000, &c->sim_socketcand_idle_ms);
+  if (is("sim_socketcand_stall_ms")) return int_key(1, 600000, &c->sim_socketcand_stall_ms);
   if (is("sim_seed")) {
     if (!ParseInt(value, 0, 0x7FFFFFFFFFFFFFFFll, &n)) {
       return LineError(line, key, "expected a non-negative integer", value);

@@ -100,7 +100,11 @@ struct FwConfig {
   int sched_fifo_priority = 0;  // 0 = normal scheduling, 1..99 = SCHED_FIFO for the worker
 
   // Simulator.
-  int sim_port = 0;  // socketcand TCP port on 127.0.0.1; 0 = ephemeral
+  int sim_port = 0;                        // socketcand TCP port on 127.0.0.1; 0 = ephemeral
+  int sim_socketcand_clients = 4;          // client slots, 1..16
+  int sim_socketcand_handshake_ms = 2000;  // connect to raw mode, else the slot is freed
+  int sim_socketcand_idle_ms = 0;          // raw-mode client silent this long: closed (0 = never)
+  int sim_socketcand_stall_ms = 2000;      // client not reading this long: closed
   uint64_t sim_seed = 1;
   bool sim_light_background = false;
   int sim_objects = 3;

@@ -376,6 +376,13 @@ int main(int argc, char** argv) {
     can = *fw_ep;
     hal::SocketcandServerConfig sc;
     sc.port = static_cast<uint16_t>(config.sim_port);
+    // fw_config.cpp bounds sim_socketcand_clients by this capacity without seeing the server.
+    static_assert(hal::kSocketcandMaxClients == 16,
+                  "sim_socketcand_clients range in fw_config.cpp");
+    sc.max_clients = static_cast<size_t>(config.sim_socketcand_clients);
+    sc.handshake_timeout_ms = config.sim_socketcand_handshake_ms;
+    sc.idle_timeout_ms = config.sim_socketcand_idle_ms;
+    sc.stall_timeout_ms = config.sim_socketcand_stall_ms;
     sc.channel = config.can_interface;
     const Status s = socketcand.Start(&sim_bus, sc);
     if (!s.ok()) return Fail("socketcand server", s);

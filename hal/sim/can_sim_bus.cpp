@@ -46,6 +46,10 @@ Result<SimCanEndpoint*> SimCanBus::AddEndpoint(const SimCanEndpointConfig& confi
   if (config.tx_retry_count < 0) {
     return Status::Error(StatusCode::kInvalidArgument, "sim CAN bus: negative retry count");
   }
+  if (config.queue_depth < 1 || config.queue_depth > kSimCanMaxQueueDepth) {
+    return Status::Error(StatusCode::kOutOfRange, "sim CAN bus: queue depth %zu, 1..%zu",
+                         config.queue_depth, kSimCanMaxQueueDepth);
+  }
   SimCanEndpoint& e = endpoints_[endpoint_count_];
   if (config.notify_fd) {
     e.notify_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
@@ -60,6 +64,7 @@ Result<SimCanEndpoint*> SimCanBus::AddEndpoint(const SimCanEndpointConfig& confi
   for (size_t i = 0; i < config.filter_count; ++i) e.filter_ids_[i] = config.filter_ids[i];
   e.filter_count_ = config.filter_count;
   e.tx_retry_count_ = config.tx_retry_count;
+  e.depth_ = config.queue_depth;
   e.deliver_error_frames_ = config.deliver_error_frames;
   return &e;
 }
@@ -74,11 +79,11 @@ bool SimCanEndpoint::Accepts(const CanFrame& frame) const {
 }
 
 void SimCanEndpoint::Enqueue(const CanFrame& frame) {
-  if (count_ == kSimCanQueueDepth) {
+  if (count_ == depth_) {
     ++stats_.rx_dropped_overflow;
     return;
   }
-  queue_[(head_ + count_) % kSimCanQueueDepth] = frame;
+  queue_[(head_ + count_) % depth_] = frame;
   ++count_;
   cv_.notify_one();
   Notify(notify_fd_);
@@ -127,7 +132,7 @@ Result<bool> SimCanBus::Receive(SimCanEndpoint* e, CanFrame* frame, int timeout_
     return false;
   }
   *frame = e->queue_[e->head_];
-  e->head_ = (e->head_ + 1) % kSimCanQueueDepth;
+  e->head_ = (e->head_ + 1) % e->depth_;
   --e->count_;
   if (frame->error) {
     ++e->stats_.error_frames;

@@ -3,8 +3,10 @@
 // like on a real bus (no loopback to the sender).
 //
 // Storage is fixed at compile time: kSimCanMaxEndpoints endpoints, each with a receive ring of
-// kSimCanQueueDepth frames. A full receive ring drops the new frame and counts it in that
-// endpoint's rx_dropped_overflow (what a real controller does when software reads too slowly).
+// queue_depth frames (kSimCanQueueDepth by default, like a SocketCAN socket's receive buffer;
+// up to kSimCanMaxQueueDepth for a bridge that relays a whole burst). A full receive ring drops
+// the new frame and counts it in that endpoint's rx_dropped_overflow (what a real controller
+// does when software reads too slowly).
 //
 // Fault injection mimics the two failures the firmware must survive:
 //  - bus-off: the endpoint's Send() fails with kUnavailable until RecoverFromBusOff() (what the
@@ -25,6 +27,7 @@ namespace sh::hal {
 
 inline constexpr size_t kSimCanMaxEndpoints = 8;
 inline constexpr size_t kSimCanQueueDepth = 512;
+inline constexpr size_t kSimCanMaxQueueDepth = 4096;
 inline constexpr size_t kSimCanMaxFilters = 16;
 inline constexpr size_t kSimCanNameMax = 16;
 
@@ -32,7 +35,8 @@ struct SimCanEndpointConfig {
   const char* name = "can0";
   uint32_t filter_ids[kSimCanMaxFilters] = {};  // exact ids to accept; empty = accept all
   size_t filter_count = 0;
-  int tx_retry_count = 5;             // attempts after the first when the queue is full
+  size_t queue_depth = kSimCanQueueDepth;  // receive ring, 1..kSimCanMaxQueueDepth frames
+  int tx_retry_count = 5;                  // attempts after the first when the queue is full
   bool deliver_error_frames = false;  // queue bus-off / restarted error frames at this endpoint
   bool notify_fd = false;  // create an eventfd that becomes readable when a frame is queued
 };
@@ -68,7 +72,8 @@ class SimCanEndpoint final : public CanBus {
   bool deliver_error_frames_ = false;
   int notify_fd_ = -1;
 
-  CanFrame queue_[kSimCanQueueDepth];
+  CanFrame queue_[kSimCanMaxQueueDepth];
+  size_t depth_ = kSimCanQueueDepth;
   size_t head_ = 0;
   size_t count_ = 0;
   std::condition_variable cv_;

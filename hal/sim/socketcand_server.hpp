@@ -12,9 +12,21 @@
 // drops one character after the last complete message it parsed, and without the space that
 // character is the '<' of a message cut by a TCP segment boundary, which loses the message.
 //
-// Bounded: kSocketcandMaxClients clients with fixed input/output buffers. A client that reads
-// too slowly loses frames (counted), malformed text is answered with "< error ... >", logged
-// and skipped. The server thread is created in Start() and joined in Stop().
+// Bounded: up to kSocketcandMaxClients clients (config.max_clients of them used) with fixed
+// input and output buffers. Nothing is lost without a trace:
+//  - backpressure: a client's commands are read only while its output buffer is at most half
+//    full, so a client that floods commands waits (in TCP) for the answers it has not read yet
+//    instead of losing them; while any client's output is full, bus frames wait in the bridge's
+//    bus queue (deep enough for a device's burst) instead of being dropped;
+//  - a client whose output stays full for stall_timeout_ms (it does not read) is disconnected
+//    and the others get the frames it held back; frames the bridge's bus queue lost anyway are
+//    counted and logged;
+//  - a client that has not finished the handshake within handshake_timeout_ms, or a raw-mode
+//    client that sent nothing for idle_timeout_ms (when set), is disconnected, and when every
+//    slot is taken a new client takes the slot of the oldest one still in its handshake, so
+//    connections that say nothing cannot lock a PLC out.
+// Malformed text is answered with "< error ... >", logged and skipped. The server thread is
+// created in Start() and joined in Stop().
 #pragma once
 
 #include <pthread.h>
@@ -29,9 +41,9 @@
 
 namespace sh::hal {
 
-inline constexpr size_t kSocketcandMaxClients = 4;
+inline constexpr size_t kSocketcandMaxClients = 16;  // capacity; config.max_clients are used
 inline constexpr size_t kSocketcandInBufferBytes = 1024;
-inline constexpr size_t kSocketcandOutBufferBytes = 32768;  // ~550 frames per slow client
+inline constexpr size_t kSocketcandOutBufferBytes = 65536;  // ~1,400 frames per client
 inline constexpr size_t kSocketcandLoggedErrorsMax = 50;    // later errors are only counted
 
 struct SocketcandServerConfig {
@@ -39,16 +51,23 @@ struct SocketcandServerConfig {
   uint16_t port = 0;             // 0: the kernel picks a free port; read it with port()
   const char* channel = "can0";  // the bus name clients must "open"
   int handshake_settle_ms = 20;
-  FILE* log = stderr;  // connection events and malformed input; nullptr = silent
+  size_t max_clients = 4;           // slots, 1..kSocketcandMaxClients
+  int handshake_timeout_ms = 2000;  // connect to raw mode, 1..600000
+  int idle_timeout_ms = 0;          // raw mode without a message from the client; 0 = no limit
+  int stall_timeout_ms = 2000;      // output full without the client reading, 1..600000
+  FILE* log = stderr;               // connection events and malformed input; nullptr = silent
 };
 
 struct SocketcandStats {
   uint64_t clients_accepted = 0;
-  uint64_t clients_rejected = 0;       // all slots busy
+  uint64_t clients_rejected = 0;       // all slots busy with clients past their handshake
+  uint64_t clients_evicted = 0;        // still in the handshake when a new client needed the slot
+  uint64_t clients_timed_out = 0;      // handshake, idle or stall timeout
   uint64_t frames_to_clients = 0;      // frame messages queued to clients
   uint64_t frames_from_clients = 0;    // "send" commands put on the bus
   uint64_t frames_without_client = 0;  // bus frames seen while no client was in raw mode
-  uint64_t frames_dropped_slow_client = 0;
+  uint64_t frames_dropped_slow_client = 0;  // a client's output was full (it was not reading)
+  uint64_t frames_lost_bridge = 0;          // the bridge's bus queue overflowed
   uint64_t malformed_messages = 0;
   uint64_t bus_send_errors = 0;  // client frames the bus refused (bus-off, queue full)
 };
@@ -80,16 +99,26 @@ class SocketcandServer {
   struct Client {
     int fd = -1;
     Phase phase = Phase::kFree;
+    int64_t connected_ms = 0;
     int64_t raw_since_ms = 0;
-    char in[kSocketcandInBufferBytes];
+    int64_t last_message_ms = 0;  // last message from the client
+    int64_t full_since_ms = -1;   // output full since then (-1: not full)
+    uint64_t dropped = 0;         // frames lost because the output was full
+    char in[kSocketcandInBufferBytes] = {};
     size_t in_len = 0;
-    char out[kSocketcandOutBufferBytes];
+    char out[kSocketcandOutBufferBytes] = {};
     size_t out_len = 0;
   };
 
   static void* ThreadMain(void* self);
   void Run();
   void Accept();
+  size_t FreeSlot();  // a free slot, else the oldest client in its handshake (evicted), else none
+  void CheckTimeouts(int64_t now_ms);
+  int PollTimeoutMs(int64_t now_ms) const;
+  void CheckBridgeQueue();
+  // A raw-mode client whose output cannot take one more frame, or kSocketcandMaxClients.
+  size_t ClientWithoutRoom() const;
   void ReadClient(size_t index);
   void HandleMessage(size_t index, const char* text, size_t length);
   void DrainBus();
@@ -112,9 +141,11 @@ class SocketcandServer {
   Client clients_[kSocketcandMaxClients];
 
   // Written by the server thread, read by stats() from others.
-  std::atomic<uint64_t> clients_accepted_{0}, clients_rejected_{0}, frames_to_clients_{0},
-      frames_from_clients_{0}, frames_without_client_{0}, frames_dropped_slow_{0}, malformed_{0},
+  std::atomic<uint64_t> clients_accepted_{0}, clients_rejected_{0}, clients_evicted_{0},
+      clients_timed_out_{0}, frames_to_clients_{0}, frames_from_clients_{0},
+      frames_without_client_{0}, frames_dropped_slow_{0}, frames_lost_bridge_{0}, malformed_{0},
       bus_send_errors_{0};
+  uint64_t bridge_overflow_seen_ = 0;  // the endpoint's rx_dropped_overflow already counted
   size_t logged_errors_ = 0;
 };
 

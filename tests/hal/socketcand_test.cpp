@@ -5,8 +5,13 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "hal/sim/socketcand_server.hpp"
 #include "hal/sim/socketcand_text.hpp"
@@ -117,8 +122,12 @@ TEST(SocketcandTextTest, ScannerSplitsMessagesAndSkipsGarbage) {
 // Minimal blocking TCP client that reads whole "< ... >" messages.
 class Client {
  public:
-  bool Connect(uint16_t port) {
+  // receive_buffer > 0: a small socket receive buffer, for a client that does not read.
+  bool Connect(uint16_t port, int receive_buffer = 0) {
     fd_ = socket(AF_INET, SOCK_STREAM, 0);
+    if (receive_buffer > 0) {
+      setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof(receive_buffer));
+    }
     sockaddr_in addr{};
     addr.sin_family = AF_INET;
     addr.sin_port = htons(port);
@@ -272,15 +281,32 @@ TEST_F(SocketcandServerTest, FramesFromOneClientReachTheOthers) {
 }
 
 TEST_F(SocketcandServerTest, ExtraClientsBeyondTheLimitAreTurnedAway) {
-  Client clients[kSocketcandMaxClients];
+  // Every slot held by a client past its handshake: a new one is refused.
+  Client clients[4];
   for (Client& c : clients) {
     ASSERT_TRUE(c.Connect(server_.port()));
-    ASSERT_EQ(c.Read(), "< hi >");
+    ASSERT_TRUE(c.Handshake());
   }
   Client extra;
   ASSERT_TRUE(extra.Connect(server_.port()));
   EXPECT_EQ(extra.Read().rfind("< error", 0), 0u);
   EXPECT_EQ(server_.stats().clients_rejected, 1u);
+}
+
+// Connections that say nothing cannot lock the PLC out: a new client takes the slot of the
+// oldest one still in its handshake.
+TEST_F(SocketcandServerTest, SilentConnectionsGiveWayToANewClient) {
+  Client silent[4];
+  for (Client& c : silent) {
+    ASSERT_TRUE(c.Connect(server_.port()));
+    ASSERT_EQ(c.Read(), "< hi >");
+  }
+  Client plc;
+  ASSERT_TRUE(plc.Connect(server_.port()));
+  ASSERT_TRUE(plc.Handshake());
+  EXPECT_EQ(server_.stats().clients_evicted, 1u);
+  EXPECT_EQ(silent[0].Read().rfind("< error slot taken", 0), 0u) << "the oldest one goes";
+  EXPECT_EQ(silent[0].Read(), "") << "and is closed";
 }
 
 TEST_F(SocketcandServerTest, StopAndRestartOnANewPort) {
@@ -292,6 +318,219 @@ TEST_F(SocketcandServerTest, StopAndRestartOnANewPort) {
   Client client;
   ASSERT_TRUE(client.Connect(server_.port()));
   EXPECT_TRUE(client.Handshake());
+}
+
+// A server on its own bus with a "firmware" that answers every command frame it receives with
+// `answers` frames, as the firmware answers a refused trigger with an ack, an EMCY and an error
+// reset.
+class Answerer {
+ public:
+  Answerer(SimCanBus* bus, int answers) : answers_(answers) {
+    SimCanEndpointConfig config;
+    config.name = "firmware";
+    config.filter_ids[0] = 0x201;
+    config.filter_count = 1;
+    endpoint_ = *bus->AddEndpoint(config);
+    thread_ = std::thread([this] { Run(); });
+  }
+  ~Answerer() {
+    stop_ = true;
+    thread_.join();
+  }
+  std::atomic<uint64_t> commands{0};
+  SimCanEndpoint* endpoint() const { return endpoint_; }
+
+ private:
+  void Run() {
+    while (!stop_) {
+      CanFrame in;
+      Result<bool> got = endpoint_->Receive(&in, 10);
+      if (!got.ok() || !*got) continue;
+      ++commands;
+      for (int k = 0; k < answers_; ++k) {
+        CanFrame out;
+        out.id = 0x481;
+        out.len = 4;
+        std::memcpy(out.data, in.data, 3);  // the request id in bytes 1-2
+        out.data[3] = static_cast<uint8_t>(k);
+        while (!endpoint_->Send(out).ok()) usleep(100);
+      }
+    }
+  }
+  int answers_;
+  SimCanEndpoint* endpoint_ = nullptr;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+SocketcandServerConfig QuietConfig() {
+  SocketcandServerConfig c;
+  c.handshake_settle_ms = 5;
+  c.log = nullptr;
+  return c;
+}
+
+// 3,000 commands sent back to back, each answered with three frames (9,000 frames, about 400 KB
+// of text, more than the client's output buffer holds): the bridge loses none of them on the
+// way back, and a command the device could not take is counted where it was lost.
+TEST(SocketcandFloodTest, ACommandFloodGetsEveryAnswer) {
+  SimCanBus bus;
+  Answerer firmware(&bus, 3);
+  SocketcandServer server;
+  ASSERT_TRUE(server.Start(&bus, QuietConfig()).ok());
+  Client client;
+  ASSERT_TRUE(client.Connect(server.port()));
+  ASSERT_TRUE(client.Handshake());
+  usleep(20000);  // past the settle time
+  constexpr int kCommands = 3000;
+  std::string flood;
+  for (int i = 0; i < kCommands; ++i) {
+    char text[48];
+    std::snprintf(text, sizeof(text), "< send 201 3 1 %x %x >", i & 0xFF, i >> 8);
+    flood += text;
+  }
+  // Written from another thread: with backpressure the server reads the commands only as fast
+  // as the answers are read, so the write completes while this thread reads.
+  std::thread writer([&] { ASSERT_TRUE(client.Write(flood)); });
+  std::vector<int> answers(kCommands, 0);
+  int received = 0;
+  while (received < 3 * kCommands) {
+    const std::string msg = client.Read(2000);
+    if (msg.empty()) break;
+    unsigned id = 0;
+    char data[32] = {};
+    if (std::sscanf(msg.c_str(), "< frame %x %*s %31s >", &id, data) != 2 || id != 0x481) continue;
+    const int request = int(std::strtoul(std::string(data + 2, 4).c_str(), nullptr, 16));
+    const int swapped = ((request & 0xFF) << 8) | (request >> 8);  // little-endian u16
+    ASSERT_LT(swapped, kCommands);
+    ++answers[swapped];
+    ++received;
+  }
+  writer.join();
+  // What the device could not take it lost in its own receive queue, where the firmware counts
+  // and reports it (EMCY 0x8110); everything it answered reached the client.
+  const uint64_t taken = firmware.commands.load();
+  const uint64_t overrun = firmware.endpoint()->stats().rx_dropped_overflow;
+  EXPECT_EQ(taken + overrun, uint64_t{kCommands});
+  EXPECT_EQ(received, int(3 * taken));
+  int answered = 0;
+  for (int i = 0; i < kCommands; ++i) {
+    ASSERT_TRUE(answers[i] == 0 || answers[i] == 3) << "command " << i;
+    answered += answers[i] == 3;
+  }
+  EXPECT_EQ(answered, int(taken));
+  EXPECT_EQ(server.stats().frames_dropped_slow_client, 0u);
+  EXPECT_EQ(server.stats().frames_lost_bridge, 0u);
+}
+
+TEST(SocketcandTimeoutTest, AClientWithoutAHandshakeIsClosedAfterTheTimeout) {
+  SimCanBus bus;
+  SocketcandServer server;
+  SocketcandServerConfig config = QuietConfig();
+  config.handshake_timeout_ms = 200;
+  ASSERT_TRUE(server.Start(&bus, config).ok());
+  Client silent;
+  ASSERT_TRUE(silent.Connect(server.port()));
+  ASSERT_EQ(silent.Read(), "< hi >");
+  EXPECT_EQ(silent.Read(5000), "< error no handshake within the handshake timeout >");
+  EXPECT_EQ(silent.Read(5000), "") << "closed";
+  for (int i = 0; i < 200 && server.connected_clients() != 0; ++i) usleep(5000);
+  EXPECT_EQ(server.connected_clients(), 0u);
+  EXPECT_EQ(server.stats().clients_timed_out, 1u);
+}
+
+TEST(SocketcandTimeoutTest, AnIdleClientIsClosedOnlyWhenAnIdleTimeoutIsSet) {
+  SimCanBus bus;
+  SocketcandServer server;
+  SocketcandServerConfig config = QuietConfig();
+  config.idle_timeout_ms = 200;
+  ASSERT_TRUE(server.Start(&bus, config).ok());
+  Client idle, talking;
+  ASSERT_TRUE(idle.Connect(server.port()));
+  ASSERT_TRUE(idle.Handshake());
+  ASSERT_TRUE(talking.Connect(server.port()));
+  ASSERT_TRUE(talking.Handshake());
+  // The talking client keeps sending echoes; the idle one says nothing.
+  for (int i = 0; i < 8; ++i) {
+    ASSERT_TRUE(talking.Write("< echo >"));
+    ASSERT_EQ(talking.Read(), "< echo >");
+    usleep(60000);
+  }
+  EXPECT_EQ(idle.Read(5000), "< error nothing sent within the idle timeout >");
+  for (int i = 0; i < 200 && server.connected_clients() != 1; ++i) usleep(5000);
+  EXPECT_EQ(server.connected_clients(), 1u);
+  ASSERT_TRUE(talking.Write("< echo >"));
+  EXPECT_EQ(talking.Read(), "< echo >");
+}
+
+// A client that stops reading holds the frames back for everyone until the stall timeout closes
+// it; then the others get every frame, none lost.
+TEST(SocketcandTimeoutTest, AClientThatDoesNotReadIsClosedAndTheOthersGetEverything) {
+  SimCanBus bus;
+  SimCanEndpointConfig device_config;
+  device_config.name = "device";
+  SimCanEndpoint* device = *bus.AddEndpoint(device_config);
+  SocketcandServer server;
+  SocketcandServerConfig config = QuietConfig();
+  config.stall_timeout_ms = 200;
+  ASSERT_TRUE(server.Start(&bus, config).ok());
+  Client deaf, reader;
+  ASSERT_TRUE(deaf.Connect(server.port(), 4096));
+  ASSERT_TRUE(deaf.Handshake());
+  ASSERT_TRUE(reader.Connect(server.port()));
+  ASSERT_TRUE(reader.Handshake());
+  usleep(20000);
+  // More frames than the deaf client's output buffer and socket buffers take.
+  // The device sends no faster than the reading client takes the frames (as a real bus would
+  // not outrun a PLC that keeps up), so only the deaf client falls behind.
+  constexpr int kFrames = 60000;
+  std::atomic<int> got{0};
+  std::atomic<bool> reader_gone{false};
+  std::thread sender([&] {
+    for (int i = 0; i < kFrames && !reader_gone; ++i) {
+      CanFrame f;
+      f.id = 0x701;
+      f.len = 2;
+      f.data[0] = uint8_t(i);
+      f.data[1] = uint8_t(i >> 8);
+      while (!device->Send(f).ok()) usleep(100);
+      while (i - got.load() > 256 && !reader_gone) usleep(200);
+    }
+  });
+  while (got < kFrames) {
+    const std::string msg = reader.Read(5000);
+    if (msg.empty()) break;
+    if (msg.rfind("< frame 701 ", 0) == 0) ++got;
+  }
+  reader_gone = true;
+  sender.join();
+  EXPECT_EQ(got, kFrames);
+  // The deaf client goes once its output has been full for the stall timeout.
+  for (int i = 0; i < 500 && server.connected_clients() != 1; ++i) usleep(10000);
+  EXPECT_EQ(server.stats().clients_timed_out, 1u);
+  EXPECT_EQ(server.stats().frames_lost_bridge, 0u);
+  EXPECT_EQ(server.connected_clients(), 1u);
+}
+
+TEST(SocketcandServerConfigTest, SlotCountIsConfigurableAndBounded) {
+  SimCanBus bus;
+  SocketcandServer server;
+  SocketcandServerConfig config = QuietConfig();
+  config.max_clients = 0;
+  EXPECT_EQ(server.Start(&bus, config).code(), StatusCode::kOutOfRange);
+  config.max_clients = kSocketcandMaxClients + 1;
+  const Status s = server.Start(&bus, config);
+  EXPECT_EQ(s.code(), StatusCode::kOutOfRange);
+  EXPECT_NE(std::string(s.message()).find("1..16 supported"), std::string::npos) << s.message();
+  config.max_clients = 2;
+  ASSERT_TRUE(server.Start(&bus, config).ok());
+  Client a, b, c;
+  ASSERT_TRUE(a.Connect(server.port()));
+  ASSERT_TRUE(a.Handshake());
+  ASSERT_TRUE(b.Connect(server.port()));
+  ASSERT_TRUE(b.Handshake());
+  ASSERT_TRUE(c.Connect(server.port()));
+  EXPECT_EQ(c.Read(), "< error too many clients >");
 }
 
 TEST(SocketcandServerConfigTest, RejectsABadBindAddress) {

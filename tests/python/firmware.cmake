@@ -62,3 +62,14 @@ if(TARGET stereohash-fw AND TARGET stereohash_default_tables)
     set_tests_properties(python_firmware_boot_faults PROPERTIES LABELS host_only)
   endif()
 endif()
+
+# A command flood and silent connections on the simulated bus (socketcand bridge).
+if(TARGET stereohash-fw)
+  add_test(NAME python_firmware_flood
+           COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_firmware_flood.py
+                   --firmware $<TARGET_FILE:stereohash-fw> --triggers 2000)
+  set_tests_properties(python_firmware_flood PROPERTIES TIMEOUT 300)
+  if(CMAKE_CROSSCOMPILING)
+    set_tests_properties(python_firmware_flood PROPERTIES LABELS host_only)
+  endif()
+endif()
