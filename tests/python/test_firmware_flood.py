@@ -14,12 +14,13 @@ import argparse
 import os
 import re
 import socket
-import subprocess
 import sys
-import tempfile
 import threading
 import time
 import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from test_firmware_e2e import Firmware  # noqa: E402 (skips without python-can)
 
 ARGS = None
 ACK_ID = 0x481
@@ -28,34 +29,11 @@ CMD_TRIGGER = 1
 EMCY_OVERRUN = 0x8110
 
 
-class Firmware:
-    def __init__(self, extra_config=""):
-        self.config = tempfile.NamedTemporaryFile("w", suffix=".conf", delete=False)
-        self.config.write("node_id = 1\nheartbeat_ms = 100\nsim_port = 0\nsim_scenes = 2\n"
-                          "sim_objects = 2\nrecognition = truth\nsim_print_truth = false\n" +
-                          extra_config)
-        self.config.close()
-        self.proc = subprocess.Popen([ARGS.firmware, "--sim", "--config", self.config.name],
-                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        self.port = None
-        for line in self.proc.stdout:
-            if line.startswith("SOCKETCAND_PORT="):
-                self.port = int(line.split("=", 1)[1])
-                break
-        self.stderr = []
-        threading.Thread(target=lambda: [None for _ in self.proc.stdout], daemon=True).start()
-        threading.Thread(target=lambda: [self.stderr.append(l) for l in self.proc.stderr],
-                         daemon=True).start()
-        if self.port is None:
-            raise RuntimeError("stereohash-fw did not report its socketcand port")
-
-    def stop(self):
-        self.proc.terminate()
-        try:
-            self.proc.wait(20)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-        os.unlink(self.config.name)
+def start_firmware(extra_config=""):
+    return Firmware(ARGS.firmware,
+                    "node_id = 1\nheartbeat_ms = 100\nsim_port = 0\nsim_scenes = 2\n"
+                    "sim_objects = 2\nrecognition = truth\nsim_print_truth = false\n" +
+                    extra_config)
 
 
 class Connection:
@@ -107,7 +85,7 @@ def frames(conn, until, seconds=120.0):
 
 class FloodTest(unittest.TestCase):
     def test_every_trigger_is_answered_or_counted(self):
-        fw = Firmware()
+        fw = start_firmware()
         try:
             conn = Connection(fw.port)
             conn.handshake()
@@ -134,15 +112,15 @@ class FloodTest(unittest.TestCase):
             conn.close()
             print("\n%d triggers: %d acks, %d counted in overrun EMCYs" % (n, len(acks), overrun))
             self.assertEqual(len(acks) + overrun, n, "triggers without ack or overrun count:\n" +
-                             "".join(fw.stderr[-15:]))
+                             "\n".join(fw.stderr_lines[-15:]))
             self.assertIsNone(fw.proc.poll())
-            lost = [l for l in fw.stderr if "lost" in l]
+            lost = [l for l in fw.stderr_lines if "lost" in l]
             self.assertEqual(lost, [], "the bridge lost frames")
         finally:
             fw.stop()
 
     def test_silent_connections_do_not_lock_the_plc_out(self):
-        fw = Firmware("sim_socketcand_clients = 4\nsim_socketcand_handshake_ms = 60000\n")
+        fw = start_firmware("sim_socketcand_clients = 4\nsim_socketcand_handshake_ms = 60000\n")
         try:
             silent = [socket.create_connection(("127.0.0.1", fw.port)) for _ in range(4)]
             time.sleep(0.2)
