@@ -58,9 +58,9 @@ Status CheckRadialMapping(const CameraIntrinsics& cam, double reach, const char*
     const double rd = r * factor;
     if (!(rd > last_rd)) {
       return Status::Error(StatusCode::kOutOfRange,
-                           "%s camera: distortion k1=%g k2=%g k3=%g folds the image: the radial "
-                           "mapping turns back at %.0f px from the principal point, inside the "
-                           "image (its farthest corner is %.0f px away)",
+                           // Kept within Status::kMaxMessage for the widest numbers.
+                           "%s camera: distortion k1=%g k2=%g k3=%g folds the image: radii turn "
+                           "back at %.0f px, the corners are at %.0f px",
                            name, cam.k1, cam.k2, cam.k3, last_rd * cam.fx, reach * cam.fx);
     }
     if (factor < kMinRadialScale || factor > kMaxRadialScale) {

@@ -4,6 +4,9 @@
 
 #include <Eigen/Geometry>
 #include <random>
+#include <string>
+
+#include "recog/camera/calibration_check.hpp"
 
 namespace sh {
 namespace {
@@ -22,6 +25,25 @@ CameraIntrinsics SampleLens() {
   c.p2 = -0.00028;
   c.k3 = 0.238;
   return c;
+}
+
+// A distortion that turns back inside the image is refused with both radii, the message whole
+// (within Status::kMaxMessage) even for the widest numbers.
+TEST(CalibrationCheck, AFoldingDistortionNamesWhereItTurnsBack) {
+  CameraIntrinsics cam = SampleLens();
+  cam.k1 = -0.302991;  // what three of OpenCV's sample pairs give
+  cam.k2 = 0.208257;
+  cam.k3 = -0.238601;
+  for (double k : {0.0, -1.23457e6}) {
+    if (k != 0.0) cam.k1 = cam.k2 = cam.k3 = k;
+    const Status s = CheckPlausibleIntrinsics(cam, "right");
+    ASSERT_FALSE(s.ok());
+    const std::string m = s.message();
+    EXPECT_NE(m.find("right camera: distortion k1="), std::string::npos) << m;
+    EXPECT_NE(m.find("folds the image: radii turn back at "), std::string::npos) << m;
+    EXPECT_NE(m.find(" px, the corners are at "), std::string::npos) << m;
+    EXPECT_EQ(m.substr(m.size() - 3), " px") << m;
+  }
 }
 
 TEST(CameraModel, UndistortInvertsDistortOverTheWholeImage) {
