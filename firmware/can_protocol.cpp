@@ -113,9 +113,7 @@ Status EncodePose(const ObjectPose& pose, size_t index, EncodedPose* out) {
   static const char* const kAxes[3] = {"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
     const Status s = PositionToRaw(pose.cam_t_model_mm[a], kAxes[a], &out->t_raw[a]);
-    if (!s.ok()) {
-      return Status::Error(s.code(), "object %zu: %s", index, s.message());
-    }
+    if (!s.ok()) return s.WithContext("object %zu", index);
   }
   const double* q = pose.cam_q_model;
   const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
@@ -409,6 +407,75 @@ uint8_t Crc8(const uint8_t* data, size_t length, uint8_t crc) {
   return crc;
 }
 
+namespace {
+
+// The wire value of one field of an object part (kObjectPartLayout), as an unsigned word.
+uint32_t WireValue(PoseField field, const EncodedPose& e, const ObjectPose& pose) {
+  switch (field) {
+    case PoseField::kTx:
+    case PoseField::kTy:
+    case PoseField::kTz:
+      return static_cast<uint32_t>(
+          e.t_raw[static_cast<int>(field) - static_cast<int>(PoseField::kTx)]);
+    case PoseField::kModelId:
+      return pose.model_id;
+    case PoseField::kInstance:
+      return pose.instance;
+    case PoseField::kScore:
+      return e.score_raw;
+    case PoseField::kQw:
+    case PoseField::kQx:
+    case PoseField::kQy:
+    case PoseField::kQz:
+      return static_cast<uint16_t>(
+          e.q_raw[static_cast<int>(field) - static_cast<int>(PoseField::kQw)]);
+  }
+  return 0;
+}
+
+// Sets one field of a pose from its wire value (positions and quaternion components signed: the
+// casts reinterpret the unsigned word in two's complement, modulo 2^N).
+void SetFromWire(PoseField field, uint32_t raw, ObjectPose* pose) {
+  switch (field) {
+    case PoseField::kTx:
+    case PoseField::kTy:
+    case PoseField::kTz:
+      // int32 in 0.01 mm.
+      pose->cam_t_model_mm[static_cast<int>(field) - static_cast<int>(PoseField::kTx)] =
+          static_cast<int32_t>(raw) * kPositionMmPerLsb;
+      break;
+    case PoseField::kModelId:
+      pose->model_id = static_cast<uint8_t>(raw);
+      break;
+    case PoseField::kInstance:
+      pose->instance = static_cast<uint8_t>(raw);
+      break;
+    case PoseField::kScore:
+      pose->score = static_cast<uint16_t>(raw) * kScorePerLsb;  // uint16 in 0.0001
+      break;
+    case PoseField::kQw:
+    case PoseField::kQx:
+    case PoseField::kQy:
+    case PoseField::kQz:
+      // int16 Q2.14.
+      pose->cam_q_model[static_cast<int>(field) - static_cast<int>(PoseField::kQw)] =
+          QUnit::FromRaw(static_cast<int16_t>(raw)).ToDouble();
+      break;
+  }
+}
+
+void PutLe(uint8_t* p, uint8_t size, uint32_t v) {
+  for (uint8_t b = 0; b < size; ++b) p[b] = static_cast<uint8_t>(v >> (8 * b));
+}
+
+uint32_t GetLe(const uint8_t* p, uint8_t size) {
+  uint32_t v = 0;
+  for (uint8_t b = 0; b < size; ++b) v |= uint32_t{p[b]} << (8 * b);
+  return v;
+}
+
+}  // namespace
+
 Status EncodeResultSet(const ResultSet& set, uint8_t node_id, Vector<CanFrame>& frames) {
   SH_RETURN_IF_ERROR(CheckNodeId(node_id));
   if (set.object_count > kMaxResultObjects) {
@@ -454,25 +521,10 @@ Status EncodeResultSet(const ResultSet& set, uint8_t node_id, Vector<CanFrame>& 
       CanFrame f = MakeFrame(kCobResultObject + node_id, 8);
       f.data[0] = seq8;
       f.data[1] = static_cast<uint8_t>(part | i << 2);
-      switch (part) {
-        case 0:
-          PutU32(&f.data[2], static_cast<uint32_t>(e.t_raw[0]));
-          f.data[6] = set.objects[i].model_id;
-          f.data[7] = set.objects[i].instance;
-          break;
-        case 1:
-          PutU32(&f.data[2], static_cast<uint32_t>(e.t_raw[1]));
-          PutU16(&f.data[6], e.score_raw);
-          break;
-        case 2:
-          PutU32(&f.data[2], static_cast<uint32_t>(e.t_raw[2]));
-          PutU16(&f.data[6], static_cast<uint16_t>(e.q_raw[0]));
-          break;
-        default:
-          PutU16(&f.data[2], static_cast<uint16_t>(e.q_raw[1]));
-          PutU16(&f.data[4], static_cast<uint16_t>(e.q_raw[2]));
-          PutU16(&f.data[6], static_cast<uint16_t>(e.q_raw[3]));
-          break;
+      const ObjectPartLayout& layout = kObjectPartLayout[part];
+      for (uint8_t k = 0; k < layout.count; ++k) {
+        const PartField& field = layout.fields[k];
+        PutLe(&f.data[field.offset], field.size, WireValue(field.field, e, set.objects[i]));
       }
       crc = Crc8(f.data, f.len, crc);
       (void)frames.push_back(f);
@@ -535,25 +587,10 @@ Result<bool> ResultAssembler::Feed(const CanFrame& frame) {
     }
     ObjectPose& pose = set_.objects[index];
     const uint8_t* d = frame.data;
-    switch (part) {
-      case 0:
-        pose.cam_t_model_mm[0] = GetI32(&d[2]) * kPositionMmPerLsb;
-        pose.model_id = d[6];
-        pose.instance = d[7];
-        break;
-      case 1:
-        pose.cam_t_model_mm[1] = GetI32(&d[2]) * kPositionMmPerLsb;
-        pose.score = GetU16(&d[6]) * kScorePerLsb;
-        break;
-      case 2:
-        pose.cam_t_model_mm[2] = GetI32(&d[2]) * kPositionMmPerLsb;
-        pose.cam_q_model[0] = QUnit::FromRaw(GetI16(&d[6])).ToDouble();
-        break;
-      default:
-        pose.cam_q_model[1] = QUnit::FromRaw(GetI16(&d[2])).ToDouble();
-        pose.cam_q_model[2] = QUnit::FromRaw(GetI16(&d[4])).ToDouble();
-        pose.cam_q_model[3] = QUnit::FromRaw(GetI16(&d[6])).ToDouble();
-        break;
+    const ObjectPartLayout& layout = kObjectPartLayout[part];
+    for (uint8_t k = 0; k < layout.count; ++k) {
+      const PartField& field = layout.fields[k];
+      SetFromWire(field.field, GetLe(&d[field.offset], field.size), &pose);
     }
     crc_ = Crc8(frame.data, frame.len, crc_);
     ++next_object_frame_;

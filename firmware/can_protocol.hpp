@@ -55,6 +55,27 @@ inline constexpr uint16_t kTimeBudgetMinMs = 20;
 inline constexpr uint16_t kTimeBudgetMaxMs = 10000;
 inline constexpr uint16_t kFreeRunRateMaxDeciHz = 300;  // 30.0 Hz; 0 = free-run off
 
+// The object frames of a result set: part p of object i carries byte 0 = the set's sequence
+// (low byte), byte 1 = p | i << 2, then the fields below. One table for the encoder
+// (EncodeResultSet), the reassembler (ResultAssembler) and docs/can-protocol.md.
+enum class PoseField : uint8_t { kTx, kTy, kTz, kModelId, kInstance, kScore, kQw, kQx, kQy, kQz };
+struct PartField {
+  PoseField field;
+  uint8_t offset;  // byte in the frame
+  uint8_t size;    // bytes, little-endian: 4 = int32 position, 2 = int16 quaternion / uint16
+                   // score, 1 = uint8
+};
+struct ObjectPartLayout {
+  PartField fields[3];
+  uint8_t count;
+};
+inline constexpr ObjectPartLayout kObjectPartLayout[kObjectParts] = {
+    {{{PoseField::kTx, 2, 4}, {PoseField::kModelId, 6, 1}, {PoseField::kInstance, 7, 1}}, 3},
+    {{{PoseField::kTy, 2, 4}, {PoseField::kScore, 6, 2}}, 2},
+    {{{PoseField::kTz, 2, 4}, {PoseField::kQw, 6, 2}}, 2},
+    {{{PoseField::kQx, 2, 2}, {PoseField::kQy, 4, 2}, {PoseField::kQz, 6, 2}}, 3},
+};
+
 // Scaling of the result fields. Position: int32 in 0.01 mm (+-21.4 km, far beyond need; a
 // decimal step keeps PLC arithmetic exact). Quaternion: int16 Q14 (QUnit in fixed_point.hpp).
 // Score: uint16 in 0.0001.

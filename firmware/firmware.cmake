@@ -1,10 +1,10 @@
 # stereohash-fw: the board program (also the host simulator). The core and simulator pieces are
 # libraries so the tests drive them in-process; Linux backends are linked where they were found.
 stereohash_module(stereohash_fw_core
-  SOURCES fw_config.cpp firmware_core.cpp canopen_node.cpp output_frame.cpp node_id_file.cpp
-          recorder.cpp data_source.cpp realtime.cpp sd_notify.cpp
-  HEADERS fw_config.hpp firmware_core.hpp canopen_node.hpp output_frame.hpp node_id_file.hpp
-          recorder.hpp data_source.hpp recognition.hpp realtime.hpp sd_notify.hpp
+  SOURCES fw_config.cpp firmware_core.cpp can_health.cpp canopen_node.cpp output_frame.cpp
+          node_id_file.cpp recorder.cpp data_source.cpp realtime.cpp sd_notify.cpp
+  HEADERS fw_config.hpp firmware_core.hpp can_health.hpp canopen_node.hpp output_frame.hpp
+          node_id_file.hpp recorder.hpp data_source.hpp recognition.hpp realtime.hpp sd_notify.hpp
   PUBLIC stereohash_can_protocol stereohash_canopen stereohash_hal_can stereohash_hal_gpio
          stereohash_hal_camera stereohash_tables stereohash_default_tables stereohash_camera
          stereohash_geometry stereohash_base stereohash_embedded_flags Threads::Threads

@@ -6,6 +6,7 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "firmware/can_health.hpp"
 #include "firmware/output_frame.hpp"
 #include "firmware/realtime.hpp"
 
@@ -90,7 +91,7 @@ Status FirmwareCore::Start(const CoreConfig& config, const CoreDevices& devices)
   const Status camera = dev_.camera->Start();
   if (!camera.ok()) {
     Log("camera start failed: %s", camera.message());
-    RaiseFault(kFaultCamera, static_cast<uint16_t>(EmcyCode::kSensor),
+    RaiseFault(kFaultCamera, EmcyCode::kSensor,
                kSensorStartFailed | static_cast<uint32_t>(camera.code()) << 16);
   } else {
     camera_started_ = true;
@@ -130,9 +131,20 @@ void FirmwareCore::Stop() {
   }
 }
 
-CoreCounters FirmwareCore::counters() const {
-  std::lock_guard<std::mutex> lock(const_cast<std::mutex&>(counters_mutex_));
-  return counters_;
+CoreCounters FirmwareCore::counters() const { return counters_.Snapshot(); }
+
+CoreCounters AtomicCoreCounters::Snapshot() const {
+  CoreCounters c;
+  c.triggers_accepted = triggers_accepted.load();
+  c.triggers_rejected = triggers_rejected.load();
+  c.triggers_dropped = triggers_dropped.load();
+  c.result_sets = result_sets.load();
+  c.capture_errors = capture_errors.load();
+  c.recognition_errors = recognition_errors.load();
+  c.emcy_sent = emcy_sent.load();
+  c.heartbeats = heartbeats.load();
+  c.send_errors = send_errors.load();
+  return c;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -143,12 +155,12 @@ void FirmwareCore::LoadData() {
   const Result<TableView> table = dev_.data->LoadTable();
   if (!table.ok()) {
     Log("model tables: %s", table.status().message());
-    RaiseFault(kFaultTables, static_cast<uint16_t>(EmcyCode::kDataSet), kDetailTables);
+    RaiseFault(kFaultTables, EmcyCode::kDataSet, kDetailTables);
   }
   const Result<StereoCalibration> calib = dev_.data->LoadCalibration();
   if (!calib.ok()) {
     Log("calibration: %s", calib.status().message());
-    RaiseFault(kFaultCalibration, static_cast<uint16_t>(EmcyCode::kDataSet), kDetailCalibration);
+    RaiseFault(kFaultCalibration, EmcyCode::kDataSet, kDetailCalibration);
   }
   if (!table.ok() || !calib.ok()) return;
 
@@ -165,8 +177,7 @@ void FirmwareCore::LoadData() {
   const Status init = dev_.recognition->Init(*calib, *table, mask);
   if (!init.ok()) {
     Log("recognition init: %s", init.message());
-    RaiseFault(kFaultRecognition, static_cast<uint16_t>(EmcyCode::kSoftware),
-               kDetailRecognitionInit);
+    RaiseFault(kFaultRecognition, EmcyCode::kSoftware, kDetailRecognitionInit);
     return;
   }
   model_mask_ = mask;
@@ -207,10 +218,10 @@ void FirmwareCore::SetOutputs() {
   (void)dev_.gpio->SetOutput(hal::GpioOutput::kBusy, s == FirmwareState::kBusy);
 }
 
-void FirmwareCore::RaiseFault(uint32_t bit, uint16_t code, uint32_t detail) {
+void FirmwareCore::RaiseFault(uint32_t bit, EmcyCode code, uint32_t detail) {
   faults_ |= bit;
   UpdateState();
-  SendEmcyFrame(canopen_.Raise(bit, code, detail));
+  SendEmcyFrame(canopen_.Raise(bit, static_cast<uint16_t>(code), detail));
 }
 
 void FirmwareCore::OnRecordFailed(int error_number) {
@@ -235,24 +246,24 @@ void FirmwareCore::ClearConditions(uint32_t bits) {
 Status FirmwareCore::SendFrame(const CanFrame& frame) {
   std::lock_guard<std::mutex> lock(send_mutex_);
   const Status s = dev_.can->Send(frame);
-  if (!s.ok()) {
-    {
-      std::lock_guard<std::mutex> c(counters_mutex_);
-      ++counters_.send_errors;
-    }
-    // The EMCYs of these two follow from the heartbeat thread: the bus cannot take them now.
-    if (s.code() == StatusCode::kUnavailable) {
-      faults_ |= kFaultCanBusOff;
-    } else if (s.code() == StatusCode::kResourceExhausted) {
-      faults_ |= kFaultCanTxDropped;
-    }
-  }
+  NoteSendError(s);
   return s;
 }
 
-void FirmwareCore::SendEmcy(uint16_t code, uint32_t detail) {
+void FirmwareCore::NoteSendError(const Status& s) {
+  if (s.ok()) return;
+  ++counters_.send_errors;
+  // The EMCYs of these two follow from the heartbeat thread: the bus cannot take them now.
+  if (s.code() == StatusCode::kUnavailable) {
+    faults_ |= kFaultCanBusOff;
+  } else if (s.code() == StatusCode::kResourceExhausted) {
+    faults_ |= kFaultCanTxDropped;
+  }
+}
+
+void FirmwareCore::SendEmcy(EmcyCode code, uint32_t detail) {
   canopen::EmcyMessage error, reset;
-  canopen_.Event(code, detail, &error, &reset);
+  canopen_.Event(static_cast<uint16_t>(code), detail, &error, &reset);
   SendEmcyFrame(error);
   SendEmcyFrame(reset);
 }
@@ -265,24 +276,20 @@ void FirmwareCore::SendEmcyFrame(const canopen::EmcyMessage& m) {
   e.detail = m.detail;
   const Result<CanFrame> frame = EncodeEmcy(e, node_);
   if (frame.ok()) (void)SendFrame(*frame);
-  {
-    std::lock_guard<std::mutex> c(counters_mutex_);
-    ++counters_.emcy_sent;
-  }
+  ++counters_.emcy_sent;
   if (dev_.observer != nullptr) dev_.observer->OnEmcy(e);
 }
 
-void FirmwareCore::SendAck(const CanFrame& command, const Status& status, uint32_t value,
-                           bool use_value) {
+void FirmwareCore::SendAck(const CanFrame& command, const Status& status,
+                           std::optional<uint32_t> value) {
   CommandAck ack = MakeCommandAck(command, status);
-  if (use_value) ack.value = value;
+  if (value) ack.value = *value;
   canopen_.StoreAck(ack);
   const Result<CanFrame> frame = EncodeCommandAck(ack, node_);
   if (frame.ok()) SendIfValid(canopen::kTpdoAck, *frame);
   if (!status.ok()) {
     const Emcy e = MakeCommandRejectedEmcy(command, status, state_.load());
-    SendEmcy(e.error_code, e.detail);
-    std::lock_guard<std::mutex> c(counters_mutex_);
+    SendEmcy(static_cast<EmcyCode>(e.error_code), e.detail);
     ++counters_.triggers_rejected;
   }
 }
@@ -295,20 +302,16 @@ bool FirmwareCore::QueueTrigger(uint16_t request_id, int64_t trigger_ns,
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (queue_count_ == kTriggerQueueDepth) {
-      std::lock_guard<std::mutex> c(counters_mutex_);
       ++counters_.triggers_dropped;
       return false;
     }
     // Under the queue lock: the worker pops triggers under it, so its result set cannot
     // overtake this ack on the bus (a send is a non-blocking queue write).
-    if (accepted_ack != nullptr) SendAck(*accepted_ack, Status::Ok(), 0, false);
+    if (accepted_ack != nullptr) SendAck(*accepted_ack, Status::Ok());
     queue_[(queue_head_ + queue_count_) % kTriggerQueueDepth] = {request_id, trigger_ns};
     ++queue_count_;
   }
-  {
-    std::lock_guard<std::mutex> c(counters_mutex_);
-    ++counters_.triggers_accepted;
-  }
+  ++counters_.triggers_accepted;
   cv_.notify_all();
   return true;
 }
@@ -366,7 +369,7 @@ void FirmwareCore::WorkerLoop() {
 }
 
 void FirmwareCore::RunTrigger(const Trigger& trigger) {
-  static ResultSet set;  // worker thread only; 5 KiB kept off the stack
+  ResultSet& set = result_set_;  // worker thread only; 5 KiB kept off the stack
   set = ResultSet();
   set.request_id = trigger.request_id;
 
@@ -392,10 +395,7 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
   const hal::CameraStats after = dev_.camera->stats();
 
   if (!captured.ok()) {
-    {
-      std::lock_guard<std::mutex> c(counters_mutex_);
-      ++counters_.capture_errors;
-    }
+    ++counters_.capture_errors;
     Log("capture: %s", captured.message());
     set.status = ResultStatus::kImageError;
     set.processing_time_us =
@@ -404,7 +404,7 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
     faults_ |= kFaultCamera;
     UpdateState();
     PublishResult(&set, nullptr);
-    RaiseFault(kFaultCamera, static_cast<uint16_t>(EmcyCode::kSensor),
+    RaiseFault(kFaultCamera, EmcyCode::kSensor,
                kSensorCaptureFailed | static_cast<uint32_t>(captured.code()) << 16 |
                    Saturate(after.timeouts, 0xFFFF));
     return;
@@ -413,8 +413,7 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
                             (before.left_unpaired_drops + before.right_unpaired_drops);
   if (unpaired > 0) {
     // Frames without a partner were skipped but a pair was found: a warning, not a fault.
-    SendEmcy(static_cast<uint16_t>(EmcyCode::kSensor),
-             kSensorUnpairedFrames | Saturate(unpaired, 0xFFFFFF));
+    SendEmcy(EmcyCode::kSensor, kSensorUnpairedFrames | Saturate(unpaired, 0xFFFFFF));
   }
 
   const uint32_t mask = model_mask_.load();
@@ -429,10 +428,7 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
   const Status processed =
       dev_.recognition->Process(frame, static_cast<float>(budget_ms_.load()), &set);
   if (!processed.ok()) {
-    {
-      std::lock_guard<std::mutex> c(counters_mutex_);
-      ++counters_.recognition_errors;
-    }
+    ++counters_.recognition_errors;
     Log("recognition: %s", processed.message());
     set.object_count = 0;
     set.status = ResultStatus::kInternalError;
@@ -448,15 +444,14 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
   // A copy for the recorder's writer thread (no heap, never waits); a full ring drops the pair.
   if (dev_.recorder != nullptr) (void)dev_.recorder->Submit(frame, set);
   if (!processed.ok()) {
-    SendEmcy(static_cast<uint16_t>(EmcyCode::kSoftware), static_cast<uint32_t>(processed.code())
-                                                             << 16);
+    SendEmcy(EmcyCode::kSoftware, static_cast<uint32_t>(processed.code()) << 16);
   }
   dev_.camera->Release();
 }
 
 void FirmwareCore::PublishResult(ResultSet* set, const hal::StereoFrame* frame) {
   if (nmt_.load() != NmtState::kOperational) return;  // results only when operational
-  static Vector<CanFrame, kMaxResultFrames> frames;   // worker thread only
+  Vector<CanFrame>& frames = result_frames_;          // worker thread only
   set->sequence = sequence_;
   set->output_frame = static_cast<uint8_t>(config_.output_frame);
   frames.clear();
@@ -484,26 +479,14 @@ void FirmwareCore::PublishResult(ResultSet* set, const hal::StereoFrame* frame) 
       if (!(i == 0 ? send_header : last ? send_end : send_objects)) continue;
       const CanFrame& f = frames[i];
       const Status s = dev_.can->Send(f);
-      if (s.ok()) continue;
-      {
-        std::lock_guard<std::mutex> c(counters_mutex_);
-        ++counters_.send_errors;
-      }
-      if (s.code() == StatusCode::kUnavailable) {
-        faults_ |= kFaultCanBusOff;
-        break;  // bus-off: the rest cannot go either
-      }
-      if (s.code() == StatusCode::kResourceExhausted) faults_ |= kFaultCanTxDropped;
+      NoteSendError(s);
+      if (s.code() == StatusCode::kUnavailable) break;  // bus-off: the rest cannot go either
     }
   }
   UpdateState();
-  {
-    std::lock_guard<std::mutex> c(counters_mutex_);
-    ++counters_.result_sets;
-  }
+  ++counters_.result_sets;
   if (!encoded.ok()) {
-    SendEmcy(static_cast<uint16_t>(EmcyCode::kSoftware), static_cast<uint32_t>(encoded.code())
-                                                             << 16);
+    SendEmcy(EmcyCode::kSoftware, static_cast<uint32_t>(encoded.code()) << 16);
   }
   if (dev_.observer != nullptr) dev_.observer->OnResult(*set, frame);
 }
@@ -512,7 +495,7 @@ void FirmwareCore::ClearFault(const CanFrame& frame) {
   const uint32_t bits = faults_.load();
   const uint32_t before = bits;
   if (bits == 0) {
-    SendAck(frame, Status::Ok(), 0, true);
+    SendAck(frame, Status::Ok(), 0);
     return;
   }
   if (bits & (kFaultTables | kFaultCalibration | kFaultRecognition)) LoadData();
@@ -525,7 +508,7 @@ void FirmwareCore::ClearFault(const CanFrame& frame) {
       camera_started_ = true;
     } else {
       Log("camera restart failed: %s", s.message());
-      RaiseFault(kFaultCamera, static_cast<uint16_t>(EmcyCode::kSensor),
+      RaiseFault(kFaultCamera, EmcyCode::kSensor,
                  kSensorStartFailed | static_cast<uint32_t>(s.code()) << 16);
     }
   }
@@ -536,13 +519,13 @@ void FirmwareCore::ClearFault(const CanFrame& frame) {
   UpdateState();
   const uint32_t cleared = before & ~faults_.load();
   if (faults_.load() == 0) {
-    SendAck(frame, Status::Ok(), 0, true);
+    SendAck(frame, Status::Ok(), 0);
     Log("fault cleared");
   } else {
     SendAck(frame,
             Status::Error(StatusCode::kFailedPrecondition, "fault persists (causes 0x%x)",
                           faults_.load()),
-            0, true);
+            0);
   }
   // Error reset (EMCY 0x0000) with the register of what remains: 0 when all cleared.
   ClearConditions(cleared);
@@ -628,7 +611,7 @@ void FirmwareCore::HandleCanopenEvents(const CanopenEvents& events) {
   }
   if (events.node_id_changed) ResetCommunication(false);
   if (events.rpdo_length_error) {
-    SendEmcy(static_cast<uint16_t>(EmcyCode::kPdoLengthError), events.rpdo_detail);
+    SendEmcy(EmcyCode::kPdoLengthError, events.rpdo_detail);
   }
 }
 
@@ -674,22 +657,19 @@ void FirmwareCore::SendIfValid(int tpdo, const CanFrame& frame) {
 void FirmwareCore::HandleCommand(const CanFrame& frame) {
   const Result<Command> cmd = DecodeCommand(frame, node_);
   if (!cmd.ok()) {
-    SendAck(frame, cmd.status(), 0, false);
+    SendAck(frame, cmd.status());
     return;
   }
   switch (cmd->code) {
     case CommandCode::kTrigger: {
       const FirmwareState s = state_.load();
       if (s != FirmwareState::kReady && s != FirmwareState::kBusy) {
-        SendAck(frame,
-                Status::Error(StatusCode::kFailedPrecondition, "trigger refused in state %u",
-                              static_cast<unsigned>(s)),
-                0, false);
+        SendAck(frame, Status::Error(StatusCode::kFailedPrecondition, "trigger refused in state %u",
+                                     static_cast<unsigned>(s)));
         return;
       }
       if (!QueueTrigger(cmd->request_id, MonotonicNs(), &frame)) {
-        SendAck(frame, Status::Error(StatusCode::kFailedPrecondition, "trigger queue full"), 0,
-                false);
+        SendAck(frame, Status::Error(StatusCode::kFailedPrecondition, "trigger queue full"));
       }
       return;
     }
@@ -697,19 +677,19 @@ void FirmwareCore::HandleCommand(const CanFrame& frame) {
       const Status s = CheckModelMask(cmd->model_mask, model_count_);
       if (s.ok()) model_mask_ = cmd->model_mask;
       canopen_.SetSettings(CurrentSettings());
-      SendAck(frame, s, 0, false);
+      SendAck(frame, s);
       return;
     }
     case CommandCode::kSetTimeBudget:
       budget_ms_ = cmd->time_budget_ms;
       canopen_.SetSettings(CurrentSettings());
-      SendAck(frame, Status::Ok(), 0, false);
+      SendAck(frame, Status::Ok());
       return;
     case CommandCode::kSetFreeRunRate:
       free_run_dhz_ = cmd->free_run_rate_dhz;
       canopen_.SetSettings(CurrentSettings());
       cv_.notify_all();
-      SendAck(frame, Status::Ok(), 0, false);
+      SendAck(frame, Status::Ok());
       return;
     case CommandCode::kClearFault: {
       // The worker does it: it owns the camera and the recognition.
@@ -744,7 +724,6 @@ void FirmwareCore::GpioLoop() {
         nmt_.load() == NmtState::kOperational) {
       QueueTrigger(0, static_cast<int64_t>(edge.timestamp_ns));
     } else {
-      std::lock_guard<std::mutex> c(counters_mutex_);
       ++counters_.triggers_rejected;
     }
   }
@@ -758,10 +737,7 @@ void FirmwareCore::HeartbeatLoop() {
   int64_t next = MonotonicNs() + period;
   // From zero: frames the receive queue lost while the node was still booting (a PLC that
   // started sending early) are reported with the first overrun EMCY, not forgotten.
-  hal::CanStats last{};
-  bool bus_off_reported = false;  // the fault bit was seen; recovery EMCY pending
-  bool passive_reported = false;
-  bool tx_drop_reported = false;
+  CanHealthMonitor health(hal::CanStats{});
   const int64_t alive_tolerance_ns =
       (int64_t{config_.capture_timeout_ms} + protocol::kTimeBudgetMaxMs + 2000) * 1'000'000ll;
   while (!stopping_.load()) {
@@ -782,49 +758,29 @@ void FirmwareCore::HeartbeatLoop() {
 
     if (heartbeat_ms_.load() != 0) {
       const Result<CanFrame> hb = EncodeHeartbeat(node_, nmt_.load());
-      if (hb.ok() && SendFrame(*hb).ok()) {
-        std::lock_guard<std::mutex> c(counters_mutex_);
-        ++counters_.heartbeats;
-      }
+      if (hb.ok() && SendFrame(*hb).ok()) ++counters_.heartbeats;
     }
 
-    // CAN health.
+    // CAN health: fault bits (also those SendFrame set) and each episode's EMCY once.
     const hal::CanBusState bus = dev_.can->state();
-    const hal::CanStats now = dev_.can->stats();
     if (bus == hal::CanBusState::kBusOff) faults_ |= kFaultCanBusOff;
-    UpdateState();  // picks up fault bits set by SendFrame
-    if ((faults_.load() & kFaultCanBusOff) && bus != hal::CanBusState::kBusOff &&
-        !bus_off_reported) {
-      // The fault condition starts now, as its EMCY can be sent; clear-fault ends it.
-      bus_off_reported = true;
-      SendEmcyFrame(canopen_.Raise(kFaultCanBusOff,
-                                   static_cast<uint16_t>(EmcyCode::kRecoveredFromBusOff),
-                                   Saturate(now.bus_off_events, 0xFFFFFFFFu)));
+    UpdateState();
+    const CanHealthMonitor::Actions health_actions =
+        health.Step(bus, dev_.can->stats(), faults_.load());
+    for (int i = 0; i < health_actions.count; ++i) {
+      const CanHealthMonitor::Action& a = health_actions.action[i];
+      switch (a.kind) {
+        case CanHealthMonitor::Kind::kRaise:
+          SendEmcyFrame(canopen_.Raise(a.condition, static_cast<uint16_t>(a.code), a.detail));
+          break;
+        case CanHealthMonitor::Kind::kClear:
+          ClearConditions(a.condition);
+          break;
+        case CanHealthMonitor::Kind::kEvent:
+          SendEmcy(a.code, a.detail);
+          break;
+      }
     }
-    if (!(faults_.load() & kFaultCanBusOff)) bus_off_reported = false;
-    if (bus == hal::CanBusState::kErrorPassive && !passive_reported) {
-      passive_reported = true;
-      SendEmcyFrame(canopen_.Raise(kWarningCanErrorPassive,
-                                   static_cast<uint16_t>(EmcyCode::kCanErrorPassive), 0));
-    }
-    if (bus == hal::CanBusState::kErrorActive && passive_reported) {
-      passive_reported = false;
-      ClearConditions(kWarningCanErrorPassive);
-    }
-    if ((faults_.load() & kFaultCanTxDropped) && !tx_drop_reported &&
-        bus != hal::CanBusState::kBusOff) {
-      tx_drop_reported = true;
-      UpdateState();
-      SendEmcyFrame(canopen_.Raise(kFaultCanTxDropped,
-                                   static_cast<uint16_t>(EmcyCode::kCommunication),
-                                   Saturate(now.tx_dropped_queue_full, 0xFFFFFFFFu)));
-    }
-    if (!(faults_.load() & kFaultCanTxDropped)) tx_drop_reported = false;
-    if (now.rx_dropped_overflow > last.rx_dropped_overflow) {
-      SendEmcy(static_cast<uint16_t>(EmcyCode::kCanOverrun),
-               Saturate(now.rx_dropped_overflow - last.rx_dropped_overflow, 0xFFFFFFFFu));
-    }
-    last = now;
 
     if (dev_.observer != nullptr && MonotonicNs() - worker_alive_ns_.load() < alive_tolerance_ns) {
       dev_.observer->OnAlive();

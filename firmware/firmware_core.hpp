@@ -21,6 +21,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "firmware/can_protocol.hpp"
@@ -31,6 +32,7 @@
 #include "hal/can.hpp"
 #include "hal/gpio.hpp"
 #include "recog/base/status.hpp"
+#include "recog/base/vector.hpp"
 #include "recog/camera/camera_model.hpp"
 #include "tables/table_view.hpp"
 
@@ -124,6 +126,20 @@ struct CoreCounters {
   uint64_t send_errors = 0;
 };
 
+// The counters as the core keeps them: each written by several threads, read as a snapshot.
+struct AtomicCoreCounters {
+  std::atomic<uint64_t> triggers_accepted{0};
+  std::atomic<uint64_t> triggers_rejected{0};
+  std::atomic<uint64_t> triggers_dropped{0};
+  std::atomic<uint64_t> result_sets{0};
+  std::atomic<uint64_t> capture_errors{0};
+  std::atomic<uint64_t> recognition_errors{0};
+  std::atomic<uint64_t> emcy_sent{0};
+  std::atomic<uint64_t> heartbeats{0};
+  std::atomic<uint64_t> send_errors{0};
+  CoreCounters Snapshot() const;
+};
+
 inline constexpr size_t kTriggerQueueDepth = 8;
 
 class FirmwareCore final : public RecorderObserver {
@@ -183,20 +199,22 @@ class FirmwareCore final : public RecorderObserver {
   void ClearFault(const hal::CanFrame& frame);
 
   // A fault or warning condition becomes active: its EMCY with the error register.
-  void RaiseFault(uint32_t bit, uint16_t code, uint32_t detail);
+  void RaiseFault(uint32_t bit, protocol::EmcyCode code, uint32_t detail);
   // Conditions that ended: the error reset EMCY (0x0000) with the register that remains.
   void ClearConditions(uint32_t bits);
   // An error without lasting cause: its EMCY followed by the error reset.
-  void SendEmcy(uint16_t code, uint32_t detail);
+  void SendEmcy(protocol::EmcyCode code, uint32_t detail);
   void SendEmcyFrame(const canopen::EmcyMessage& m);
   void ApplyCanopenSettings(const CanopenEvents& events);
   void HandleCanopenEvents(const CanopenEvents& events);
   void ResetCommunication(bool reset_node);
   CanopenSettings CurrentSettings() const;
   void SendIfValid(int tpdo, const hal::CanFrame& frame);
-  void SendAck(const hal::CanFrame& command, const Status& status, uint32_t value_override,
-               bool use_override);
+  // The ack of a command; `value` replaces the value field the ack would echo.
+  void SendAck(const hal::CanFrame& command, const Status& status,
+               std::optional<uint32_t> value = std::nullopt);
   Status SendFrame(const hal::CanFrame& frame);
+  void NoteSendError(const Status& send_status);  // counts it; bus-off and full queue are faults
   void UpdateState();
   void SetState(FirmwareState state);
   void SetOutputs();
@@ -232,9 +250,10 @@ class FirmwareCore final : public RecorderObserver {
   std::atomic<bool> stopping_{false};
   std::atomic<int64_t> worker_alive_ns_{0};
   std::mutex send_mutex_;  // one writer at a time keeps a result set's frames together
-  std::mutex counters_mutex_;
-  CoreCounters counters_;
-  uint16_t sequence_ = 0;  // worker only
+  AtomicCoreCounters counters_;
+  uint16_t sequence_ = 0;                                            // worker only
+  protocol::ResultSet result_set_;                                   // worker only
+  Vector<hal::CanFrame, protocol::kMaxResultFrames> result_frames_;  // worker only
 
   std::thread worker_, can_rx_, gpio_, heartbeat_;
   bool threads_started_ = false;
