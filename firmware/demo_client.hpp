@@ -1,4 +1,4 @@
-// `stereohash-fw --sim --demo`: an in-process PLC on the simulated bus that reassembles every
+// `stereohash-fw-sim --demo`: an in-process PLC on the simulated bus that reassembles every
 // result set with the reference ResultAssembler and prints the poses as they arrive.
 #pragma once
 

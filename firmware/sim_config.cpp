@@ -1,8 +1,7 @@
-// The simulator's configuration defaults: they depend on the simulated world (its rendered
-// table), so they live with the simulator program, not in the board's configuration code.
+#include "firmware/sim_config.hpp"
+
 #include <cstring>
 
-#include "firmware/fw_config.hpp"
 #include "hal/sim/world/scene_generator.hpp"
 
 namespace sh::fw {
@@ -10,12 +9,13 @@ namespace sh::fw {
 FwConfig SimDefaults() {
   FwConfig c;
   c.backend = Backend::kSim;
-  c.calibration_path[0] = '\0';  // the renderer's rig
-  c.mlock = false;               // a desktop simulator need not pin its memory
+  c.camera = CameraSource::kSim;
+  c.calibration[0] = '\0';  // the renderer's rig
+  c.lss_store[0] = '\0';    // a desktop simulator keeps no node id
+  c.mlock = false;          // nor pins its memory
   // The box over the rendered table an integrator would configure (render::kTableVolume*).
-  c.volume_set = true;
-  c.volume_is_sim_default = true;
-  c.volume_in_table_frame = true;
+  c.sim_volume_box = true;
+  c.volume_frame = VolumeFrame::kTable;
   std::memcpy(c.volume_min_mm, render::kTableVolumeMinMm, sizeof(c.volume_min_mm));
   std::memcpy(c.volume_max_mm, render::kTableVolumeMaxMm, sizeof(c.volume_max_mm));
   return c;

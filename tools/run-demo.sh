@@ -9,5 +9,5 @@ cd "$(dirname "$0")/.."
 seconds=${1:-15}
 tools/ci/install-deps.sh
 cmake --preset host-release >/dev/null
-cmake --build --preset host-release -j "$(nproc)" --target stereohash-fw stereohash
-exec build/host-release/firmware/stereohash-fw --sim --demo --run-seconds "$seconds"
+cmake --build --preset host-release -j "$(nproc)" --target stereohash-fw-sim stereohash
+exec build/host-release/firmware/stereohash-fw-sim --demo --run-seconds "$seconds"

@@ -3,7 +3,9 @@
 #include <cstring>
 #include <string>
 
+#include "firmware/config_keys.hpp"
 #include "firmware/fw_config.hpp"
+#include "firmware/sim_config.hpp"
 
 namespace sh::fw {
 namespace {
@@ -37,11 +39,11 @@ TEST(FwConfig, ParsesEveryKindOfValue) {
   EXPECT_STREQ(c.can_interface, "can1");
   EXPECT_EQ(c.node_id, 42);
   EXPECT_EQ(c.heartbeat_ms, 100u);
-  EXPECT_STREQ(c.calibration_path, "/etc/stereohash/calib.yaml");
+  EXPECT_STREQ(c.calibration, "/etc/stereohash/calib.yaml");
   EXPECT_EQ(c.budget_ms, 250);
   EXPECT_EQ(c.free_run_dhz, 300);
   EXPECT_EQ(c.model_mask, 5u);
-  EXPECT_TRUE(c.volume_set);
+  EXPECT_TRUE(c.volume_set());
   EXPECT_FLOAT_EQ(c.volume_min_mm[1], -200.0f);
   EXPECT_FLOAT_EQ(c.volume_max_mm[2], 900.0f);
   EXPECT_EQ(c.gpio_trigger_line, 17);
@@ -71,11 +73,11 @@ TEST(FwConfig, ErrorsNameLineAndKey) {
       {"volume_min_mm = 1 2\n", "three numbers"},
       {"volume_frame = world\n", "expected camera or table"},
       {"table_origin_mm = 1 2 x\n", "three numbers"},
-      {"background = grey\n", "expected dark or light"},
+      {"background = grey\n", "expected auto, dark or light"},
       {"mlock = maybe\n", "expected true or false"},
       {"can_interface =\n", "missing value"},
       {"= 3\n", "missing key"},
-      {"heartbeat_ms = 5\n", "expected 0 (off) or 10..10000"},
+      {"heartbeat_ms = 5\n", "expected 0 (off) or an integer in 10..10000"},
       {"result_mode = fast\n", "expected stream, pdo or both"},
       {"output_frame = world\n", "expected camera, table or robot"},
       {"camera = usb\n", "expected libcamera, sim or directory"},
@@ -92,7 +94,7 @@ TEST(FwConfig, ErrorsNameLineAndKey) {
 }
 
 TEST(FwConfig, CommissioningKeys) {
-  FwConfig c;
+  FwConfig c = SimDefaults();
   const Status s = Parse(
       "heartbeat_ms = 0\n"
       "result_mode = both\n"
@@ -105,9 +107,9 @@ TEST(FwConfig, CommissioningKeys) {
       &c);
   ASSERT_TRUE(s.ok()) << s.message();
   EXPECT_EQ(c.heartbeat_ms, 0u);
-  EXPECT_EQ(c.result_mode, 2);
+  EXPECT_EQ(c.result_mode, canopen::ResultMode::kBoth);
   EXPECT_EQ(c.serial_number, 0x1234ABCDu);
-  EXPECT_TRUE(c.lss_store_set);
+  EXPECT_STREQ(c.lss_store, "/var/lib/stereohash/node-id");
   EXPECT_EQ(c.camera, CameraSource::kDirectory);
   EXPECT_STREQ(c.camera_directory, "/data/recorded");
   EXPECT_EQ(c.output_frame, OutputFrameKey::kRobot);
@@ -120,10 +122,11 @@ TEST(FwConfig, CommissioningKeys) {
       {"output_frame = robot\n", "needs 'handeye'"},
       {"camera = directory\n", "needs 'camera_directory'"},
       {"table_file = t.yaml\ntable_origin_mm = 0 0 500\n", "both give the table pose"},
-      {"backend = linux\ncalibration = c.yaml\noutput_frame = table\n", "needs the table pose"},
+      {"backend = linux\ncamera = libcamera\ncalibration = c.yaml\noutput_frame = table\n",
+       "needs the table pose"},
   };
   for (const auto& b : bad) {
-    FwConfig v;
+    FwConfig v = SimDefaults();
     ASSERT_TRUE(Parse(b.text, &v).ok()) << b.text;
     const Status r = ValidateConfig(v);
     EXPECT_FALSE(r.ok()) << b.text;
@@ -173,7 +176,7 @@ TEST(FwConfig, ValidationChecksCombinations) {
   FwConfig c;
   c.backend = Backend::kLinux;
   EXPECT_NE(std::strstr(ValidateConfig(c).message(), "'calibration'"), nullptr);
-  std::strcpy(c.calibration_path, "/x.yaml");
+  std::strcpy(c.calibration, "/x.yaml");
   EXPECT_TRUE(ValidateConfig(c).ok());
   c.recognition = RecognitionKind::kTruth;
   EXPECT_FALSE(ValidateConfig(c).ok());
@@ -192,9 +195,8 @@ TEST(FwConfig, TableFrameVolumeNeedsAPoseOnTheBoard) {
                     "background = light\n",
                     &c)
                   .ok());
-  EXPECT_TRUE(c.volume_in_table_frame);
-  EXPECT_TRUE(c.light_background);
-  EXPECT_TRUE(c.background_set);
+  EXPECT_EQ(c.volume_frame, VolumeFrame::kTable);
+  EXPECT_EQ(c.background, BackgroundKey::kLight);
   const Status s = ValidateConfig(c);
   EXPECT_NE(std::strstr(s.message(), "table_rotation_deg"), nullptr) << s.message();
   ASSERT_TRUE(Parse("backend = linux\ncalibration = /x.yaml\nvolume_frame = table\n"
@@ -203,7 +205,7 @@ TEST(FwConfig, TableFrameVolumeNeedsAPoseOnTheBoard) {
                   .ok());
   EXPECT_TRUE(ValidateConfig(c).ok());
   FwConfig sim = SimDefaults();
-  sim.volume_in_table_frame = true;
+  sim.volume_frame = VolumeFrame::kTable;
   EXPECT_TRUE(ValidateConfig(sim).ok()) << "the simulator knows its table";
 }
 
@@ -227,15 +229,14 @@ TEST(FwConfig, TablePoseMapsTableAxesIntoTheCamera) {
 
 TEST(FwConfig, ThreadsAndAutomaticDetection) {
   FwConfig c;
-  EXPECT_FALSE(c.background_set);  // automatic by default
-  EXPECT_EQ(c.threads, 0);         // all cores
+  EXPECT_EQ(c.background, BackgroundKey::kAuto);  // automatic by default
+  EXPECT_EQ(c.threads, 0);                        // all cores
   ASSERT_TRUE(Parse("threads = 2\nbackground = light\n", &c).ok());
   EXPECT_EQ(c.threads, 2);
-  EXPECT_TRUE(c.background_set);
-  EXPECT_TRUE(c.light_background);
+  EXPECT_EQ(c.background, BackgroundKey::kLight);
   FwConfig a;
   ASSERT_TRUE(Parse("background = auto\n", &a).ok());
-  EXPECT_FALSE(a.background_set);
+  EXPECT_EQ(a.background, BackgroundKey::kAuto);
   FwConfig bad;
   EXPECT_FALSE(Parse("threads = 99\n", &bad).ok());
   EXPECT_FALSE(Parse("threads = -1\n", &bad).ok());
@@ -250,12 +251,92 @@ TEST(FwConfig, MissingFileIsNotFound) {
 }
 
 TEST(FwConfig, ShippedExamplesParse) {
-  for (const char* path :
-       {"firmware/stereohash-fw.conf.example", "firmware/stereohash-fw-sim.conf.example"}) {
-    FwConfig c;
-    const Status s = LoadConfigFile(path, &c);
-    EXPECT_TRUE(s.ok()) << path << ": " << s.message();
+  // Each on top of its program's defaults.
+  FwConfig board;
+  Status s = LoadConfigFile("firmware/stereohash-fw.conf.example", &board);
+  EXPECT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(board.backend, Backend::kLinux);
+  FwConfig sim = SimDefaults();
+  s = LoadConfigFile("firmware/stereohash-fw-sim.conf.example", &sim);
+  EXPECT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(sim.backend, Backend::kSim);
+}
+
+// The key table: every default lies in its key's range and reads back as itself, so what --help
+// and docs/firmware.md print as a default is a value the parser accepts.
+TEST(FwConfigKeys, DefaultsParseBackToThemselves) {
+  ASSERT_EQ(ConfigKeyCount(), static_cast<size_t>(ConfigKeyId::kCount));
+  for (const FwConfig& defaults : {FwConfig(), SimDefaults()}) {
+    for (size_t k = 0; k < ConfigKeyCount(); ++k) {
+      const ConfigKey& key = ConfigKeys()[k];
+      char text[kConfigPathMax], again[kConfigPathMax];
+      FormatConfigValue(key, defaults, text, sizeof(text));
+      FwConfig c;
+      const Status s = ApplyConfigKey(key, text, &c);
+      ASSERT_TRUE(s.ok()) << key.name << " = " << text << ": " << s.message();
+      FormatConfigValue(key, c, again, sizeof(again));
+      EXPECT_STREQ(text, again) << key.name;
+      EXPECT_TRUE(c.Given(static_cast<ConfigKeyId>(k))) << key.name;
+      EXPECT_EQ(FindConfigKey(key.name), &key);
+      EXPECT_GT(std::strlen(key.help), 0u) << key.name;
+    }
   }
+  EXPECT_EQ(FindConfigKey("no_such_key"), nullptr);
+}
+
+TEST(FwConfigKeys, TypesSayWhatIsAccepted) {
+  char type[192];
+  FormatConfigType(*FindConfigKey("heartbeat_ms"), type, sizeof(type));
+  EXPECT_STREQ(type, "0 (off) or integer 10..10000 ms");
+  FormatConfigType(*FindConfigKey("node_id"), type, sizeof(type));
+  EXPECT_STREQ(type, "integer 1..127");
+  FormatConfigType(*FindConfigKey("background"), type, sizeof(type));
+  EXPECT_STREQ(type, "auto | dark | light");
+  FormatConfigType(*FindConfigKey("can_interface"), type, sizeof(type));
+  EXPECT_STREQ(type, "text, up to 15 characters");
+  char value[64];
+  FormatConfigValue(*FindConfigKey("model_mask"), FwConfig(), value, sizeof(value));
+  EXPECT_STREQ(value, "0xFFFFFFFF");
+  FormatConfigValue(*FindConfigKey("volume_min_mm"), FwConfig(), value, sizeof(value));
+  EXPECT_STREQ(value, "-1000 -1000 100");
+}
+
+// Keys given by a file are marked: the volume box and the table pose are "set" by their keys,
+// and a box given in the simulator replaces its default one.
+TEST(FwConfigKeys, GivenKeysMarkTheBoxAndTheTablePose) {
+  FwConfig c;
+  EXPECT_FALSE(c.volume_set());
+  EXPECT_FALSE(c.table_pose_set());
+  ASSERT_TRUE(Parse("volume_max_mm = 1 2 3\ntable_origin_mm = 0 0 500\n", &c).ok());
+  EXPECT_TRUE(c.volume_set());
+  EXPECT_TRUE(c.table_pose_set());
+  EXPECT_TRUE(c.Given(ConfigKeyId::volume_max_mm));
+  EXPECT_FALSE(c.Given(ConfigKeyId::volume_min_mm));
+  FwConfig sim = SimDefaults();
+  EXPECT_TRUE(sim.volume_set());
+  EXPECT_TRUE(sim.volume_is_sim_default());
+  ASSERT_TRUE(Parse("volume_min_mm = -10 -10 -10\n", &sim).ok());
+  EXPECT_TRUE(sim.volume_set());
+  EXPECT_FALSE(sim.volume_is_sim_default());
+}
+
+// Each program has its own cameras: the board refuses the simulated ones and recorded pairs
+// (replayed by stereohash-fw-sim), the simulator refuses libcamera.
+TEST(FwConfig, CamerasBelongToTheirProgram) {
+  FwConfig board;
+  ASSERT_TRUE(
+      Parse("calibration = /x.yaml\ncamera = directory\ncamera_directory = /d\n", &board).ok());
+  Status s = ValidateConfig(board);
+  EXPECT_NE(std::strstr(s.message(), "stereohash-fw-sim"), nullptr) << s.message();
+  FwConfig sim = SimDefaults();
+  ASSERT_TRUE(Parse("camera = libcamera\n", &sim).ok());
+  s = ValidateConfig(sim);
+  EXPECT_NE(std::strstr(s.message(), "key 'camera'"), nullptr) << s.message();
+  FwConfig replay = SimDefaults();
+  ASSERT_TRUE(
+      Parse("camera = directory\ncamera_directory = /d\nrecognition = truth\n", &replay).ok());
+  s = ValidateConfig(replay);
+  EXPECT_NE(std::strstr(s.message(), "recognition = truth"), nullptr) << s.message();
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// node-canopen (npm `canopen`) as the CANopen manager of stereohash-fw in simulation, the way a
+// node-canopen (npm `canopen`) as the CANopen manager of stereohash-fw-sim, the way a
 // PLC's manager commissions a node from its EDS:
 //   boot-up and heartbeat; SDO reads of the mandatory objects and of every readable entry the
 //   EDS lists (const ones compared with the EDS); the heartbeat time written (0 stops it, the
@@ -9,7 +9,7 @@
 //   renderer's ground truth; an LSS node-id change (switch, inquire, configure, store) applied
 //   by NMT reset communication.
 //
-//   node manager_test.js --firmware stereohash-fw --eds stereohash.eds [--triggers N]
+//   node manager_test.js --firmware stereohash-fw-sim --eds stereohash.eds [--triggers N]
 //                        [--recognition pipeline|truth]
 'use strict';
 
@@ -63,7 +63,7 @@ class Firmware {
         this.dir = fs.mkdtempSync(path.join(os.tmpdir(), 'stereohash_node_'));
         this.configPath = path.join(this.dir, 'fw.conf');
         fs.writeFileSync(this.configPath, config(this.dir));
-        this.proc = childProcess.spawn(ARGS.firmware, ['--sim', '--config', this.configPath],
+        this.proc = childProcess.spawn(ARGS.firmware, ['--config', this.configPath],
             { stdio: ['ignore', 'pipe', 'pipe'] });
         this.results = [];
         this.stderr = [];

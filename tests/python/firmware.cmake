@@ -1,14 +1,14 @@
-# stereohash-fw in simulation, end to end from a python-can/socketcand PLC with canmatrix decoding:
+# stereohash-fw-sim, end to end from a python-can/socketcand PLC with canmatrix decoding:
 # 50 triggers with the recognition pipeline against the renderer's ground truth, and a run that
 # reports the ground truth itself (CAN path, sequence counters, latency without recognition).
-if(TARGET stereohash-fw)
+if(TARGET stereohash-fw-sim)
   foreach(_kind pipeline truth)
     if(_kind STREQUAL "pipeline" AND NOT TARGET stereohash_fw_pipeline)
       continue()
     endif()
     add_test(NAME python_firmware_e2e_${_kind}
              COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_firmware_e2e.py
-                     --firmware $<TARGET_FILE:stereohash-fw>
+                     --firmware $<TARGET_FILE:stereohash-fw-sim>
                      --dbc ${PROJECT_SOURCE_DIR}/firmware/stereohash.dbc
                      --triggers 50 --recognition ${_kind})
     set_tests_properties(python_firmware_e2e_${_kind} PROPERTIES TIMEOUT 600
@@ -27,7 +27,7 @@ if(TARGET stereohash-fw)
     endif()
     add_test(NAME python_firmware_e2e_${mode}_${kind}
              COMMAND /usr/bin/python3 ${CMAKE_CURRENT_FUNCTION_LIST_DIR}/test_firmware_e2e.py
-                     --firmware $<TARGET_FILE:stereohash-fw>
+                     --firmware $<TARGET_FILE:stereohash-fw-sim>
                      --dbc ${PROJECT_SOURCE_DIR}/firmware/stereohash.dbc
                      --triggers 50 --recognition ${kind} --result-mode ${mode} ${ARGN})
     set_tests_properties(python_firmware_e2e_${mode}_${kind} PROPERTIES TIMEOUT 600
@@ -39,21 +39,21 @@ if(TARGET stereohash-fw)
   stereohash_add_pdo_e2e(both pipeline --min-recall 1.0)
   stereohash_add_pdo_e2e(pdo truth)
 endif()
-# Replay: stereohash-fw with camera = directory on a rendered set gives the poses that
+# Replay: stereohash-fw-sim with camera = directory on a rendered set gives the poses that
 # `stereohash recognize --scene` gives on the same pairs.
-if(TARGET stereohash-fw AND TARGET stereohash AND TARGET stereohash_fw_pipeline)
+if(TARGET stereohash-fw-sim AND TARGET stereohash AND TARGET stereohash_fw_pipeline)
   add_test(NAME python_firmware_replay
            COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_replay.py
-                   --firmware $<TARGET_FILE:stereohash-fw> --stereohash $<TARGET_FILE:stereohash>
+                   --firmware $<TARGET_FILE:stereohash-fw-sim> --stereohash $<TARGET_FILE:stereohash>
                    --scenes 4)
   set_tests_properties(python_firmware_replay PROPERTIES TIMEOUT 600)
 endif()
 
-# The real boot path (main) with broken data: fault, EMCY, heartbeat, clear-fault after repair.
-if(TARGET stereohash-fw AND TARGET stereohash_default_tables)
+# The real boot path (the simulator program) with broken data: fault, EMCY, heartbeat, clear-fault after repair.
+if(TARGET stereohash-fw-sim AND TARGET stereohash_default_tables)
   add_test(NAME python_firmware_boot_faults
            COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_firmware_boot_faults.py
-                   --firmware $<TARGET_FILE:stereohash-fw>
+                   --firmware $<TARGET_FILE:stereohash-fw-sim>
                    --dbc ${PROJECT_SOURCE_DIR}/firmware/stereohash.dbc
                    --table ${PROJECT_BINARY_DIR}/tables/reference_hf5.bin
                    --models ${PROJECT_SOURCE_DIR}/models)
@@ -64,10 +64,10 @@ if(TARGET stereohash-fw AND TARGET stereohash_default_tables)
 endif()
 
 # A command flood and silent connections on the simulated bus (socketcand bridge).
-if(TARGET stereohash-fw)
+if(TARGET stereohash-fw-sim)
   add_test(NAME python_firmware_flood
            COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_firmware_flood.py
-                   --firmware $<TARGET_FILE:stereohash-fw> --triggers 2000)
+                   --firmware $<TARGET_FILE:stereohash-fw-sim> --triggers 2000)
   set_tests_properties(python_firmware_flood PROPERTIES TIMEOUT 300 SKIP_RETURN_CODE 77)
   if(CMAKE_CROSSCOMPILING)
     set_tests_properties(python_firmware_flood PROPERTIES LABELS host_only)

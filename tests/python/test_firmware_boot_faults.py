@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""Boot-path faults of stereohash-fw, run through its real main() in simulation.
+"""Boot-path faults of the firmware, run through the real main() of stereohash-fw-sim.
 
-Each case starts `stereohash-fw --sim --config FILE` with one piece of its data broken (a
+Each case starts `stereohash-fw-sim --config FILE` with one piece of its data broken (a
 missing, truncated or corrupt table file, the injected corrupt tables, a missing calibration, a
 missing model folder) and checks, from a python-can/socketcand PLC: the boot-up, an EMCY naming
 the fault with the firmware state "fault", heartbeats that keep coming while the process stays
@@ -200,7 +200,7 @@ class BootFaultTest(unittest.TestCase):
 def main():
     global ARGS
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--firmware", required=True, help="path of stereohash-fw")
+    parser.add_argument("--firmware", required=True, help="path of stereohash-fw-sim")
     parser.add_argument("--dbc", required=True)
     parser.add_argument("--table", required=True, help="a valid table blob file")
     parser.add_argument("--models", required=True, help="the reference model folder")

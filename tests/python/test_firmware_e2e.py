@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""End-to-end test of stereohash-fw in simulation, seen from a PLC on the simulated CAN bus.
+"""End-to-end test of stereohash-fw-sim, seen from a PLC on the simulated CAN bus.
 
-Starts `stereohash-fw --sim` in its own process, connects with python-can's socketcand client,
+Starts `stereohash-fw-sim` in its own process, connects with python-can's socketcand client,
 waits for the boot-up and heartbeats, triggers N recognitions, decodes every frame with canmatrix
 from firmware/stereohash.dbc (independently of the C++ decoders), checks sequence counters,
 frame counts and CRC-8 (no frame lost), compares the decoded poses with what the firmware encoded
@@ -34,13 +34,13 @@ NODE = 1
 
 
 class Firmware:
-    """stereohash-fw --sim and its stdout lines (SOCKETCAND_PORT, MODELS, RESULT, EMCY, STATE)."""
+    """stereohash-fw-sim and its stdout lines (SOCKETCAND_PORT, MODELS, RESULT, EMCY, STATE)."""
 
     def __init__(self, binary, config_text):
         self.config = tempfile.NamedTemporaryFile("w", suffix=".conf", delete=False)
         self.config.write(config_text)
         self.config.close()
-        self.proc = subprocess.Popen([binary, "--sim", "--config", self.config.name],
+        self.proc = subprocess.Popen([binary, "--config", self.config.name],
                                      stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                      bufsize=1)
         self.results = queue.Queue()
@@ -342,7 +342,7 @@ class FirmwareEndToEndTest(unittest.TestCase):
 def main():
     global ARGS
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--firmware", required=True, help="path of stereohash-fw")
+    parser.add_argument("--firmware", required=True, help="path of stereohash-fw-sim")
     parser.add_argument("--dbc", required=True)
     parser.add_argument("--triggers", type=int, default=50)
     parser.add_argument("--recognition", default="pipeline", choices=("pipeline", "truth"))

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """A command flood on the simulated bus, and clients that say nothing.
 
-Starts `stereohash-fw --sim` and talks the socketcand text protocol over a plain TCP socket
+Starts `stereohash-fw-sim` and talks the socketcand text protocol over a plain TCP socket
 (python-can is too slow to flood). Checks that:
   * N triggers sent back to back, before reading anything, are each answered with an ack, or
     counted in an overrun EMCY (0x8110) where the firmware's receive queue lost them: nothing
@@ -152,7 +152,7 @@ class FloodTest(unittest.TestCase):
 def main():
     global ARGS
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--firmware", required=True, help="path of stereohash-fw")
+    parser.add_argument("--firmware", required=True, help="path of stereohash-fw-sim")
     parser.add_argument("--triggers", type=int, default=2000)
     ARGS, rest = parser.parse_known_args()
     unittest.main(argv=[sys.argv[0]] + rest, verbosity=2)

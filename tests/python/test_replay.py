@@ -1,8 +1,8 @@
 #!/usr/bin/python3
-"""Replay of a recorded scene set through stereohash-fw gives the poses `stereohash recognize`
+"""Replay of a recorded scene set through stereohash-fw-sim gives the poses `stereohash recognize`
 gives on the same pairs.
 
-The firmware runs in simulation with `camera = directory` on the set (recorded-scenes layout:
+The simulator program runs with `camera = directory` on the set (recorded-scenes layout:
 calib.yaml and table.yaml beside scene folders with left.png and right.png) and free-runs, so
 each capture plays the next pair; its RESULT lines are compared, pair by pair, with
 `stereohash recognize --scene SET/<scene> --json` (same background preset, no time limit). Both
@@ -132,7 +132,7 @@ class ReplayTest(unittest.TestCase):
                 "camera = directory", "camera_directory = %s" % directory] +
                 background_key() + ["budget_ms = 10000",
                 "free_run_dhz = 300", "heartbeat_ms = 1000", "sim_port = 0"] + list(extra) + [""]))
-        proc = subprocess.Popen([ARGS.firmware, "--sim", "--config", config],
+        proc = subprocess.Popen([ARGS.firmware, "--config", config],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                 bufsize=1)
         results, stderr = [], []

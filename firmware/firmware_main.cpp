@@ -1,0 +1,411 @@
+// The run of either program on its board: options, configuration, devices, the node id stored by
+// LSS, data, the table pose and output frame, recognition, the core, systemd notifications and
+// shutdown.
+#include <signal.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+
+#include "firmware/board.hpp"
+#include "firmware/config_keys.hpp"
+#include "firmware/node_id_file.hpp"
+#include "firmware/pipeline_recognition.hpp"
+#include "firmware/realtime.hpp"
+#include "firmware/recorder.hpp"
+#include "firmware/sd_notify.hpp"
+#include "hal/can_log.hpp"
+#include "recog/base/crc32.hpp"
+#include "recog/camera/handeye_yaml.hpp"
+#include "recog/camera/table_yaml.hpp"
+
+namespace sh::fw {
+namespace {
+
+volatile sig_atomic_t g_stop = 0;
+void OnSignal(int) { g_stop = 1; }
+
+void Usage(const Board& board, const FwConfig& defaults) {
+  std::printf("usage: %s %s        run with a configuration file\n", board.program(),
+              board.NeedsConfigFile() ? "--config FILE" : "[--config FILE]");
+  std::printf(
+      "options: --run-seconds S (stop after S seconds), --help, --config-keys-markdown (the key "
+      "table of docs/firmware.md)\n");
+  board.PrintOptions(stdout);
+  std::printf("Examples: share/stereohash/*.conf.example; docs/firmware.md.\n\n");
+  PrintConfigKeys(stdout, defaults);
+}
+
+int Fail(const Board& board, const char* what, const Status& s) {
+  std::fprintf(stderr, "%s: %s: %s\n", board.program(), what, s.message());
+  return 1;
+}
+
+// The systemd watchdog, then the board's own observer.
+class MainObserver final : public CoreObserver {
+ public:
+  MainObserver(SdNotifier* notifier, CoreObserver* board) : notifier_(notifier), board_(board) {}
+  void OnResult(const protocol::ResultSet& set, const hal::StereoFrame* frame) override {
+    if (board_ != nullptr) board_->OnResult(set, frame);
+  }
+  void OnEmcy(const protocol::Emcy& emcy) override {
+    if (board_ != nullptr) board_->OnEmcy(emcy);
+  }
+  void OnStateChange(FirmwareState state) override {
+    if (board_ != nullptr) board_->OnStateChange(state);
+  }
+  void OnDataLoaded(const TableView& table) override {
+    if (board_ != nullptr) board_->OnDataLoaded(table);
+  }
+  void OnAlive() override {
+    (void)notifier_->Notify("WATCHDOG=1");
+    if (board_ != nullptr) board_->OnAlive();
+  }
+
+ private:
+  SdNotifier* notifier_;
+  CoreObserver* board_;
+};
+
+// A small text file (table pose, hand-eye, machine id) into `text`; kOutOfRange if it does not
+// fit.
+Status ReadTextFile(const char* path, char* text, size_t capacity, size_t* length) {
+  std::FILE* f = std::fopen(path, "rb");
+  if (f == nullptr) {
+    return Status::Error(StatusCode::kNotFound, "cannot open %s: %s", path, std::strerror(errno));
+  }
+  const size_t n = std::fread(text, 1, capacity, f);
+  const bool more = std::fgetc(f) != EOF;
+  std::fclose(f);
+  if (more) {
+    return Status::Error(StatusCode::kOutOfRange, "%s is larger than %zu bytes", path, capacity);
+  }
+  *length = n;
+  return Status::Ok();
+}
+
+// A small YAML file (table pose, hand-eye) read and parsed; errors name the file. Boot only.
+template <typename T, size_t kBytes>
+Result<T> LoadYamlFile(const char* path, Result<T> (*parse)(const char*, size_t)) {
+  static char text[kBytes];
+  size_t n = 0;
+  SH_RETURN_IF_ERROR(ReadTextFile(path, text, sizeof(text), &n));
+  Result<T> parsed = parse(text, n);
+  if (!parsed.ok()) return parsed.status().WithContext("%s", path);
+  return parsed;
+}
+
+// A serial number that differs between boards without configuration: CRC-32 of the machine id
+// systemd keeps in /etc/machine-id (0 if there is none).
+uint32_t MachineSerial() {
+  char id[64] = {};
+  size_t n = 0;
+  if (!ReadTextFile("/etc/machine-id", id, sizeof(id) - 1, &n).ok()) return 0;
+  while (n > 0 && (id[n - 1] == '\n' || id[n - 1] == ' ')) --n;
+  return n > 0 ? Crc32(id, n) : 0;
+}
+
+// The options; returns -1 to go on, else the exit code.
+int ParseOptions(int argc, char** argv, Board* board, FwConfig* config, long* run_seconds) {
+  const char* config_path = nullptr;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--config") && i + 1 < argc) {
+      config_path = argv[++i];
+    } else if (!std::strcmp(argv[i], "--run-seconds") && i + 1 < argc) {
+      char* end = nullptr;
+      *run_seconds = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || *run_seconds < 0) {
+        std::fprintf(stderr, "%s: --run-seconds: expected seconds, got '%s'\n", board->program(),
+                     argv[i]);
+        return 2;
+      }
+    } else if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
+      Usage(*board, *config);
+      return 0;
+    } else if (!std::strcmp(argv[i], "--config-keys-markdown")) {
+      // docs/firmware.md's table: the board's defaults beside this program's.
+      PrintConfigKeysMarkdown(stdout, FwConfig(), *config);
+      return 0;
+    } else {
+      const int taken = board->ParseOption(argc, argv, i);
+      if (taken < 0) return 2;  // the board said what is wrong with it
+      if (taken == 0) {
+        std::fprintf(stderr, "%s: unknown argument '%s' (see --help)\n", board->program(), argv[i]);
+        return 2;
+      }
+      i += taken - 1;
+    }
+  }
+  if (config_path == nullptr && board->NeedsConfigFile()) {
+    Usage(*board, *config);
+    return 2;
+  }
+  if (config_path != nullptr) {
+    const Status s = LoadConfigFile(config_path, config);
+    if (!s.ok()) return Fail(*board, "configuration", s);
+  }
+  if (config->backend != board->backend()) {
+    return Fail(*board, "configuration",
+                Status::Error(StatusCode::kInvalidArgument,
+                              "key 'backend': this program runs the %s board; the file is for "
+                              "the other program (stereohash-fw: linux, stereohash-fw-sim: sim)",
+                              board->backend() == Backend::kLinux ? "linux" : "sim"));
+  }
+  Status s = board->AdjustConfig(config);
+  if (s.ok()) s = ValidateConfig(*config);
+  if (!s.ok()) return Fail(*board, "configuration", s);
+  return -1;
+}
+
+// The node id LSS stored (it overrides node_id), and the store LSS writes to, if any.
+NodeIdFile* OpenNodeIdStore(const Board& board, FwConfig* config) {
+  if (config->lss_store[0] == '\0') return nullptr;
+  static std::unique_ptr<NodeIdFile> file;
+  file = std::make_unique<NodeIdFile>(config->lss_store);
+  const Result<uint8_t> stored = ReadNodeIdFile(config->lss_store);
+  if (stored.ok()) {
+    std::fprintf(stderr, "%s: node id %u (stored by LSS in %s)\n", board.program(), *stored,
+                 config->lss_store);
+    config->node_id = *stored;
+  } else if (stored.status().code() != StatusCode::kNotFound) {
+    std::fprintf(stderr, "%s: %s; using node_id %u\n", board.program(), stored.status().message(),
+                 config->node_id);
+  }
+  return file.get();
+}
+
+// Where the table (conveyor) lies in the left camera: table.yaml, the two keys, or the board's
+// default (the simulator's rendered rig).
+struct TablePoseSource {
+  bool known = false;
+  bool configured = false;  // by the file, not a board default
+  RigidTransform left_T_table;
+  // The board's default pose, read again at each recognition init (the simulator's rendered
+  // table, known once its world is built), or nullptr.
+  const RigidTransform* at_init = nullptr;
+  bool known_now = true;  // false: the board's default pose is not known yet
+};
+
+Result<TablePoseSource> LoadTablePose(const Board& board, const FwConfig& config) {
+  TablePoseSource t;
+  if (config.table_file[0] != '\0') {
+    SH_ASSIGN_OR_RETURN(t.left_T_table, (LoadYamlFile<RigidTransform, kMaxTableYamlBytes>(
+                                            config.table_file, &ParseTableYaml)));
+    t.known = t.configured = true;
+  } else if (config.table_pose_set()) {
+    t.left_T_table = TablePose(config);
+    t.known = t.configured = true;
+  } else if ((t.at_init = board.DefaultTablePose(&t.known_now)) != nullptr) {
+    t.known = true;
+    t.left_T_table = *t.at_init;
+  }
+  return t;
+}
+
+// The frame of the reported poses and the transform into it from the left camera.
+struct OutputFrameChoice {
+  canopen::OutputFrame frame = canopen::OutputFrame::kCamera;
+  RigidTransform out_T_camera;
+};
+
+Result<OutputFrameChoice> ChooseOutputFrame(const FwConfig& config, const TablePoseSource& table) {
+  OutputFrameChoice out;
+  if (config.output_frame == OutputFrameKey::kTable) {
+    if (!table.known || !table.known_now) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "output_frame = table needs the table pose (table_file or "
+                           "table_rotation_deg/_origin_mm, or the simulator's built world)");
+    }
+    out.frame = canopen::OutputFrame::kTable;
+    out.out_T_camera = table.left_T_table.Inverse();
+  } else if (config.output_frame == OutputFrameKey::kRobot) {
+    SH_ASSIGN_OR_RETURN(const HandEye hand_eye, (LoadYamlFile<HandEye, kMaxHandEyeYamlBytes>(
+                                                    config.handeye, &ParseHandEyeYaml)));
+    out.frame = hand_eye.eye_in_hand ? canopen::OutputFrame::kRobotFlange
+                                     : canopen::OutputFrame::kRobotBase;
+    out.out_T_camera = hand_eye.robot_T_camera;
+  }
+  return out;
+}
+
+PipelineRecognitionConfig PipelineSettings(const FwConfig& config, const TablePoseSource& table) {
+  PipelineRecognitionConfig pc;
+  pc.automatic = config.background == BackgroundKey::kAuto;
+  pc.light_background = config.background == BackgroundKey::kLight;
+  pc.threads = config.threads;
+  pc.volume_set = config.volume_set();
+  for (int k = 0; k < 3; ++k) {
+    pc.volume_min_mm[k] = config.volume_min_mm[k];
+    pc.volume_max_mm[k] = config.volume_max_mm[k];
+  }
+  pc.volume_in_table_frame = config.volume_frame == VolumeFrame::kTable;
+  pc.volume_over_table = !pc.volume_set && table.known;
+  pc.left_T_table = table.left_T_table;
+  pc.left_T_table_at_init = table.at_init;
+  // The table the objects stand on, for rejecting hypotheses that sink into it: a configured
+  // pose only. The simulator's scenes tilt the rig differently, so scene 0's table bounds the
+  // volume but is not every scene's support plane.
+  pc.table_known = table.configured;
+  return pc;
+}
+
+// Recording of the triggered pairs (record_dir). A recording that cannot start (directory not
+// writable) leaves the sensor working; the caller reports it as the recording warning.
+Status StartRecorder(const FwConfig& config, const TablePoseSource& table,
+                     canopen::OutputFrame output_frame, FileDataSource* data,
+                     RecorderObserver* observer, Recorder* recorder) {
+  static const char* names[canopen::kMaxModelNames] = {};
+  int n_names = 0;
+  const Result<TableView> t = data->LoadTable();
+  if (t.ok()) {
+    for (uint32_t m = 0; m < t->model_count() && m < canopen::kMaxModelNames; ++m) {
+      names[n_names++] = t->model(m).name;
+    }
+  }
+  SH_ASSIGN_OR_RETURN(const StereoCalibration calibration, data->LoadCalibration());
+  RecorderConfig rc;
+  rc.directory = config.record_dir;
+  rc.max_pairs = config.record_max;
+  rc.pgm = config.record_format == RecordFormat::kPgm;
+  rc.output_frame = canopen::OutputFrameName(output_frame);
+  rc.model_names = names;
+  rc.model_count = n_names;
+  // table.yaml only for a configured table: recognition checks hypotheses against it, so a
+  // recording replays as recognised (the rendered rig's table only bounds the volume).
+  return recorder->Start(rc, calibration, table.configured ? &table.left_T_table : nullptr,
+                         observer);
+}
+
+}  // namespace
+
+bool StopRequested() { return g_stop != 0; }
+
+int FirmwareMain(int argc, char** argv, Board* board) {
+  static FwConfig config;
+  config = board->Defaults();
+  long run_seconds = 0;
+  const int exit_code = ParseOptions(argc, argv, board, &config, &run_seconds);
+  if (exit_code >= 0) return exit_code;
+  signal(SIGTERM, OnSignal);
+  signal(SIGINT, OnSignal);
+  signal(SIGPIPE, SIG_IGN);
+
+  static SdNotifier notifier;
+  {
+    const Status s = notifier.Open();
+    if (!s.ok()) std::fprintf(stderr, "%s: %s\n", board->program(), s.message());
+  }
+  NodeIdFile* lss_store = OpenNodeIdStore(*board, &config);
+  const uint32_t serial_number = config.serial_number != 0 ? config.serial_number : MachineSerial();
+
+  // --- devices ---------------------------------------------------------------------------
+  BoardDevices devices;
+  {
+    const Status s = board->OpenDevices(config, &devices);
+    if (!s.ok()) return Fail(*board, "devices", s);
+  }
+  // candump log of everything the firmware sends and receives.
+  static FILE* candump = nullptr;
+  static std::unique_ptr<hal::CandumpLogger> logger;
+  if (config.candump[0] != '\0') {
+    candump = std::fopen(config.candump, "w");
+    if (candump == nullptr) {
+      return Fail(*board, "candump",
+                  Status::Error(StatusCode::kNotFound, "cannot write %s", config.candump));
+    }
+    logger = std::make_unique<hal::CandumpLogger>(devices.can, candump, true);
+    devices.can = logger.get();
+  }
+
+  // --- data, table pose, output frame, recognition ----------------------------------------
+  static std::unique_ptr<FileDataSource> data;
+  data = std::make_unique<FileDataSource>(config.tables, config.calibration,
+                                          board->BuiltinCalibration());
+  const Result<TablePoseSource> table = LoadTablePose(*board, config);
+  if (!table.ok()) return Fail(*board, "table_file", table.status());
+  const Result<OutputFrameChoice> output = ChooseOutputFrame(config, *table);
+  if (!output.ok()) return Fail(*board, "output_frame", output.status());
+
+  Recognition* recognition = nullptr;
+  if (config.recognition == RecognitionKind::kPipeline) {
+    static Pipeline pipeline;  // tens of MiB: static storage, locked and pre-faulted below
+    static std::unique_ptr<PipelineRecognition> pipeline_recognition;
+    pipeline_recognition =
+        std::make_unique<PipelineRecognition>(&pipeline, PipelineSettings(config, *table));
+    recognition = pipeline_recognition.get();
+  } else {
+    recognition = board->OtherRecognition(config);
+    if (recognition == nullptr) {
+      return Fail(*board, "recognition",
+                  Status::Error(StatusCode::kUnimplemented,
+                                "recognition = truth exists only in stereohash-fw-sim"));
+    }
+  }
+
+  if (config.mlock) {
+    const Status s = LockMemory();
+    if (!s.ok()) {
+      std::fprintf(stderr, "%s: %s; continuing unlocked\n", board->program(), s.message());
+    }
+  }
+  PrefaultStack();
+
+  static MainObserver observer(&notifier, board->Observer(config, output->frame));
+  {
+    const Status s = board->BeforeStart(config, data.get());
+    if (!s.ok()) return Fail(*board, "start", s);
+  }
+  CoreConfig cc;
+  cc.node_id = config.node_id;
+  cc.heartbeat_ms = config.heartbeat_ms;
+  cc.capture_timeout_ms = config.capture_timeout_ms;
+  cc.budget_ms = config.budget_ms;
+  cc.free_run_dhz = config.free_run_dhz;
+  cc.model_mask = config.model_mask;
+  cc.sched_fifo_priority = config.sched_fifo_priority;
+  cc.result_mode = config.result_mode;
+  cc.output_frame = output->frame;
+  cc.out_T_camera = output->out_T_camera;
+  cc.serial_number = serial_number;
+  cc.hardware_version = board->hardware_version();
+  CoreDevices core_devices;
+  core_devices.can = devices.can;
+  core_devices.gpio = devices.gpio;
+  core_devices.camera = devices.camera;
+  core_devices.recognition = recognition;
+  core_devices.data = data.get();
+  core_devices.observer = &observer;
+  core_devices.lss_store = lss_store;
+  static FirmwareCore core;
+  static Recorder recorder;
+  Status recording = Status::Ok();
+  if (config.record_dir[0] != '\0') {
+    recording = StartRecorder(config, *table, output->frame, data.get(), &core, &recorder);
+    if (recording.ok()) {
+      core_devices.recorder = &recorder;
+    } else {
+      std::fprintf(stderr, "%s: recording off: %s\n", board->program(), recording.message());
+    }
+  }
+  const Status started = core.Start(cc, core_devices);
+  if (!started.ok()) return Fail(*board, "start", started);
+  if (!recording.ok()) core.OnRecordFailed(EIO);
+  board->AfterStart(config, core, *data);
+  (void)notifier.Notify(core.state() == FirmwareState::kFault ? "READY=1\nSTATUS=fault"
+                                                              : "READY=1\nSTATUS=ready");
+
+  const int64_t end_ns = run_seconds > 0 ? MonotonicNs() + run_seconds * 1'000'000'000ll : 0;
+  while (!g_stop && (end_ns == 0 || MonotonicNs() < end_ns)) usleep(50'000);
+
+  (void)notifier.Notify("STOPPING=1");
+  core.Stop();
+  recorder.Stop();  // writes what the last triggers submitted
+  board->Stop();
+  if (candump != nullptr) std::fclose(candump);
+  return 0;
+}
+
+}  // namespace sh::fw
