@@ -1,5 +1,5 @@
 // Recording of triggered pairs with their results (config record_dir, record_max), so that a
-// failure on the line can be reproduced on a desk: `stereohash-fw` with camera = directory on
+// failure on the line can be reproduced on a desk: `stereohash-fw-sim` with camera = directory on
 // the recording replays it, `stereohash recognize --scene DIR/<n>` recognises one pair.
 //
 //   DIR/calib.yaml           the calibration in use (written at start)
