@@ -36,4 +36,11 @@ struct ImageView {
 using GrayView = ImageView<uint8_t>;
 using ConstGrayView = ImageView<const uint8_t>;
 
+// Interleaved 8-bit RGB pixel; an RGB buffer of width w is an ImageView<Rgb8> with stride in
+// pixels.
+struct Rgb8 {
+  uint8_t r = 0, g = 0, b = 0;
+};
+static_assert(sizeof(Rgb8) == 3, "Rgb8 must match interleaved RGB memory");
+
 }  // namespace sh

@@ -12,13 +12,6 @@
 
 namespace sh {
 
-// Interleaved 8-bit RGB pixel; an RGB buffer of width w is an ImageView<Rgb8> with stride in
-// pixels.
-struct Rgb8 {
-  uint8_t r = 0, g = 0, b = 0;
-};
-static_assert(sizeof(Rgb8) == 3, "Rgb8 must match interleaved RGB memory");
-
 // Draws the visible runs of `visible` (computed for `camera`) into the image, which must have
 // the camera's size. Lines leaving the image are clipped pixel by pixel.
 Status DrawVisibleEdges(const ViewCamera& camera, const VisibleEdgeSet& visible, GrayView image,
