@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "recog/model/obj_model.hpp"
+#include "recog/model/obj_texture.hpp"
 
 namespace sh {
 namespace {
@@ -61,6 +62,34 @@ Status ParseManifest(const std::string& path, const std::string& text,
 }
 
 }  // namespace
+
+Status LoadModelColour(const std::string& obj_path, const Model& model, float kd[3]) {
+  std::string obj;
+  SH_RETURN_IF_ERROR(ReadText(obj_path, kMaxObjFileBytes, &obj));
+  Result<ModelTexturing> texturing = ParseObjTexturing(obj.data(), obj.size(), model);
+  if (!texturing.ok()) return texturing.status().WithContext("%s", obj_path.c_str());
+  if (texturing->mtllib[0] == '\0' || texturing->n_materials == 0) {
+    return Status::Error(StatusCode::kNotFound, "%s names no material (mtllib and usemtl)",
+                         obj_path.c_str());
+  }
+  if (texturing->n_materials > 1) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "%s uses %d materials; a colour part has one", obj_path.c_str(),
+                         texturing->n_materials);
+  }
+  const size_t slash = obj_path.find_last_of('/');
+  const std::string mtl_path =
+      (slash == std::string::npos ? std::string() : obj_path.substr(0, slash + 1)) +
+      texturing->mtllib;
+  std::string mtl;
+  SH_RETURN_IF_ERROR(ReadText(mtl_path, kMaxObjFileBytes, &mtl));
+  // A material the library does not define keeps Kd = (1, 1, 1), white, which colour
+  // segmentation refuses by name.
+  const Status s = ParseMtl(mtl.data(), mtl.size(), &*texturing);
+  if (!s.ok()) return s.WithContext("%s", mtl_path.c_str());
+  for (int k = 0; k < 3; ++k) kd[k] = texturing->materials[0].kd[k];
+  return Status::Ok();
+}
 
 Result<Model> LoadModelFile(const std::string& path) {
   std::string text;

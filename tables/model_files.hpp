@@ -20,6 +20,11 @@ inline constexpr long kMaxObjFileBytes = 1 << 20;
 // Reads one OBJ file; the model is named after the file stem.
 Result<Model> LoadModelFile(const std::string& path);
 
+// The diffuse colour (MTL Kd) of a single-colour part: the OBJ's one material (`usemtl`), read
+// from the library its `mtllib` names (relative to the OBJ's folder). kNotFound when the OBJ
+// names no material or library; kInvalidArgument when it uses more than one material.
+Status LoadModelColour(const std::string& obj_path, const Model& model, float kd[3]);
+
 // Reads `<dir>/<name>.obj` for each name, in that order.
 Status LoadModels(const std::string& dir, const std::vector<std::string>& names,
                   std::vector<Model>* models);

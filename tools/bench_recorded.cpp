@@ -93,7 +93,7 @@ struct SceneTruth {
   std::vector<float> visible;  // mean of the left and right fraction
 };
 
-Status ParseTruth(const std::string& path, const TableView& tables, SceneTruth* out) {
+Status ParseTruth(const std::string& path, const ModelSet& models, SceneTruth* out) {
   std::string text;
   if (!ReadTextFile(path, &text)) {
     return Status::Error(StatusCode::kNotFound, "cannot read %s", path.c_str());
@@ -109,10 +109,7 @@ Status ParseTruth(const std::string& path, const TableView& tables, SceneTruth* 
     return Status::Error(StatusCode::kInvalidArgument, "%s: no \"objects\" list", path.c_str());
   }
   for (const Json& o : objects.items) {
-    int model = -1;
-    for (uint32_t m = 0; m < tables.model_count(); ++m) {
-      if (o["model"].text == tables.model(m).name) model = static_cast<int>(m);
-    }
+    const int model = models.Find(o["model"].text.c_str());
     if (model < 0) {
       return Status::Error(StatusCode::kInvalidArgument, "%s: model '%s' is not in the tables",
                            path.c_str(), o["model"].text.c_str());
@@ -300,10 +297,11 @@ int RunBenchRecorded(int argc, char** argv) {
     table.source = table_path;
   }
   LoadedTables tables;
-  Status s = LoadTables(options.tables_path, &tables);
+  Status s = LoadTables(options, &tables);
   if (!s.ok()) return Fail(s.message());
   std::vector<Model> models;
-  for (uint32_t m = 0; m < tables.view.model_count(); ++m) models.push_back(tables.view.model(m));
+  const ModelSet model_set = tables.models();
+  for (uint32_t m = 0; m < model_set.count(); ++m) models.push_back(model_set.model(m));
 
   const std::vector<std::string> scenes = SceneFolders(dir);
   if (scenes.empty()) {
@@ -323,12 +321,12 @@ int RunBenchRecorded(int argc, char** argv) {
   std::unique_ptr<Pipeline> pipeline;
   if (run_stereo) {
     pipeline = std::make_unique<Pipeline>();
-    s = pipeline->Init(*calib, tables.view, config, clock);
+    s = pipeline->Init(*calib, tables.view, config, clock, tables.shape());
     if (!s.ok()) return Fail(s.message());
   }
   // A second recogniser with the pipeline's settings, for the search's view of the misses.
   std::unique_ptr<Recognizer> search;
-  if (run_stereo && (verbose || json_path != nullptr)) {
+  if (run_stereo && (verbose || json_path != nullptr) && model_set.hash_count() > 0) {
     search = std::make_unique<Recognizer>();
     s = search->Init(tables.view, config.recognizer);
     if (!s.ok()) return Fail(s.message());
@@ -377,7 +375,7 @@ int RunBenchRecorded(int argc, char** argv) {
     for (const std::string& name : scenes) {
       const std::string base = dir + "/" + name + "/";
       SceneTruth truth;
-      Status st = ParseTruth(base + "truth.json", tables.view, &truth);
+      Status st = ParseTruth(base + "truth.json", model_set, &truth);
       if (st.ok() && (!monocular || camera == 0)) {
         st = LoadImage((base + "left.png").c_str(), "left", &left);
       }
@@ -386,7 +384,7 @@ int RunBenchRecorded(int argc, char** argv) {
       }
       if (st.ok() && !monocular) {
         trace.Clear();
-        st = pipeline->Process(left.view, right.view, options.budget_ms, result.get());
+        st = pipeline->Process(left.frame, right.frame, options.budget_ms, result.get());
       }
       if (st.ok() && monocular) {
         st = mono->Process(camera == 0 ? left.view : right.view, options.budget_ms, *workspace,
@@ -456,6 +454,14 @@ int RunBenchRecorded(int argc, char** argv) {
       if (verbose) {
         std::printf("%s: %d of %zu correct, %d false, %.1f ms\n", name.c_str(), m.correct,
                     truth.objects.size(), m.false_alarms, total_ms);
+        if (!monocular && model_set.shape_count() > 0) {
+          const ShapeStats& sh = result->shape;
+          std::printf(
+              "  shape path: regions %u / %u, pairs %u, hypotheses %u, verified %u; segment "
+              "%.1f, search %.1f, refine %.1f, verify %.1f ms\n",
+              sh.regions[0], sh.regions[1], sh.pairs, sh.hypotheses, sh.verified,
+              sh.time.segment_ms, sh.time.search_ms, sh.time.refine_ms, sh.time.verify_ms);
+        }
       }
       std::string false_json;
       for (const RecognizedObject& o : objects) {

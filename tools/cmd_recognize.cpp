@@ -51,14 +51,14 @@ int Fail(const char* fmt, const char* a, const char* b = "") {
   return 1;
 }
 
-void PrintTable(const TableView& table, const PipelineResult& r) {
+void PrintTable(const ModelSet& models, const PipelineResult& r) {
   std::printf("%zu object%s recognised\n", r.objects.size(), r.objects.size() == 1 ? "" : "s");
   if (!r.objects.empty()) {
     std::printf("  %-2s %-10s %28s %28s %6s %13s\n", "#", "model", "t (mm, left camera)",
                 "rotation vector (deg)", "vote", "verify l / r");
   }
   for (size_t i = 0; i < r.objects.size(); ++i) {
-    PrintObjectLine(i, table.model(r.objects[i].model).name, r.objects[i]);
+    PrintObjectLine(i, models.model(r.objects[i].model).name, r.objects[i]);
   }
   std::printf(
       "features: 2-D points %u / %u, 2-D lines %u / %u (left / right); 3-D points %u, "
@@ -227,20 +227,21 @@ int RunRecognize(int argc, char** argv) {
     return RecognizePrinted(*calib, db.view, left.view, right.view, run);
   }
   LoadedTables tables;
-  s = LoadTables(options.tables_path, &tables);
+  s = LoadTables(options, &tables);
   if (!s.ok()) return Fail("%s", s.message());
 
   const PipelineConfig config = MakePipelineConfig(options, table);
   auto pipeline = std::make_unique<Pipeline>();  // ~90 MiB of frame buffers
-  s = pipeline->Init(*calib, tables.view, config, NowNs);
+  s = pipeline->Init(*calib, tables.view, config, NowNs, tables.shape());
   if (!s.ok()) return Fail("%s", s.message());
   auto result = std::make_unique<PipelineResult>();
-  s = pipeline->Process(left.view, right.view, options.budget_ms, result.get());
+  s = pipeline->Process(left.frame, right.frame, options.budget_ms, result.get());
   if (!s.ok()) return Fail("%s", s.message());
 
-  PrintTable(tables.view, *result);
+  PrintTable(pipeline->models(), *result);
   if (json_path != nullptr &&
-      !WriteTextFile(json_path, ResultJson(tables.view, *result, table, pipeline->threads()))) {
+      !WriteTextFile(json_path,
+                     ResultJson(pipeline->models(), *result, table, pipeline->threads()))) {
     return Fail("cannot write %s: %s", json_path, std::strerror(errno));
   }
   if (overlay_path != nullptr) {

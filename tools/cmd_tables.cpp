@@ -1,5 +1,6 @@
 // `stereohash tables build` and `stereohash tables info`: offline preprocessing and inspection
-// of hash table blobs.
+// of hash table blobs and shape view databases.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -7,6 +8,8 @@
 #include <vector>
 
 #include "tables/model_files.hpp"
+#include "tables/shape_view_builder.hpp"
+#include "tables/shape_views_file.hpp"
 #include "tables/table_builder.hpp"
 #include "tables/table_file.hpp"
 #include "tools/command.hpp"
@@ -32,10 +35,17 @@ constexpr ThesisRow kThesis[6] = {{},
 void BuildUsage() {
   std::printf(
       "usage: stereohash tables build --out FILE [--hash-fn 1..5] [--models DIR]\n"
-      "                               [--names cube,hexagon,...]\n"
+      "                               [--names cube,hexagon,...] [--views-out FILE]\n"
+      "                               [--spacing-deg D] [--components N]\n"
       "Builds the hash table blob of one hash function (default 5) for the models\n"
-      "DIR/<name>.obj (default: the six reference models in ./models). A folder of printed\n"
-      "models (OBJ with vt, MTL with map_Kd: models/textured) gives their feature database.\n"
+      "DIR/<name>.obj (default: the models of ./models/models.txt; with --models DIR and no\n"
+      "--names, the models of DIR's models.txt or every DIR/*.obj). Models whose OBJ names a\n"
+      "material (mtllib, usemtl with an MTL Kd colour) are single-colour parts: their view\n"
+      "database (views over the viewing sphere and in-plane rotation every D degrees, default\n"
+      "10, PCA to N dimensions, default 100) goes to --out when every model is one, else to\n"
+      "--views-out.\n"
+      "A folder of printed models (OBJ with vt, MTL with map_Kd: models/textured) gives their\n"
+      "feature database.\n"
       "       stereohash tables build --hash-2d similarity|affine --out FILE ...\n"
       "Builds the aspect table of the monocular mode ('--hash-2d x --help' for more).\n");
 }
@@ -99,9 +109,10 @@ int RunBuild(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--hash-2d") == 0) return BuildAspectTable(argc, argv);
   }
-  std::string out, models_dir = "models", names;
+  std::string out, models_dir = "models", names, views_out;
   bool models_given = false;
   int hf = 5;
+  ShapeViewBuildOptions view_options;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -121,6 +132,12 @@ int RunBuild(int argc, char** argv) {
     } else if (a == "--models") {
       models_dir = value();
       models_given = true;
+    } else if (a == "--views-out") {
+      views_out = value();
+    } else if (a == "--spacing-deg") {
+      view_options.view_spacing_deg = static_cast<float>(std::atof(value().c_str()));
+    } else if (a == "--components") {
+      view_options.n_components = std::atoi(value().c_str());
     } else if (a == "--names") {
       names = value();
     } else {
@@ -151,12 +168,65 @@ int RunBuild(int argc, char** argv) {
     std::fprintf(stderr, "stereohash tables build: need --out FILE and --hash-fn 1..5\n");
     return 2;
   }
-  std::vector<Model> models;
-  const Status loaded = names.empty() ? LoadModelFolder(models_dir, &models)
-                                      : LoadModels(models_dir, Split(names), &models);
+  std::vector<std::string> list;
+  const Status named = names.empty() ? ModelFolderNames(models_dir, &list) : Status::Ok();
+  if (!named.ok()) {
+    std::fprintf(stderr, "stereohash tables build: %s\n", named.message());
+    return 1;
+  }
+  if (!names.empty()) list = Split(names);
+  std::vector<Model> all;
+  const Status loaded = LoadModels(models_dir, list, &all);
   if (!loaded.ok()) {
     std::fprintf(stderr, "stereohash tables build: %s\n", loaded.message());
     return 1;
+  }
+  // Colour parts (a material with a diffuse colour) go to the view database.
+  std::vector<Model> models;
+  std::vector<ShapeModelInput> parts;
+  for (size_t i = 0; i < all.size(); ++i) {
+    ShapeModelInput part;
+    part.model = all[i];
+    const Status colour = LoadModelColour(models_dir + "/" + list[i] + ".obj", all[i], part.kd);
+    if (colour.ok()) {
+      parts.push_back(part);
+    } else if (colour.code() == StatusCode::kNotFound) {
+      models.push_back(all[i]);
+    } else {
+      std::fprintf(stderr, "stereohash tables build: %s\n", colour.message());
+      return 1;
+    }
+  }
+  if (!parts.empty()) {
+    const std::string& path = models.empty() ? out : views_out;
+    if (path.empty()) {
+      std::fprintf(stderr,
+                   "stereohash tables build: %zu models are colour parts and %zu polyhedra: give "
+                   "--views-out FILE for the colour parts' view database\n",
+                   parts.size(), models.size());
+      return 2;
+    }
+    ShapeViewBuildReport report;
+    Result<std::vector<uint8_t>> blob = BuildShapeViewBlob(parts, view_options, &report);
+    if (!blob.ok()) {
+      std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
+      return 1;
+    }
+    if (!WriteFileBytes(path.c_str(), blob->data(), blob->size())) {
+      std::fprintf(stderr, "stereohash tables build: cannot write '%s'\n", path.c_str());
+      return 1;
+    }
+    std::printf(
+        "wrote %s: view database, %zu bytes, %u views of %zu colour parts every %.1f "
+        "deg, %d PCA dimensions keeping %.1f %% of the views' variance\n",
+        path.c_str(), blob->size(), report.views, parts.size(),
+        double(view_options.view_spacing_deg), view_options.n_components,
+        100.0 * report.explained_energy);
+    for (const ShapeModelViewCount& m : report.per_model) {
+      std::printf("  %-10s %6u views (symmetry group of order %u)\n", m.model.c_str(), m.views,
+                  m.symmetries);
+    }
+    if (models.empty()) return 0;
   }
   TableBuildOptions options;
   options.hash_function = static_cast<HashFunction>(hf);

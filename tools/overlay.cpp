@@ -220,11 +220,11 @@ Status BuildPosedOverlay(const StereoCalibration& calib, const PosedModel* posed
 
 Status BuildOverlay(const Pipeline& pipeline, const PipelineResult& result, ConstGrayView left,
                     ConstGrayView right, std::vector<uint8_t>* rgb, int* width, int* height) {
-  const TableView& table = pipeline.table();
+  const ModelSet& models = pipeline.models();
   const size_t n = result.objects.size();
   PosedModel posed[kMaxObjects];
   for (size_t i = 0; i < n; ++i) {
-    posed[i] = {&table.model(result.objects[i].model), result.objects[i].cam_T_model};
+    posed[i] = {&models.model(result.objects[i].model), result.objects[i].cam_T_model};
   }
   return BuildPosedOverlay(pipeline.calibration(), posed, n, left, right, rgb, width, height);
 }

@@ -18,7 +18,10 @@
 namespace sh::tools {
 
 const char kRecognizeOptionsHelp[] =
-    "  --tables      hash table file (default: the built-in hash fn 5 tables)\n"
+    "  --tables      hash table file (default: the built-in hash fn 5 tables, unless --views\n"
+    "                alone gives the model set)\n"
+    "  --views       view database of single-colour parts (stereohash tables build --models\n"
+    "                DIR with coloured OBJ/MTL models); needs colour images\n"
     "  --aspects     aspect table file of the monocular mode (default: the built-in one)\n"
     "  --table       table.yaml: pose of the table the objects stand on (left camera);\n"
     "                bounds the working volume to the space over it\n"
@@ -44,6 +47,8 @@ OptionResult ParseRecognizeOption(const char* command, const char* option, const
     options->tables_path = value;
   } else if (std::strcmp(option, "--aspects") == 0) {
     options->aspects_path = value;
+  } else if (std::strcmp(option, "--views") == 0) {
+    options->views_path = value;
   } else if (std::strcmp(option, "--table") == 0) {
     options->table_path = value;
   } else if (std::strcmp(option, "--budget-ms") == 0) {
@@ -137,18 +142,31 @@ Result<RigidTransform> LoadTablePose(const char* path) {
 }
 
 Status LoadImage(const char* path, const char* which, LoadedImage* out) {
-  out->pixels.assign(kMaxImagePixels, 0);
+  out->pixels.assign(kMaxImagePixels * 3, 0);
   const Result<hal::ImageInfo> info =
-      hal::ReadImageFile(path, hal::PixelFormat::kGray8, out->pixels.data(), out->pixels.size());
+      hal::ReadImageFile(path, hal::PixelFormat::kRgb8, out->pixels.data(), out->pixels.size());
   if (!info.ok()) return info.status().WithContext("%s image %s", which, path);
-  out->view = {out->pixels.data(), info->width, info->height, info->width};
+  const int w = info->width, h = info->height;
+  const size_t n = static_cast<size_t>(w) * h;
+  const ImageView<const Rgb8> rgb{reinterpret_cast<const Rgb8*>(out->pixels.data()), w, h, w};
+  out->grey.assign(n, 0);
+  const GrayView grey{out->grey.data(), w, h, w};
+  SH_RETURN_IF_ERROR(FrameToGray(FrameView::Rgb(rgb), grey));
+  out->view = grey;
+  // Grey files (grey replicated into RGB by the decoder) stay grey frames.
+  out->frame = info->file_channels <= 2 ? FrameView::Gray(grey) : FrameView::Rgb(rgb);
   return Status::Ok();
 }
 
-Status LoadTables(const char* path, LoadedTables* out) {
-  if (path != nullptr) {
-    const Status s = out->mapped.Open(path);
-    if (!s.ok()) return s.WithContext("tables %s", path);
+Status LoadTables(const RecognizeOptions& options, LoadedTables* out) {
+  if (options.views_path != nullptr) {
+    const Status s = out->views.Open(options.views_path);
+    if (!s.ok()) return s;  // names the view database and its path
+    if (options.tables_path == nullptr) return Status::Ok();  // colour parts only
+  }
+  if (options.tables_path != nullptr) {
+    const Status s = out->mapped.Open(options.tables_path);
+    if (!s.ok()) return s.WithContext("tables %s", options.tables_path);
     out->view = out->mapped.view();
     return Status::Ok();
   }
@@ -253,14 +271,14 @@ void PrintObjectLine(size_t index, const char* model_name, const RecognizedObjec
               o.verify_score[1]);
 }
 
-std::string ResultJson(const TableView& tables, const PipelineResult& r, const TableChoice& table,
+std::string ResultJson(const ModelSet& models, const PipelineResult& r, const TableChoice& table,
                        int threads) {
   // The frame of the poses, as the firmware's results name it: recognize reports the left
   // camera's.
   std::string json = "{\"frame\": \"camera\", \"objects\": [";
   char buffer[1024];
   for (size_t i = 0; i < r.objects.size(); ++i) {
-    json += (i ? ", " : "") + ObjectJson(tables.model(r.objects[i].model).name, r.objects[i]);
+    json += (i ? ", " : "") + ObjectJson(models.model(r.objects[i].model).name, r.objects[i]);
   }
   std::snprintf(buffer, sizeof(buffer),
                 "], \"features\": {\"points2d\": [%u, %u], \"lines2d\": [%u, %u], \"points3d\": "

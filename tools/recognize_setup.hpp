@@ -12,8 +12,11 @@
 #include "recog/base/status.hpp"
 #include "recog/camera/camera_model.hpp"
 #include "recog/geometry/rigid_transform.hpp"
+#include "recog/image/frame.hpp"
 #include "recog/image/image.hpp"
+#include "recog/pipeline/model_set.hpp"
 #include "recog/pipeline/pipeline.hpp"
+#include "tables/shape_views_file.hpp"
 #include "tables/table_file.hpp"
 #include "tables/table_view.hpp"
 
@@ -22,6 +25,7 @@ namespace sh::tools {
 struct RecognizeOptions {
   const char* tables_path = nullptr;   // hash tables (default: the built-in hash fn 5 tables)
   const char* aspects_path = nullptr;  // aspect table of the monocular mode (default: built-in)
+  const char* views_path = nullptr;    // view database of colour parts (shape path)
   const char* table_path = nullptr;    // table.yaml: the table's pose in the left camera
   float budget_ms = 0;                 // 0: no time limit
   const char* background = nullptr;    // "dark" or "light" preset; nullptr: automatic
@@ -41,18 +45,24 @@ Result<StereoCalibration> LoadCalibration(const char* path);
 Result<RigidTransform> LoadTablePose(const char* path);
 
 struct LoadedImage {
-  std::vector<uint8_t> pixels;
-  ConstGrayView view;
+  std::vector<uint8_t> pixels;  // grey, or RGB for colour files
+  std::vector<uint8_t> grey;    // grey of a colour file (BT.601 luma weights)
+  ConstGrayView view;           // grey
+  FrameView frame;              // as the file holds it: grey or RGB
 };
-// Reads a PNG or PGM (grey or colour, converted to grey); `which` ("left") goes into messages.
+// Reads a PNG or PGM, grey or colour; `which` ("left") goes into messages.
 Status LoadImage(const char* path, const char* which, LoadedImage* out);
 
-// The hash tables: a mapped file or the built-in ones.
+// The model set: hash tables (a mapped file, or the built-in ones unless only a view database
+// is given) and the view database of colour parts (a mapped file, optional).
 struct LoadedTables {
   MappedTable mapped;
   TableView view;
+  MappedShapeViews views;
+  const ShapeViewsView* shape() const { return views.view().empty() ? nullptr : &views.view(); }
+  ModelSet models() const { return ModelSet(&view, shape()); }
 };
-Status LoadTables(const char* path, LoadedTables* out);
+Status LoadTables(const RecognizeOptions& options, LoadedTables* out);
 
 // The table pose in use and where it came from.
 struct TableChoice {
@@ -81,7 +91,7 @@ void PrintObjectLine(size_t index, const char* model_name, const RecognizedObjec
 
 // {"frame": "camera", "objects": [...], "features": {...}, "recognition": {...}, "time_ms": {...},
 // "table": ...}
-std::string ResultJson(const TableView& tables, const PipelineResult& result,
+std::string ResultJson(const ModelSet& models, const PipelineResult& result,
                        const TableChoice& table, int threads);
 
 int64_t NowNs();

@@ -136,7 +136,8 @@ bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>&
 }
 
 Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
-                      const PipelineConfig& config, ClockFn now_ns) {
+                      const PipelineConfig& config, ClockFn now_ns,
+                      const ShapeViewsView* shape_views) {
   initialised_ = false;
   SH_RETURN_IF_ERROR(ValidateStereoCalibration(calib));
   if (calib.left.width > kMaxImageWidth || calib.left.height > kMaxImageHeight ||
@@ -146,16 +147,25 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
                          calib.left.width, calib.left.height, calib.right.width, calib.right.height,
                          kMaxImageWidth, kMaxImageHeight);
   }
-  if (table.model_count() == 0) {
-    return Status::Error(StatusCode::kInvalidArgument, "pipeline: the table holds no models");
+  table_ = table;  // the model set refers to the pipeline's own copy of the view
+  models_ = ModelSet(&table_, shape_views);
+  if (models_.count() == 0) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "pipeline: neither the hash tables nor a view database hold models");
   }
-  SH_RETURN_IF_ERROR(ValidateFeatureConfig(config.features));
-  SH_RETURN_IF_ERROR(CheckVerifyConfig(config.verify));
-  SH_RETURN_IF_ERROR(stereo_.Configure(calib, config.stereo));
-  SH_RETURN_IF_ERROR(recognizer_.Init(table, config.recognizer));
+  if (models_.hash_count() > 0) {
+    SH_RETURN_IF_ERROR(ValidateFeatureConfig(config.features));
+    SH_RETURN_IF_ERROR(CheckVerifyConfig(config.verify));
+    SH_RETURN_IF_ERROR(stereo_.Configure(calib, config.stereo));
+    SH_RETURN_IF_ERROR(recognizer_.Init(table, config.recognizer));
+  }
+  shape_enabled_ = models_.shape_count() > 0;
+  if (shape_enabled_) {
+    SH_RETURN_IF_ERROR(shape_.Init(calib, *shape_views, config.shape,
+                                   static_cast<uint16_t>(models_.shape_offset()), now_ns));
+  }
   SH_RETURN_IF_ERROR(pool_.Start(config.threads));
   calib_ = calib;
-  table_ = table;
   config_ = config;
   now_ns_ = now_ns;
   initialised_ = true;
@@ -192,16 +202,51 @@ float Pipeline::MsSince(int64_t start_ns) const {
 
 Status Pipeline::Process(ConstGrayView left, ConstGrayView right, float budget_ms,
                          PipelineResult* out) {
+  return Process(FrameView::Gray(left), FrameView::Gray(right), budget_ms, out);
+}
+
+Status Pipeline::Process(const FrameView& left, const FrameView& right, float budget_ms,
+                         PipelineResult* out) {
   if (out == nullptr) return Status::Error(StatusCode::kInvalidArgument, "pipeline: no result");
   out->objects.clear();
   *out = PipelineResult{};
   if (!initialised_) {
     return Status::Error(StatusCode::kFailedPrecondition, "pipeline: Init() has not succeeded");
   }
-  SH_RETURN_IF_ERROR(CheckImage(left, calib_.left, "left"));
-  SH_RETURN_IF_ERROR(CheckImage(right, calib_.right, "right"));
+  const FrameView frames[2] = {left, right};
+  ConstGrayView grey[2];
+  for (int i = 0; i < 2; ++i) {
+    const char* which = i == 0 ? "left" : "right";
+    const Status checked = CheckFrame(frames[i]);
+    if (!checked.ok()) return Status::Error(checked.code(), "%s %s", which, checked.message());
+    if (!FrameLuma(frames[i], &grey[i])) {
+      // RGB: the grey the polyhedral path reads, converted once (the image fits kMaxImage*).
+      const CameraIntrinsics& cam = i == 0 ? calib_.left : calib_.right;
+      if (frames[i].width() != cam.width || frames[i].height() != cam.height) {
+        return Status::Error(StatusCode::kInvalidArgument,
+                             "%s image is %dx%d but the calibration says %dx%d", which,
+                             frames[i].width(), frames[i].height(), cam.width, cam.height);
+      }
+      const GrayView g{grey_[i], cam.width, cam.height, cam.width};
+      SH_RETURN_IF_ERROR(FrameToGray(frames[i], g));
+      grey[i] = g;
+    }
+  }
+  SH_RETURN_IF_ERROR(CheckImage(grey[0], calib_.left, "left"));
+  SH_RETURN_IF_ERROR(CheckImage(grey[1], calib_.right, "right"));
   const int64_t t0 = now_ns_ ? now_ns_() : 0;
+  if (models_.hash_count() > 0) {
+    SH_RETURN_IF_ERROR(RecognisePolyhedra(grey[0], grey[1], budget_ms, t0, out));
+  }
+  if (shape_enabled_ && left.has_colour() && right.has_colour()) {
+    SH_RETURN_IF_ERROR(shape_.Process(left, right, out->objects, &out->shape));
+  }
+  if (now_ns_) out->time.total_ms = MsSince(t0);
+  return Status::Ok();
+}
 
+Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, float budget_ms,
+                                    int64_t t0, PipelineResult* out) {
   // 1. Per-image features, the two images in parallel when the pool has two threads.
   frame_images_[0] = left;
   frame_images_[1] = right;
@@ -258,10 +303,7 @@ Status Pipeline::Process(ConstGrayView left, ConstGrayView right, float budget_m
 
   // 6. The last fit: each accepted pose to the edge pixels of both images.
   RefineOnEdges(out);
-  if (now_ns_) {
-    out->time.refine_ms = MsSince(t3);
-    out->time.total_ms = MsSince(t0);
-  }
+  if (now_ns_) out->time.refine_ms = MsSince(t3);
   return Status::Ok();
 }
 

@@ -11,9 +11,12 @@
 #include "recog/camera/camera_model.hpp"
 #include "recog/hashing/recognizer.hpp"
 #include "recog/image/features.hpp"
+#include "recog/image/frame.hpp"
 #include "recog/image/image.hpp"
 #include "recog/pipeline/worker_pool.hpp"
+#include "recog/pipeline/model_set.hpp"
 #include "recog/scene/scene.hpp"
+#include "recog/shape/shape_recognizer.hpp"
 #include "recog/stereo/sloppy_stereo.hpp"
 #include "recog/stereo/stereo_features.hpp"
 #include "recog/verify/edge_refine.hpp"
@@ -46,6 +49,8 @@ struct PipelineConfig {
   // Threads of the pipeline's worker pool, the calling thread included: the left and right
   // features are extracted in parallel when there are two or more. 0: all online cores.
   int threads = 0;
+  // The shape path for colour parts (used when a view database is given and frames are colour).
+  ShapeConfig shape;
 
   // Presets for the two kinds of scene (thesis 5.3): the detectors' preset plus recognition and
   // verification settings measured on rendered scenes (docs/pipeline.md).
@@ -78,6 +83,8 @@ struct PipelineResult {
   uint32_t verify_errors = 0;
   // Hypotheses rejected for sinking into the known table (PipelineConfig::table).
   uint32_t below_table = 0;
+  // The shape path's counts and stage times (zero when it did not run).
+  ShapeStats shape;
 };
 
 // The verifier of the stereo pipeline: projects the refined hypothesis into both images and
@@ -114,13 +121,21 @@ class Pipeline {
   // the scene-basis budget applies).
   using ClockFn = int64_t (*)();
 
+  // `table`: hash tables of the polyhedra (may be an empty TableView when `shape_views` holds
+  // the whole model set); `shape_views`: view database of the colour parts, or null. Both must
+  // outlive the pipeline. Model ids follow ModelSet: hash models first, then the colour parts.
   Status Init(const StereoCalibration& calib, const TableView& table, const PipelineConfig& config,
-              ClockFn now_ns = nullptr);
+              ClockFn now_ns = nullptr, const ShapeViewsView* shape_views = nullptr);
 
   // Recognises the objects in one stereo pair. Images must match the calibration's size.
   // `budget_ms` <= 0 means no time limit. On error the result is empty and the Status names the
   // problem (size mismatch, empty image, ...).
   Status Process(ConstGrayView left, ConstGrayView right, float budget_ms, PipelineResult* out);
+  // Frames of any format: the polyhedral path reads their grey (the luma plane in place, RGB
+  // converted), the shape path runs on colour frames when a view database was given; its
+  // objects follow the polyhedral path's in `out->objects`.
+  Status Process(const FrameView& left, const FrameView& right, float budget_ms,
+                 PipelineResult* out);
 
   // Views of the last frame's edge maps and features (valid until the next Process()), for
   // overlays and diagnostics.
@@ -128,6 +143,8 @@ class Pipeline {
   ConstEdgeMapView right_edges() const;
   const Scene& scene() const;
   const TableView& table() const;
+  const ModelSet& models() const { return models_; }
+  const ShapeRecognizer& shape() const { return shape_; }
   const StereoCalibration& calibration() const;
   const PipelineConfig& config() const { return config_; }
   int threads() const { return pool_.threads(); }
@@ -143,6 +160,9 @@ class Pipeline {
   void RefineOnEdges(PipelineResult* out);
 
   static void ExtractOne(void* self, int image);
+  // Steps 1-6 of the polyhedral path on grey images; t0 is the frame's start (budget, times).
+  Status RecognisePolyhedra(ConstGrayView left, ConstGrayView right, float budget_ms, int64_t t0,
+                            PipelineResult* out);
 
   bool initialised_ = false;
   StereoCalibration calib_;
@@ -165,6 +185,11 @@ class Pipeline {
   // Per-frame state of the parallel feature extraction (one slot per image).
   ConstGrayView frame_images_[2];
   Status frame_status_[2];
+  // The shape path (~20 MB) and the grey images of RGB frames for the polyhedral path.
+  ModelSet models_;
+  bool shape_enabled_ = false;
+  ShapeRecognizer shape_;
+  uint8_t grey_[2][kMaxImagePixels];
 };
 
 }  // namespace sh
