@@ -118,7 +118,7 @@ class ViewRenderer {
         }
       }
     }
-    const ConstGrayView tight{mask.mask + y0 * mask.width + x0, x1 - x0 + 1, y1 - y0 + 1,
+    const ConstGrayView tight{mask.mask + ptrdiff_t{y0} * mask.width + x0, x1 - x0 + 1, y1 - y0 + 1,
                               mask.width};
     SH_RETURN_IF_ERROR(ComputeShapeWindow(tight, *window_, &out->window));
     // Box size in pixels -> millimetres at the origin's depth.
@@ -162,7 +162,7 @@ Eigen::MatrixXf PrincipalDirections(RowMatrix& X, int k, int power_iterations,
   }
   const Eigen::MatrixXf B = Q.transpose() * X;  // l x pixels
   Eigen::BDCSVD<Eigen::MatrixXf> svd(B, Eigen::ComputeThinV);
-  const Eigen::VectorXf s = svd.singularValues();
+  const Eigen::VectorXf& s = svd.singularValues();
   const double total = static_cast<double>(X.squaredNorm());
   double kept = 0;
   for (int i = 0; i < k; ++i) kept += double(s(i)) * s(i);
@@ -245,7 +245,7 @@ Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> mod
     for (size_t i = 0; i < take; ++i) fit.push_back({m, i * n / take});
   }
   RowMatrix X(static_cast<Eigen::Index>(fit.size()), kWindowPixels);
-  RenderedView rendered;
+  RenderedView rendered{};
   for (size_t i = 0; i < fit.size(); ++i) {
     const auto [m, o] = fit[i];
     SH_RETURN_IF_ERROR(

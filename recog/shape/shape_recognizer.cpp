@@ -105,7 +105,7 @@ void ShapeRecognizer::Candidates(const RegionPair& pair, Vector<Candidate>& out)
   }
   for (int cam = 0; cam < 2; ++cam) {
     const ColourRegion& region = *regions[cam];
-    ShapeWindow window;
+    ShapeWindow window{};
     if (!RegionWindow(cam, region, &window)) continue;
     ShapeCoefficients coefficients;
     views_.Project(window, &coefficients);
@@ -297,7 +297,7 @@ Status ShapeRecognizer::Process(const FrameView& left, const FrameView& right,
     // Coarse stage: every candidate, ranked by the share of its edges found in both images.
     struct Coarse {
       PosedModel object;
-      float found;
+      float found = 0;
     };
     Coarse coarse[kMaxShapeCandidates];
     size_t n_coarse = 0;

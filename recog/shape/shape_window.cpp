@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace sh {
 namespace {
@@ -64,7 +65,7 @@ Status ComputeShapeWindow(ConstGrayView mask, ShapeWindowScratch& scratch, Shape
     for (int y = static_cast<int>(a); y < h && static_cast<float>(y) < b; ++y) {
       const float weight = std::min(b, y + 1.0f) - std::max(a, static_cast<float>(y));
       if (weight <= 0) continue;
-      float* dst = coverage + (oy + j) * kWindowSide + ox;
+      float* dst = coverage + ptrdiff_t{oy + j} * kWindowSide + ox;
       for (int i = 0; i < w0; ++i) dst[i] += weight * scratch.rows[y][i];
     }
   }
@@ -73,7 +74,7 @@ Status ComputeShapeWindow(ConstGrayView mask, ShapeWindowScratch& scratch, Shape
   // [1 2 1] / 4 blur in both directions (zero outside the window).
   float tmp[kWindowPixels];
   for (int y = 0; y < kWindowSide; ++y) {
-    const float* c = coverage + y * kWindowSide;
+    const float* c = coverage + ptrdiff_t{y} * kWindowSide;
     for (int x = 0; x < kWindowSide; ++x) {
       const float l = x > 0 ? c[x - 1] : 0.0f, r = x + 1 < kWindowSide ? c[x + 1] : 0.0f;
       tmp[y * kWindowSide + x] = 0.25f * (l + 2.0f * c[x] + r);
