@@ -214,28 +214,29 @@ Status Pipeline::Process(const FrameView& left, const FrameView& right, float bu
     return Status::Error(StatusCode::kFailedPrecondition, "pipeline: Init() has not succeeded");
   }
   const FrameView frames[2] = {left, right};
-  ConstGrayView grey[2];
   for (int i = 0; i < 2; ++i) {
     const char* which = i == 0 ? "left" : "right";
+    const CameraIntrinsics& cam = i == 0 ? calib_.left : calib_.right;
     const Status checked = CheckFrame(frames[i]);
     if (!checked.ok()) return Status::Error(checked.code(), "%s %s", which, checked.message());
-    if (!FrameLuma(frames[i], &grey[i])) {
+    if (frames[i].width() != cam.width || frames[i].height() != cam.height) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "%s image is %dx%d but the calibration says %dx%d", which,
+                           frames[i].width(), frames[i].height(), cam.width, cam.height);
+    }
+  }
+  const int64_t t0 = now_ns_ ? now_ns_() : 0;
+  if (models_.hash_count() > 0) {
+    ConstGrayView grey[2];
+    for (int i = 0; i < 2; ++i) {
+      if (FrameLuma(frames[i], &grey[i])) continue;
       // RGB: the grey the polyhedral path reads, converted once (the image fits kMaxImage*).
-      const CameraIntrinsics& cam = i == 0 ? calib_.left : calib_.right;
-      if (frames[i].width() != cam.width || frames[i].height() != cam.height) {
-        return Status::Error(StatusCode::kInvalidArgument,
-                             "%s image is %dx%d but the calibration says %dx%d", which,
-                             frames[i].width(), frames[i].height(), cam.width, cam.height);
-      }
-      const GrayView g{grey_[i], cam.width, cam.height, cam.width};
+      const GrayView g{grey_[i], frames[i].width(), frames[i].height(), frames[i].width()};
       SH_RETURN_IF_ERROR(FrameToGray(frames[i], g));
       grey[i] = g;
     }
-  }
-  SH_RETURN_IF_ERROR(CheckImage(grey[0], calib_.left, "left"));
-  SH_RETURN_IF_ERROR(CheckImage(grey[1], calib_.right, "right"));
-  const int64_t t0 = now_ns_ ? now_ns_() : 0;
-  if (models_.hash_count() > 0) {
+    SH_RETURN_IF_ERROR(CheckImage(grey[0], calib_.left, "left"));
+    SH_RETURN_IF_ERROR(CheckImage(grey[1], calib_.right, "right"));
     SH_RETURN_IF_ERROR(RecognisePolyhedra(grey[0], grey[1], budget_ms, t0, out));
   }
   if (shape_enabled_ && left.has_colour() && right.has_colour()) {

@@ -47,7 +47,8 @@ Status CheckShapeConfig(const ShapeConfig& c) {
                   c.diverse_deg >= 0 && c.diverse_deg <= 180 && c.max_extent_ratio >= 1 &&
                   c.corrective_iterations >= 0 && c.corrective_iterations <= 20 &&
                   c.min_edge_score >= 0 && c.min_edge_score <= 1 && c.max_background_share >= 0 &&
-                  c.max_background_share <= 1 && c.explained_share > 0 && c.explained_share <= 1;
+                  c.max_background_share <= 1 && c.explained_share > 0 && c.explained_share <= 1 &&
+                  c.rounds >= 1 && c.rounds <= kShapeRounds;
   if (!ok) {
     return Status::Error(StatusCode::kOutOfRange,
                          "shape recognition: settings out of range (1..%zu views per image, "
@@ -88,76 +89,118 @@ float ShapeRecognizer::MsSince(int64_t start) const {
   return now_ns_ ? static_cast<float>(now_ns_() - start) * 1e-6f : 0.0f;
 }
 
-bool ShapeRecognizer::RegionWindow(int camera, const ColourRegion& region, ShapeWindow* window) {
-  const GrayView mask{region_mask_, region.width(), region.height(), region.width()};
-  RegionMask(region, segmentation_[camera].runs(), mask);
+void ShapeRecognizer::ResetBlobs() {
+  for (int cam = 0; cam < 2; ++cam) {
+    blobs_[cam].clear();
+    std::memset(blob_ids_[cam], 0,
+                static_cast<size_t>(segmentation_[cam].width()) * segmentation_[cam].height());
+  }
+}
+
+bool ShapeRecognizer::AddBlob(int camera, const ColourRegion& blob, uint8_t round,
+                              const uint8_t* mask, int mask_stride) {
+  if (blobs_[camera].full()) return false;
+  const size_t index = blobs_[camera].size();
+  (void)blobs_[camera].push_back(blob);
+  blob_round_[camera][index] = round;
+  blob_depth_[camera][index] = 0.0f;
+  const uint8_t id = static_cast<uint8_t>(index + 1);
+  const int w = segmentation_[camera].width();
+  for (int y = 0; y < blob.height(); ++y) {
+    const uint8_t* m = mask + static_cast<ptrdiff_t>(y) * mask_stride;
+    uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(blob.y0 + y) * w + blob.x0;
+    for (int x = 0; x < blob.width(); ++x) {
+      if (m[x]) ids[x] = id;
+    }
+  }
+  return true;
+}
+
+bool ShapeRecognizer::BlobWindow(int camera, const ColourRegion& blob, ShapeWindow* window) {
+  const uint8_t id = static_cast<uint8_t>(&blob - blobs_[camera].data() + 1);
+  const int w = segmentation_[camera].width();
+  for (int y = 0; y < blob.height(); ++y) {
+    const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(blob.y0 + y) * w + blob.x0;
+    uint8_t* m = region_mask_ + static_cast<size_t>(y) * blob.width();
+    for (int x = 0; x < blob.width(); ++x) m[x] = ids[x] == id ? 255 : 0;
+  }
+  const ConstGrayView mask{region_mask_, blob.width(), blob.height(), blob.width()};
   return ComputeShapeWindow(mask, window_scratch_, window).ok();
 }
 
-void ShapeRecognizer::Candidates(const RegionPair& pair, Vector<Candidate>& out) {
+void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
   out.clear();
-  const ColourRegion* regions[2] = {&segmentation_[0].regions()[pair.left],
-                                    &segmentation_[1].regions()[pair.right]};
-  const uint8_t colour = regions[0]->colour;
-  uint32_t mask = 0;
-  for (uint32_t m = 0; m < views_.model_count(); ++m) {
-    if (colour_of_model_[m] == colour) mask |= 1u << m;
-  }
+  const int first = seed.blob[0] >= 0 ? 0 : 1;
+  const uint8_t colour = blobs_[first][seed.blob[first]].colour;
   for (int cam = 0; cam < 2; ++cam) {
-    const ColourRegion& region = *regions[cam];
+    if (seed.blob[cam] < 0) continue;
+    const ColourRegion& blob = blobs_[cam][seed.blob[cam]];
     ShapeWindow window{};
-    if (!RegionWindow(cam, region, &window)) continue;
+    if (!BlobWindow(cam, blob, &window)) continue;
     ShapeCoefficients coefficients;
     views_.Project(window, &coefficients);
-    Vector<ViewMatch, kNearestPerImage> nearest;
-    views_.Nearest(coefficients, mask, kNearestPerImage, nearest);
-    // The part's centre in this camera: depth for the size check, ray frame for orientation.
     const ViewCamera view = Camera(calib_, cam);
-    const Eigen::Vector3f centre = view.cam_T_left * pair.centroid_mm;
     const CameraIntrinsics& ci = view.intrinsics;
-    // A region cut by the image border is smaller than its part: no size check then.
+    // The part's centre in this camera: triangulated, or on the blob's viewing ray (its depth
+    // does not matter for the ray frame).
+    Eigen::Vector3f centre;
+    if (seed.stereo) {
+      centre = view.cam_T_left * seed.centroid_mm;
+    } else {
+      const Eigen::Vector2d xy = UndistortPixel(ci, {blob.cx, blob.cy});
+      centre = Eigen::Vector3f(static_cast<float>(xy.x()), static_cast<float>(xy.y()), 1.0f);
+    }
+    // A blob cut by the image border is smaller than its part; without a triangulated depth
+    // there is no size to compare: no size check then.
     const bool clipped =
-        region.x0 == 0 || region.y0 == 0 || region.x1 == ci.width - 1 || region.y1 == ci.height - 1;
+        blob.x0 == 0 || blob.y0 == 0 || blob.x1 == ci.width - 1 || blob.y1 == ci.height - 1;
     // Box size in pixels -> millimetres at the part's depth.
-    const float extent[2] = {static_cast<float>(region.width()) * centre.z() / float(ci.fx),
-                             static_cast<float>(region.height()) * centre.z() / float(ci.fy)};
+    const float extent[2] = {static_cast<float>(blob.width()) * centre.z() / float(ci.fx),
+                             static_cast<float>(blob.height()) * centre.z() / float(ci.fy)};
     const Eigen::Matrix3f left_R_ray = view.cam_T_left.R.transpose() * RayFrame(centre);
-    int taken = 0;
-    for (const ViewMatch& match : nearest) {
-      if (taken == config_.views_per_image) break;
-      const ShapeViewRecord& rec = views_.view(match.view);
-      if (!clipped) {
-        bool fits = true;
-        for (int k = 0; k < 2; ++k) {
-          const float e = UQExtentMm::FromRaw(rec.extent_mm[k]).ToFloat();
-          fits &= e <= config_.max_extent_ratio * extent[k] &&
-                  extent[k] <= config_.max_extent_ratio * e;
+    // The nearest views of each model of the colour on its own: models with many views (no
+    // symmetry) would otherwise crowd out the others.
+    for (uint32_t m = 0; m < views_.model_count(); ++m) {
+      if (colour_of_model_[m] != colour) continue;
+      Vector<ViewMatch, kNearestPerImage> nearest;
+      views_.Nearest(coefficients, 1u << m, kNearestPerImage, nearest);
+      const size_t first_of_model = out.size();
+      int taken = 0;
+      for (const ViewMatch& match : nearest) {
+        if (taken == config_.views_per_image) break;
+        const ShapeViewRecord& rec = views_.view(match.view);
+        if (seed.stereo && !clipped) {
+          bool fits = true;
+          for (int k = 0; k < 2; ++k) {
+            const float e = UQExtentMm::FromRaw(rec.extent_mm[k]).ToFloat();
+            fits &= e <= config_.max_extent_ratio * extent[k] &&
+                    extent[k] <= config_.max_extent_ratio * e;
+          }
+          if (!fits) continue;
         }
-        if (!fits) continue;
-      }
-      Candidate c{rec.model, left_R_ray * views_.ViewRotation(match.view)};
-      bool diverse = true;
-      for (const Candidate& other : out) {
-        if (other.model == c.model &&
-            RotationAngleDeg(other.cam_R_model.transpose() * c.cam_R_model) < config_.diverse_deg) {
-          diverse = false;
-          break;
+        Candidate c{rec.model, match.view, cam, left_R_ray * views_.ViewRotation(match.view)};
+        bool diverse = true;
+        for (size_t i = first_of_model; i < out.size(); ++i) {
+          if (RotationAngleDeg(out[i].cam_R_model.transpose() * c.cam_R_model) <
+              config_.diverse_deg) {
+            diverse = false;
+            break;
+          }
         }
+        if (!diverse) continue;
+        if (!out.push_back(c)) return;
+        ++taken;
       }
-      if (!diverse) continue;
-      if (!out.push_back(c)) return;
-      ++taken;
     }
   }
 }
 
-void ShapeRecognizer::InitialPose(const RegionPair& pair, PosedModel* object) {
+bool ShapeRecognizer::InitialPoseStereo(const Seed& seed, PosedModel* object) {
   // Orientation relative to the viewing ray stays as the view gave it while the position moves.
   const Eigen::Matrix3f ray_R_model =
-      RayFrame(pair.centroid_mm).transpose() * object->cam_T_model.R;
-  object->cam_T_model.t_mm = pair.centroid_mm;
-  const ColourRegion* regions[2] = {&segmentation_[0].regions()[pair.left],
-                                    &segmentation_[1].regions()[pair.right]};
+      RayFrame(seed.centroid_mm).transpose() * object->cam_T_model.R;
+  object->cam_T_model.t_mm = seed.centroid_mm;
+  const ColourRegion* blobs[2] = {&blobs_[0][seed.blob[0]], &blobs_[1][seed.blob[1]]};
   for (int it = 0; it < config_.corrective_iterations; ++it) {
     object->cam_T_model.R = RayFrame(object->cam_T_model.t_mm) * ray_R_model;
     Eigen::Vector2d target[2];
@@ -171,8 +214,7 @@ void ShapeRecognizer::InitialPose(const RegionPair& pair, PosedModel* object) {
                           (view.cam_T_left * object->cam_T_model.t_mm).cast<double>(), &origin);
       if (!ok) break;
       // Where the origin must project for the predicted centroid to meet the observed one.
-      target[cam] =
-          origin + Eigen::Vector2d(regions[cam]->cx - mask.cx, regions[cam]->cy - mask.cy);
+      target[cam] = origin + Eigen::Vector2d(blobs[cam]->cx - mask.cx, blobs[cam]->cy - mask.cy);
     }
     RayMidpoint mid;
     if (!ok || !TriangulatePixels(calib_, target[0], target[1], &mid) || !(mid.depth_a_mm > 0)) {
@@ -181,10 +223,198 @@ void ShapeRecognizer::InitialPose(const RegionPair& pair, PosedModel* object) {
     object->cam_T_model.t_mm = mid.p_mm.cast<float>();
   }
   object->cam_T_model.R = RayFrame(object->cam_T_model.t_mm) * ray_R_model;
+  return true;
+}
+
+float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
+  constexpr float kMinDepthMm = 150.0f, kMaxDepthMm = 2500.0f;
+  constexpr int kMaxSteps = 1024;
+  constexpr int kSampleStride = 2;  // every other pixel of the blob in both directions
+  const int other = 1 - camera;
+  const ViewCamera view = Camera(calib_, camera), other_view = Camera(calib_, other);
+  const CameraIntrinsics& ci = view.intrinsics;
+  const CameraIntrinsics& co = other_view.intrinsics;
+  const RigidTransform other_T_cam = other_view.cam_T_left * view.cam_T_left.Inverse();
+  const Eigen::Vector2d xy = UndistortPixel(ci, {blob.cx, blob.cy});
+  const Eigen::Vector3f ray(static_cast<float>(xy.x()), static_cast<float>(xy.y()), 1.0f);
+  // Steps uniform in inverse depth (uniform in disparity), about a pixel apart.
+  Eigen::Vector2d near_px, far_px;
+  if (!ProjectToPixel(co, (other_T_cam * (kMinDepthMm * ray)).cast<double>(), &near_px) ||
+      !ProjectToPixel(co, (other_T_cam * (kMaxDepthMm * ray)).cast<double>(), &far_px)) {
+    return 0.0f;
+  }
+  const int steps = std::min(kMaxSteps, static_cast<int>((near_px - far_px).norm()) + 2);
+  const uint8_t id = static_cast<uint8_t>(&blob - blobs_[camera].data() + 1);
+  const int w = segmentation_[camera].width();
+  const ImageView<const Rgb8> src = images_.rgb[camera], dst = images_.rgb[other];
+  const ConstGrayView dst_classes = images_.classes[other];
+  float best_cost = 1e30f, best_depth = 0.0f;
+  for (int k = 0; k < steps; ++k) {
+    const float inv = (1.0f / kMaxDepthMm) + (1.0f / kMinDepthMm - 1.0f / kMaxDepthMm) *
+                                                 static_cast<float>(k) / (steps - 1);
+    const float depth = 1.0f / inv;
+    Eigen::Vector2d centre_other;
+    if (!ProjectToPixel(co, (other_T_cam * (depth * ray)).cast<double>(), &centre_other)) continue;
+    // The blob moves as a whole: its centroid's correspondence gives the shift.
+    const int dx = static_cast<int>(std::lround(centre_other.x() - blob.cx));
+    const int dy = static_cast<int>(std::lround(centre_other.y() - blob.cy));
+    uint32_t n = 0, same = 0;
+    uint32_t sad = 0;
+    for (int y = blob.y0; y <= blob.y1; y += kSampleStride) {
+      const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(y) * w;
+      const int yo = y + dy;
+      if (yo < 0 || yo >= co.height) continue;
+      const Rgb8* s_row = src.row(y);
+      const Rgb8* d_row = dst.row(yo);
+      const uint8_t* c_row = dst_classes.row(yo);
+      for (int x = blob.x0; x <= blob.x1; x += kSampleStride) {
+        const int xo = x + dx;
+        if (ids[x] != id || xo < 0 || xo >= co.width) continue;
+        ++n;
+        same += c_row[xo] == blob.colour;
+        sad += static_cast<uint32_t>(std::abs(s_row[x].r - d_row[xo].r) +
+                                     std::abs(s_row[x].g - d_row[xo].g) +
+                                     std::abs(s_row[x].b - d_row[xo].b));
+      }
+    }
+    // Most of the blob must land on its colour in the other image.
+    if (n == 0 || same * 10 < n * 7) continue;
+    const float cost = static_cast<float>(sad) / n;
+    if (cost < best_cost) {
+      best_cost = cost;
+      best_depth = depth;
+    }
+  }
+  return best_depth;
+}
+
+bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c, PosedModel* object) {
+  const int cam = c.camera;
+  const ColourRegion& blob = blobs_[cam][seed.blob[cam]];
+  const ViewCamera view = Camera(calib_, cam);
+  const CameraIntrinsics& ci = view.intrinsics;
+  // Depth: that of the stereo pair the blob (or the blob it came from) was part of, else from
+  // size, the view's box (mm at the origin's depth) against the blob's (px).
+  const ShapeViewRecord& rec = views_.view(c.view);
+  const float extent_mm = UQExtentMm::FromRaw(rec.extent_mm[0]).ToFloat() +
+                          UQExtentMm::FromRaw(rec.extent_mm[1]).ToFloat();
+  const float extent_px = static_cast<float>(blob.width() + blob.height());
+  // The blob's surface lies in front of the model's origin: half its radius, on average.
+  const float known_depth =
+      seed.surface_mm > 0 ? seed.surface_mm + 0.5f * views_.shape_model(c.model).radius_mm : 0.0f;
+  float depth = known_depth > 0 ? known_depth : static_cast<float>(ci.fx) * extent_mm / extent_px;
+  const Eigen::Matrix3f cam_R_left = view.cam_T_left.R;
+  // ray_R_model in this camera's ray frame at the blob's centroid.
+  Eigen::Vector2d xy = UndistortPixel(ci, {blob.cx, blob.cy});
+  const Eigen::Vector3f ray0(static_cast<float>(xy.x()), static_cast<float>(xy.y()), 1.0f);
+  const Eigen::Matrix3f ray_R_model = RayFrame(ray0).transpose() * cam_R_left * c.cam_R_model;
+  const RigidTransform left_T_cam = view.cam_T_left.Inverse();
+  Eigen::Vector2d target(blob.cx, blob.cy);
+  for (int it = 0; it <= config_.corrective_iterations; ++it) {
+    xy = UndistortPixel(ci, target);
+    const Eigen::Vector3f t_cam =
+        depth * Eigen::Vector3f(static_cast<float>(xy.x()), static_cast<float>(xy.y()), 1.0f);
+    RigidTransform cam_T_model{RayFrame(t_cam) * ray_R_model, t_cam};
+    object->cam_T_model = left_T_cam * cam_T_model;
+    if (it == config_.corrective_iterations) break;
+    SilhouetteMask mask;
+    Eigen::Vector2d origin;
+    if (!RasterizeSilhouette(view, *object, silhouette_scratch_, &mask).ok() || mask.empty() ||
+        !ProjectToPixel(ci, t_cam.cast<double>(), &origin)) {
+      return false;
+    }
+    // Centroid offset as in the stereo case; the box's size corrects the depth.
+    int x0 = mask.width, x1 = -1, y0 = mask.height, y1 = -1;
+    for (int y = 0; y < mask.height; ++y) {
+      for (int x = 0; x < mask.width; ++x) {
+        if (mask.mask[static_cast<size_t>(y) * mask.width + x]) {
+          x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+        }
+      }
+    }
+    if (x1 < x0) return false;
+    if (known_depth <= 0) depth *= static_cast<float>(x1 - x0 + 1 + y1 - y0 + 1) / extent_px;
+    target = origin + Eigen::Vector2d(blob.cx - mask.cx, blob.cy - mask.cy);
+  }
+  return true;
+}
+
+bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, ShapeStats& st) {
+  const int first = seed.blob[0] >= 0 ? 0 : 1;
+  const uint8_t colour = blobs_[first][seed.blob[first]].colour;
+  int64_t t = Now();
+  Vector<Candidate, kMaxShapeCandidates> candidates;
+  Candidates(seed, candidates);
+  search_ns_ += Now() - t;
+
+  // Coarse stage: every candidate, ranked by the share of its edges found in both images.
+  struct Coarse {
+    PosedModel object;
+    float found = 0;
+  };
+  Coarse coarse[kMaxShapeCandidates];
+  size_t n_coarse = 0;
+  t = Now();
+  for (const Candidate& c : candidates) {
+    PosedModel object{&views_.model(c.model), {c.cam_R_model, seed.centroid_mm}};
+    const bool posed =
+        seed.stereo ? InitialPoseStereo(seed, &object) : InitialPoseMono(seed, c, &object);
+    if (!posed) continue;
+    ShapeRefineResult fit;
+    ++st.hypotheses;
+    if (!refiner_
+             .Refine(calib_, images_, colour, &object, occluders_, n_occluders_, config_.coarse,
+                     &fit)
+             .ok()) {
+      continue;
+    }
+    const int samples = fit.fit[0].samples + fit.fit[1].samples;
+    coarse[n_coarse++] = {
+        object, samples ? static_cast<float>(fit.fit[0].found + fit.fit[1].found) / samples : 0.0f};
+  }
+  std::sort(coarse, coarse + n_coarse,
+            [](const Coarse& a, const Coarse& b) { return a.found > b.found; });
+  refine_ns_ += Now() - t;
+  // Fine stage and verification of the best.
+  PosedModel best{nullptr, {}};
+  Verdict best_verdict;
+  for (size_t i = 0; i < n_coarse && i < static_cast<size_t>(config_.fine_hypotheses); ++i) {
+    PosedModel object = coarse[i].object;
+    t = Now();
+    ShapeRefineResult fit;
+    const Status s = refiner_.Refine(calib_, images_, colour, &object, occluders_, n_occluders_,
+                                     config_.refine, &fit);
+    refine_ns_ += Now() - t;
+    if (!s.ok()) continue;
+    t = Now();
+    const Verdict v = Evaluate(object, colour, fit);
+    verify_ns_ += Now() - t;
+    if (!v.accepted) continue;
+    ++st.verified;
+    if (best.model == nullptr || v.evidence > best_verdict.evidence) {
+      best = object;
+      best_verdict = v;
+    }
+  }
+  if (best.model == nullptr) return false;
+  RecognizedObject o;
+  o.model = static_cast<uint16_t>(model_id_offset_ + (best.model - &views_.model(0)));
+  o.cam_T_model = best.cam_T_model;
+  o.verify_score[0] = best_verdict.edge_score[0];
+  o.verify_score[1] = best_verdict.edge_score[1];
+  o.verify_evidence = best_verdict.evidence;
+  o.vote = best_verdict.evidence * 0.25f;  // evidence is a sum of four shares
+  if (!out.push_back(o)) {
+    st.objects_full = true;
+    return false;
+  }
+  if (n_occluders_ < kMaxOccluders) occluders_[n_occluders_++] = best;
+  MarkExplained(best);
+  return true;
 }
 
 ShapeRecognizer::Verdict ShapeRecognizer::Evaluate(const PosedModel& object, uint8_t colour,
-                                                   const ShapeRefineResult& fit) {
+                                                   const ShapeRefineResult& fit) const {
   Verdict v;
   v.accepted = true;
   for (int cam = 0; cam < 2; ++cam) {
@@ -210,22 +440,126 @@ ShapeRecognizer::Verdict ShapeRecognizer::Evaluate(const PosedModel& object, uin
       }
     }
     const float bg_share = static_cast<float>(background) / mask.area_px;
+    v.background_share[cam] = bg_share;
     if (bg_share > config_.max_background_share) v.accepted = false;
     v.evidence += v.edge_score[cam] + static_cast<float>(same) / mask.area_px;
   }
   return v;
 }
 
-float ShapeRecognizer::ExplainedShare(int camera, const ColourRegion& region) const {
-  const ConstGrayView explained{explained_[camera], segmentation_[camera].width(),
-                                segmentation_[camera].height(), segmentation_[camera].width()};
-  uint32_t n = 0;
-  for (uint32_t i = region.first_run; i != kNoRun; i = segmentation_[camera].runs()[i].next) {
-    const ColourRun& r = segmentation_[camera].runs()[i];
-    const uint8_t* row = explained.row(r.y);
-    for (int x = r.x0; x < r.x1; ++x) n += row[x] != 0;
+Status ShapeRecognizer::Assess(PosedModel* object, const PosedModel* occluders, size_t n_occluders,
+                               Assessment* out) const {
+  *out = Assessment{};
+  if (!initialised_ || object == nullptr || object->model == nullptr) {
+    return Status::Error(StatusCode::kFailedPrecondition, "shape assessment: no frame or model");
   }
-  return static_cast<float>(n) / static_cast<float>(region.area_px);
+  const int m = static_cast<int>(object->model - &views_.model(0));
+  if (m < 0 || m >= static_cast<int>(views_.model_count())) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "shape assessment: the model is not the view database's");
+  }
+  const uint8_t colour = colour_of_model_[m];
+  ShapeRefineResult fit;
+  const Status s = refiner_.Refine(calib_, images_, colour, object, occluders, n_occluders,
+                                   config_.refine, &fit);
+  if (!s.ok()) return Status::Ok();
+  out->refined = true;
+  const Verdict v = Evaluate(*object, colour, fit);
+  out->accepted = v.accepted;
+  for (int cam = 0; cam < 2; ++cam) {
+    out->edge_score[cam] = v.edge_score[cam];
+    out->background_share[cam] = v.background_share[cam];
+  }
+  return Status::Ok();
+}
+
+float ShapeRecognizer::ExplainedShare(int camera, const ColourRegion& blob) const {
+  const uint8_t id = static_cast<uint8_t>(&blob - blobs_[camera].data() + 1);
+  const int w = segmentation_[camera].width();
+  uint32_t n = 0;
+  for (int y = blob.y0; y <= blob.y1; ++y) {
+    const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(y) * w;
+    const uint8_t* e = explained_[camera] + static_cast<size_t>(y) * w;
+    for (int x = blob.x0; x <= blob.x1; ++x) n += ids[x] == id && e[x] != 0;
+  }
+  return static_cast<float>(n) / static_cast<float>(blob.area_px);
+}
+
+int ShapeRecognizer::DeriveBlobs(int camera, uint8_t round, ShapeStats& st) {
+  const int w = segmentation_[camera].width();
+  const size_t n_before = blobs_[camera].size();
+  int added = 0;
+  for (size_t b = 0; b < n_before; ++b) {
+    if (blob_round_[camera][b] + 1 != round) continue;
+    const ColourRegion blob = blobs_[camera][b];
+    const size_t box = static_cast<size_t>(blob.width()) * blob.height();
+    if (box > kMaxSplitPixels) continue;  // larger than any part at a working distance
+    const uint8_t id = static_cast<uint8_t>(b + 1);
+    // The blob's unexplained pixels.
+    uint32_t left_over = 0;
+    for (int y = 0; y < blob.height(); ++y) {
+      const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(blob.y0 + y) * w + blob.x0;
+      const uint8_t* e = explained_[camera] + static_cast<size_t>(blob.y0 + y) * w + blob.x0;
+      uint8_t* m = region_mask_ + static_cast<size_t>(y) * blob.width();
+      for (int x = 0; x < blob.width(); ++x) {
+        m[x] = ids[x] == id && !e[x] ? 255 : 0;
+        left_over += m[x] != 0;
+      }
+    }
+    if (left_over < static_cast<uint32_t>(config_.segment.min_area_px)) continue;
+    MaskPart parts[kMaxMaskParts];
+    const GrayView labels{part_labels_, blob.width(), blob.height(), blob.width()};
+    const float ratio = round + 1 == config_.rounds ? config_.last_split_ratio : config_.neck_ratio;
+    const Result<int> n =
+        MaskParts({region_mask_, blob.width(), blob.height(), blob.width()}, true, ratio,
+                  config_.segment.min_area_px, parts_scratch_, labels, parts);
+    if (!n.ok()) continue;
+    int n_parts = *n;
+    // The whole blob again, unsplit and untouched: a part in front of another of its colour,
+    // without a neck between them. The opening by a disc of a share of the blob's largest
+    // inscribed radius keeps the part with the largest disc and drops the thinner rest.
+    if (*n == 1 && left_over == blob.area_px) {
+      const GrayView opened{part_labels_, blob.width(), blob.height(), blob.width()};
+      const Result<uint32_t> kept =
+          OpenMask({region_mask_, blob.width(), blob.height(), blob.width()}, config_.opening_ratio,
+                   parts_scratch_, opened);
+      if (!kept.ok() || *kept < static_cast<uint32_t>(config_.segment.min_area_px) ||
+          *kept > 0.9f * static_cast<float>(blob.area_px)) {
+        continue;
+      }
+      std::memcpy(region_mask_, part_labels_, box);
+      const Result<int> m =
+          MaskParts({region_mask_, blob.width(), blob.height(), blob.width()}, false, 0.0f,
+                    config_.segment.min_area_px, parts_scratch_, labels, parts);
+      if (!m.ok() || *m == 0) continue;
+      n_parts = *m;
+    }
+    for (int k = 0; k < n_parts; ++k) {
+      ColourRegion part;
+      part.colour = blob.colour;
+      part.area_px = parts[k].area_px;
+      part.x0 = blob.x0 + parts[k].x0;
+      part.y0 = blob.y0 + parts[k].y0;
+      part.x1 = blob.x0 + parts[k].x1;
+      part.y1 = blob.y0 + parts[k].y1;
+      part.cx = static_cast<float>(blob.x0) + parts[k].cx;
+      part.cy = static_cast<float>(blob.y0) + parts[k].cy;
+      // The part's own mask: its label within its box.
+      for (int y = 0; y < part.height(); ++y) {
+        const uint8_t* l =
+            part_labels_ + static_cast<size_t>(parts[k].y0 + y) * blob.width() + parts[k].x0;
+        uint8_t* m = region_mask_ + static_cast<size_t>(y) * part.width();
+        for (int x = 0; x < part.width(); ++x) m[x] = l[x] == parts[k].label ? 255 : 0;
+      }
+      if (!AddBlob(camera, part, round, region_mask_, part.width())) {
+        st.blobs_full = true;
+        return added;
+      }
+      blob_depth_[camera][blobs_[camera].size() - 1] = blob_depth_[camera][b];
+      ++added;
+    }
+  }
+  return added;
 }
 
 void ShapeRecognizer::MarkExplained(const PosedModel& object) {
@@ -263,7 +597,8 @@ Status ShapeRecognizer::Process(const FrameView& left, const FrameView& right,
                            intr[cam]->width, intr[cam]->height);
     }
   }
-  const int64_t t0 = now_ns_ ? now_ns_() : 0;
+  const int64_t t0 = Now();
+  search_ns_ = refine_ns_ = verify_ns_ = 0;
   for (int cam = 0; cam < 2; ++cam) {
     SH_RETURN_IF_ERROR(segmentation_[cam].Segment(frames[cam], classifier_, config_.segment));
     st.regions[cam] = static_cast<uint32_t>(segmentation_[cam].regions().size());
@@ -274,92 +609,64 @@ Status ShapeRecognizer::Process(const FrameView& left, const FrameView& right,
     images_.rgb[cam] = segmentation_[cam].rgb();
     images_.classes[cam] = segmentation_[cam].classes();
   }
-  SH_RETURN_IF_ERROR(PairRegions(calib_, segmentation_[0].regions(), segmentation_[1].regions(),
-                                 config_.pairs, pairs_, &st.pairs_truncated));
-  st.pairs = static_cast<uint32_t>(pairs_.size());
+  ResetBlobs();
+  for (int cam = 0; cam < 2; ++cam) {
+    for (const ColourRegion& region : segmentation_[cam].regions()) {
+      const GrayView mask{region_mask_, region.width(), region.height(), region.width()};
+      RegionMask(region, segmentation_[cam].runs(), mask);
+      if (!AddBlob(cam, region, 0, region_mask_, region.width())) st.blobs_full = true;
+    }
+  }
   st.time.segment_ms = MsSince(t0);
 
   n_occluders_ = 0;
-  int64_t search_ns = 0, refine_ns = 0, verify_ns = 0;
-  auto now = [&]() { return now_ns_ ? now_ns_() : 0; };
-  for (const RegionPair& pair : pairs_) {
-    const ColourRegion& rl = segmentation_[0].regions()[pair.left];
-    const ColourRegion& rr = segmentation_[1].regions()[pair.right];
-    if (ExplainedShare(0, rl) >= config_.explained_share ||
-        ExplainedShare(1, rr) >= config_.explained_share) {
-      continue;
-    }
-    int64_t t = now();
-    Vector<Candidate, kMaxShapeCandidates> candidates;
-    Candidates(pair, candidates);
-    search_ns += now() - t;
-
-    // Coarse stage: every candidate, ranked by the share of its edges found in both images.
-    struct Coarse {
-      PosedModel object;
-      float found = 0;
-    };
-    Coarse coarse[kMaxShapeCandidates];
-    size_t n_coarse = 0;
-    t = now();
-    for (const Candidate& c : candidates) {
-      PosedModel object{&views_.model(c.model), {c.cam_R_model, pair.centroid_mm}};
-      InitialPose(pair, &object);
-      ShapeRefineResult fit;
-      ++st.hypotheses;
-      if (!refiner_
-               .Refine(calib_, images_, classifier_, rl.colour, &object, occluders_, n_occluders_,
-                       config_.coarse, &fit)
-               .ok()) {
+  for (uint8_t round = 0; round < config_.rounds; ++round) {
+    if (round > 0 && DeriveBlobs(0, round, st) + DeriveBlobs(1, round, st) == 0) break;
+    // Stereo seeds: pairs with a blob of this round on either side, cheapest first.
+    bool pairs_truncated = false;
+    SH_RETURN_IF_ERROR(
+        PairRegions(calib_, blobs_[0], blobs_[1], config_.pairs, pairs_, &pairs_truncated));
+    st.pairs_truncated |= pairs_truncated;
+    for (const RegionPair& pair : pairs_) {
+      if (blob_round_[0][pair.left] != round && blob_round_[1][pair.right] != round) continue;
+      if (ExplainedShare(0, blobs_[0][pair.left]) >= config_.explained_share ||
+          ExplainedShare(1, blobs_[1][pair.right]) >= config_.explained_share) {
         continue;
       }
-      const int samples = fit.fit[0].samples + fit.fit[1].samples;
-      coarse[n_coarse++] = {
-          object,
-          samples ? static_cast<float>(fit.fit[0].found + fit.fit[1].found) / samples : 0.0f};
+      ++st.pairs;
+      Seed seed;
+      seed.blob[0] = pair.left;
+      seed.blob[1] = pair.right;
+      seed.stereo = true;
+      seed.centroid_mm = pair.centroid_mm;
+      for (int cam = 0; cam < 2; ++cam) {
+        float& depth = blob_depth_[cam][cam == 0 ? pair.left : pair.right];
+        if (depth == 0.0f) depth = (Camera(calib_, cam).cam_T_left * pair.centroid_mm).z();
+      }
+      TrySeed(seed, out, st);
+      if (st.objects_full) break;
     }
-    std::sort(coarse, coarse + n_coarse,
-              [](const Coarse& a, const Coarse& b) { return a.found > b.found; });
-    refine_ns += now() - t;
-    // Fine stage and verification of the best.
-    PosedModel best{nullptr, {}};
-    Verdict best_verdict;
-    for (size_t i = 0; i < n_coarse && i < static_cast<size_t>(config_.fine_hypotheses); ++i) {
-      PosedModel object = coarse[i].object;
-      t = now();
-      ShapeRefineResult fit;
-      const Status s = refiner_.Refine(calib_, images_, classifier_, rl.colour, &object, occluders_,
-                                       n_occluders_, config_.refine, &fit);
-      refine_ns += now() - t;
-      if (!s.ok()) continue;
-      t = now();
-      const Verdict v = Evaluate(object, rl.colour, fit);
-      verify_ns += now() - t;
-      if (!v.accepted) continue;
-      ++st.verified;
-      if (best.model == nullptr || v.evidence > best_verdict.evidence) {
-        best = object;
-        best_verdict = v;
+    // Mono seeds: this round's blobs that stay unexplained, from their own image.
+    for (int cam = 0; cam < 2 && !st.objects_full; ++cam) {
+      for (size_t b = 0; b < blobs_[cam].size(); ++b) {
+        if (blob_round_[cam][b] != round ||
+            ExplainedShare(cam, blobs_[cam][b]) >= config_.explained_share) {
+          continue;
+        }
+        ++st.mono_seeds;
+        Seed seed;
+        seed.blob[cam] = static_cast<int>(b);
+        seed.surface_mm = BlobDepth(cam, blobs_[cam][b]);
+        TrySeed(seed, out, st);
+        if (st.objects_full) break;
       }
     }
-    if (best.model == nullptr) continue;
-    RecognizedObject o;
-    o.model = static_cast<uint16_t>(model_id_offset_ + (best.model - &views_.model(0)));
-    o.cam_T_model = best.cam_T_model;
-    o.verify_score[0] = best_verdict.edge_score[0];
-    o.verify_score[1] = best_verdict.edge_score[1];
-    o.verify_evidence = best_verdict.evidence;
-    o.vote = best_verdict.evidence * 0.25f;  // evidence is a sum of four shares
-    if (!out.push_back(o)) {
-      st.objects_full = true;
-      break;
-    }
-    if (n_occluders_ < kMaxOccluders) occluders_[n_occluders_++] = best;
-    MarkExplained(best);
   }
-  st.time.search_ms = static_cast<float>(search_ns) * 1e-6f;
-  st.time.refine_ms = static_cast<float>(refine_ns) * 1e-6f;
-  st.time.verify_ms = static_cast<float>(verify_ns) * 1e-6f;
+  st.blobs[0] = static_cast<uint32_t>(blobs_[0].size());
+  st.blobs[1] = static_cast<uint32_t>(blobs_[1].size());
+  st.time.search_ms = static_cast<float>(search_ns_) * 1e-6f;
+  st.time.refine_ms = static_cast<float>(refine_ns_) * 1e-6f;
+  st.time.verify_ms = static_cast<float>(verify_ns_) * 1e-6f;
   st.time.total_ms = MsSince(t0);
   return Status::Ok();
 }

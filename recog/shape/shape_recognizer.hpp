@@ -17,7 +17,7 @@
 // Results are RecognizedObjects like the polyhedral path's, model ids offset by the caller's
 // model_id_offset (the shape models follow the hash tables' models in one model set).
 //
-// Statically allocated (about 12 MB); Process() never allocates.
+// Statically allocated (about 30 MB); Process() never allocates.
 #pragma once
 
 #include <cstddef>
@@ -28,6 +28,7 @@
 #include "recog/camera/camera_model.hpp"
 #include "recog/hashing/recognizer.hpp"
 #include "recog/image/frame.hpp"
+#include "recog/shape/blob_split.hpp"
 #include "recog/shape/colour_classes.hpp"
 #include "recog/shape/region_pairs.hpp"
 #include "recog/shape/segmentation.hpp"
@@ -38,7 +39,11 @@
 
 namespace sh {
 
-inline constexpr size_t kMaxShapeCandidates = 16;  // views tried per region pair (both images)
+inline constexpr size_t kMaxShapeCandidates = 24;  // views tried per seed (both images)
+// Blobs per image: the segmentation's regions, then the unexplained remainders and neck splits
+// of the rounds after it (ids are one byte: at most 255).
+inline constexpr size_t kMaxBlobs = 192;
+inline constexpr int kShapeRounds = 3;
 
 // The two stages of refinement: a few iterations over sparse samples with a wide search, then
 // the full one from where that ended.
@@ -53,9 +58,9 @@ struct ShapeConfig {
   ShapeRefineConfig coarse = CoarseRefine();
   ShapeRefineConfig refine = FineRefine();
   int fine_hypotheses = 2;
-  // Nearest views taken from each image's window, after the size check and dropping views
-  // within diverse_deg of a better one of the same model.
-  int views_per_image = 3;
+  // Nearest views taken from each image's window for each model of the blob's colour, after
+  // the size check and dropping views within diverse_deg of a better one.
+  int views_per_image = 2;
   float diverse_deg = 20.0f;
   // A view's extent (box width and height, mm at the part's depth) must lie within this factor
   // of the region's.
@@ -65,8 +70,20 @@ struct ShapeConfig {
   // the predicted silhouette showing no part colour (the table).
   float min_edge_score = 0.55f;
   float max_background_share = 0.12f;
-  // A pair whose left or right region is already this much explained is skipped.
+  // A blob already this much explained by accepted parts is not tried again.
   float explained_share = 0.6f;
+  // Remainders are split where two parts meet at a neck narrower than this share of the
+  // smaller part's inscribed radius (blob_split.hpp).
+  float neck_ratio = 0.6f;
+  // A blob tried whole and neither explained nor split is opened by a disc of this share of its
+  // largest inscribed radius (blob_split.hpp), and what stays is tried.
+  float opening_ratio = 0.6f;
+  // In the last round, what is still unexplained is split at every saddle of the distance
+  // transform lower than this share of the smaller peak (1: a full watershed; the pieces seed
+  // hypotheses whose refinement uses the whole image, so a piece need not be a whole part).
+  float last_split_ratio = 1.0f;
+  // Rounds of blobs: the regions, then remainders and splits (at most kShapeRounds).
+  int rounds = 2;
 };
 
 Status CheckShapeConfig(const ShapeConfig& config);
@@ -77,10 +94,13 @@ struct ShapeTimings {
 
 struct ShapeStats {
   uint32_t regions[2] = {0, 0};
+  uint32_t blobs[2] = {0, 0};  // regions, remainders and splits
   uint32_t pairs = 0;
+  uint32_t mono_seeds = 0;  // blobs tried from one image (no partner verified)
   uint32_t hypotheses = 0;  // refined
   uint32_t verified = 0;
   bool runs_truncated = false, regions_truncated = false, pairs_truncated = false;
+  bool blobs_full = false;
   bool objects_full = false;
   ShapeTimings time;
 };
@@ -99,6 +119,18 @@ class ShapeRecognizer {
   Status Process(const FrameView& left, const FrameView& right, Vector<RecognizedObject>& out,
                  ShapeStats* stats);
 
+  // What the last frame shows of a part at a given pose (diagnostics: why a part was missed):
+  // the fine refinement from `object` (which receives the refined pose) and the verification's
+  // verdict there, with `occluders` hiding it.
+  struct Assessment {
+    bool refined = false;  // refinement found enough edges to run
+    bool accepted = false;
+    float edge_score[2] = {0, 0};
+    float background_share[2] = {1, 1};
+  };
+  Status Assess(PosedModel* object, const PosedModel* occluders, size_t n_occluders,
+                Assessment* out) const;
+
   const ColourSegmentation& segmentation(int camera) const { return segmentation_[camera]; }
   const ColourClassifier& classifier() const { return classifier_; }
   const ShapeViewsView& views() const { return views_; }
@@ -107,21 +139,44 @@ class ShapeRecognizer {
  private:
   struct Candidate {
     uint16_t model;
-    Eigen::Matrix3f cam_R_model;  // from the view, at the pair's centroid
+    uint32_t view;
+    int camera;                   // the image whose window gave it
+    Eigen::Matrix3f cam_R_model;  // left camera frame, at the seed's centre
   };
   struct Verdict {
     bool accepted = false;
     float evidence = 0;
     float edge_score[2] = {0, 0};
+    float background_share[2] = {1, 1};
+  };
+  // Where a part may be: one blob in each image (stereo), or one blob in one image.
+  struct Seed {
+    int blob[2] = {-1, -1};  // indices into blobs_[camera], -1: none
+    bool stereo = false;
+    Eigen::Vector3f centroid_mm = Eigen::Vector3f::Zero();  // triangulated (stereo)
+    float surface_mm = 0;  // mono: depth of the blob's surface (BlobDepth), 0 unknown
   };
 
-  void Candidates(const RegionPair& pair, Vector<Candidate>& out);
-  bool RegionWindow(int camera, const ColourRegion& region, ShapeWindow* window);
-  void InitialPose(const RegionPair& pair, PosedModel* object);
-  Verdict Evaluate(const PosedModel& object, uint8_t colour, const ShapeRefineResult& fit);
-  float ExplainedShare(int camera, const ColourRegion& region) const;
+  void ResetBlobs();
+  bool AddBlob(int camera, const ColourRegion& blob, uint8_t round, const uint8_t* mask,
+               int mask_stride);
+  bool BlobWindow(int camera, const ColourRegion& blob, ShapeWindow* window);
+  void Candidates(const Seed& seed, Vector<Candidate>& out);
+  bool InitialPoseStereo(const Seed& seed, PosedModel* object);
+  bool InitialPoseMono(const Seed& seed, const Candidate& c, PosedModel* object);
+  // Depth (z in `camera`) of a blob's surface by matching its pixels along the epipolar line in
+  // the other image: the colours a blob shows (its faces' shading and the creases between them)
+  // are seen again there, shifted by the disparity of its depth. 0 when nothing matches.
+  float BlobDepth(int camera, const ColourRegion& blob) const;
+  // Refines the candidates, verifies the best and accepts the winner; true if one was accepted.
+  bool TrySeed(const Seed& seed, Vector<RecognizedObject>& out, ShapeStats& st);
+  Verdict Evaluate(const PosedModel& object, uint8_t colour, const ShapeRefineResult& fit) const;
+  float ExplainedShare(int camera, const ColourRegion& blob) const;
   void MarkExplained(const PosedModel& object);
+  // The unexplained pixels of this round's blobs, split into parts, as next round's blobs.
+  int DeriveBlobs(int camera, uint8_t round, ShapeStats& st);
   float MsSince(int64_t start) const;
+  int64_t Now() const { return now_ns_ ? now_ns_() : 0; }
 
   bool initialised_ = false;
   StereoCalibration calib_;
@@ -134,11 +189,21 @@ class ShapeRecognizer {
 
   ColourSegmentation segmentation_[2];
   Vector<RegionPair, kMaxRegionPairs> pairs_;
+  // Blobs of each image: a ColourRegion each (its runs unused), their pixels by id in
+  // blob_ids_ (id = index + 1), the round that made them.
+  Vector<ColourRegion, kMaxBlobs> blobs_[2];
+  uint8_t blob_round_[2][kMaxBlobs] = {};
+  // Depth (z in its camera) of the pair a blob, or its parent, was triangulated in; 0: unknown.
+  float blob_depth_[2][kMaxBlobs] = {};
+  uint8_t blob_ids_[2][kMaxImagePixels];
+  MaskPartsScratch parts_scratch_;
+  uint8_t part_labels_[kMaxSplitPixels];
+  int64_t search_ns_ = 0, refine_ns_ = 0, verify_ns_ = 0;
   ShapeWindowScratch window_scratch_;
-  SilhouetteScratch silhouette_scratch_;
+  mutable SilhouetteScratch silhouette_scratch_;  // scratch, also of the const diagnostics
   uint8_t region_mask_[kMaxImagePixels];
   uint8_t explained_[2][kMaxImagePixels];  // pixels covered by accepted objects' silhouettes
-  ShapeRefiner refiner_;
+  mutable ShapeRefiner refiner_;
   // Occluders: the objects accepted in this frame (theirs and other paths').
   PosedModel occluders_[kMaxOccluders];
   size_t n_occluders_ = 0;

@@ -22,14 +22,6 @@ float ColourDistance(const float* a, const float* b) {
   return std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
 }
 
-uint8_t ClassOf(const ColourClassifier& classifier, const float* c) {
-  // Interpolated colour -> nearest code values, then the classifier's table.
-  auto code = [](float v) {
-    return static_cast<uint8_t>(std::min(255.0f, std::max(0.0f, v + 0.5f)));
-  };
-  return classifier.Classify({code(c[0]), code(c[1]), code(c[2])});
-}
-
 // Peak offset of a parabola through (-1, a), (0, b), (1, c), clamped to [-0.5, 0.5].
 float ParabolaPeak(float a, float b, float c) {
   const float den = a - 2.0f * b + c;
@@ -39,29 +31,43 @@ float ParabolaPeak(float a, float b, float c) {
 
 // The edge along p + s n (|s| <= range) nearest s = 0, as described in the header: a class
 // transition (inside -> outside along n) for a silhouette, a gradient peak inside the part for a
-// crease. Returns false when there is none.
-bool SearchEdge(ImageView<const Rgb8> image, const ColourClassifier& classifier, uint8_t colour,
-                bool silhouette, const Eigen::Vector2f& p, const Eigen::Vector2f& n, int range,
-                float min_contrast, float* s_out) {
-  float c[2 * kMaxSearchPx + 3][3];
-  bool valid[2 * kMaxSearchPx + 3];
-  bool inside[2 * kMaxSearchPx + 3];
+// crease. Classes come from the segmentation's class image at the nearest pixel; colours are
+// interpolated only where a gradient is needed (around the transitions for silhouettes).
+// Returns false when there is none.
+bool SearchEdge(ImageView<const Rgb8> image, ConstGrayView classes, uint8_t colour, bool silhouette,
+                const Eigen::Vector2f& p, const Eigen::Vector2f& n, int range, float min_contrast,
+                float* s_out) {
+  constexpr int kMax = 2 * kMaxSearchPx + 3;
+  float c[kMax][3];
+  bool valid[kMax], inside[kMax], sampled[kMax] = {};
   const int count = 2 * range + 3;  // s = -range - 1 .. range + 1
   for (int i = 0; i < count; ++i) {
     const float s = static_cast<float>(i - range - 1);
-    valid[i] = SampleRgb(image, p.x() + s * n.x(), p.y() + s * n.y(), c[i]);
-    inside[i] = valid[i] && ClassOf(classifier, c[i]) == colour;
+    const float x = p.x() + s * n.x(), y = p.y() + s * n.y();
+    valid[i] = x >= 0.0f && y >= 0.0f && x <= image.width - 1.0f && y <= image.height - 1.0f;
+    inside[i] =
+        valid[i] && classes.at(static_cast<int>(x + 0.5f), static_cast<int>(y + 0.5f)) == colour;
   }
+  auto rgb = [&](int i) -> const float* {
+    if (!sampled[i]) {
+      const float s = static_cast<float>(i - range - 1);
+      valid[i] = SampleRgb(image, p.x() + s * n.x(), p.y() + s * n.y(), c[i]);
+      sampled[i] = true;
+    }
+    return c[i];
+  };
   // Colour gradient between samples i and i + 1 (at s = i - range - 0.5); 0 where undefined.
-  float g[2 * kMaxSearchPx + 3];
-  for (int i = 0; i + 1 < count; ++i) {
-    g[i] = valid[i] && valid[i + 1] ? ColourDistance(c[i], c[i + 1]) : 0.0f;
-  }
-  g[count - 1] = 0.0f;
+  auto g = [&](int i) -> float {
+    if (i < 0 || i + 1 >= count || !valid[i] || !valid[i + 1]) return 0.0f;
+    const float* a = rgb(i);
+    const float* b = rgb(i + 1);
+    return valid[i] && valid[i + 1] ? ColourDistance(a, b) : 0.0f;
+  };
   float best = 1e30f;
   bool found = false;
   for (int i = 1; i + 2 < count; ++i) {
     int peak = i;
+    float g_peak;
     if (silhouette) {
       // Part colour before, something else after; two samples on each side where they exist.
       if (!valid[i] || !valid[i + 1] || !inside[i] || inside[i + 1]) continue;
@@ -69,15 +75,19 @@ bool SearchEdge(ImageView<const Rgb8> image, const ColourClassifier& classifier,
       // The classes switch where a blended pixel stops looking like the part, which for a dark
       // background is well past the middle of the blend: the edge is the gradient's peak next
       // to that switch.
-      if (g[i - 1] > g[peak]) peak = i - 1;
-      if (g[i + 1] > g[peak]) peak = i + 1;
+      g_peak = g(i);
+      const float before = g(i - 1), after = g(i + 1);
+      if (before > g_peak) peak = i - 1, g_peak = before;
+      if (after > g_peak) peak = i + 1, g_peak = after;
       if (peak == 0 || peak + 1 >= count) continue;
     } else {
-      if (!inside[i] || !inside[i + 1] || g[i] < g[i - 1] || g[i] < g[i + 1]) continue;
+      if (!inside[i] || !inside[i + 1]) continue;
+      g_peak = g(i);
+      if (g_peak < g(i - 1) || g_peak < g(i + 1)) continue;
     }
-    if (g[peak] < min_contrast) continue;
+    if (g_peak < min_contrast) continue;
     const float s =
-        static_cast<float>(peak - range) - 0.5f + ParabolaPeak(g[peak - 1], g[peak], g[peak + 1]);
+        static_cast<float>(peak - range) - 0.5f + ParabolaPeak(g(peak - 1), g_peak, g(peak + 1));
     if (std::fabs(s) < std::fabs(best)) {
       best = s;
       found = true;
@@ -183,9 +193,9 @@ Status ShapeRefiner::Collect(const ViewCamera& view, const PosedModel& object,
 }
 
 Status ShapeRefiner::Refine(const StereoCalibration& calib, const ShapeImages& images,
-                            const ColourClassifier& classifier, uint8_t colour, PosedModel* object,
-                            const PosedModel* occluders, size_t n_occluders,
-                            const ShapeRefineConfig& config, ShapeRefineResult* out) {
+                            uint8_t colour, PosedModel* object, const PosedModel* occluders,
+                            size_t n_occluders, const ShapeRefineConfig& config,
+                            ShapeRefineResult* out) {
   if (object == nullptr || object->model == nullptr || out == nullptr) {
     return Status::Error(StatusCode::kInvalidArgument, "shape refinement: null model or output");
   }
@@ -246,7 +256,7 @@ Status ShapeRefiner::Refine(const StereoCalibration& calib, const ShapeImages& i
         }
         ++fit[cam].samples;
         float s;
-        if (!SearchEdge(images.rgb[cam], classifier, colour, silhouette, p, n, range,
+        if (!SearchEdge(images.rgb[cam], images.classes[cam], colour, silhouette, p, n, range,
                         config.min_edge_contrast, &s)) {
           continue;
         }

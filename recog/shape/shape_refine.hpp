@@ -85,10 +85,9 @@ class ShapeRefiner {
   // `object.cam_T_model` is the start and receives the result. `colour` is the part's class.
   // Errors: bad configuration, images that do not match the calibration, a pose that puts the
   // model behind a camera (kOutOfRange), too few samples to solve (kFailedPrecondition).
-  Status Refine(const StereoCalibration& calib, const ShapeImages& images,
-                const ColourClassifier& classifier, uint8_t colour, PosedModel* object,
-                const PosedModel* occluders, size_t n_occluders, const ShapeRefineConfig& config,
-                ShapeRefineResult* out);
+  Status Refine(const StereoCalibration& calib, const ShapeImages& images, uint8_t colour,
+                PosedModel* object, const PosedModel* occluders, size_t n_occluders,
+                const ShapeRefineConfig& config, ShapeRefineResult* out);
 
  private:
   // A point on a used model edge, in the model frame.

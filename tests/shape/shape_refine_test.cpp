@@ -72,8 +72,8 @@ TEST_P(ShapeRefineTest, ConvergesFromAFewMillimetresAndDegreesOff) {
   object.cam_T_model.t_mm += Eigen::Vector3f(2.5f, -2.0f, 3.0f);
   auto refiner = std::make_unique<ShapeRefiner>();
   ShapeRefineResult result;
-  const Status s = refiner->Refine(calib, images, classifier, colour, &object, nullptr, 0,
-                                   ShapeRefineConfig{}, &result);
+  const Status s =
+      refiner->Refine(calib, images, colour, &object, nullptr, 0, ShapeRefineConfig{}, &result);
   ASSERT_TRUE(s.ok()) << s.message();
   EXPECT_LT((object.cam_T_model.t_mm - truth.t_mm).norm(), 0.15f);
   if (part.model.n_symmetries == 96) {
@@ -105,11 +105,10 @@ TEST(ShapeRefine, RefusesBadSettingsAndMismatchedImages) {
   PosedModel object{&part.model, {Eigen::Matrix3f::Identity(), {0, 0, 400}}};
   ShapeRefineResult r;
   auto refiner = std::make_unique<ShapeRefiner>();
-  EXPECT_EQ(refiner
-                ->Refine(testing::ThesisRig(), images, classifier, 1, &object, nullptr, 0,
-                         ShapeRefineConfig{}, &r)
-                .code(),
-            StatusCode::kInvalidArgument);
+  EXPECT_EQ(
+      refiner->Refine(testing::ThesisRig(), images, 1, &object, nullptr, 0, ShapeRefineConfig{}, &r)
+          .code(),
+      StatusCode::kInvalidArgument);
 }
 
 }  // namespace
