@@ -239,6 +239,31 @@ void ExplainMisses(const std::vector<Model>& models, const std::vector<TruthObje
     for (size_t j = 0; j < truth.size() && n_occluders < kMaxOccluders; ++j) {
       if (j != i) occluders[n_occluders++] = {&models[truth[j].model], truth[j].cam_T_model};
     }
+    if (pipeline.models().is_shape(static_cast<uint32_t>(truth[i].model))) {
+      // A colour part: refine from the true pose and verify there, the other parts hiding it.
+      for (size_t k = 0; k < n_occluders; ++k) {
+        const int id = pipeline.models().Find(occluders[k].model->name);
+        if (id >= 0) occluders[k].model = &pipeline.models().model(static_cast<uint32_t>(id));
+      }
+      PosedModel object{&pipeline.models().model(static_cast<uint32_t>(truth[i].model)),
+                        truth[i].cam_T_model};
+      ShapeRecognizer::Assessment a;
+      const bool ok =
+          pipeline.shape().Assess(&object, occluders, n_occluders, &a).ok() && a.accepted;
+      if (ok) {
+        ++causes->not_searched;
+      } else {
+        ++causes->no_edges;
+      }
+      if (verbose) {
+        std::printf(
+            "  %s: missed %s; from its true pose: edges confirmed %.2f %.2f, background %.2f "
+            "%.2f (%s)\n",
+            label, model.name, a.edge_score[0], a.edge_score[1], a.background_share[0],
+            a.background_share[1], ok ? "verified: not reached" : "rejected");
+      }
+      continue;
+    }
     const ConstEdgeMapView left{pipeline.left_features().edges.edge,
                                 pipeline.left_features().edges.orientation};
     const ConstEdgeMapView right{pipeline.right_features().edges.edge,

@@ -194,7 +194,23 @@ bool ApplyPipelineSetting(const char* setting, PipelineConfig* c) {
   if (eq == nullptr) return false;
   const std::string name(setting, eq);
   const float v = static_cast<float>(std::atof(eq + 1));
-  if (name == "verify.min_fraction") {
+  if (name == "shape.neck_ratio") {
+    c->shape.neck_ratio = v;
+  } else if (name == "shape.min_edge_score") {
+    c->shape.min_edge_score = v;
+  } else if (name == "shape.max_background_share") {
+    c->shape.max_background_share = v;
+  } else if (name == "shape.views_per_image") {
+    c->shape.views_per_image = static_cast<int>(v);
+  } else if (name == "shape.fine_hypotheses") {
+    c->shape.fine_hypotheses = static_cast<int>(v);
+  } else if (name == "shape.max_extent_ratio") {
+    c->shape.max_extent_ratio = v;
+  } else if (name == "shape.rounds") {
+    c->shape.rounds = static_cast<int>(v);
+  } else if (name == "shape.explained_share") {
+    c->shape.explained_share = v;
+  } else if (name == "verify.min_fraction") {
     c->verify.min_fraction = v;
   } else if (name == "verify.max_distance_px") {
     c->verify.max_distance_px = v;
