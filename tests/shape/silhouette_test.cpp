@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "hal/sim/render/renderer.hpp"
+#include "hal/sim/world/renderer.hpp"
 #include "tables/model_files.hpp"
 
 namespace sh {
