@@ -1,0 +1,147 @@
+// The shape path end to end on a flat-shaded stereo pair: a red cube, a red can and a green
+// hexagon (two models share a colour, so the view search decides) are found with their model
+// and pose, nothing is reported on an empty table, and Process() never touches the heap.
+#include "recog/shape/shape_recognizer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "recog/shape/view_database.hpp"
+#include "tables/model_files.hpp"
+#include "tables/shape_view_builder.hpp"
+#include "tests/shape/flat_scene.hpp"
+#include "tests/support/counting_allocator.hpp"
+
+namespace sh {
+namespace {
+
+constexpr const char* kNames[] = {"cube", "can", "hexagon"};
+constexpr int kParts = 3;
+
+float SymmetricAngleDeg(const Model& m, const Eigen::Matrix3f& a, const Eigen::Matrix3f& b) {
+  float best = 180;
+  for (int k = 0; k < m.n_symmetries; ++k) {
+    best = std::min(best, RotationAngleDeg(a.transpose() * b * m.symmetry(k)));
+  }
+  return best;
+}
+
+class ShapeRecognizerTest : public ::testing::Test {
+ protected:
+  // One view database for every test (building it is the slow part).
+  static void SetUpTestSuite() {
+    std::vector<ShapeModelInput> inputs;
+    for (const char* name : kNames) {
+      const std::string path = std::string("models/colour/") + name + ".obj";
+      Result<Model> m = LoadModelFile(path);
+      ASSERT_TRUE(m.ok()) << m.status().message();
+      ShapeModelInput in;
+      in.model = *m;
+      ASSERT_TRUE(LoadModelColour(path, in.model, in.kd).ok());
+      inputs.push_back(in);
+    }
+    ShapeViewBuildOptions options;
+    options.n_components = 60;
+    options.pca_views = 1500;
+    Result<std::vector<uint8_t>> blob = BuildShapeViewBlob(inputs, options);
+    ASSERT_TRUE(blob.ok()) << blob.status().message();
+    blob_ = new std::vector<uint8_t>(std::move(*blob));
+  }
+  static void TearDownTestSuite() {
+    delete blob_;
+    blob_ = nullptr;
+  }
+
+  void SetUp() override {
+    ASSERT_NE(blob_, nullptr);
+    Result<ShapeViewsView> views = ShapeViewsView::Open(blob_->data(), blob_->size());
+    ASSERT_TRUE(views.ok()) << views.status().message();
+    views_ = *views;
+    ASSERT_EQ(views_.model_count(), static_cast<uint32_t>(kParts));
+    calib_ = testing::ThesisRig();
+    recognizer_ = std::make_unique<ShapeRecognizer>();
+    ASSERT_TRUE(recognizer_->Init(calib_, views_, ShapeConfig{}, 0).ok());
+  }
+
+  // The three parts apart from each other in both images, at generic orientations.
+  std::vector<testing::FlatPart> Scene() const {
+    const Eigen::Vector3f t_mm[kParts] = {{-85, -35, 460}, {-5, 55, 445}, {70, -40, 475}};
+    const Eigen::Vector3f axes[kParts] = {
+        {0.4f, -0.7f, 0.3f}, {1.0f, 0.2f, 0.1f}, {0.2f, 0.5f, 0.8f}};
+    const float angles[kParts] = {2.1f, 1.2f, 0.9f};
+    std::vector<testing::FlatPart> parts;
+    for (int i = 0; i < kParts; ++i) {
+      testing::FlatPart p;
+      p.posed.model = &views_.model(static_cast<uint32_t>(i));
+      p.posed.cam_T_model.R = Eigen::AngleAxisf(angles[i], axes[i].normalized()).toRotationMatrix();
+      p.posed.cam_T_model.t_mm = t_mm[i];
+      const float* kd = views_.shape_model(static_cast<uint32_t>(i)).kd;
+      for (int k = 0; k < 3; ++k) p.kd[k] = kd[k];
+      parts.push_back(p);
+    }
+    return parts;
+  }
+
+  static std::vector<uint8_t>* blob_;
+  ShapeViewsView views_;
+  StereoCalibration calib_;
+  std::unique_ptr<ShapeRecognizer> recognizer_;
+};
+
+std::vector<uint8_t>* ShapeRecognizerTest::blob_ = nullptr;
+
+TEST_F(ShapeRecognizerTest, FindsEveryPartWithItsModelAndPoseWithoutTouchingTheHeap) {
+  const std::vector<testing::FlatPart> parts = Scene();
+  testing::FlatImage left, right;
+  testing::RenderFlatPair(calib_, parts, 40, 2.0f, &left, &right);
+  Vector<RecognizedObject, kMaxObjects> found;
+  ShapeStats stats;
+  const uint64_t before = testing::HeapAllocations();
+  const Status s = recognizer_->Process(left.frame(), right.frame(), found, &stats);
+  EXPECT_EQ(testing::HeapAllocations(), before) << "Process() allocated";
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(found.size(), static_cast<size_t>(kParts));
+  for (int i = 0; i < kParts; ++i) {
+    const RecognizedObject* match = nullptr;
+    for (const RecognizedObject& o : found) {
+      if ((o.cam_T_model.t_mm - parts[i].posed.cam_T_model.t_mm).norm() < 20.0f) match = &o;
+    }
+    ASSERT_NE(match, nullptr) << kNames[i] << " not found";
+    EXPECT_EQ(match->model, i) << kNames[i] << " reported as another model";
+    EXPECT_LT((match->cam_T_model.t_mm - parts[i].posed.cam_T_model.t_mm).norm(), 1.0f)
+        << kNames[i];
+    EXPECT_LT(SymmetricAngleDeg(*parts[i].posed.model, match->cam_T_model.R,
+                                parts[i].posed.cam_T_model.R),
+              1.0f)
+        << kNames[i];
+  }
+  EXPECT_FALSE(stats.regions_truncated || stats.pairs_truncated || stats.objects_full);
+}
+
+TEST_F(ShapeRecognizerTest, ReportsNothingOnAnEmptyTable) {
+  testing::FlatImage left, right;
+  testing::RenderFlatPair(calib_, {}, 120, 2.0f, &left, &right);
+  Vector<RecognizedObject, kMaxObjects> found;
+  ShapeStats stats;
+  ASSERT_TRUE(recognizer_->Process(left.frame(), right.frame(), found, &stats).ok());
+  EXPECT_EQ(found.size(), 0u);
+  EXPECT_EQ(stats.regions[0] + stats.regions[1], 0u);
+}
+
+TEST_F(ShapeRecognizerTest, RefusesFramesOfAnotherSize) {
+  testing::FlatImage left, right;
+  testing::RenderFlatPair(calib_, {}, 40, 0.0f, &left, &right);
+  const FrameView small =
+      FrameView::Rgb({left.rgb.data(), left.width / 2, left.height, left.width});
+  Vector<RecognizedObject, kMaxObjects> found;
+  ShapeStats stats;
+  EXPECT_EQ(recognizer_->Process(small, right.frame(), found, &stats).code(),
+            StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace sh
