@@ -239,9 +239,8 @@ int RunRecognize(int argc, char** argv) {
   if (!s.ok()) return Fail("%s", s.message());
 
   PrintTable(pipeline->models(), *result);
-  if (json_path != nullptr &&
-      !WriteTextFile(json_path,
-                     ResultJson(pipeline->models(), *result, table, pipeline->threads()))) {
+  if (json_path != nullptr && !WriteTextFile(json_path, ResultJson(pipeline->models(), *result,
+                                                                   table, pipeline->threads()))) {
     return Fail("cannot write %s: %s", json_path, std::strerror(errno));
   }
   if (overlay_path != nullptr) {
