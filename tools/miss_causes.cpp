@@ -250,11 +250,18 @@ void ExplainMisses(const std::vector<Model>& models, const std::vector<TruthObje
       ShapeRecognizer::Assessment a;
       const bool ok =
           pipeline.shape().Assess(&object, occluders, n_occluders, &a).ok() && a.accepted;
+      MissRecord record;
+      record.truth_index = i;
+      record.verify_score[0] = a.edge_score[0];
+      record.verify_score[1] = a.edge_score[1];
       if (ok) {
         ++causes->not_searched;
+        record.cause = "not_searched";
       } else {
         ++causes->no_edges;
+        record.cause = "no_edges";
       }
+      if (records != nullptr) records->push_back(record);
       if (verbose) {
         std::printf(
             "  %s: missed %s; from its true pose: edges confirmed %.2f %.2f, background %.2f "
