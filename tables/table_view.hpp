@@ -48,8 +48,6 @@ class TableView {
   HashFunction hash_function() const { return static_cast<HashFunction>(header_->hash_function); }
   BasisLimits limits() const;
 
-  // A default-constructed view holds no blob: no models, and nothing else may be read.
-  bool empty() const { return header_ == nullptr; }
   uint32_t model_count() const { return header_ != nullptr ? header_->n_models : 0; }
   const Model& model(uint32_t i) const { return models_[i]; }
   // Index of the model with this name, or -1.
