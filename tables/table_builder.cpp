@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstring>
 
-#include "recog/base/crc32.hpp"
 #include "recog/base/printable.hpp"
 #include "tables/model_symmetry.hpp"
 #include "tables/table_format.hpp"
@@ -329,7 +328,8 @@ Result<std::vector<uint8_t>> BuildTableBlob(std::vector<Model> models,
   Put(blob, h.point_entries, points_sorted.data(), points_sorted.size());
   Put(blob, h.line_bins, line_offsets.data(), line_offsets.size());
   Put(blob, h.line_entries, lines_sorted.data(), lines_sorted.size());
-  h.payload_crc32 = Crc32(blob.data() + sizeof(TableHeader), blob.size() - sizeof(TableHeader));
+  std::memcpy(blob.data(), &h, sizeof(h));
+  h.blob_crc32 = TableBlobCrc32(blob.data(), blob.size());
   std::memcpy(blob.data(), &h, sizeof(h));
   return blob;
 }

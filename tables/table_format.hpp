@@ -26,9 +26,10 @@ namespace sh {
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "blobs are read in place: little-endian");
 
 inline constexpr char kTableMagic[8] = {'S', 'H', 'T', 'A', 'B', 'L', 'E', '\0'};
-// Version 2: Model records sized for 128 corners, 192 edges, 64 faces of up to 64 corners and
-// 96 symmetries (version 1: 32, 48, 24, 15, 24).
-inline constexpr uint16_t kTableFormatVersion = 2;
+// Version 3: the CRC-32 covers the header too (version 2 left the header, with the hash function,
+// grids and limits, outside it). Version 2: Model records sized for 128 corners, 192 edges,
+// 64 faces of up to 64 corners and 96 symmetries (version 1: 32, 48, 24, 15, 24).
+inline constexpr uint16_t kTableFormatVersion = 3;
 inline constexpr size_t kSectionAlignment = 64;
 
 // Capacities the recogniser's scratch memory is sized for; the loader refuses larger tables.
@@ -88,9 +89,9 @@ struct TableHeader {
   uint16_t format_version;
   uint8_t hash_function;  // 1..5 (HashFunction)
   uint8_t reserved0;
-  uint32_t header_size;    // sizeof(TableHeader)
-  uint64_t total_size;     // whole blob in bytes
-  uint32_t payload_crc32;  // CRC-32 of bytes [header_size, total_size)
+  uint32_t header_size;  // sizeof(TableHeader)
+  uint64_t total_size;   // whole blob in bytes
+  uint32_t blob_crc32;   // CRC-32 of bytes [0, total_size) with this field read as zero
   uint32_t n_models;
   uint32_t n_bases;
   uint32_t n_point_entries;
@@ -110,6 +111,11 @@ struct TableHeader {
 };
 static_assert(sizeof(TableHeader) == 256, "header layout is part of the format");
 static_assert(std::is_standard_layout_v<TableHeader>);
+
+// The blob's CRC-32: every byte of [0, size), the header included, with blob_crc32 read as zero,
+// so that no bit of the header (hash function, grids, limits, section offsets) can change
+// unnoticed. `blob` holds at least sizeof(TableHeader) bytes.
+uint32_t TableBlobCrc32(const uint8_t* blob, size_t size);
 
 // One stored model basis (frame).
 struct BasisRecord {

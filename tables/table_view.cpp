@@ -22,7 +22,26 @@ Status CheckGrid(const GridGeometry& g, const char* name) {
   return Status::Ok();
 }
 
+// The basis limits are distances and angles the scene bases are built with: finite, not negative.
+Status CheckLimits(const TableHeader& h) {
+  const float limits[] = {h.min_point_line_mm,     h.max_point_line_mm,    h.min_line_angle_deg,
+                          h.max_line_distance_mm,  h.min_point_spacing_mm, h.max_point_spacing_mm,
+                          h.min_triangle_height_mm};
+  for (float f : limits) {
+    if (!std::isfinite(f) || f < 0.0f) return Corrupt("basis limits not finite and non-negative");
+  }
+  return Status::Ok();
+}
+
 }  // namespace
+
+uint32_t TableBlobCrc32(const uint8_t* blob, size_t size) {
+  TableHeader header;
+  std::memcpy(&header, blob, sizeof(header));
+  header.blob_crc32 = 0;
+  const uint32_t crc = Crc32(&header, sizeof(header));
+  return Crc32(blob + sizeof(header), size - sizeof(header), crc);
+}
 
 Status CheckBlobSection(const SectionRef& s, size_t count, size_t element_size, uint64_t total,
                         const char* name) {
@@ -76,12 +95,12 @@ Result<TableView> TableView::Open(const void* blob, size_t size) {
     return Status::Error(StatusCode::kDataLoss,
                          "table blob truncated or padded: header says %llu bytes, got %zu",
                          static_cast<unsigned long long>(h->total_size), size);
+  const uint32_t crc = TableBlobCrc32(bytes, size);
+  if (crc != h->blob_crc32)
+    return Status::Error(StatusCode::kDataLoss, "table blob corrupt: CRC-32 %08x, header says %08x",
+                         crc, h->blob_crc32);
   if (!IsValidHashFunction(h->hash_function)) return Corrupt("hash function not in 1..5");
-  const uint32_t crc = Crc32(bytes + sizeof(TableHeader), size - sizeof(TableHeader));
-  if (crc != h->payload_crc32)
-    return Status::Error(StatusCode::kDataLoss,
-                         "table blob corrupt: payload CRC-32 %08x, header says %08x", crc,
-                         h->payload_crc32);
+  SH_RETURN_IF_ERROR(CheckLimits(*h));
   if (h->n_models == 0 || h->n_models > kMaxTableModels)
     return Status::Error(StatusCode::kOutOfRange, "table blob has %u models (1..%u supported)",
                          h->n_models, kMaxTableModels);

@@ -94,7 +94,7 @@ void PrintModels(const TableView& view) {
 void Describe(const TableView& view, size_t size) {
   const TableHeader& h = view.header();
   std::printf("hash function %u, format version %u, %zu bytes, CRC-32 %08x\n", h.hash_function,
-              h.format_version, size, h.payload_crc32);
+              h.format_version, size, h.blob_crc32);
   std::printf(
       "  %u models, %u model bases, %u point entries (largest bin %u), %u line entries "
       "(largest bin %u)\n",

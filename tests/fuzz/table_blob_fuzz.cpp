@@ -4,7 +4,6 @@
 #include <cstring>
 #include <vector>
 
-#include "recog/base/crc32.hpp"
 #include "tables/table_view.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -16,9 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // up so that the structural checks behind the CRC get fuzzed too.
   if (size > sizeof(sh::TableHeader) && (data[size - 1] & 1)) {
     auto* header = reinterpret_cast<sh::TableHeader*>(storage.data());
-    header->payload_crc32 =
-        sh::Crc32(reinterpret_cast<const uint8_t*>(storage.data()) + sizeof(sh::TableHeader),
-                  size - sizeof(sh::TableHeader));
+    header->blob_crc32 = sh::TableBlobCrc32(reinterpret_cast<const uint8_t*>(storage.data()), size);
   }
   auto view = sh::TableView::Open(storage.data(), size);
   if (!view.ok()) return 0;

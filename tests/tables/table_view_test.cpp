@@ -4,7 +4,6 @@
 #include <cstring>
 #include <string>
 
-#include "recog/base/crc32.hpp"
 #include "tables/model_files.hpp"
 #include "tables/table_builder.hpp"
 #include "tables/table_view.hpp"
@@ -74,6 +73,29 @@ TEST(TableView, RefusesCorruptedPayload) {
   EXPECT_NE(OpenError(bytes, bytes.size()).find("CRC-32"), std::string::npos);
 }
 
+TEST(TableView, EveryBitOfTheHeaderIsUnderTheCrc) {
+  // A flipped bit anywhere in the header (hash function, grids, limits, section offsets, the CRC
+  // itself) must be refused, never read as a different but valid table.
+  const std::vector<uint8_t> bytes = BuildReferenceBlob();
+  AlignedBlob blob(bytes);
+  int opened = 0;
+  for (size_t bit = 0; bit < sizeof(TableHeader) * 8; ++bit) {
+    blob.data[bit / 8] ^= uint8_t(1u << (bit % 8));
+    if (TableView::Open(blob.data, blob.size).ok()) ++opened;
+    blob.data[bit / 8] ^= uint8_t(1u << (bit % 8));
+  }
+  EXPECT_EQ(opened, 0);
+  EXPECT_TRUE(TableView::Open(blob.data, blob.size).ok());
+}
+
+TEST(TableView, RefusesNonFiniteLimitsEvenWithAMatchingCrc) {
+  std::vector<uint8_t> bytes = BuildReferenceBlob();
+  auto* h = reinterpret_cast<TableHeader*>(bytes.data());
+  h->max_point_line_mm = std::nanf("");
+  h->blob_crc32 = TableBlobCrc32(bytes.data(), bytes.size());
+  EXPECT_NE(OpenError(bytes, bytes.size()).find("basis limits"), std::string::npos);
+}
+
 TEST(TableView, RefusesWrongMagicAndVersion) {
   std::vector<uint8_t> bytes = BuildReferenceBlob();
   std::vector<uint8_t> wrong_magic = bytes;
@@ -92,7 +114,7 @@ TEST(TableView, ModelNamesInErrorsAreEscaped) {
   auto* model = reinterpret_cast<Model*>(bytes.data() + h->models.offset);
   std::memcpy(model->name, "cu\x1b[2Jbe\xff", 10);
   model->n_symmetries = 0;
-  h->payload_crc32 = Crc32(bytes.data() + sizeof(TableHeader), bytes.size() - sizeof(TableHeader));
+  h->blob_crc32 = TableBlobCrc32(bytes.data(), bytes.size());
   const std::string message = OpenError(bytes, bytes.size());
   EXPECT_NE(message.find("model 'cu\\x1B[2Jbe\\xFF' counts out of range"), std::string::npos)
       << message;
