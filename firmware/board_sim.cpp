@@ -42,8 +42,9 @@ void DefaultModelsDir(char* out, size_t capacity) {
     char* slash = std::strrchr(exe, '/');
     if (slash != nullptr) {
       *slash = '\0';
-      std::snprintf(out, capacity, "%s/../share/stereohash/models", exe);
-      if (access(out, R_OK) == 0) return;
+      // An installed path longer than `out` is not used (a cut path could name another folder).
+      const int len = std::snprintf(out, capacity, "%s/../share/stereohash/models", exe);
+      if (len > 0 && size_t(len) < capacity && access(out, R_OK) == 0) return;
     }
   }
   std::snprintf(out, capacity, "%s", STEREOHASH_FW_SOURCE_MODELS_DIR);

@@ -268,16 +268,17 @@ void FirmwareCore::SendEmcy(EmcyCode code, uint32_t detail) {
   SendEmcyFrame(reset);
 }
 
-void FirmwareCore::SendEmcyFrame(const canopen::EmcyMessage& m) {
+bool FirmwareCore::SendEmcyFrame(const canopen::EmcyMessage& m) {
   Emcy e;
   e.error_code = m.code;
   e.error_register = m.error_register;
   e.state = state_.load();
   e.detail = m.detail;
   const Result<CanFrame> frame = EncodeEmcy(e, node_);
-  if (frame.ok()) (void)SendFrame(*frame);
+  const bool sent = frame.ok() && SendFrame(*frame).ok();
   ++counters_.emcy_sent;
   if (dev_.observer != nullptr) dev_.observer->OnEmcy(e);
+  return sent;
 }
 
 void FirmwareCore::SendAck(const CanFrame& command, const Status& status,
@@ -738,6 +739,14 @@ void FirmwareCore::HeartbeatLoop() {
   // From zero: frames the receive queue lost while the node was still booting (a PLC that
   // started sending early) are reported with the first overrun EMCY, not forgotten.
   CanHealthMonitor health(hal::CanStats{});
+  // A health condition's EMCY that the bus refused (its transmit queue still full): sent again
+  // each period until it goes out or the condition ends, so that a PLC learns of it. Raising it
+  // again would add a second entry to the error history.
+  struct UnsentRaise {
+    canopen::EmcyMessage emcy;
+    uint32_t condition;
+  };
+  std::optional<UnsentRaise> unsent_raise;
   const int64_t alive_tolerance_ns =
       (int64_t{config_.capture_timeout_ms} + protocol::kTimeBudgetMaxMs + 2000) * 1'000'000ll;
   while (!stopping_.load()) {
@@ -765,15 +774,23 @@ void FirmwareCore::HeartbeatLoop() {
     const hal::CanBusState bus = dev_.can->state();
     if (bus == hal::CanBusState::kBusOff) faults_ |= kFaultCanBusOff;
     UpdateState();
+    if (unsent_raise && (unsent_raise->condition & (kFaultCanBusOff | kFaultCanTxDropped)) != 0 &&
+        (faults_.load() & unsent_raise->condition) == 0)
+      unsent_raise.reset();  // a cleared fault: its EMCY is stale
+    if (unsent_raise && SendEmcyFrame(unsent_raise->emcy)) unsent_raise.reset();
     const CanHealthMonitor::Actions health_actions =
         health.Step(bus, dev_.can->stats(), faults_.load());
     for (int i = 0; i < health_actions.count; ++i) {
       const CanHealthMonitor::Action& a = health_actions.action[i];
       switch (a.kind) {
-        case CanHealthMonitor::Kind::kRaise:
-          SendEmcyFrame(canopen_.Raise(a.condition, static_cast<uint16_t>(a.code), a.detail));
+        case CanHealthMonitor::Kind::kRaise: {
+          const canopen::EmcyMessage m =
+              canopen_.Raise(a.condition, static_cast<uint16_t>(a.code), a.detail);
+          if (!SendEmcyFrame(m)) unsent_raise = UnsentRaise{m, a.condition};
           break;
+        }
         case CanHealthMonitor::Kind::kClear:
+          if (unsent_raise && unsent_raise->condition == a.condition) unsent_raise.reset();
           ClearConditions(a.condition);
           break;
         case CanHealthMonitor::Kind::kEvent:

@@ -204,7 +204,8 @@ class FirmwareCore final : public RecorderObserver {
   void ClearConditions(uint32_t bits);
   // An error without lasting cause: its EMCY followed by the error reset.
   void SendEmcy(protocol::EmcyCode code, uint32_t detail);
-  void SendEmcyFrame(const canopen::EmcyMessage& m);
+  // True when the bus took the frame.
+  bool SendEmcyFrame(const canopen::EmcyMessage& m);
   void ApplyCanopenSettings(const CanopenEvents& events);
   void HandleCanopenEvents(const CanopenEvents& events);
   void ResetCommunication(bool reset_node);
