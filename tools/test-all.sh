@@ -10,7 +10,7 @@
 #   STEREOHASH_TIDY_BASE=REV     clang-tidy on the sources changed since REV (default HEAD~10, the
 #                                latest landings; "all": every source)
 #   STEREOHASH_TIDY_STRICT=1     clang-tidy findings fail the run
-#   STEREOHASH_CI_BUDGET_S=S     time budget (default 4800): a sanitizer part starts only while
+#   STEREOHASH_CI_BUDGET_S=S     time budget (default 4200): a sanitizer part starts only while
 #                                25 minutes of it are left
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -78,8 +78,8 @@ if [ "$cross" = 1 ]; then
   [ -f build/aarch64-release/firmware/stereohash-fw ] && aarch64-linux-gnu-size build/aarch64-release/firmware/stereohash-fw
 fi
 # The sanitizer builds run the gtest suites (label unit: unit, pipeline and firmware tests). They
-# come last, each only while the run stays inside its time budget (CI allows 90 minutes).
-budget_s=${STEREOHASH_CI_BUDGET_S:-4800}
+# come last, each only while the run stays inside its time budget (70 minutes; CI allows 90).
+budget_s=${STEREOHASH_CI_BUDGET_S:-4200}
 sanitized() {
   local elapsed=$(($(date +%s) - run_start))
   if [ "$elapsed" -gt $((budget_s - 1500)) ]; then
