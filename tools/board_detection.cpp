@@ -162,9 +162,10 @@ PairDetection ParseRecord(const std::string& bytes) {
   d.left.resize(size_t(h.n_left));
   d.right.resize(size_t(h.n_right));
   const char* p = bytes.data() + sizeof(h);
-  std::memcpy(d.left.data(), p, d.left.size() * sizeof(cv::Point2f));
+  // An empty vector's data() may be null, which memcpy must not get even for zero bytes.
+  if (!d.left.empty()) std::memcpy(d.left.data(), p, d.left.size() * sizeof(cv::Point2f));
   p += d.left.size() * sizeof(cv::Point2f);
-  std::memcpy(d.right.data(), p, d.right.size() * sizeof(cv::Point2f));
+  if (!d.right.empty()) std::memcpy(d.right.data(), p, d.right.size() * sizeof(cv::Point2f));
   p += d.right.size() * sizeof(cv::Point2f);
   d.message.assign(p, size_t(h.message_length));
   return d;
