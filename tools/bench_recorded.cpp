@@ -460,8 +460,8 @@ int RunBenchRecorded(int argc, char** argv) {
               "  shape path: regions %u / %u, blobs %u / %u, pairs %u, mono %u, hypotheses %u, "
               "verified %u; segment %.1f, search %.1f, refine %.1f, verify %.1f ms\n",
               sh.regions[0], sh.regions[1], sh.blobs[0], sh.blobs[1], sh.pairs, sh.mono_seeds,
-              sh.hypotheses, sh.verified, sh.time.segment_ms, sh.time.search_ms,
-              sh.time.refine_ms, sh.time.verify_ms);
+              sh.hypotheses, sh.verified, sh.time.segment_ms, sh.time.search_ms, sh.time.refine_ms,
+              sh.time.verify_ms);
         }
       }
       std::string false_json;

@@ -15,9 +15,9 @@
 
 #include "hal/sim/image_files.hpp"
 #include "tables/table_file.hpp"
+#include "tests/support/tool_run.hpp"
 #include "tools/eval/mini_json.hpp"
 #include "tools/eval/synthetic_scene.hpp"
-#include "tests/support/tool_run.hpp"
 
 namespace sh {
 namespace {
