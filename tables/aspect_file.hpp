@@ -10,17 +10,9 @@
 
 namespace sh {
 
-class MappedAspectTable {
+class MappedAspectTable : public MappedView<AspectTableView> {
  public:
-  // Maps `path` and validates it; on failure nothing stays mapped.
-  Status Open(const char* path);
-  void Close();
-  const AspectTableView& view() const { return view_; }
-  size_t size() const { return file_.size(); }
-
- private:
-  MappedFile file_;
-  AspectTableView view_;
+  MappedAspectTable() : MappedView("aspect table") {}
 };
 
 // The six reference models' similarity aspect table, built when the project builds

@@ -9,17 +9,9 @@
 
 namespace sh {
 
-class MappedShapeViews {
+class MappedShapeViews : public MappedView<ShapeViewsView> {
  public:
-  // Maps `path` and validates it; on failure nothing stays mapped.
-  Status Open(const char* path);
-  void Close();
-  const ShapeViewsView& view() const { return view_; }
-  size_t size() const { return file_.size(); }
-
- private:
-  MappedFile file_;
-  ShapeViewsView view_;
+  MappedShapeViews() : MappedView("view database") {}
 };
 
 }  // namespace sh

@@ -41,23 +41,4 @@ Status MappedFile::Open(const char* path, const char* what) {
   return Status::Ok();
 }
 
-MappedTable::~MappedTable() { Close(); }
-
-void MappedTable::Close() {
-  file_.Close();
-  view_ = TableView();
-}
-
-Status MappedTable::Open(const char* path) {
-  Close();
-  SH_RETURN_IF_ERROR(file_.Open(path, "table file"));
-  Result<TableView> view = TableView::Open(file_.data(), file_.size());
-  if (!view.ok()) {
-    file_.Close();
-    return view.status().WithContext("%s", path);
-  }
-  view_ = *view;
-  return Status::Ok();
-}
-
 }  // namespace sh

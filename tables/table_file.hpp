@@ -27,22 +27,41 @@ class MappedFile {
   size_t size_ = 0;
 };
 
-class MappedTable {
+// A blob file mapped read-only and validated in place by `View::Open(data, size)` (hash tables,
+// aspect tables, view databases). `what` names the kind of file in messages.
+template <typename View>
+class MappedView {
  public:
-  MappedTable() = default;
-  ~MappedTable();
-  MappedTable(const MappedTable&) = delete;
-  MappedTable& operator=(const MappedTable&) = delete;
+  explicit MappedView(const char* what) : what_(what) {}
 
   // Maps `path` and validates it; on failure nothing stays mapped.
-  Status Open(const char* path);
-  void Close();
-  const TableView& view() const { return view_; }
+  Status Open(const char* path) {
+    Close();
+    SH_RETURN_IF_ERROR(file_.Open(path, what_));
+    Result<View> view = View::Open(file_.data(), file_.size());
+    if (!view.ok()) {
+      file_.Close();
+      return view.status().WithContext("%s", path);
+    }
+    view_ = *view;
+    return Status::Ok();
+  }
+  void Close() {
+    file_.Close();
+    view_ = View();
+  }
+  const View& view() const { return view_; }
   size_t size() const { return file_.size(); }
 
  private:
+  const char* what_;
   MappedFile file_;
-  TableView view_;
+  View view_;
+};
+
+class MappedTable : public MappedView<TableView> {
+ public:
+  MappedTable() : MappedView("table file") {}
 };
 
 // The reference models' hash fn 5 tables, built at compile time and linked in as read-only data.
