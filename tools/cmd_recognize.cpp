@@ -217,14 +217,14 @@ int RunRecognize(int argc, char** argv) {
   if (!s.ok()) return Fail("%s", s.message());
   // A feature database (printed models) goes through the texture path.
   if (IsFeatureDbFile(options.tables_path)) {
-    LoadedFeatureDb db;
-    s = LoadFeatureDb(options.tables_path, &db);
+    MappedFeatureDb db;
+    s = db.Open(options.tables_path);
     if (!s.ok()) return Fail("%s", s.message());
     TextureRun run;
     run.json_path = json_path;
     run.overlay_path = overlay_path;
     run.threads = options.threads;
-    return RecognizePrinted(*calib, db.view, left.view, right.view, run);
+    return RecognizePrinted(*calib, db.view(), left.view, right.view, run);
   }
   LoadedTables tables;
   s = LoadTables(options, &tables);

@@ -346,15 +346,15 @@ int RunInfo(int argc, char** argv) {
       continue;
     }
     if (IsFeatureDbFile(file.c_str())) {
-      LoadedFeatureDb db;
-      const Status s = LoadFeatureDb(file.c_str(), &db);
+      MappedFeatureDb db;
+      const Status s = db.Open(file.c_str());
       if (!s.ok()) {
         std::printf("\n");
         std::fprintf(stderr, "stereohash tables info: %s\n", s.message());
         rc = 1;
         continue;
       }
-      DescribeFeatureDb(db.view, db.view.header().total_size);
+      DescribeFeatureDb(db.view(), db.size());
       continue;
     }
     MappedTable table;

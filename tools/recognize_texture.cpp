@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 
 #include "hal/sim/image_files.hpp"
 #include "recog/pipeline/worker_pool.hpp"
@@ -59,22 +58,6 @@ bool IsFeatureDbFile(const char* path) {
   char magic[sizeof(kFeatureDbMagic)] = {};
   return in.read(magic, sizeof(magic)) &&
          std::memcmp(magic, kFeatureDbMagic, sizeof(kFeatureDbMagic)) == 0;
-}
-
-Status LoadFeatureDb(const char* path, LoadedFeatureDb* out) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::Error(StatusCode::kNotFound, "cannot open %s", path);
-  const std::vector<char> bytes((std::istreambuf_iterator<char>(in)),
-                                std::istreambuf_iterator<char>());
-  out->storage.assign(bytes.size() + 64, 0);
-  uint8_t* aligned =
-      out->storage.data() + (64 - reinterpret_cast<uintptr_t>(out->storage.data()) % 64) % 64;
-  std::memcpy(aligned, bytes.data(), bytes.size());
-  Result<FeatureDbView> view = FeatureDbView::Open(aligned, bytes.size());
-  if (!view.ok())
-    return Status::Error(view.status().code(), "%s: %s", path, view.status().message());
-  out->view = *view;
-  return Status::Ok();
 }
 
 std::string TextureResultJson(const FeatureDbView& db, const texture::TextureResult& r,

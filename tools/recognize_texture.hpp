@@ -12,18 +12,18 @@
 #include "recog/image/image.hpp"
 #include "recog/texture/texture_recognizer.hpp"
 #include "tables/feature_db_view.hpp"
+#include "tables/table_file.hpp"
 
 namespace sh::tools {
 
 // Whether the file at `path` starts like a feature database (its magic number).
 bool IsFeatureDbFile(const char* path);
 
-// A feature database read from a file into 64-byte aligned memory and validated.
-struct LoadedFeatureDb {
-  std::vector<uint8_t> storage;
-  FeatureDbView view;
+// A feature database file mapped read-only and validated in place.
+class MappedFeatureDb : public MappedView<FeatureDbView> {
+ public:
+  MappedFeatureDb() : MappedView("feature database") {}
 };
-Status LoadFeatureDb(const char* path, LoadedFeatureDb* out);
 
 struct TextureRun {
   const char* json_path = nullptr;
