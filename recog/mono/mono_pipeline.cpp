@@ -1,6 +1,7 @@
 #include "recog/mono/mono_pipeline.hpp"
 
 #include "recog/camera/calibration_check.hpp"
+#include "recog/camera/image_check.hpp"
 #include "recog/verify/view_camera.hpp"
 
 namespace sh {
@@ -64,14 +65,7 @@ Status MonoPipeline::Process(ConstGrayView image, float budget_ms, FeatureWorksp
   }
   const CameraIntrinsics& cam = view_.intrinsics;
   const char* which = camera_ == 0 ? "left" : "right";
-  if (image.empty()) {
-    return Status::Error(StatusCode::kInvalidArgument, "%s image is empty", which);
-  }
-  if (image.width != cam.width || image.height != cam.height) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "%s image is %dx%d but the calibration says %dx%d", which, image.width,
-                         image.height, cam.width, cam.height);
-  }
+  SH_RETURN_IF_ERROR(CheckImageFitsCamera(image, cam, which));
   const int64_t t0 = now_ns_ ? now_ns_() : 0;
   const Status s = ExtractFeatures(image, config_.features, workspace, features_);
   if (!s.ok()) return Status::Error(s.code(), "%s image: %s", which, s.message());

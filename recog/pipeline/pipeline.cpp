@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "recog/camera/calibration_check.hpp"
+#include "recog/camera/image_check.hpp"
 #include "recog/stereo/image_adapters.hpp"
 
 namespace sh {
@@ -172,23 +173,6 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
   return Status::Ok();
 }
 
-Status Pipeline::CheckImage(const ConstGrayView& image, const CameraIntrinsics& cam,
-                            const char* which) const {
-  if (image.empty()) {
-    return Status::Error(StatusCode::kInvalidArgument, "%s image is empty", which);
-  }
-  if (image.width != cam.width || image.height != cam.height) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "%s image is %dx%d but the calibration says %dx%d", which, image.width,
-                         image.height, cam.width, cam.height);
-  }
-  if (image.stride < image.width) {
-    return Status::Error(StatusCode::kInvalidArgument, "%s image stride %d < width %d", which,
-                         image.stride, image.width);
-  }
-  return Status::Ok();
-}
-
 void Pipeline::ExtractOne(void* self, int image) {
   Pipeline& p = *static_cast<Pipeline*>(self);
   p.frame_status_[image] = ExtractFeatures(p.frame_images_[image], p.config_.features,
@@ -235,8 +219,8 @@ Status Pipeline::Process(const FrameView& left, const FrameView& right, float bu
       SH_RETURN_IF_ERROR(FrameToGray(frames[i], g));
       grey[i] = g;
     }
-    SH_RETURN_IF_ERROR(CheckImage(grey[0], calib_.left, "left"));
-    SH_RETURN_IF_ERROR(CheckImage(grey[1], calib_.right, "right"));
+    SH_RETURN_IF_ERROR(CheckImageFitsCamera(grey[0], calib_.left, "left"));
+    SH_RETURN_IF_ERROR(CheckImageFitsCamera(grey[1], calib_.right, "right"));
     SH_RETURN_IF_ERROR(RecognisePolyhedra(grey[0], grey[1], budget_ms, t0, out));
   }
   if (shape_enabled_ && left.has_colour() && right.has_colour()) {

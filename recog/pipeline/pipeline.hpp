@@ -154,8 +154,6 @@ class Pipeline {
   const ImageFeatures& right_features() const { return features_[1]; }
 
  private:
-  Status CheckImage(const ConstGrayView& image, const CameraIntrinsics& cam,
-                    const char* which) const;
   float MsSince(int64_t start_ns) const;
   void RefineOnEdges(PipelineResult* out);
 

@@ -5,8 +5,10 @@
 #include <Eigen/Geometry>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "recog/camera/calibration_check.hpp"
+#include "recog/camera/image_check.hpp"
 
 namespace sh {
 namespace {
@@ -91,6 +93,24 @@ TEST(CameraModel, RightCentreMapsToRightOrigin) {
   calib.right_t_left_mm = Eigen::Vector3d(-120, 3, -7);
   const Eigen::Vector3d c = RightCentreInLeft(calib);
   EXPECT_LT((calib.right_R_left * c + calib.right_t_left_mm).norm(), 1e-12);
+}
+
+TEST(ImageFitsCamera, RefusesEmptyMisSizedAndShortRowImages) {
+  CameraIntrinsics cam;
+  cam.width = 8;
+  cam.height = 6;
+  std::vector<uint8_t> pixels(8 * 6);
+  ConstGrayView image{pixels.data(), 8, 6, 8};
+  EXPECT_TRUE(CheckImageFitsCamera(image, cam, "left").ok());
+
+  ConstGrayView empty{nullptr, 8, 6, 8};
+  EXPECT_EQ(std::string(CheckImageFitsCamera(empty, cam, "left").message()), "left image is empty");
+  ConstGrayView narrow{pixels.data(), 7, 6, 8};
+  EXPECT_EQ(std::string(CheckImageFitsCamera(narrow, cam, "right").message()),
+            "right image is 7x6 but the calibration says 8x6");
+  ConstGrayView short_rows{pixels.data(), 8, 6, 7};
+  EXPECT_EQ(std::string(CheckImageFitsCamera(short_rows, cam, "left").message()),
+            "left image stride 7 < width 8");
 }
 
 }  // namespace
