@@ -14,6 +14,7 @@
 #include "recog/texture/feature_extractor.hpp"
 #include "recog/texture/kd_tree.hpp"
 #include "tables/feature_db_format.hpp"
+#include "tables/table_file.hpp"
 
 namespace sh {
 
@@ -59,6 +60,13 @@ class FeatureDbView {
   const texture::TextureDescriptor* descriptors_ = nullptr;
   const texture::KdNode* nodes_ = nullptr;
   const uint8_t* texels_ = nullptr;
+};
+
+// A feature database file mapped read-only and validated in place (the tools and the firmware's
+// `features` key).
+class MappedFeatureDb : public MappedView<FeatureDbView> {
+ public:
+  MappedFeatureDb() : MappedView("feature database") {}
 };
 
 }  // namespace sh

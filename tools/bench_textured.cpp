@@ -253,12 +253,8 @@ Status RenderScenes(int n, uint64_t seed, const render::ScenarioParams& camera,
   std::vector<Model> models;
   models.reserve(printed.size());
   for (const TexturedModel& t : printed) models.push_back(t.model);
-  std::vector<render::PrintedSurface> prints(printed.size());
-  for (size_t i = 0; i < printed.size(); ++i) {
-    prints[i].texturing = &printed[i].texturing;
-    for (size_t m = 0; m < printed[i].textures.size(); ++m)
-      prints[i].images[m] = printed[i].textures[m].view();
-  }
+  std::vector<render::PrintedSurface> prints;
+  for (const TexturedModel& t : printed) prints.push_back(render::PrintOf(t));
   const struct {
     render::Background bg;
     render::Occlusion occ;

@@ -97,12 +97,7 @@ int RecognizePrinted(const StereoCalibration& calib, const FeatureDbView& db, Co
   Status s = pool.Start(run.threads);
   if (!s.ok()) return Fail("%s", s.message());
   texture::ParallelFor parallel;
-  if (pool.threads() > 1) {
-    parallel.pool = &pool;
-    parallel.run = [](void* p, int n, void (*fn)(void*, int), void* c) {
-      static_cast<WorkerPool*>(p)->ParallelFor(n, fn, c);
-    };
-  }
+  if (pool.threads() > 1) parallel = texture::ParallelOn(&pool);
   auto recognizer = std::make_unique<texture::TextureRecognizer>();  // ~63 MiB of buffers
   s = recognizer->Init(calib, db, texture::TextureRecognizerConfig{}, NowNs, parallel);
   if (!s.ok()) return Fail("%s", s.message());

@@ -19,12 +19,6 @@ namespace sh::tools {
 // Whether the file at `path` starts like a feature database (its magic number).
 bool IsFeatureDbFile(const char* path);
 
-// A feature database file mapped read-only and validated in place.
-class MappedFeatureDb : public MappedView<FeatureDbView> {
- public:
-  MappedFeatureDb() : MappedView("feature database") {}
-};
-
 struct TextureRun {
   const char* json_path = nullptr;
   const char* overlay_path = nullptr;

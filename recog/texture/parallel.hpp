@@ -19,6 +19,17 @@ struct ParallelFor {
   }
 };
 
+// A ParallelFor on a pool with ParallelFor(n, fn, context) (the pipeline's WorkerPool).
+template <typename Pool>
+ParallelFor ParallelOn(Pool* pool) {
+  ParallelFor parallel;
+  parallel.pool = pool;
+  parallel.run = [](void* p, int n, void (*fn)(void*, int), void* c) {
+    static_cast<Pool*>(p)->ParallelFor(n, fn, c);
+  };
+  return parallel;
+}
+
 // Bands that row-wise loops are split into (more than threads, so that uneven rows balance).
 inline constexpr int kParallelBands = 8;
 

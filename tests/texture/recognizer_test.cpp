@@ -39,13 +39,7 @@ const Fixture& Cartons() {
       fx->printed.push_back(*m);
       fx->models.push_back(m->model);
     }
-    fx->prints.resize(fx->printed.size());
-    for (size_t i = 0; i < fx->printed.size(); ++i) {
-      fx->prints[i].texturing = &fx->printed[i].texturing;
-      for (size_t k = 0; k < fx->printed[i].textures.size(); ++k) {
-        fx->prints[i].images[k] = fx->printed[i].textures[k].view();
-      }
-    }
+    for (const TexturedModel& t : fx->printed) fx->prints.push_back(render::PrintOf(t));
     Result<std::vector<uint8_t>> blob = BuildFeatureDb(fx->printed, FeatureDbBuildOptions{});
     EXPECT_TRUE(blob.ok()) << blob.status().message();
     fx->blob = std::make_unique<testing::AlignedBlob>(*blob);
@@ -139,11 +133,7 @@ TEST(TextureRecognizer, TwoThreadsGiveTheSamePosesAndNoHeapPerFrame) {
   auto b = std::make_unique<TextureResult>();
   WorkerPool pool;
   ASSERT_TRUE(pool.Start(2).ok());
-  ParallelFor parallel;
-  parallel.pool = &pool;
-  parallel.run = [](void* p, int n, void (*fn)(void*, int), void* c) {
-    static_cast<WorkerPool*>(p)->ParallelFor(n, fn, c);
-  };
+  const ParallelFor parallel = ParallelOn(&pool);
   ASSERT_TRUE(one->Init(r.scene.calib, f.db, TextureRecognizerConfig{}).ok());
   ASSERT_TRUE(two->Init(r.scene.calib, f.db, TextureRecognizerConfig{}, nullptr, parallel).ok());
   ASSERT_TRUE(one->Process(r.left_view(), r.right_view(), a.get()).ok());

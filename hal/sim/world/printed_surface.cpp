@@ -26,4 +26,13 @@ float PrintedSurface::Reflectance(int face, const Eigen::Vector3f& x_model) cons
   return (top + fy * (bottom - top)) / 255.0f;
 }
 
+PrintedSurface PrintOf(const TexturedModel& model) {
+  PrintedSurface print;
+  print.texturing = &model.texturing;
+  for (size_t m = 0; m < model.textures.size() && m < size_t(kMaxObjMaterials); ++m) {
+    print.images[m] = model.textures[m].view();
+  }
+  return print;
+}
+
 }  // namespace sh::render

@@ -7,6 +7,7 @@
 
 #include "recog/image/image.hpp"
 #include "recog/model/obj_texture.hpp"
+#include "tables/textured_model.hpp"
 
 namespace sh::render {
 
@@ -19,5 +20,8 @@ struct PrintedSurface {
   // printed.
   float Reflectance(int face, const Eigen::Vector3f& x_model) const;
 };
+
+// The print of a loaded printed model (its texturing and images, which must outlive it).
+PrintedSurface PrintOf(const TexturedModel& model);
 
 }  // namespace sh::render
