@@ -63,16 +63,16 @@ class Reporter final : public CoreObserver {
   Reporter(const render::SimWorld* world, bool print, canopen::OutputFrame frame)
       : world_(world), print_(print), frame_(frame) {}
 
-  // The models of the tables just loaded (at boot, and again when a data fault is cleared).
-  void OnDataLoaded(const TableView& t) override {
+  // The models just loaded (tables, then the printed models; at boot, and again when a data
+  // fault is cleared).
+  void OnDataLoaded(const ModelSet& models) override {
     if (!print_) return;
+    const uint32_t n = models.count();
     std::printf("MODELS {\"names\": [");
-    for (uint32_t m = 0; m < t.model_count(); ++m) {
-      std::printf("%s\"%s\"", m ? ", " : "", t.model(m).name);
-    }
+    for (uint32_t m = 0; m < n; ++m) std::printf("%s\"%s\"", m ? ", " : "", models.model(m).name);
     std::printf("], \"symmetries\": [");
-    for (uint32_t m = 0; m < t.model_count(); ++m) {
-      const Model& model = t.model(m);
+    for (uint32_t m = 0; m < n; ++m) {
+      const Model& model = models.model(m);
       std::printf("%s[", m ? ", " : "");
       for (int s = 0; s < model.n_symmetries; ++s) {
         std::printf("%s[", s ? ", " : "");
@@ -84,8 +84,8 @@ class Reporter final : public CoreObserver {
     // Corner centroids: symmetries map the corners onto themselves, so they fix the centroid,
     // which makes it the point to compare positions of symmetric objects at.
     std::printf("], \"centroids_mm\": [");
-    for (uint32_t m = 0; m < t.model_count(); ++m) {
-      const Model& model = t.model(m);
+    for (uint32_t m = 0; m < n; ++m) {
+      const Model& model = models.model(m);
       double c[3] = {0, 0, 0};
       for (int i = 0; i < model.n_corners; ++i) {
         for (int k = 0; k < 3; ++k) c[k] += model.corners_mm[i][k] / model.n_corners;
@@ -94,7 +94,7 @@ class Reporter final : public CoreObserver {
     }
     std::printf("]}\n");
     std::fflush(stdout);
-    if (world_ != nullptr) MapWorldModelsToTable(*world_, t, table_ids_);
+    if (world_ != nullptr) MapWorldModelsToIds(*world_, models, table_ids_);
   }
 
   void OnResult(const protocol::ResultSet& set, const hal::StereoFrame* frame) override {
@@ -153,7 +153,7 @@ class Reporter final : public CoreObserver {
   const render::SimWorld* world_;
   bool print_;
   canopen::OutputFrame frame_;
-  int table_ids_[kMaxFolderModels] = {};
+  int table_ids_[render::kMaxWorldModels] = {};
 };
 
 class SimBoard final : public Board {
@@ -225,6 +225,7 @@ class SimBoard final : public Board {
     }
     render::SimWorldConfig wc;
     wc.models_dir = models_dir_;
+    wc.printed_dir = config.sim_printed_models;
     wc.seed = config.sim_seed;
     wc.scenes = config.sim_scenes;
     wc.objects = config.sim_objects;
@@ -262,12 +263,14 @@ class SimBoard final : public Board {
   Status BeforeStart(const FwConfig& config, FileDataSource* data) override {
     data->InjectCorruptTables(config.sim_corrupt_tables);
     if (demo_) {
-      // Copies: the boot checks load the tables again, which replaces a mapped file.
+      // Copies: the boot checks load the model data again, which replaces mapped files.
       const Result<TableView> t = data->LoadTable();
+      const Result<FeatureDbView> f = data->LoadFeatures();
       n_names_ = 0;
-      if (t.ok()) {
-        for (uint32_t m = 0; m < t->model_count() && m < kMaxTableModels; ++m) {
-          std::snprintf(name_text_[m], sizeof(name_text_[m]), "%s", t->model(m).name);
+      if (t.ok() && f.ok()) {
+        const ModelSet models(&*t, nullptr, &*f);
+        for (uint32_t m = 0; m < models.count() && m < canopen::kMaxModelNames; ++m) {
+          std::snprintf(name_text_[m], sizeof(name_text_[m]), "%s", models.model(m).name);
           names_[n_names_++] = name_text_[m];
         }
       }
@@ -337,8 +340,8 @@ class SimBoard final : public Board {
   std::optional<Reporter> reporter_;
   DemoClient demo_client_;
   char models_dir_[kConfigPathMax] = {};
-  char name_text_[kMaxTableModels][kMaxModelNameLength + 1] = {};
-  const char* names_[kMaxTableModels] = {};
+  char name_text_[canopen::kMaxModelNames][kMaxModelNameLength + 1] = {};
+  const char* names_[canopen::kMaxModelNames] = {};
   int n_names_ = 0;
 };
 

@@ -97,6 +97,9 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
        "rig (with camera = directory: the set's calib.yaml)")                                      \
   TEXT(tables, kConfigPathMax, "builtin",                                                          \
        "builtin (the tables linked into the program) or a table blob file (mapped)")               \
+  TEXT(features, kConfigPathMax, "",                                                               \
+       "feature database of printed cartons (stereohash tables build --models of printed "         \
+       "models), mapped; their model ids follow the tables' models; empty = none")                 \
   TEXT(models_dir, kConfigPathMax, "",                                                             \
        "simulator: the model folder it renders; empty = the installed share/stereohash/models, "   \
        "else the source tree's models/")                                                           \
@@ -158,6 +161,9 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
       "first scene seed (seeds that cannot place the objects are skipped)")                        \
   CHOICE(sim_background, TableSurface, TableSurface::kDark, "dark|light", "the rendered table")    \
   INT(sim_objects, int, 3, 1, 16, "", "objects per scene (kMaxRenderObjects)")                     \
+  TEXT(sim_printed_models, kConfigPathMax, "",                                                     \
+       "folder of printed models (OBJ, MTL, artwork) the scenes also place, drawn with their "     \
+       "print, e.g. models/textured; empty = none")                                                \
   INT(sim_scenes, int, 6, 1, 64, "", "scenes rendered at boot; frame n shows scene n mod count")   \
   CHOICE(sim_camera_fault, SimCameraFault, SimCameraFault::kNone, "none|right_silent|drop_right",  \
          "right_silent: the right camera stops after 3 frames; drop_right: every 3rd right frame " \

@@ -52,6 +52,14 @@ Result<TableView> FileDataSource::LoadTable() {
   return table_;
 }
 
+Result<FeatureDbView> FileDataSource::LoadFeatures() {
+  // The previous view points into the mapping about to be replaced.
+  mapped_features_.Close();
+  if (features_path_[0] == '\0') return FeatureDbView();
+  SH_RETURN_IF_ERROR(mapped_features_.Open(features_path_));
+  return mapped_features_.view();
+}
+
 Result<StereoCalibration> FileDataSource::LoadCalibration() {
   if (missing_calibration_) {
     return Status::Error(StatusCode::kNotFound, "calibration missing (injected)");

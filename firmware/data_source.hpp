@@ -1,5 +1,6 @@
-// The firmware's data: model tables (linked in or a mapped file) and the stereo calibration
-// (YAML file, or the simulator rig). Reloaded when a data fault is cleared, so a file fixed on
+// The firmware's data: model tables (linked in or a mapped file), the printed models' feature
+// database (a mapped file, optional) and the stereo calibration (YAML file, or the simulator
+// rig). Reloaded when a data fault is cleared, so a file fixed on
 // the board is picked up without a restart.
 #pragma once
 
@@ -7,6 +8,7 @@
 #include <memory>
 
 #include "firmware/firmware_core.hpp"
+#include "tables/feature_db_view.hpp"
 #include "tables/table_file.hpp"
 
 namespace sh::fw {
@@ -30,6 +32,10 @@ class FileDataSource final : public DataSource {
 
   Result<TableView> LoadTable() override;
   Result<StereoCalibration> LoadCalibration() override;
+  Result<FeatureDbView> LoadFeatures() override;
+
+  // The feature database file (`features`); "" = no printed models (the default).
+  void SetFeaturesPath(const char* path) { features_path_ = path; }
 
   // Fault injection (simulator and tests): the next loads see a copy of the tables with one
   // payload byte flipped, or no calibration.
@@ -47,7 +53,9 @@ class FileDataSource final : public DataSource {
   const StereoCalibration* fallback_ = nullptr;
   bool corrupt_tables_ = false;
   bool missing_calibration_ = false;
+  const char* features_path_ = "";
   MappedTable mapped_;
+  MappedFeatureDb mapped_features_;
   std::unique_ptr<uint64_t[]> corrupt_copy_;  // 8-byte aligned as TableView requires
   TableView table_;
 };

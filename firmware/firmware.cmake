@@ -13,12 +13,13 @@ stereohash_module(stereohash_fw_core
   PUBLIC stereohash_can_protocol stereohash_canopen stereohash_hal_can stereohash_hal_gpio
          stereohash_hal_camera stereohash_tables stereohash_default_tables stereohash_camera
          stereohash_geometry stereohash_base stereohash_embedded_flags Threads::Threads
-  PRIVATE stereohash_pipeline stereohash_image_files stereohash_image)
+         stereohash_pipeline stereohash_feature_db
+  PRIVATE stereohash_image_files stereohash_image)
 
 stereohash_module(stereohash_fw_pipeline
   SOURCES pipeline_recognition.cpp
   HEADERS pipeline_recognition.hpp
-  PUBLIC stereohash_fw_core stereohash_pipeline)
+  PUBLIC stereohash_fw_core stereohash_pipeline stereohash_texture_recognizer)
 
 stereohash_module(stereohash_fw_main
   SOURCES firmware_main.cpp

@@ -157,24 +157,41 @@ void FirmwareCore::LoadData() {
     Log("model tables: %s", table.status().message());
     RaiseFault(kFaultTables, EmcyCode::kDataSet, kDetailTables);
   }
+  // The printed models' feature database: a fault of the model data like the tables.
+  Result<FeatureDbView> features = dev_.data->LoadFeatures();
+  if (features.ok() && table.ok() &&
+      table->model_count() + (features->empty() ? 0 : features->model_count()) >
+          canopen::kMaxModelNames) {
+    features = Status::Error(
+        StatusCode::kOutOfRange, "%u table models and %u printed models exceed the %u model ids",
+        table->model_count(), features->model_count(), unsigned{canopen::kMaxModelNames});
+  }
+  if (!features.ok()) {
+    Log("feature database: %s", features.status().message());
+    RaiseFault(kFaultTables, EmcyCode::kDataSet, kDetailFeatures);
+  }
   const Result<StereoCalibration> calib = dev_.data->LoadCalibration();
   if (!calib.ok()) {
     Log("calibration: %s", calib.status().message());
     RaiseFault(kFaultCalibration, EmcyCode::kDataSet, kDetailCalibration);
   }
-  if (!table.ok() || !calib.ok()) return;
+  if (!table.ok() || !features.ok() || !calib.ok()) return;
 
-  model_count_ = table->model_count();
+  // Model ids: the hash tables' polyhedra, then the printed models (ModelSet's order).
+  table_ = *table;
+  features_ = *features;
+  models_ = ModelSet(&table_, nullptr, &features_);
+  model_count_ = models_.count();
   const char* names[canopen::kMaxModelNames] = {};
   for (size_t m = 0; m < model_count_ && m < canopen::kMaxModelNames; ++m) {
-    names[m] = table->model(static_cast<uint32_t>(m)).name;
+    names[m] = models_.model(static_cast<uint32_t>(m)).name;
   }
   canopen_.SetModels(
       names, model_count_ < canopen::kMaxModelNames ? model_count_ : canopen::kMaxModelNames);
   const uint32_t loaded = model_count_ >= 32 ? 0xFFFFFFFFu : (1u << model_count_) - 1;
   uint32_t mask = config_.model_mask & loaded;
   if (mask == 0) mask = loaded;
-  const Status init = dev_.recognition->Init(*calib, *table, mask);
+  const Status init = dev_.recognition->Init(*calib, models_, mask);
   if (!init.ok()) {
     Log("recognition init: %s", init.message());
     RaiseFault(kFaultRecognition, EmcyCode::kSoftware, kDetailRecognitionInit);
@@ -184,7 +201,7 @@ void FirmwareCore::LoadData() {
   applied_mask_ = mask;
   canopen_.SetSettings(CurrentSettings());
   Log("loaded %zu models, model mask 0x%x", model_count_, mask);
-  if (dev_.observer != nullptr) dev_.observer->OnDataLoaded(*table);
+  if (dev_.observer != nullptr) dev_.observer->OnDataLoaded(models_);
 }
 
 // ---------------------------------------------------------------------------------------------

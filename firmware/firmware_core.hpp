@@ -34,6 +34,8 @@
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
 #include "recog/camera/camera_model.hpp"
+#include "recog/pipeline/model_set.hpp"
+#include "tables/feature_db_view.hpp"
 #include "tables/table_view.hpp"
 
 namespace sh::fw {
@@ -46,6 +48,8 @@ class DataSource {
   virtual ~DataSource() = default;
   virtual Result<TableView> LoadTable() = 0;
   virtual Result<StereoCalibration> LoadCalibration() = 0;
+  // The feature database of the printed models, or an empty view when none is configured.
+  virtual Result<FeatureDbView> LoadFeatures() { return FeatureDbView(); }
 };
 
 // Reports from the core (simulator stdout, tests). Called from the core's threads; must not
@@ -56,9 +60,9 @@ class CoreObserver {
   virtual void OnResult(const protocol::ResultSet& set, const hal::StereoFrame* frame) {}
   virtual void OnEmcy(const protocol::Emcy& emcy) {}
   virtual void OnStateChange(FirmwareState state) {}
-  // After the boot checks (or a cleared data fault) loaded the tables and initialised
-  // recognition; `table` stays valid until the next load.
-  virtual void OnDataLoaded(const TableView& table) {}
+  // After the boot checks (or a cleared data fault) loaded the model data and initialised
+  // recognition; `models` stays valid until the next load.
+  virtual void OnDataLoaded(const ModelSet& models) {}
   virtual void OnAlive() {}  // from the heartbeat thread while the worker loop is responsive
 };
 
@@ -67,6 +71,7 @@ inline constexpr uint32_t kDetailTables = 1;
 inline constexpr uint32_t kDetailCalibration = 2;
 inline constexpr uint32_t kDetailCalibrationMismatch = 3;  // image size differs from calibration
 inline constexpr uint32_t kDetailRecognitionInit = 4;
+inline constexpr uint32_t kDetailFeatures = 5;  // feature database (`features`) or model count
 inline constexpr uint32_t kSensorCaptureFailed = 1u << 24;   // | StatusCode << 16 | timeouts
 inline constexpr uint32_t kSensorUnpairedFrames = 2u << 24;  // | unpaired drops in this capture
 inline constexpr uint32_t kSensorStartFailed = 3u << 24;     // | StatusCode << 16
@@ -238,6 +243,11 @@ class FirmwareCore final : public RecorderObserver {
   std::atomic<uint32_t> applied_mask_{0};  // worker-side copy given to the recognition
   std::atomic<bool> camera_started_{false};
   size_t model_count_ = 0;
+  // The model data of the last load (worker thread): recognition and observers see them through
+  // models_ until the next load.
+  TableView table_;
+  FeatureDbView features_;
+  ModelSet models_;
 
   // Trigger queue and clear-fault request, guarded by mutex_.
   std::mutex mutex_;

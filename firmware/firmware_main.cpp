@@ -57,8 +57,8 @@ class MainObserver final : public CoreObserver {
   void OnStateChange(FirmwareState state) override {
     if (board_ != nullptr) board_->OnStateChange(state);
   }
-  void OnDataLoaded(const TableView& table) override {
-    if (board_ != nullptr) board_->OnDataLoaded(table);
+  void OnDataLoaded(const ModelSet& models) override {
+    if (board_ != nullptr) board_->OnDataLoaded(models);
   }
   void OnAlive() override {
     (void)notifier_->Notify("WATCHDOG=1");
@@ -257,12 +257,17 @@ PipelineRecognitionConfig PipelineSettings(const FwConfig& config, const TablePo
 Status StartRecorder(const FwConfig& config, const TablePoseSource& table,
                      canopen::OutputFrame output_frame, FileDataSource* data,
                      RecorderObserver* observer, Recorder* recorder) {
+  // Copies: the boot checks load the model data again, which replaces mapped files.
+  static char name_text[canopen::kMaxModelNames][kMaxModelNameLength + 1] = {};
   static const char* names[canopen::kMaxModelNames] = {};
   int n_names = 0;
   const Result<TableView> t = data->LoadTable();
-  if (t.ok()) {
-    for (uint32_t m = 0; m < t->model_count() && m < canopen::kMaxModelNames; ++m) {
-      names[n_names++] = t->model(m).name;
+  const Result<FeatureDbView> f = data->LoadFeatures();
+  if (t.ok() && f.ok()) {
+    const ModelSet models(&*t, nullptr, &*f);
+    for (uint32_t m = 0; m < models.count() && m < canopen::kMaxModelNames; ++m) {
+      std::snprintf(name_text[m], sizeof(name_text[m]), "%s", models.model(m).name);
+      names[n_names++] = name_text[m];
     }
   }
   SH_ASSIGN_OR_RETURN(const StereoCalibration calibration, data->LoadCalibration());
@@ -324,6 +329,7 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   static std::unique_ptr<FileDataSource> data;
   data = std::make_unique<FileDataSource>(config.tables, config.calibration,
                                           board->BuiltinCalibration());
+  data->SetFeaturesPath(config.features);
   const Result<TablePoseSource> table = LoadTablePose(*board, config);
   if (!table.ok()) return Fail(*board, "table_file", table.status());
   const Result<OutputFrameChoice> output = ChooseOutputFrame(config, *table);
@@ -332,9 +338,16 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   Recognition* recognition = nullptr;
   if (config.recognition == RecognitionKind::kPipeline) {
     static Pipeline pipeline;  // tens of MiB: static storage, locked and pre-faulted below
+    // The texture path's buffers (about 63 MiB) only when printed models are configured.
+    static std::unique_ptr<texture::TextureRecognizer> texture;
+    static std::unique_ptr<texture::TextureResult> texture_result;
+    if (config.features[0] != '\0') {
+      texture = std::make_unique<texture::TextureRecognizer>();
+      texture_result = std::make_unique<texture::TextureResult>();
+    }
     static std::unique_ptr<PipelineRecognition> pipeline_recognition;
-    pipeline_recognition =
-        std::make_unique<PipelineRecognition>(&pipeline, PipelineSettings(config, *table));
+    pipeline_recognition = std::make_unique<PipelineRecognition>(
+        &pipeline, PipelineSettings(config, *table), texture.get(), texture_result.get());
     recognition = pipeline_recognition.get();
   } else {
     recognition = board->OtherRecognition(config);

@@ -6,8 +6,11 @@
 
 namespace sh::fw {
 
-Status PipelineRecognition::Init(const StereoCalibration& calib, const TableView& table,
+Status PipelineRecognition::Init(const StereoCalibration& calib, const ModelSet& models,
                                  uint32_t model_mask) {
+  models_ = models;
+  model_mask_ = model_mask;
+  printed_ = false;
   // The automatic default or a preset (detectors, verification, search), not bare defaults.
   PipelineConfig config = config_.automatic          ? PipelineConfig::Automatic()
                           : config_.light_background ? PipelineConfig::LightBackground()
@@ -32,7 +35,22 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const TableView
     config.stereo.volume = WorkingVolume::OverTable(left_T_table);
   }
   config.recognizer.model_mask = model_mask;
-  return pipeline_->Init(calib, table, config, &MonotonicNs);
+  const TableView table = models.hash() != nullptr ? *models.hash() : TableView();
+  SH_RETURN_IF_ERROR(pipeline_->Init(calib, table, config, &MonotonicNs));
+  if (models.printed() == nullptr) return Status::Ok();
+  if (texture_ == nullptr || texture_result_ == nullptr) {
+    return Status::Error(StatusCode::kFailedPrecondition,
+                         "printed models loaded but no texture recogniser set up");
+  }
+  texture::TextureRecognizerConfig texture_config;
+  // The working volume's depths are not known here: the recogniser's default range of depths
+  // (300..900 mm) sets its Hough scales.
+  SH_RETURN_IF_ERROR(texture_
+                         ->Init(calib, *models.printed(), texture_config, &MonotonicNs,
+                                texture::ParallelOn(pipeline_->pool()))
+                         .WithContext("texture path"));
+  printed_ = true;
+  return Status::Ok();
 }
 
 Status PipelineRecognition::SetModelMask(uint32_t model_mask) {
@@ -41,7 +59,23 @@ Status PipelineRecognition::SetModelMask(uint32_t model_mask) {
   config.recognizer.model_mask = model_mask;
   const StereoCalibration calib = pipeline_->calibration();
   const TableView table = pipeline_->table();
-  return pipeline_->Init(calib, table, config, &MonotonicNs);
+  SH_RETURN_IF_ERROR(pipeline_->Init(calib, table, config, &MonotonicNs));
+  model_mask_ = model_mask;  // the printed models' bits are applied to their objects
+  return Status::Ok();
+}
+
+void PipelineRecognition::AddPrinted(protocol::ResultSet* set, size_t n) const {
+  uint8_t instances[protocol::kMaxResultObjects] = {};
+  for (const texture::TextureObject& o : texture_result_->objects) {
+    const uint32_t id = models_.printed_offset() + o.model;
+    if (id > 31 || !(model_mask_ & (1u << id))) continue;
+    if (n == protocol::kMaxResultObjects) break;  // capacity: the rest is not reported
+    // Print correlation (ZNCC) of the weaker image, as the polyhedra's verification score.
+    const float score = std::clamp(std::min(o.print.zncc[0], o.print.zncc[1]), 0.0f, 1.0f);
+    set->objects[n++] = protocol::MakeObjectPose(o.cam_T_model, static_cast<uint8_t>(id),
+                                                 instances[o.model]++, score);
+  }
+  set->object_count = static_cast<uint8_t>(n);
 }
 
 Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_ms,
@@ -49,16 +83,48 @@ Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_
   SH_RETURN_IF_ERROR(pipeline_->Process(frame.left, frame.right, budget_ms, &result_));
   set->status = result_.recognition.budget_exhausted ? protocol::ResultStatus::kTimeBudgetHit
                                                      : protocol::ResultStatus::kOk;
+  // The printed models, unless none is selected or the budget is already spent.
+  const uint32_t printed_bits = models_.printed_count() >= 32
+                                    ? ~0u
+                                    : ((1u << models_.printed_count()) - 1u)
+                                          << models_.printed_offset();
+  const bool printed =
+      printed_ && (model_mask_ & printed_bits) != 0 && !result_.recognition.budget_exhausted;
+  if (printed) SH_RETURN_IF_ERROR(texture_->Process(frame.left, frame.right, texture_result_));
   size_t n = 0;
   for (const RecognizedObject& o : result_.objects) {
     if (n == protocol::kMaxResultObjects) break;
+    // A polyhedron inside a printed carton is the carton's box edges read as a polyhedron: the
+    // carton, confirmed by its print, takes the place.
+    if (printed && InsideCarton(models_.model(o.model), o.cam_T_model)) continue;
     // The weaker image decides: an object must be confirmed in both views.
     const float score = std::clamp(std::min(o.verify_score[0], o.verify_score[1]), 0.0f, 1.0f);
     set->objects[n++] = protocol::MakeObjectPose(o.cam_T_model, static_cast<uint8_t>(o.model),
                                                  static_cast<uint8_t>(o.instance), score);
   }
   set->object_count = static_cast<uint8_t>(n);
+  if (printed) AddPrinted(set, n);
   return Status::Ok();
+}
+
+bool PipelineRecognition::InsideCarton(const Model& model,
+                                       const RigidTransform& cam_T_model) const {
+  Eigen::Vector3f centroid_mm = Eigen::Vector3f::Zero();
+  for (int i = 0; i < model.n_corners; ++i) centroid_mm += model.corner(i);
+  if (model.n_corners > 0) centroid_mm /= static_cast<float>(model.n_corners);
+  const Eigen::Vector3f cam_p_mm = cam_T_model.R * centroid_mm + cam_T_model.t_mm;
+  for (const texture::TextureObject& c : texture_result_->objects) {
+    const Model& carton = texture_->db().model(c.model);
+    // The centroid in the carton's frame, against its corners' box.
+    const Eigen::Vector3f p_mm = c.cam_T_model.R.transpose() * (cam_p_mm - c.cam_T_model.t_mm);
+    Eigen::Vector3f lo = carton.corner(0), hi = carton.corner(0);
+    for (int i = 1; i < carton.n_corners; ++i) {
+      lo = lo.cwiseMin(carton.corner(i));
+      hi = hi.cwiseMax(carton.corner(i));
+    }
+    if ((p_mm.array() >= lo.array()).all() && (p_mm.array() <= hi.array()).all()) return true;
+  }
+  return false;
 }
 
 }  // namespace sh::fw

@@ -1,8 +1,12 @@
-// Recognition through the recognition pipeline (recog/pipeline): the board's recogniser.
+// Recognition through the recognition pipeline (recog/pipeline): the board's recogniser. With
+// a feature database in the model set, the texture path (recog/texture) runs on each frame
+// after the polyhedral one, on the pipeline's worker pool, and its printed models follow the
+// polyhedra in the result set.
 #pragma once
 
 #include "firmware/recognition.hpp"
 #include "recog/pipeline/pipeline.hpp"
+#include "recog/texture/texture_recognizer.hpp"
 
 namespace sh::fw {
 
@@ -26,17 +30,31 @@ struct PipelineRecognitionConfig {
 
 class PipelineRecognition final : public Recognition {
  public:
-  // `pipeline` is large (tens of MiB): the caller keeps it in static storage.
-  PipelineRecognition(Pipeline* pipeline, const PipelineRecognitionConfig& config)
-      : pipeline_(pipeline), config_(config) {}
+  // `pipeline` is large (tens of MiB): the caller keeps it in static storage. `texture` (about
+  // 63 MiB) and `texture_result` are needed for printed models only (null: a feature database
+  // in the model set fails Init); allocated once at start-up.
+  PipelineRecognition(Pipeline* pipeline, const PipelineRecognitionConfig& config,
+                      texture::TextureRecognizer* texture = nullptr,
+                      texture::TextureResult* texture_result = nullptr)
+      : pipeline_(pipeline), config_(config), texture_(texture), texture_result_(texture_result) {}
 
-  Status Init(const StereoCalibration& calib, const TableView& table, uint32_t model_mask) override;
+  Status Init(const StereoCalibration& calib, const ModelSet& models, uint32_t model_mask) override;
   Status SetModelMask(uint32_t model_mask) override;
   Status Process(const hal::StereoFrame& frame, float budget_ms, protocol::ResultSet* set) override;
 
  private:
+  // The printed models' objects after the n objects already in *set, masked, up to capacity.
+  void AddPrinted(protocol::ResultSet* set, size_t n) const;
+  // Whether the model's corner centroid at this pose lies inside a carton of the last frame.
+  bool InsideCarton(const Model& model, const RigidTransform& cam_T_model) const;
+
   Pipeline* pipeline_;
   PipelineRecognitionConfig config_;
+  texture::TextureRecognizer* texture_;
+  texture::TextureResult* texture_result_;
+  ModelSet models_;
+  uint32_t model_mask_ = 0;
+  bool printed_ = false;  // the model set has printed models and the texture path is set up
   PipelineResult result_;
 };
 

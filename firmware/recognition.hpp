@@ -10,7 +10,7 @@
 #include "hal/camera.hpp"
 #include "recog/base/status.hpp"
 #include "recog/camera/camera_model.hpp"
-#include "tables/table_view.hpp"
+#include "recog/pipeline/model_set.hpp"
 
 namespace sh::fw {
 
@@ -18,8 +18,10 @@ class Recognition {
  public:
   virtual ~Recognition() = default;
 
-  // Called at boot and after a cleared data fault, before any Process(). May allocate.
-  virtual Status Init(const StereoCalibration& calib, const TableView& table,
+  // Called at boot and after a cleared data fault, before any Process(). May allocate. The
+  // model set (hash tables, then the feature database's printed models) stays valid until the
+  // next Init().
+  virtual Status Init(const StereoCalibration& calib, const ModelSet& models,
                       uint32_t model_mask) = 0;
   // Restricts recognition to the models whose bits are set (already range-checked).
   virtual Status SetModelMask(uint32_t model_mask) = 0;

@@ -14,7 +14,7 @@ namespace sh::fw {
 class TruthRecognition final : public Recognition {
  public:
   explicit TruthRecognition(const render::SimWorld* world) : world_(world) {}
-  Status Init(const StereoCalibration& calib, const TableView& table, uint32_t model_mask) override;
+  Status Init(const StereoCalibration& calib, const ModelSet& models, uint32_t model_mask) override;
   Status SetModelMask(uint32_t model_mask) override {
     mask_ = model_mask;
     return Status::Ok();
@@ -24,11 +24,11 @@ class TruthRecognition final : public Recognition {
  private:
   const render::SimWorld* world_;
   uint32_t mask_ = 0;
-  int table_id_of_world_model_[kMaxFolderModels] = {};
+  int id_of_world_model_[render::kMaxWorldModels] = {};
 };
 
-// Table model id of each world model, by name (-1 when the table lacks it): the tables may come
-// from a file built from another model folder than the one the world renders.
-void MapWorldModelsToTable(const render::SimWorld& world, const TableView& table, int* ids);
+// Model id of each world model, by name (-1 when the model set lacks it): the tables and the
+// feature database may come from files built from other model folders than the world renders.
+void MapWorldModelsToIds(const render::SimWorld& world, const ModelSet& models, int* ids);
 
 }  // namespace sh::fw

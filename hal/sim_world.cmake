@@ -24,5 +24,5 @@ stereohash_module(stereohash_sim_world
           sim/world/renderer.hpp sim/world/printed_surface.hpp sim/world/scene_generator.hpp
           sim/world/sim_world.hpp
   PUBLIC stereohash_hal_camera_sim stereohash_camera stereohash_model stereohash_image
-         stereohash_geometry stereohash_base
-  PRIVATE stereohash_model_files)
+         stereohash_geometry stereohash_base stereohash_feature_db_builder
+  PRIVATE stereohash_model_files stereohash_textured_model_files)

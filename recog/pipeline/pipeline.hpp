@@ -148,6 +148,9 @@ class Pipeline {
   const StereoCalibration& calibration() const;
   const PipelineConfig& config() const { return config_; }
   int threads() const { return pool_.threads(); }
+  // The worker pool (started at Init), idle between Process() calls: the firmware runs the
+  // texture path on it after the pipeline.
+  WorkerPool* pool() { return &pool_; }
   // Diagnosis only (bench tools): sees every hypothesis of the following frames' searches.
   void SetSearchObserver(SearchObserver* observer) { recognizer_.SetObserver(observer); }
   const ImageFeatures& left_features() const { return features_[0]; }

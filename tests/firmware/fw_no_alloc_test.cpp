@@ -75,19 +75,8 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
 
   // Warm-up trigger outside the window (first use of lazily initialised library state).
   ResultAssembler assembler(1);
-  auto wait_set = [&](ResultSet* out) {
-    for (int i = 0; i < 2000; ++i) {  // up to 20 s per set
-      hal::CanFrame f;
-      Result<bool> got = plc->Receive(&f, 10);
-      if (!got.ok() || !*got) continue;
-      Result<bool> done = assembler.Feed(f);
-      if (done.ok() && *done) {
-        *out = assembler.set();
-        return true;
-      }
-    }
-    return false;
-  };
+  // Up to 20 s per set.
+  auto wait_set = [&](ResultSet* out) { return WaitResultSet(plc, &assembler, out, 2000); };
   // An SDO upload (0x1018 sub 2: expedited; 0x1008: segmented, two segments) and a PDO-mode
   // request for object 0, each answered before the next trigger.
   auto wait_for = [&](uint32_t id, int first_byte) {

@@ -12,6 +12,10 @@ With --result-mode pdo or both the PLC reads the poses the way a PLC with a fixe
 after each result header it asks for object 0, 1, ... through RPDO2 (a request counter and the
 object index) and takes the answer from TPDO5..8 once both copies of the counter came back. In
 mode both the stream runs beside it and every answered pose must equal the stream's.
+
+--config-line adds configuration lines (repeatable): with `features = FILE` and
+`sim_printed_models = models/textured` the scenes hold printed cartons, which the firmware
+reports with the model ids after the tables' polyhedra; the counts are printed per model.
 """
 import argparse
 import json
@@ -136,7 +140,7 @@ class FirmwareEndToEndTest(unittest.TestCase):
             "node_id = %d" % NODE, "heartbeat_ms = 100", "sim_port = 0", "sim_seed = 7",
             "sim_scenes = 5", "sim_objects = 3", "budget_ms = 2000",
             "recognition = %s" % recognition, "sim_wait_for_client = true",
-            "result_mode = %s" % ARGS.result_mode, ""]))
+            "result_mode = %s" % ARGS.result_mode] + ARGS.config_line + [""]))
         try:
             time.sleep(0.2)
             if fw.proc.poll() is not None:
@@ -194,6 +198,7 @@ class FirmwareEndToEndTest(unittest.TestCase):
         latencies_ms, processing_ms = [], []
         position_errors, rotation_errors = [], []
         truth_objects = matched = false_positives = 0
+        truth_per_model, found_per_model, false_per_model = {}, {}, {}
         heartbeats = 0
         last_sequence = None
         for request_id in range(1, ARGS.triggers + 1):
@@ -263,6 +268,8 @@ class FirmwareEndToEndTest(unittest.TestCase):
             self.assertEqual(len(report["objects"]), count)
             truth = report.get("truth", [])
             truth_objects += len(truth)
+            for tr in truth:
+                truth_per_model[tr["model_id"]] = truth_per_model.get(tr["model_id"], 0) + 1
             used = set()
             for index, expected in enumerate(report["objects"]):
                 got = objects[index]
@@ -296,9 +303,11 @@ class FirmwareEndToEndTest(unittest.TestCase):
                 if best is None or best[1] > ARGS.max_position_error_mm or \
                         best[2] > ARGS.max_rotation_error_deg:
                     false_positives += 1
+                    false_per_model[model] = false_per_model.get(model, 0) + 1
                     continue
                 used.add(best[0])
                 matched += 1
+                found_per_model[model] = found_per_model.get(model, 0) + 1
                 position_errors.append(best[1])
                 rotation_errors.append(best[2])
 
@@ -312,6 +321,11 @@ class FirmwareEndToEndTest(unittest.TestCase):
               % (statistics.median(processing_ms), percentile(processing_ms, 99)))
         print("  objects: %d in the ground truth, %d found, %d not matching any (recall %.2f)"
               % (truth_objects, matched, false_positives, recall))
+        name = lambda m: models["names"][m] if 0 <= m < len(models["names"]) else str(m)  # noqa: E731
+        print("  per model (found / in the ground truth, not matching any): " + ", ".join(
+            "%s %d/%d %d" % (name(m), found_per_model.get(m, 0), truth_per_model.get(m, 0),
+                             false_per_model.get(m, 0))
+            for m in sorted(set(truth_per_model) | set(false_per_model))))
         if position_errors:
             print("  pose error of found objects: position median %.2f mm, max %.2f mm; "
                   "rotation median %.2f deg, max %.2f deg"
@@ -351,6 +365,8 @@ def main():
     parser.add_argument("--max-position-error-mm", type=float, default=5.0)
     parser.add_argument("--max-rotation-error-deg", type=float, default=3.0)
     parser.add_argument("--min-recall", type=float, default=0.8)
+    parser.add_argument("--config-line", action="append", default=[],
+                        help="a configuration line added to the simulator's file (repeatable)")
     ARGS, rest = parser.parse_known_args()
     unittest.main(argv=[sys.argv[0]] + rest, verbosity=2)
 

@@ -40,7 +40,7 @@ class PatternSource final : public hal::FrameSource {
 // One object per frame: model 0 at x = frame sequence mm; records the mask it was given.
 class FakeRecognition final : public Recognition {
  public:
-  Status Init(const StereoCalibration&, const TableView& table, uint32_t mask) override {
+  Status Init(const StereoCalibration&, const ModelSet& models, uint32_t mask) override {
     ++inits;
     this->mask = mask;
     return Status::Ok();
@@ -66,6 +66,23 @@ class FakeRecognition final : public Recognition {
   std::atomic<float> last_budget_ms{0};
   std::atomic<bool> fail_next{false};
 };
+
+// Receives at `plc` (10 ms polls, at most `polls`) until `assembler` completes a verified result
+// set, copied to *out; false if none completed.
+inline bool WaitResultSet(hal::SimCanEndpoint* plc, ResultAssembler* assembler, ResultSet* out,
+                          int polls) {
+  for (int i = 0; i < polls; ++i) {
+    hal::CanFrame f;
+    Result<bool> got = plc->Receive(&f, 10);
+    if (!got.ok() || !*got) continue;
+    Result<bool> done = assembler->Feed(f);
+    if (done.ok() && *done) {
+      *out = assembler->set();
+      return true;
+    }
+  }
+  return false;
+}
 
 class Rig {
  public:

@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "hal/sim/textured_model_files.hpp"
 #include "hal/sim/world/renderer.hpp"
 #include "tables/model_files.hpp"
 
@@ -24,6 +25,29 @@ Status SimWorld::BuildNow() {
                          kMaxSimScenes);
   }
   SH_RETURN_IF_ERROR(LoadModelFolder(config.models_dir, &models_));
+  n_plain_ = model_count();
+  printed_.clear();
+  if (config.printed_dir[0] != '\0') {
+    std::vector<std::string> names;
+    SH_RETURN_IF_ERROR(ModelFolderNames(config.printed_dir, &names));
+    for (const std::string& name : names) {
+      Result<TexturedModel> m =
+          LoadTexturedModelFile(std::string(config.printed_dir) + "/" + name + ".obj");
+      if (!m.ok()) return m.status();
+      if (!m->texturing.textured()) {
+        return Status::Error(StatusCode::kInvalidArgument, "%s/%s.obj has no printed face",
+                             config.printed_dir, name.c_str());
+      }
+      models_.push_back(m->model);
+      printed_.push_back(std::move(*m));
+    }
+    if (model_count() > kMaxWorldModels) {
+      return Status::Error(StatusCode::kOutOfRange, "more than %d models in the sim world",
+                           kMaxWorldModels);
+    }
+  }
+  prints_.clear();
+  for (const TexturedModel& t : printed_) prints_.push_back(PrintOf(t));
   ScenarioParams params;
   params.n_objects = config.objects;
   params.background = config.light_background ? Background::kLight : Background::kDark;
@@ -40,6 +64,11 @@ Status SimWorld::BuildNow() {
                                     static_cast<unsigned long long>(seed - 1));
     }
     scenes_[i] = *g;
+    for (SceneObject& o : scenes_[i].scene.objects) {
+      if (!is_printed(o.model_index)) continue;
+      o.albedo = 0.95f;  // the print sets the reflectance
+      o.print = &prints_[size_t(o.model_index - n_plain_)];
+    }
     const StereoCalibration& c0 = scenes_[0].calib;
     const StereoCalibration& ci = scenes_[i].calib;
     if (ci.left.width != c0.left.width || ci.left.height != c0.left.height ||

@@ -1,4 +1,5 @@
-// The simulator's world as the firmware sees it: reproducible scenes of the reference objects,
+// The simulator's world as the firmware sees it: reproducible scenes of the reference objects
+// (and, with a folder of printed models, of printed cartons drawn with their artwork),
 // rendered at boot (or at the first clear-fault that finds the model folder) into buffers owned
 // here and played to the SimCamera as frames (frame n shows scene n mod scene_count), with the
 // ground truth kept per scene. Rendering in advance keeps the trigger path free of allocation and
@@ -10,14 +11,21 @@
 #include <vector>
 
 #include "hal/sim/sim_camera_source.hpp"
+#include "hal/sim/world/printed_surface.hpp"
 #include "hal/sim/world/scene_generator.hpp"
+#include "tables/textured_model.hpp"
 
 namespace sh::render {
 
 inline constexpr int kMaxSimScenes = 64;
+// The plain models of a folder and the printed models of another (GenerateScene's limit).
+inline constexpr int kMaxWorldModels = 64;
 
 struct SimWorldConfig {
   const char* models_dir = "";
+  // Folder of printed models (OBJ + MTL + artwork, hal/sim/textured_model_files) placed in the
+  // scenes beside the plain ones, or "" for none. They follow the plain models in models().
+  const char* printed_dir = "";
   uint64_t seed = 1;
   int scenes = 6;
   int objects = 3;
@@ -58,8 +66,10 @@ class SimWorld final : public hal::FrameSource {
   }
   const GeneratedScene& scene(int i) const { return scenes_[i]; }
   // The models of the folder in its order (tables/model_files.hpp): scene objects index them.
+  // Then the printed models of printed_dir, in file-name order.
   const Model* models() const { return models_.data(); }
   int model_count() const { return int(models_.size()); }
+  bool is_printed(int model) const { return model >= n_plain_; }
   uint64_t seed() const { return config_.seed; }
 
  private:
@@ -67,6 +77,9 @@ class SimWorld final : public hal::FrameSource {
 
   SimWorldConfig config_;
   std::vector<Model> models_;
+  int n_plain_ = 0;
+  std::vector<TexturedModel> printed_;
+  std::vector<PrintedSurface> prints_;  // one per printed model, pointing into printed_
   std::unique_ptr<GeneratedScene[]> scenes_;
   int n_scenes_ = 0;
   int width_ = 0, height_ = 0;

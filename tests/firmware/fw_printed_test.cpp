@@ -1,0 +1,337 @@
+// Printed cartons through the firmware: a feature database loaded beside the hash tables (the
+// `features` key), the simulated world placing printed cartons drawn with their artwork, the
+// texture path in the board's recognition, and the cartons in the CAN result sets at the
+// simulator's truth with their model ids (after the tables' polyhedra); the model mask selects
+// them like any model; a damaged or missing database is a data fault (EMCY 0x6300) with the
+// heartbeat going on; and the per-frame path with cartons allocates nothing (this binary counts
+// every operator new).
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <Eigen/Geometry>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "firmware/pipeline_recognition.hpp"
+#include "firmware/truth_recognition.hpp"
+#include "hal/sim/textured_model_files.hpp"
+#include "recog/geometry/rigid_transform.hpp"
+#include "tables/feature_db_builder.hpp"
+#include "tests/support/aligned_blob.hpp"
+#include "tests/support/counting_allocator.hpp"
+#include "tests/support/firmware_doubles.hpp"
+
+namespace sh::testing {
+namespace {
+
+const std::string kModels = STEREOHASH_FW_SOURCE_MODELS_DIR;
+
+bool WriteFile(const std::string& path, const std::vector<uint8_t>& bytes) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (f == nullptr) return false;
+  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  return std::fclose(f) == 0 && ok;
+}
+
+bool CopyFile(const std::string& from, const std::string& to) {
+  std::FILE* in = std::fopen(from.c_str(), "rb");
+  if (in == nullptr) return false;
+  std::vector<uint8_t> bytes;
+  uint8_t buffer[4096];
+  size_t n;
+  while ((n = std::fread(buffer, 1, sizeof(buffer), in)) > 0)
+    bytes.insert(bytes.end(), buffer, buffer + n);
+  std::fclose(in);
+  return WriteFile(to, bytes);
+}
+
+// The four cartons of models/textured learnt into a feature database file, a damaged copy
+// (one flipped byte in the middle), and a folder of plain models holding the cube only, so that
+// every scene of five objects shows the cube and all four cartons.
+struct Files {
+  ~Files() { (void)std::system(("rm -rf " + dir).c_str()); }
+  std::string dir;
+  std::string features, damaged, plain_dir;
+  std::vector<uint8_t> blob;
+};
+
+const Files& TestFiles() {
+  static const std::unique_ptr<Files> files = [] {
+    auto f = std::make_unique<Files>();
+    char dir[] = "/tmp/stereohash_printed_XXXXXX";
+    EXPECT_NE(mkdtemp(dir), nullptr);
+    f->dir = dir;
+    std::vector<TexturedModel> printed;
+    for (const char* name : {"cereal", "pills", "tea", "tools"}) {
+      Result<TexturedModel> m = LoadTexturedModelFile(kModels + "/textured/" + name + ".obj");
+      EXPECT_TRUE(m.ok()) << m.status().message();
+      if (m.ok()) printed.push_back(std::move(*m));
+    }
+    Result<std::vector<uint8_t>> blob = BuildFeatureDb(printed, FeatureDbBuildOptions{});
+    EXPECT_TRUE(blob.ok()) << blob.status().message();
+    if (blob.ok()) f->blob = *blob;
+    f->features = f->dir + "/cartons.bin";
+    f->damaged = f->dir + "/damaged.bin";
+    EXPECT_TRUE(WriteFile(f->features, f->blob));
+    std::vector<uint8_t> damaged = f->blob;
+    if (!damaged.empty()) damaged[damaged.size() / 2] ^= 0x5A;
+    EXPECT_TRUE(WriteFile(f->damaged, damaged));
+    f->plain_dir = f->dir + "/plain";
+    EXPECT_EQ(mkdir(f->plain_dir.c_str(), 0700), 0);
+    EXPECT_TRUE(CopyFile(kModels + "/cube.obj", f->plain_dir + "/cube.obj"));
+    return f;
+  }();
+  return *files;
+}
+
+// The scene of each result set, by its sequence (the core reports a set after sending it).
+class SceneObserver final : public CoreObserver {
+ public:
+  explicit SceneObserver(const render::SimWorld* world) : world_(world) {}
+  void OnResult(const ResultSet& set, const hal::StereoFrame* frame) override {
+    if (frame == nullptr) return;
+    scene_ = world_->SceneOfFrame(frame->left_sequence);
+    sequence_ = set.sequence;
+    ++results_;
+  }
+  // The scene of the set with this sequence, waiting for the report (-1: none came).
+  int SceneOf(uint16_t sequence) const {
+    for (int i = 0; i < 5000; ++i) {
+      if (results_.load() > 0 && sequence_.load() == sequence) return scene_.load();
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return -1;
+  }
+
+ private:
+  const render::SimWorld* world_;
+  std::atomic<int> scene_{-1};
+  std::atomic<uint16_t> sequence_{0};
+  std::atomic<int> results_{0};
+};
+
+float AngleDeg(const ObjectPose& p, const RigidTransform& truth) {
+  const Eigen::Quaternionf q(
+      static_cast<float>(p.cam_q_model[0]), static_cast<float>(p.cam_q_model[1]),
+      static_cast<float>(p.cam_q_model[2]), static_cast<float>(p.cam_q_model[3]));
+  return RotationAngleDeg(q.normalized().toRotationMatrix().transpose() * truth.R);
+}
+
+float DistanceMm(const ObjectPose& p, const RigidTransform& truth) {
+  const Eigen::Vector3f t(static_cast<float>(p.cam_t_model_mm[0]),
+                          static_cast<float>(p.cam_t_model_mm[1]),
+                          static_cast<float>(p.cam_t_model_mm[2]));
+  return (t - truth.t_mm).norm();
+}
+
+// Cartons of one set against the truth of its scene (5 mm, 5 degrees, same model id).
+struct Score {
+  int truth = 0, found = 0, reported = 0, false_alarms = 0, polyhedra = 0;
+};
+
+void ScoreSet(const render::SimWorld& world, const int* ids, int scene, const ResultSet& set,
+              Score* score) {
+  const render::GeneratedScene& g = world.scene(scene);
+  for (int i = 0; i < set.object_count; ++i) {
+    const ObjectPose& p = set.objects[i];
+    bool printed = false, matches = false;
+    for (size_t k = 0; k < g.scene.objects.size(); ++k) {
+      const int model = g.scene.objects[k].model_index;
+      if (!world.is_printed(model) || ids[model] != p.model_id) continue;
+      printed = true;
+      matches |= DistanceMm(p, g.left_T_model[k]) < 5.0f && AngleDeg(p, g.left_T_model[k]) < 5.0f;
+    }
+    if (!printed && p.model_id < 6) {
+      ++score->polyhedra;
+      continue;
+    }
+    ++score->reported;
+    score->false_alarms += !matches;
+  }
+  for (size_t k = 0; k < g.scene.objects.size(); ++k) {
+    const int model = g.scene.objects[k].model_index;
+    if (!world.is_printed(model)) continue;
+    ++score->truth;
+    bool found = false;
+    for (int i = 0; i < set.object_count; ++i) {
+      const ObjectPose& p = set.objects[i];
+      found |= p.model_id == ids[model] && DistanceMm(p, g.left_T_model[k]) < 5.0f &&
+               AngleDeg(p, g.left_T_model[k]) < 5.0f;
+    }
+    score->found += found;
+  }
+}
+
+TEST(FirmwarePrinted, CartonsInResultSetsAtTheirTruthWithIdsAfterThePolyhedra) {
+  const Files& files = TestFiles();
+  ASSERT_FALSE(files.blob.empty());
+  static render::SimWorld world;
+  render::SimWorldConfig wc;
+  wc.models_dir = files.plain_dir.c_str();
+  wc.printed_dir = "models/textured";
+  wc.scenes = 3;
+  wc.objects = 5;
+  const Status built = world.Build(wc);
+  ASSERT_TRUE(built.ok()) << built.message();
+  ASSERT_EQ(world.model_count(), 5);
+
+  hal::SimCanBus bus;
+  hal::SimCanEndpoint* fw = *bus.AddEndpoint(hal::SimCanEndpointConfig{});
+  hal::SimCanEndpointConfig plc_config;
+  plc_config.name = "plc";
+  hal::SimCanEndpoint* plc = *bus.AddEndpoint(plc_config);
+  hal::SimGpio gpio;
+  hal::SimCamera camera(&world, hal::SimCameraConfig{});
+  FileDataSource data("builtin", "", &world.calibration());
+  data.SetFeaturesPath(files.features.c_str());
+  static Pipeline pipeline;
+  static texture::TextureRecognizer texture;
+  static texture::TextureResult texture_result;
+  PipelineRecognition recognition(&pipeline, PipelineRecognitionConfig{}, &texture,
+                                  &texture_result);
+  SceneObserver observer(&world);
+  CoreConfig config;
+  config.node_id = 1;
+  config.heartbeat_ms = 50;
+  config.capture_timeout_ms = 2000;
+  config.budget_ms = 10000;  // the largest: this test checks poses, not time
+  CoreDevices devices;
+  devices.can = fw;
+  devices.gpio = &gpio;
+  devices.camera = &camera;
+  devices.recognition = &recognition;
+  devices.data = &data;
+  devices.observer = &observer;
+  static FirmwareCore core;
+  ASSERT_TRUE(core.Start(config, devices).ok());
+  ASSERT_EQ(core.state(), FirmwareState::kReady);
+  // The default tables' six polyhedra, then the four cartons.
+  ASSERT_EQ(core.loaded_models(), 10u);
+  EXPECT_EQ(core.model_mask(), 0x3FFu);
+
+  // Model id of each world model from the same data (not through the data source: loading again
+  // would replace the firmware's mapping).
+  const Result<TableView> table = OpenDefaultTable();
+  const AlignedBlob blob(files.blob);
+  const Result<FeatureDbView> db = FeatureDbView::Open(blob.data, blob.size);
+  ASSERT_TRUE(table.ok() && db.ok());
+  const ModelSet models(&*table, nullptr, &*db);
+  int ids[render::kMaxWorldModels] = {};
+  MapWorldModelsToIds(world, models, ids);
+  for (int m = 0; m < world.model_count(); ++m) {
+    EXPECT_EQ(world.is_printed(m), ids[m] >= 6) << world.models()[m].name;
+    EXPECT_GE(ids[m], 0) << world.models()[m].name;
+  }
+
+  ResultAssembler assembler(1);
+  // Up to 120 s per set (qemu).
+  auto wait_set = [&](ResultSet* out) { return WaitResultSet(plc, &assembler, out, 12000); };
+  hal::CanFrame trigger;
+  trigger.id = kCobCommand + 1;
+  trigger.len = 3;
+  trigger.data[0] = 0x01;
+  auto run_trigger = [&](uint8_t request, ResultSet* set, int* scene) {
+    trigger.data[1] = request;
+    if (!plc->Send(trigger).ok() || !wait_set(set)) return false;
+    *scene = observer.SceneOf(set->sequence);
+    return *scene >= 0;
+  };
+  auto select_models = [&](uint32_t mask) {
+    hal::CanFrame select;
+    select.id = kCobCommand + 1;
+    select.len = 5;
+    select.data[0] = 0x02;
+    for (int k = 0; k < 4; ++k) select.data[1 + k] = static_cast<uint8_t>(mask >> (8 * k));
+    ASSERT_TRUE(plc->Send(select).ok());
+    for (int i = 0; i < 2000 && core.model_mask() != mask; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ASSERT_EQ(core.model_mask(), mask);
+  };
+
+  // Every scene once: the cartons at their truth, with their ids.
+  static ResultSet set;
+  Score all;
+  for (uint8_t i = 0; i < 3; ++i) {
+    int scene = -1;
+    ASSERT_TRUE(run_trigger(uint8_t(1 + i), &set, &scene));
+    EXPECT_EQ(set.status, ResultStatus::kOk);
+    ScoreSet(world, ids, scene, set, &all);
+  }
+  std::printf("cartons: %d of %d found within 5 mm / 5 deg, %d reported, %d false; %d polyhedra\n",
+              all.found, all.truth, all.reported, all.false_alarms, all.polyhedra);
+  EXPECT_EQ(all.truth, 12);  // four cartons in each of three scenes
+  EXPECT_GE(all.found, all.truth - 1);
+  EXPECT_EQ(all.false_alarms, 0);
+
+  // The mask without the cartons' bits: no carton reported; allocation-free from here on (every
+  // table and buffer exists after the first frames).
+  const uint64_t allocations_before = HeapAllocations();
+  select_models(0x3Fu);
+  Score polyhedra_only;
+  for (uint8_t i = 0; i < 3; ++i) {
+    int scene = -1;
+    ASSERT_TRUE(run_trigger(uint8_t(10 + i), &set, &scene));
+    for (int k = 0; k < set.object_count; ++k) EXPECT_LT(set.objects[k].model_id, 6);
+    ScoreSet(world, ids, scene, set, &polyhedra_only);
+  }
+  EXPECT_EQ(polyhedra_only.reported, 0);
+
+  // Only two cartons (ids 6 and 8: cereal and tea): only they are reported.
+  select_models((1u << 6) | (1u << 8));
+  Score two;
+  for (uint8_t i = 0; i < 3; ++i) {
+    int scene = -1;
+    ASSERT_TRUE(run_trigger(uint8_t(20 + i), &set, &scene));
+    for (int k = 0; k < set.object_count; ++k) {
+      EXPECT_TRUE(set.objects[k].model_id == 6 || set.objects[k].model_id == 8)
+          << int(set.objects[k].model_id);
+    }
+    ScoreSet(world, ids, scene, set, &two);
+  }
+  EXPECT_GE(two.found, 5);  // of the six cartons of these two models in the three scenes
+  EXPECT_EQ(two.false_alarms, 0);
+  const uint64_t allocations = HeapAllocations() - allocations_before;
+  core.Stop();
+  EXPECT_EQ(allocations, 0u) << "heap allocations during 6 triggers with printed models";
+}
+
+TEST(FirmwarePrinted, DamagedOrMissingFeatureDatabaseIsADataFaultUntilReplaced) {
+  const Files& files = TestFiles();
+  ASSERT_FALSE(files.blob.empty());
+  for (const std::string& path : {files.damaged, files.dir + "/missing.bin"}) {
+    // The file the key names, damaged (or absent) at boot, then replaced by a good one.
+    const std::string configured = files.dir + "/configured.bin";
+    std::remove(configured.c_str());
+    if (path == files.damaged) ASSERT_TRUE(CopyFile(path, configured));
+    Rig rig;
+    rig.data->SetFeaturesPath(configured.c_str());
+    rig.Start();
+    std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kDataSet));
+    ASSERT_TRUE(e) << path;
+    EXPECT_EQ(e->detail, kDetailFeatures);
+    EXPECT_EQ(rig.core.state(), FirmwareState::kFault);
+    EXPECT_EQ(rig.recognition.inits.load(), 0);
+    EXPECT_TRUE(rig.SeeHeartbeats(2));
+
+    ASSERT_TRUE(WriteFile(configured, files.blob));
+    rig.ClearFault();
+    std::optional<CommandAck> ack = rig.WaitAck(0x04);
+    ASSERT_TRUE(ack);
+    EXPECT_EQ(ack->status, 0);
+    EXPECT_TRUE(rig.WaitState(FirmwareState::kReady));
+    EXPECT_EQ(rig.recognition.inits.load(), 1);
+    EXPECT_EQ(rig.core.loaded_models(), 10u);
+    rig.Trigger(7);
+    EXPECT_TRUE(rig.WaitSet());
+  }
+}
+
+}  // namespace
+}  // namespace sh::testing
