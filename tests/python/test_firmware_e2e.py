@@ -13,9 +13,11 @@ after each result header it asks for object 0, 1, ... through RPDO2 (a request c
 object index) and takes the answer from TPDO5..8 once both copies of the counter came back. In
 mode both the stream runs beside it and every answered pose must equal the stream's.
 
---config-line adds configuration lines (repeatable): with `features = FILE` and
-`sim_printed_models = models/textured` the scenes hold printed cartons, which the firmware
-reports with the model ids after the tables' polyhedra; the counts are printed per model.
+With --printed STEREOHASH (the tools program) the scenes also hold the printed cartons of
+models/textured: the program learns their feature database (`stereohash tables build`), the
+firmware maps it (`features`) and reports the cartons with the model ids after the tables'
+polyhedra, and every carton of the ground truth must be found (--min-printed-recall). Counts
+are printed per model. --config-line adds configuration lines (repeatable).
 """
 import argparse
 import json
@@ -137,10 +139,13 @@ class FirmwareEndToEndTest(unittest.TestCase):
     def test_triggers_over_socketcand(self):
         recognition = ARGS.recognition
         fw = Firmware(ARGS.firmware, "\n".join([
-            "node_id = %d" % NODE, "heartbeat_ms = 100", "sim_port = 0", "sim_seed = 7",
-            "sim_scenes = 5", "sim_objects = 3", "budget_ms = 2000",
+            "node_id = %d" % NODE, "heartbeat_ms = 100", "sim_port = 0",
+            "sim_seed = %d" % ARGS.seed,
+            "sim_scenes = %d" % ARGS.scenes, "sim_objects = %d" % ARGS.objects,
+            "budget_ms = 2000",
             "recognition = %s" % recognition, "sim_wait_for_client = true",
-            "result_mode = %s" % ARGS.result_mode] + ARGS.config_line + [""]))
+            "result_mode = %s" % ARGS.result_mode] + self.printed_lines() +
+            ARGS.config_line + [""]))
         try:
             time.sleep(0.2)
             if fw.proc.poll() is not None:
@@ -154,6 +159,20 @@ class FirmwareEndToEndTest(unittest.TestCase):
             fw.stop()
 
     counter = 0
+
+    def printed_lines(self):
+        """Configuration lines of the printed cartons (--printed), their database learnt here."""
+        if not ARGS.printed:
+            return []
+        root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+        self.features_dir = tempfile.TemporaryDirectory()
+        self.addCleanup(self.features_dir.cleanup)
+        features = os.path.join(self.features_dir.name, "cartons.bin")
+        models = os.path.join(root, "models", "textured")
+        self.printed_names = {f[:-4] for f in os.listdir(models) if f.endswith(".obj")}
+        subprocess.run([ARGS.printed, "tables", "build", "--models", models, "--out", features],
+                       check=True, stdout=subprocess.DEVNULL)
+        return ["features = %s" % features, "sim_printed_models = %s" % models]
 
     def request_object(self, plc, sequence, count, index):
         """The PDO handshake for one object: RPDO2 out, TPDO5..8 back; fields as RO_* names."""
@@ -351,6 +370,15 @@ class FirmwareEndToEndTest(unittest.TestCase):
         self.assertGreater(heartbeats, 0)
         self.assertEqual(false_positives, 0, "reported objects with no ground-truth partner")
         self.assertGreaterEqual(recall, ARGS.min_recall)
+        if ARGS.printed:
+            printed = [m for m, n in enumerate(models["names"]) if n in self.printed_names]
+            truth_printed = sum(truth_per_model[m] for m in printed)
+            found_printed = sum(found_per_model.get(m, 0) for m in printed)
+            print("  printed cartons: %d of %d found" % (found_printed, truth_printed))
+            self.assertGreater(truth_printed, 0, "no carton in the scenes")
+            self.assertGreaterEqual(found_printed, ARGS.min_printed_recall * truth_printed)
+            self.assertEqual(sum(false_per_model.get(m, 0) for m in printed), 0,
+                             "cartons reported where the truth has none")
 
 
 def main():
@@ -365,6 +393,12 @@ def main():
     parser.add_argument("--max-position-error-mm", type=float, default=5.0)
     parser.add_argument("--max-rotation-error-deg", type=float, default=3.0)
     parser.add_argument("--min-recall", type=float, default=0.8)
+    parser.add_argument("--scenes", type=int, default=5, help="sim_scenes")
+    parser.add_argument("--seed", type=int, default=7, help="sim_seed")
+    parser.add_argument("--objects", type=int, default=3, help="sim_objects")
+    parser.add_argument("--printed", help="path of the stereohash tools program: add the "
+                        "printed cartons of models/textured")
+    parser.add_argument("--min-printed-recall", type=float, default=1.0)
     parser.add_argument("--config-line", action="append", default=[],
                         help="a configuration line added to the simulator's file (repeatable)")
     ARGS, rest = parser.parse_known_args()
