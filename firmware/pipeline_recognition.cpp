@@ -80,17 +80,24 @@ void PipelineRecognition::AddPrinted(protocol::ResultSet* set, size_t n) const {
 
 Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_ms,
                                     protocol::ResultSet* set) {
-  SH_RETURN_IF_ERROR(pipeline_->Process(frame.left, frame.right, budget_ms, &result_));
-  set->status = result_.recognition.budget_exhausted ? protocol::ResultStatus::kTimeBudgetHit
-                                                     : protocol::ResultStatus::kOk;
-  // The printed models, unless none is selected or the budget is already spent.
+  // The printed models first, when the mask selects one: the texture path is bounded and not
+  // interruptible, the polyhedral search is the anytime part and gets what is left of the budget.
   const uint32_t printed_bits = models_.printed_count() >= 32
                                     ? ~0u
                                     : ((1u << models_.printed_count()) - 1u)
                                           << models_.printed_offset();
-  const bool printed =
-      printed_ && (model_mask_ & printed_bits) != 0 && !result_.recognition.budget_exhausted;
-  if (printed) SH_RETURN_IF_ERROR(texture_->Process(frame.left, frame.right, texture_result_));
+  const bool printed = printed_ && (model_mask_ & printed_bits) != 0;
+  float polyhedra_budget_ms = budget_ms;
+  if (printed) {
+    const int64_t start_ns = MonotonicNs();
+    SH_RETURN_IF_ERROR(texture_->Process(frame.left, frame.right, texture_result_));
+    // Nanoseconds to milliseconds. At least 1 ms remains: a budget <= 0 would mean no limit.
+    const float spent_ms = static_cast<float>(MonotonicNs() - start_ns) * 1e-6f;
+    if (budget_ms > 0) polyhedra_budget_ms = std::max(budget_ms - spent_ms, 1.0f);
+  }
+  SH_RETURN_IF_ERROR(pipeline_->Process(frame.left, frame.right, polyhedra_budget_ms, &result_));
+  set->status = result_.recognition.budget_exhausted ? protocol::ResultStatus::kTimeBudgetHit
+                                                     : protocol::ResultStatus::kOk;
   size_t n = 0;
   for (const RecognizedObject& o : result_.objects) {
     if (n == protocol::kMaxResultObjects) break;

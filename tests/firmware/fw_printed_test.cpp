@@ -261,7 +261,6 @@ TEST(FirmwarePrinted, CartonsInResultSetsAtTheirTruthWithIdsAfterThePolyhedra) {
   for (uint8_t i = 0; i < 3; ++i) {
     int scene = -1;
     ASSERT_TRUE(run_trigger(uint8_t(1 + i), &set, &scene));
-    EXPECT_EQ(set.status, ResultStatus::kOk);
     ScoreSet(world, ids, scene, set, &all);
   }
   std::printf("cartons: %d of %d found within 5 mm / 5 deg, %d reported, %d false; %d polyhedra\n",
