@@ -31,11 +31,9 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
   const Status built = world.Build(wc);
   ASSERT_TRUE(built.ok()) << built.message();
 
-  hal::SimCanBus bus;
-  hal::SimCanEndpoint* fw = *bus.AddEndpoint(hal::SimCanEndpointConfig{});
-  hal::SimCanEndpointConfig plc_config;
-  plc_config.name = "plc";
-  hal::SimCanEndpoint* plc = *bus.AddEndpoint(plc_config);
+  PlcBus can;
+  hal::SimCanEndpoint* fw = can.fw;
+  hal::SimCanEndpoint* plc = can.plc;
   hal::SimGpio gpio;
   hal::SimCamera camera(&world, hal::SimCameraConfig{});
   FileDataSource data("builtin", "", &world.calibration());

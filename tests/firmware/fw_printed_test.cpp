@@ -181,11 +181,9 @@ TEST(FirmwarePrinted, CartonsInResultSetsAtTheirTruthWithIdsAfterThePolyhedra) {
   ASSERT_TRUE(built.ok()) << built.message();
   ASSERT_EQ(world.model_count(), 5);
 
-  hal::SimCanBus bus;
-  hal::SimCanEndpoint* fw = *bus.AddEndpoint(hal::SimCanEndpointConfig{});
-  hal::SimCanEndpointConfig plc_config;
-  plc_config.name = "plc";
-  hal::SimCanEndpoint* plc = *bus.AddEndpoint(plc_config);
+  PlcBus can;
+  hal::SimCanEndpoint* fw = can.fw;
+  hal::SimCanEndpoint* plc = can.plc;
   hal::SimGpio gpio;
   hal::SimCamera camera(&world, hal::SimCameraConfig{});
   FileDataSource data("builtin", "", &world.calibration());

@@ -67,6 +67,19 @@ class FakeRecognition final : public Recognition {
   std::atomic<bool> fail_next{false};
 };
 
+// A simulated bus with the firmware's endpoint (no filter, as on the board) and a PLC's.
+struct PlcBus {
+  PlcBus() {
+    fw = *bus.AddEndpoint(hal::SimCanEndpointConfig{});
+    hal::SimCanEndpointConfig plc_config;
+    plc_config.name = "plc";
+    plc = *bus.AddEndpoint(plc_config);
+  }
+  hal::SimCanBus bus;
+  hal::SimCanEndpoint* fw = nullptr;
+  hal::SimCanEndpoint* plc = nullptr;
+};
+
 // Receives at `plc` (10 ms polls, at most `polls`) until `assembler` completes a verified result
 // set, copied to *out; false if none completed.
 inline bool WaitResultSet(hal::SimCanEndpoint* plc, ResultAssembler* assembler, ResultSet* out,
