@@ -254,6 +254,7 @@ Status RenderScenes(int n, uint64_t seed, const render::ScenarioParams& camera,
   models.reserve(printed.size());
   for (const TexturedModel& t : printed) models.push_back(t.model);
   std::vector<render::PrintedSurface> prints;
+  prints.reserve(printed.size());
   for (const TexturedModel& t : printed) prints.push_back(render::PrintOf(t));
   const struct {
     render::Background bg;

@@ -47,6 +47,7 @@ Status SimWorld::BuildNow() {
     }
   }
   prints_.clear();
+  prints_.reserve(printed_.size());
   for (const TexturedModel& t : printed_) prints_.push_back(PrintOf(t));
   ScenarioParams params;
   params.n_objects = config.objects;
