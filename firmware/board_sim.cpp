@@ -114,12 +114,16 @@ class Reporter final : public CoreObserver {
           p.cam_q_model[3]);
     }
     std::printf("]");
+    // The frame number of the camera in use (the right one's alone when the left has failed).
+    const uint32_t frame_number = frame == nullptr              ? 0
+                                  : frame->left.data != nullptr ? frame->left_sequence
+                                                                : frame->right_sequence;
     if (frame != nullptr) {
-      std::printf(", \"frame\": %u, \"pair_index\": %llu", frame->left_sequence,
+      std::printf(", \"frame\": %u, \"pair_index\": %llu", frame_number,
                   static_cast<unsigned long long>(frame->pair_index));
     }
     if (frame != nullptr && world_ != nullptr) {
-      const int scene = world_->SceneOfFrame(frame->left_sequence);
+      const int scene = world_->SceneOfFrame(frame_number);
       const render::GeneratedScene& g = world_->scene(scene);
       std::printf(", \"scene\": %d, \"truth\": [", scene);
       for (size_t i = 0; i < g.scene.objects.size(); ++i) {
@@ -237,7 +241,10 @@ class SimBoard final : public Board {
     const Status built = world_.EnsureBuilt();
     if (!built.ok()) std::fprintf(stderr, "%s: simulator scenes: %s\n", program(), built.message());
     hal::SimCameraConfig cc;
-    if (config.sim_camera_fault == SimCameraFault::kRightSilent) cc.right_stop_after = 3;
+    if (config.sim_camera_fault == SimCameraFault::kRightSilent) {
+      cc.right_stop_after = 3;
+      cc.fault_starts = 1;  // back once the firmware restarts the camera (clear-fault)
+    }
     if (config.sim_camera_fault == SimCameraFault::kDropRight) cc.drop_right_every = 3;
     camera_ = std::make_unique<hal::SimCamera>(&world_, cc);
     devices->camera = camera_.get();

@@ -482,7 +482,7 @@ Status EncodeResultSet(const ResultSet& set, uint8_t node_id, Vector<CanFrame>& 
     return Status::Error(StatusCode::kOutOfRange, "result set has %u objects, at most %zu",
                          set.object_count, kMaxResultObjects);
   }
-  if (static_cast<uint8_t>(set.status) > static_cast<uint8_t>(ResultStatus::kInternalError)) {
+  if (static_cast<uint8_t>(set.status) > kMaxResultStatus) {
     return Status::Error(StatusCode::kOutOfRange, "result status %u unknown",
                          static_cast<unsigned>(set.status));
   }
@@ -549,7 +549,7 @@ Result<bool> ResultAssembler::Feed(const CanFrame& frame) {
       return Status::Error(StatusCode::kInvalidArgument, "result header has %u bytes, expected 8",
                            frame.len);
     }
-    if (frame.data[2] > kMaxResultObjects || frame.data[3] > 3) {
+    if (frame.data[2] > kMaxResultObjects || frame.data[3] > kMaxResultStatus) {
       return Status::Error(StatusCode::kInvalidArgument,
                            "result header: %u objects / status %u out of range", frame.data[2],
                            frame.data[3]);

@@ -171,7 +171,11 @@ enum class ResultStatus : uint8_t {
   kTimeBudgetHit = 1,  // search stopped at the time budget; objects so far are valid
   kImageError = 2,     // no usable image pair (camera timeout, exposure); no objects
   kInternalError = 3,  // recognition failed; see the EMCY that accompanies it
+  // One camera failed: the objects come from the other camera alone (monocular recognition,
+  // poses still in the left camera frame). Says nothing about the time budget.
+  kMonocular = 4,
 };
+inline constexpr uint8_t kMaxResultStatus = static_cast<uint8_t>(ResultStatus::kMonocular);
 
 struct ObjectPose {
   uint8_t model_id = 0;                  // 0..kMaxModelId

@@ -166,8 +166,8 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
        "print, e.g. models/textured; empty = none")                                                \
   INT(sim_scenes, int, 6, 1, 64, "", "scenes rendered at boot; frame n shows scene n mod count")   \
   CHOICE(sim_camera_fault, SimCameraFault, SimCameraFault::kNone, "none|right_silent|drop_right",  \
-         "right_silent: the right camera stops after 3 frames; drop_right: every 3rd right frame " \
-         "is lost")                                                                                \
+         "right_silent: the right camera stops after 3 frames until the firmware restarts it "   \
+         "(clear-fault); drop_right: every 3rd right frame is lost")                               \
   BOOL(sim_corrupt_tables, false, "boot with a damaged copy of the tables")                        \
   BOOL(sim_wait_for_client, false,                                                                 \
        "boot only once a socketcand client is in raw mode (to see the boot-up)")                   \

@@ -405,7 +405,10 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
   hal::StereoFrame frame;
   if (dev_.gpio != nullptr) (void)dev_.gpio->SetOutput(hal::GpioOutput::kStrobe, true);
   const int64_t strobe_on = MonotonicNs();
-  const Status captured = dev_.camera->Capture(&frame, config_.capture_timeout_ms);
+  Status captured = dev_.camera->Capture(&frame, config_.capture_timeout_ms);
+  if (!captured.ok() && FallBackToOneCamera(captured)) {
+    captured = dev_.camera->Capture(&frame, config_.capture_timeout_ms);  // from the working side
+  }
   if (dev_.gpio != nullptr) {
     SleepNs(int64_t{config_.strobe_min_us} * 1000 - (MonotonicNs() - strobe_on));
     (void)dev_.gpio->SetOutput(hal::GpioOutput::kStrobe, false);
@@ -443,8 +446,18 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
       Log("model mask 0x%x: %s", mask, s.message());
     }
   }
-  const Status processed =
-      dev_.recognition->Process(frame, static_cast<float>(budget_ms_.load()), &set);
+  const hal::CaptureMode mode = capture_mode_.load();
+  const float budget_ms = static_cast<float>(budget_ms_.load());
+  Status processed;
+  if (mode == hal::CaptureMode::kStereo) {
+    processed = dev_.recognition->Process(frame, budget_ms, &set);
+  } else {
+    const bool left = mode == hal::CaptureMode::kLeftOnly;
+    processed =
+        dev_.recognition->ProcessMonocular(left ? hal::StereoSide::kLeft : hal::StereoSide::kRight,
+                                           left ? frame.left : frame.right, budget_ms, &set);
+    set.status = ResultStatus::kMonocular;
+  }
   if (!processed.ok()) {
     ++counters_.recognition_errors;
     Log("recognition: %s", processed.message());
@@ -460,7 +473,10 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
   UpdateState();
   PublishResult(&set, &frame);
   // A copy for the recorder's writer thread (no heap, never waits); a full ring drops the pair.
-  if (dev_.recorder != nullptr) (void)dev_.recorder->Submit(frame, set);
+  // Recordings are stereo pairs: nothing is recorded while on one camera.
+  if (dev_.recorder != nullptr && mode == hal::CaptureMode::kStereo) {
+    (void)dev_.recorder->Submit(frame, set);
+  }
   if (!processed.ok()) {
     SendEmcy(EmcyCode::kSoftware, static_cast<uint32_t>(processed.code()) << 16);
   }
@@ -509,15 +525,79 @@ void FirmwareCore::PublishResult(ResultSet* set, const hal::StereoFrame* frame) 
   if (dev_.observer != nullptr) dev_.observer->OnResult(*set, frame);
 }
 
+bool FirmwareCore::RestartCamera(hal::CaptureMode mode) {
+  if (camera_started_) (void)dev_.camera->Stop();
+  camera_started_ = false;
+  Status s = dev_.camera->SetCaptureMode(mode);
+  if (s.ok()) s = dev_.camera->Start();
+  if (!s.ok()) {
+    Log("camera restart (%s): %s", hal::CaptureModeName(mode), s.message());
+    return false;
+  }
+  camera_started_ = true;
+  capture_mode_ = mode;
+  return true;
+}
+
+bool FirmwareCore::FallBackToOneCamera(const Status& failure) {
+  if (capture_mode_.load() != hal::CaptureMode::kStereo || !dev_.recognition->monocular() ||
+      failure.code() != StatusCode::kDeadlineExceeded) {
+    return false;
+  }
+  const Result<hal::StereoSide> silent = dev_.camera->SilentSide();
+  if (!silent.ok()) return false;
+  const uint64_t timeouts = dev_.camera->stats().timeouts;
+  const bool left_failed = *silent == hal::StereoSide::kLeft;
+  const hal::CaptureMode working =
+      left_failed ? hal::CaptureMode::kRightOnly : hal::CaptureMode::kLeftOnly;
+  if (!RestartCamera(working)) {
+    // The other camera does not start alone either: stereo as before, and the capture fault.
+    (void)RestartCamera(hal::CaptureMode::kStereo);
+    return false;
+  }
+  Log("%s; continuing with the %s camera alone (monocular results)", failure.message(),
+      left_failed ? "right" : "left");
+  // A warning, not a fault: triggers are answered, each set with the monocular status.
+  SendEmcyFrame(canopen_.Raise(
+      kWarningOneCamera, static_cast<uint16_t>(EmcyCode::kSensor),
+      kSensorOneCamera | (left_failed ? 0u : 1u) << 16 | Saturate(timeouts, 0xFFFF)));
+  return true;
+}
+
+bool FirmwareCore::TryStereoAgain() {
+  const hal::CaptureMode one = capture_mode_.load();
+  if (RestartCamera(hal::CaptureMode::kStereo)) {
+    // The failed camera is back when a pair arrives.
+    hal::StereoFrame probe;
+    const Status s = dev_.camera->Capture(&probe, config_.capture_timeout_ms);
+    dev_.camera->Release();
+    if (s.ok()) return true;
+    Log("stereo again: %s", s.message());
+  }
+  (void)RestartCamera(one);
+  return false;
+}
+
 void FirmwareCore::ClearFault(const CanFrame& frame) {
   const uint32_t bits = faults_.load();
   const uint32_t before = bits;
-  if (bits == 0) {
+  const bool one_camera = capture_mode_.load() != hal::CaptureMode::kStereo;
+  if (bits == 0 && !one_camera) {
     SendAck(frame, Status::Ok(), 0);
     return;
   }
   if (bits & (kFaultTables | kFaultCalibration | kFaultRecognition)) LoadData();
-  if (bits & kFaultCamera) {
+  bool still_one_camera = false;
+  if (one_camera) {
+    faults_ &= ~kFaultCamera;
+    if (TryStereoAgain()) {
+      Log("both cameras deliver again: stereo results");
+    } else if (camera_started_) {
+      still_one_camera = true;
+    } else {
+      RaiseFault(kFaultCamera, EmcyCode::kSensor, kSensorStartFailed);
+    }
+  } else if (bits & kFaultCamera) {
     if (camera_started_) (void)dev_.camera->Stop();
     camera_started_ = false;
     faults_ &= ~kFaultCamera;
@@ -535,14 +615,15 @@ void FirmwareCore::ClearFault(const CanFrame& frame) {
   }
   faults_ &= ~kFaultCanTxDropped;
   UpdateState();
-  const uint32_t cleared = before & ~faults_.load();
-  if (faults_.load() == 0) {
+  uint32_t cleared = before & ~faults_.load();
+  if (one_camera && !still_one_camera) cleared |= kWarningOneCamera;
+  if (faults_.load() == 0 && !still_one_camera) {
     SendAck(frame, Status::Ok(), 0);
     Log("fault cleared");
   } else {
     SendAck(frame,
-            Status::Error(StatusCode::kFailedPrecondition, "fault persists (causes 0x%x)",
-                          faults_.load()),
+            Status::Error(StatusCode::kFailedPrecondition, "fault persists (causes 0x%x%s)",
+                          faults_.load(), still_one_camera ? ", one camera silent" : ""),
             0);
   }
   // Error reset (EMCY 0x0000) with the register of what remains: 0 when all cleared.

@@ -75,6 +75,9 @@ inline constexpr uint32_t kDetailFeatures = 5;  // feature database (`features`)
 inline constexpr uint32_t kSensorCaptureFailed = 1u << 24;   // | StatusCode << 16 | timeouts
 inline constexpr uint32_t kSensorUnpairedFrames = 2u << 24;  // | unpaired drops in this capture
 inline constexpr uint32_t kSensorStartFailed = 3u << 24;     // | StatusCode << 16
+// One camera silent, recognition continues from the other: | failed side (0 left, 1 right)
+// << 16 | timeouts.
+inline constexpr uint32_t kSensorOneCamera = 4u << 24;
 
 // Fault causes (bits); the fault state holds while any is set. Each is also an error condition
 // of the CANopen error register, as are the warnings, which leave the state alone.
@@ -89,6 +92,7 @@ enum FaultBits : uint32_t {
 enum WarningBits : uint32_t {
   kWarningCanErrorPassive = 1u << 16,
   kWarningRecording = 1u << 17,  // record_dir: pairs cannot be written (full disk)
+  kWarningOneCamera = 1u << 18,  // one camera failed: monocular results from the other
 };
 
 struct CoreConfig {
@@ -164,6 +168,8 @@ class FirmwareCore final : public RecorderObserver {
   FirmwareState state() const { return state_.load(); }
   protocol::NmtState nmt_state() const { return nmt_.load(); }
   uint32_t fault_bits() const { return faults_.load(); }
+  // The camera results come from while one has failed (monocular fallback), or kStereo.
+  hal::CaptureMode capture_mode() const { return capture_mode_.load(); }
   CoreCounters counters() const;
   uint16_t budget_ms() const { return budget_ms_.load(); }
   uint16_t free_run_dhz() const { return free_run_dhz_.load(); }
@@ -202,6 +208,15 @@ class FirmwareCore final : public RecorderObserver {
   void HandleFrame(const hal::CanFrame& frame);
   void HandleCommand(const hal::CanFrame& frame);
   void ClearFault(const hal::CanFrame& frame);
+  // After a failed stereo capture: when one camera alone is silent and recognition can work
+  // from one image, restarts the camera on the other side alone, raises the one-camera warning
+  // (EMCY 0x7300) and returns true.
+  bool FallBackToOneCamera(const Status& failure);
+  // Restarts the camera in `mode`; false (logged) when it does not start.
+  bool RestartCamera(hal::CaptureMode mode);
+  // Clear-fault while on one camera: back to stereo when a stereo pair arrives, else back to the
+  // one camera. True when stereo again.
+  bool TryStereoAgain();
 
   // A fault or warning condition becomes active: its EMCY with the error register.
   void RaiseFault(uint32_t bit, protocol::EmcyCode code, uint32_t detail);
@@ -242,6 +257,7 @@ class FirmwareCore final : public RecorderObserver {
   std::atomic<uint32_t> model_mask_{0};
   std::atomic<uint32_t> applied_mask_{0};  // worker-side copy given to the recognition
   std::atomic<bool> camera_started_{false};
+  std::atomic<hal::CaptureMode> capture_mode_{hal::CaptureMode::kStereo};
   size_t model_count_ = 0;
   // The model data of the last load (worker thread): recognition and observers see them through
   // models_ until the next load.

@@ -21,6 +21,7 @@
 #include "recog/base/crc32.hpp"
 #include "recog/camera/handeye_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
+#include "recog/mono/mono_pipeline.hpp"
 
 namespace sh::fw {
 namespace {
@@ -249,6 +250,8 @@ PipelineRecognitionConfig PipelineSettings(const FwConfig& config, const TablePo
   // pose only. The simulator's scenes tilt the rig differently, so scene 0's table bounds the
   // volume but is not every scene's support plane.
   pc.table_known = table.configured;
+  // One camera needs the table for millimetre poses: any known pose, the rendered rig's too.
+  pc.mono_table_known = table.known;
   return pc;
 }
 
@@ -345,9 +348,13 @@ int FirmwareMain(int argc, char** argv, Board* board) {
       texture = std::make_unique<texture::TextureRecognizer>();
       texture_result = std::make_unique<texture::TextureResult>();
     }
+    // The one-camera fallback when a camera fails (4.8 MiB, static as well).
+    static MonoPipeline mono;
+    static MonoResult mono_result;
     static std::unique_ptr<PipelineRecognition> pipeline_recognition;
     pipeline_recognition = std::make_unique<PipelineRecognition>(
-        &pipeline, PipelineSettings(config, *table), texture.get(), texture_result.get());
+        &pipeline, PipelineSettings(config, *table), texture.get(), texture_result.get(), &mono,
+        &mono_result);
     recognition = pipeline_recognition.get();
   } else {
     recognition = board->OtherRecognition(config);

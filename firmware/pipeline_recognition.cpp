@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "firmware/firmware_core.hpp"
+#include "tables/aspect_file.hpp"
 
 namespace sh::fw {
 
@@ -37,7 +38,25 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const ModelSet&
   config.recognizer.model_mask = model_mask;
   const TableView table = models.hash() != nullptr ? *models.hash() : TableView();
   SH_RETURN_IF_ERROR(pipeline_->Init(calib, table, config, &MonotonicNs));
-  if (models.printed() == nullptr) return Status::Ok();
+  if (models.printed() != nullptr) SH_RETURN_IF_ERROR(InitPrinted(calib, models));
+  if (mono_ == nullptr) return Status::Ok();
+  // The monocular fallback: the linked-in aspect table, its models found in the stereo tables by
+  // name (the tables may come from a file with other models), set up for the left camera now so
+  // that bad data shows at boot.
+  const Result<AspectTableView> aspects = OpenDefaultAspectTable();
+  if (!aspects.ok()) {
+    return Status::Error(aspects.status().code(), "aspect table: %s", aspects.status().message());
+  }
+  aspects_ = *aspects;
+  for (uint32_t m = 0; m < aspects_.model_count() && m < kMaxAspectModels; ++m) {
+    table_id_of_aspect_model_[m] =
+        models.hash() != nullptr ? table.FindModel(aspects_.model(m).name) : -1;
+  }
+  calib_ = calib;
+  return InitMono(0);
+}
+
+Status PipelineRecognition::InitPrinted(const StereoCalibration& calib, const ModelSet& models) {
   if (texture_ == nullptr || texture_result_ == nullptr) {
     return Status::Error(StatusCode::kFailedPrecondition,
                          "printed models loaded but no texture recogniser set up");
@@ -50,6 +69,42 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const ModelSet&
                                 texture::ParallelOn(pipeline_->pool()))
                          .WithContext("texture path"));
   printed_ = true;
+  return Status::Ok();
+}
+
+Status PipelineRecognition::InitMono(int camera) {
+  MonoPipelineConfig config = config_.automatic          ? MonoPipelineConfig::Automatic()
+                              : config_.light_background ? MonoPipelineConfig::LightBackground()
+                                                         : MonoPipelineConfig::DarkBackground();
+  const RigidTransform* left_T_table = nullptr;
+  if (config_.mono_table_known) {
+    left_T_table = config_.left_T_table_at_init != nullptr ? config_.left_T_table_at_init
+                                                           : &config_.left_T_table;
+  }
+  const Status s = mono_->Init(calib_, camera, aspects_, left_T_table, config, &MonotonicNs);
+  if (!s.ok()) return Status::Error(s.code(), "monocular fallback: %s", s.message());
+  return Status::Ok();
+}
+
+Status PipelineRecognition::ProcessMonocular(hal::StereoSide side, ConstGrayView image,
+                                             float budget_ms, protocol::ResultSet* set) {
+  if (mono_ == nullptr || mono_result_ == nullptr) {
+    return Status::Error(StatusCode::kFailedPrecondition, "no monocular pipeline");
+  }
+  const int camera = side == hal::StereoSide::kLeft ? 0 : 1;
+  if (!mono_->initialised() || mono_->camera() != camera) SH_RETURN_IF_ERROR(InitMono(camera));
+  // The stereo pipeline is idle while one camera is out: its workspace of that camera is free.
+  SH_RETURN_IF_ERROR(mono_->Process(image, budget_ms, pipeline_->workspace(camera), mono_result_));
+  size_t n = 0;
+  for (const RecognizedObject& o : mono_result_->objects) {
+    if (n == protocol::kMaxResultObjects) break;
+    const int id = o.model < kMaxAspectModels ? table_id_of_aspect_model_[o.model] : -1;
+    if (id < 0 || id > 31 || (model_mask_ & (1u << id)) == 0) continue;
+    const float score = std::clamp(o.verify_score[0], 0.0f, 1.0f);  // edge samples confirmed
+    set->objects[n++] = protocol::MakeObjectPose(o.cam_T_model, static_cast<uint8_t>(id),
+                                                 static_cast<uint8_t>(o.instance), score);
+  }
+  set->object_count = static_cast<uint8_t>(n);
   return Status::Ok();
 }
 

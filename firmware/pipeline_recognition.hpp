@@ -1,12 +1,15 @@
 // Recognition through the recognition pipeline (recog/pipeline): the board's recogniser. With
 // a feature database in the model set, the texture path (recog/texture) runs on each frame
 // after the polyhedral one, on the pipeline's worker pool, and its printed models follow the
-// polyhedra in the result set.
+// polyhedra in the result set. With a monocular pipeline (recog/mono) it also recognises from one
+// camera when the other has failed.
 #pragma once
 
 #include "firmware/recognition.hpp"
+#include "recog/mono/mono_pipeline.hpp"
 #include "recog/pipeline/pipeline.hpp"
 #include "recog/texture/texture_recognizer.hpp"
+#include "tables/aspect_view.hpp"
 
 namespace sh::fw {
 
@@ -26,27 +29,46 @@ struct PipelineRecognitionConfig {
   // When set, read at each Init() in place of left_T_table: the simulator's rendered table,
   // known only once its world is built.
   const RigidTransform* left_T_table_at_init = nullptr;
+  // The monocular fallback lays objects onto this table (left_T_table or left_T_table_at_init):
+  // a configured table pose, or the simulator's rendered one. Without it, free 6-D poses from one
+  // image (far less reliable: docs/monocular.md).
+  bool mono_table_known = false;
 };
 
 class PipelineRecognition final : public Recognition {
  public:
   // `pipeline` is large (tens of MiB): the caller keeps it in static storage. `texture` (about
   // 63 MiB) and `texture_result` are needed for printed models only (null: a feature database
-  // in the model set fails Init); allocated once at start-up.
+  // in the model set fails Init); allocated once at start-up. `mono` (4.8 MiB, static storage
+  // too) and `mono_result` are the one-camera fallback (null: none); the monocular pipeline
+  // borrows the stereo pipeline's feature workspace of the camera it runs on.
   PipelineRecognition(Pipeline* pipeline, const PipelineRecognitionConfig& config,
                       texture::TextureRecognizer* texture = nullptr,
-                      texture::TextureResult* texture_result = nullptr)
-      : pipeline_(pipeline), config_(config), texture_(texture), texture_result_(texture_result) {}
+                      texture::TextureResult* texture_result = nullptr,
+                      MonoPipeline* mono = nullptr, MonoResult* mono_result = nullptr)
+      : pipeline_(pipeline),
+        config_(config),
+        texture_(texture),
+        texture_result_(texture_result),
+        mono_(mono),
+        mono_result_(mono_result) {}
 
   Status Init(const StereoCalibration& calib, const ModelSet& models, uint32_t model_mask) override;
   Status SetModelMask(uint32_t model_mask) override;
   Status Process(const hal::StereoFrame& frame, float budget_ms, protocol::ResultSet* set) override;
+  bool monocular() const override { return mono_ != nullptr && mono_->initialised(); }
+  Status ProcessMonocular(hal::StereoSide side, ConstGrayView image, float budget_ms,
+                          protocol::ResultSet* set) override;
 
  private:
   // The printed models' objects after the n objects already in *set, masked, up to capacity.
   void AddPrinted(protocol::ResultSet* set, size_t n) const;
   // Whether the model's corner centroid at this pose lies inside a carton of the last frame.
   bool InsideCarton(const Model& model, const RigidTransform& cam_T_model) const;
+  // Sets the texture path up for the model set's printed models.
+  Status InitPrinted(const StereoCalibration& calib, const ModelSet& models);
+  // Sets the monocular pipeline up for `camera` (0 left, 1 right): no allocation.
+  Status InitMono(int camera);
 
   Pipeline* pipeline_;
   PipelineRecognitionConfig config_;
@@ -56,6 +78,12 @@ class PipelineRecognition final : public Recognition {
   uint32_t model_mask_ = 0;
   bool printed_ = false;  // the model set has printed models and the texture path is set up
   PipelineResult result_;
+  MonoPipeline* mono_;
+  MonoResult* mono_result_;
+  AspectTableView aspects_;
+  StereoCalibration calib_;
+  // Stereo table model id of each aspect table model, by name (-1: not in the stereo tables).
+  int table_id_of_aspect_model_[kMaxAspectModels] = {};
 };
 
 }  // namespace sh::fw

@@ -1,7 +1,7 @@
-// What the firmware core needs from recognition: one call per captured pair that fills the
-// poses of a result set. Behind an interface so that the board runs the real pipeline
-// (pipeline_recognition) while the simulator can also report its ground truth, and the fault
-// tests can use a double.
+// What the firmware core needs from recognition: one call per captured pair (or, when one camera
+// has failed, per frame of the other) that fills the poses of a result set. Behind an interface so
+// that the board runs the real pipeline (pipeline_recognition) while the simulator can also report
+// its ground truth, and the fault tests can use a double.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +29,17 @@ class Recognition {
   // Status means no result (the core reports kInternalError with an EMCY). Must not allocate.
   virtual Status Process(const hal::StereoFrame& frame, float budget_ms,
                          protocol::ResultSet* set) = 0;
+
+  // Whether ProcessMonocular works: the core falls back to one camera only then, and otherwise
+  // stays in fault when a camera fails.
+  virtual bool monocular() const { return false; }
+  // One camera's frame (`side`; the other camera failed): fills set->objects and object_count
+  // with poses in the left camera frame, as Process does; the core sets the monocular status.
+  // Must not allocate.
+  virtual Status ProcessMonocular(hal::StereoSide side, ConstGrayView image, float budget_ms,
+                                  protocol::ResultSet* set) {
+    return Status::Error(StatusCode::kUnimplemented, "no monocular recognition");
+  }
 };
 
 }  // namespace sh::fw

@@ -16,7 +16,21 @@
 
 namespace sh::hal {
 
-// One synchronised left/right pair. Views are 8-bit grey (the luma plane for YUV sensors).
+enum class StereoSide : uint8_t { kLeft = 0, kRight = 1 };
+const char* StereoSideName(StereoSide side);
+
+// What Capture() delivers. In a one-side mode the other camera is not used at all (the board
+// backend does not even open it), so the firmware keeps working from one camera when the other
+// has failed.
+enum class CaptureMode : uint8_t {
+  kStereo = 0,     // synchronised pairs
+  kLeftOnly = 1,   // left frames alone; StereoFrame::right is empty
+  kRightOnly = 2,  // right frames alone; StereoFrame::left is empty
+};
+const char* CaptureModeName(CaptureMode mode);
+
+// One synchronised left/right pair (or, in a one-side capture mode, one camera's frame). Views are
+// 8-bit grey (the luma plane for YUV sensors).
 struct StereoFrame {
   ConstGrayView left;
   ConstGrayView right;
@@ -65,6 +79,20 @@ class StereoCamera {
   // so the cameras have more buffers to fill while the consumer works on a copy.
   virtual void Release() = 0;
   virtual CameraStats stats() const = 0;
+
+  // Chooses stereo or one-side capture for the next Start() (a started camera keeps its mode
+  // until it is stopped). Backends that cannot capture one side alone refuse the one-side modes
+  // with kUnimplemented.
+  virtual Status SetCaptureMode(CaptureMode mode) {
+    if (mode == CaptureMode::kStereo) return Status::Ok();
+    return Status::Error(StatusCode::kUnimplemented, "this camera captures stereo pairs only");
+  }
+  virtual CaptureMode capture_mode() const { return CaptureMode::kStereo; }
+  // After a stereo Capture() failed: the side that delivered no frame since the last pair while
+  // the other one did (the failed camera). kNotFound when both or neither delivered frames.
+  virtual Result<StereoSide> SilentSide() const {
+    return Status::Error(StatusCode::kNotFound, "this camera does not report a silent side");
+  }
 };
 
 }  // namespace sh::hal

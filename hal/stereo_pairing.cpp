@@ -23,6 +23,23 @@ StereoSide Other(StereoSide side) {
 
 const char* StereoSideName(StereoSide side) { return side == StereoSide::kLeft ? "left" : "right"; }
 
+const char* CaptureModeName(CaptureMode mode) {
+  switch (mode) {
+    case CaptureMode::kLeftOnly:
+      return "left only";
+    case CaptureMode::kRightOnly:
+      return "right only";
+    case CaptureMode::kStereo:
+      break;
+  }
+  return "stereo";
+}
+
+void StereoPairer::SetMode(CaptureMode mode) {
+  std::lock_guard<std::mutex> lock(mu_);
+  pending_mode_ = mode;
+}
+
 Status StereoPairer::Configure(const PairingConfig& config) {
   if (config.tolerance_ns < 0) {
     return Status::Error(StatusCode::kInvalidArgument,
@@ -38,6 +55,7 @@ void StereoPairer::Reset(Vector<RecycledFrame>& recycled) {
   std::lock_guard<std::mutex> lock(mu_);
   DrainLocked(recycled);
   config_ = pending_config_;
+  mode_ = pending_mode_;
   for (SideState& s : sides_) s = SideState{};
   stats_ = CameraStats{};
   next_pair_index_ = 0;
@@ -63,6 +81,14 @@ void StereoPairer::Push(StereoSide side, const TimestampedFrame& frame,
   s.seen_any = true;
   s.newest_ns = frame.timestamp_ns;
   ++s.since_last_pair;
+  if (mode_ != CaptureMode::kStereo) {
+    const StereoSide used =
+        mode_ == CaptureMode::kLeftOnly ? StereoSide::kLeft : StereoSide::kRight;
+    if (side != used) {
+      Recycle(recycled, side, frame);
+      return;
+    }
+  }
   if (s.queue.full()) {
     Recycle(recycled, side, s.queue.pop());
     ++(side == StereoSide::kLeft ? stats_.left_overflow_drops : stats_.right_overflow_drops);
@@ -99,9 +125,7 @@ void StereoPairer::DrainLocked(Vector<RecycledFrame>& recycled) {
     }
   }
   while (ready_.count > 0) {
-    const FramePair& p = ready_.items[ready_.head];
-    Recycle(recycled, StereoSide::kLeft, p.left);
-    Recycle(recycled, StereoSide::kRight, p.right);
+    RecyclePairLocked(ready_.items[ready_.head], recycled);
     ready_.head = (ready_.head + 1) % kStereoPairDepth;
     --ready_.count;
   }
@@ -112,7 +136,20 @@ void StereoPairer::DropFrontLocked(StereoSide side, Vector<RecycledFrame>& recyc
   ++(side == StereoSide::kLeft ? stats_.left_unpaired_drops : stats_.right_unpaired_drops);
 }
 
+void StereoPairer::RecyclePairLocked(const FramePair& pair, Vector<RecycledFrame>& recycled) {
+  // A one-side pair's empty half holds no buffer.
+  if (pair.left.view.data != nullptr) Recycle(recycled, StereoSide::kLeft, pair.left);
+  if (pair.right.view.data != nullptr) Recycle(recycled, StereoSide::kRight, pair.right);
+}
+
 void StereoPairer::MatchLocked(Vector<RecycledFrame>& recycled) {
+  if (mode_ != CaptureMode::kStereo) {
+    // Only the used side ever has frames queued: each is delivered alone.
+    while (!state(StereoSide::kLeft).queue.empty() || !state(StereoSide::kRight).queue.empty()) {
+      EmitPairLocked(recycled);
+    }
+    return;
+  }
   const int64_t tol = config_.tolerance_ns;
   for (;;) {
     SideState& left = state(StereoSide::kLeft);
@@ -159,16 +196,16 @@ void StereoPairer::MatchLocked(Vector<RecycledFrame>& recycled) {
 void StereoPairer::EmitPairLocked(Vector<RecycledFrame>& recycled) {
   if (ready_.count == kStereoPairDepth) {
     // The consumer fell behind: the oldest pair is the least useful one.
-    const FramePair& oldest = ready_.items[ready_.head];
-    Recycle(recycled, StereoSide::kLeft, oldest.left);
-    Recycle(recycled, StereoSide::kRight, oldest.right);
+    RecyclePairLocked(ready_.items[ready_.head], recycled);
     ready_.head = (ready_.head + 1) % kStereoPairDepth;
     --ready_.count;
     ++stats_.pair_overflow_drops;
   }
   FramePair& slot = ready_.items[(ready_.head + ready_.count) % kStereoPairDepth];
-  slot.left = state(StereoSide::kLeft).queue.pop();
-  slot.right = state(StereoSide::kRight).queue.pop();
+  slot.left =
+      mode_ == CaptureMode::kRightOnly ? TimestampedFrame{} : state(StereoSide::kLeft).queue.pop();
+  slot.right =
+      mode_ == CaptureMode::kLeftOnly ? TimestampedFrame{} : state(StereoSide::kRight).queue.pop();
   ++ready_.count;
   ++stats_.frames_paired;
   for (SideState& s : sides_) s.since_last_pair = 0;
@@ -238,6 +275,16 @@ Status StereoPairer::TimeoutStatusLocked(int timeout_ms) const {
 void StereoPairer::CountTimeout() {
   std::lock_guard<std::mutex> lock(mu_);
   ++stats_.timeouts;
+}
+
+Result<StereoSide> StereoPairer::SilentSide() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  const bool left_silent = sides_[0].since_last_pair == 0;
+  const bool right_silent = sides_[1].since_last_pair == 0;
+  if (left_silent == right_silent) {
+    return Status::Error(StatusCode::kNotFound, "no single silent camera");
+  }
+  return left_silent ? StereoSide::kLeft : StereoSide::kRight;
 }
 
 CameraStats StereoPairer::stats() const {

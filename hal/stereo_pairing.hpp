@@ -34,9 +34,6 @@
 
 namespace sh::hal {
 
-enum class StereoSide : uint8_t { kLeft = 0, kRight = 1 };
-const char* StereoSideName(StereoSide side);
-
 // Frames awaiting a partner, per side. Must cover the skew between the two completion callbacks
 // (typically one frame) plus bursts; backends allocate at least this many buffers plus
 // kStereoPairDepth + 2 per camera so that a full queue never starves a camera.
@@ -78,6 +75,10 @@ class StereoPairer {
 
   // Rejects a negative tolerance. Takes effect at the next Reset().
   Status Configure(const PairingConfig& config);
+  // One-side mode (kLeftOnly, kRightOnly): every frame of that side is a "pair" on its own, with
+  // the other side's frame empty (view.data null, never handed back); frames pushed for the
+  // other side are handed straight back. Takes effect at the next Reset().
+  void SetMode(CaptureMode mode);
 
   // Starts a new session: opens the pairer, zeroes the counters and hands back queued frames.
   void Reset(Vector<RecycledFrame>& recycled);
@@ -102,6 +103,9 @@ class StereoPairer {
   // Counts a consumer timeout that happened outside WaitPair (e.g. in a pull-based simulator).
   void CountTimeout();
   CameraStats stats() const;
+  // The side that delivered nothing since the last pair while the other did; kNotFound when
+  // both or neither did.
+  Result<StereoSide> SilentSide() const;
 
  private:
   template <size_t N>
@@ -143,6 +147,7 @@ class StereoPairer {
   void DropFrontLocked(StereoSide side, Vector<RecycledFrame>& recycled);
   void DrainLocked(Vector<RecycledFrame>& recycled);
   void TakePairLocked(FramePair* out);
+  void RecyclePairLocked(const FramePair& pair, Vector<RecycledFrame>& recycled);
   Status TimeoutStatusLocked(int timeout_ms) const;
   SideState& state(StereoSide side) { return sides_[static_cast<int>(side)]; }
 
@@ -150,6 +155,8 @@ class StereoPairer {
   std::condition_variable ready_cv_;
   PairingConfig config_;
   PairingConfig pending_config_;
+  CaptureMode mode_ = CaptureMode::kStereo;
+  CaptureMode pending_mode_ = CaptureMode::kStereo;
   SideState sides_[2];
   PairRing ready_;
   bool open_ = false;

@@ -78,7 +78,11 @@ struct LibcameraStereoCamera::Impl {
   void Teardown();
   Status SelectCameras();
   Status Configure();
-  Status ConfigureLeft();
+  Status ConfigureFirst(Side& s);
+  bool Used(const Side& s) const {
+    return mode == CaptureMode::kStereo ||
+           (mode == CaptureMode::kLeftOnly) == (s.side == StereoSide::kLeft);
+  }
   Status MapBuffers(Side& s);
   Status StartStreaming();
   void Requeue(StereoSide side, uint32_t buffer_id);
@@ -87,6 +91,7 @@ struct LibcameraStereoCamera::Impl {
   void OnDisconnected(Side& s);
 
   LibcameraStereoConfig config;
+  CaptureMode mode = CaptureMode::kStereo;  // of the next Start()
   std::unique_ptr<lc::CameraManager> manager;
   bool manager_started = false;
   Side sides[2];
@@ -100,6 +105,7 @@ struct LibcameraStereoCamera::Impl {
 
 Status LibcameraStereoCamera::Impl::Start() {
   SH_RETURN_IF_ERROR(pairer.Configure(config.pairing));
+  pairer.SetMode(mode);
   manager = std::make_unique<lc::CameraManager>();
   const int ret = manager->start();
   if (ret != 0) {
@@ -109,21 +115,25 @@ Status LibcameraStereoCamera::Impl::Start() {
   manager_started = true;
   SH_RETURN_IF_ERROR(SelectCameras());
   SH_RETURN_IF_ERROR(Configure());
-  for (Side& s : sides) SH_RETURN_IF_ERROR(MapBuffers(s));
+  for (Side& s : sides) {
+    if (Used(s)) SH_RETURN_IF_ERROR(MapBuffers(s));
+  }
   return StartStreaming();
 }
 
 Status LibcameraStereoCamera::Impl::SelectCameras() {
   const std::vector<std::shared_ptr<lc::Camera>> cameras = manager->cameras();
   cameras_found = static_cast<int>(cameras.size());
-  if (cameras.size() < 2) {
-    return Status::Error(StatusCode::kNotFound, "libcamera found %zu cameras, need 2",
-                         cameras.size());
+  const size_t needed = mode == CaptureMode::kStereo ? 2 : 1;
+  if (cameras.size() < needed) {
+    return Status::Error(StatusCode::kNotFound, "libcamera found %zu cameras, need %zu",
+                         cameras.size(), needed);
   }
   const std::string* ids[2] = {&config.left_id, &config.right_id};
   const int indices[2] = {config.left_index, config.right_index};
   for (int i = 0; i < 2; ++i) {
     Side& s = sides[i];
+    if (!Used(s)) continue;
     if (!ids[i]->empty()) {
       s.camera = manager->get(*ids[i]);
       if (!s.camera) {
@@ -138,11 +148,12 @@ Status LibcameraStereoCamera::Impl::SelectCameras() {
       s.camera = cameras[static_cast<size_t>(indices[i])];
     }
   }
-  if (sides[0].camera == sides[1].camera) {
+  if (mode == CaptureMode::kStereo && sides[0].camera == sides[1].camera) {
     return Status::Error(StatusCode::kInvalidArgument, "left and right select the same camera %s",
                          sides[0].camera->id().c_str());
   }
   for (Side& s : sides) {
+    if (!Used(s)) continue;
     const int ret = s.camera->acquire();
     if (ret != 0) {
       return Status::Error(StatusCode::kUnavailable, "%s camera %s cannot be acquired: %s",
@@ -150,15 +161,15 @@ Status LibcameraStereoCamera::Impl::SelectCameras() {
     }
     s.acquired = true;
   }
-  info.left_id = sides[0].camera->id();
-  info.right_id = sides[1].camera->id();
+  info.left_id = sides[0].camera ? sides[0].camera->id() : std::string();
+  info.right_id = sides[1].camera ? sides[1].camera->id() : std::string();
   return Status::Ok();
 }
 
-// Tries the grey formats in order on the left camera; the first one that validates without being
-// replaced wins. Size adjustments by the camera are accepted (reported in stream_info()).
-Status LibcameraStereoCamera::Impl::ConfigureLeft() {
-  Side& s = sides[0];
+// Tries the grey formats in order on the first camera used (the left one in stereo); the first
+// format that validates without being replaced wins. Size adjustments by the camera are accepted
+// (reported in stream_info()).
+Status LibcameraStereoCamera::Impl::ConfigureFirst(Side& s) {
   for (const lc::PixelFormat& format : kGreyFormats) {
     std::unique_ptr<lc::CameraConfiguration> c =
         libcamera_adapter::GenerateConfiguration(*s.camera, ToStreamRole(config.role));
@@ -182,30 +193,33 @@ Status LibcameraStereoCamera::Impl::Configure() {
     return Status::Error(StatusCode::kInvalidArgument, "requested size %dx%d is empty",
                          config.width, config.height);
   }
-  SH_RETURN_IF_ERROR(ConfigureLeft());
-  const lc::StreamConfiguration left_sc = sides[0].config->at(0);
+  Side& first = mode == CaptureMode::kRightOnly ? sides[1] : sides[0];
+  SH_RETURN_IF_ERROR(ConfigureFirst(first));
+  const lc::StreamConfiguration left_sc = first.config->at(0);
 
   // The right camera must produce exactly what the left one settled on: stereo matching assumes
   // identical geometry and timing.
   Side& r = sides[1];
-  r.config = libcamera_adapter::GenerateConfiguration(*r.camera, ToStreamRole(config.role));
-  if (!r.config || r.config->size() != 1) {
-    return Status::Error(StatusCode::kFailedPrecondition,
-                         "right camera %s cannot generate a configuration for this role",
-                         r.camera->id().c_str());
-  }
-  lc::StreamConfiguration& rsc = r.config->at(0);
-  rsc.pixelFormat = left_sc.pixelFormat;
-  rsc.size = left_sc.size;
-  rsc.bufferCount = left_sc.bufferCount;
-  const lc::CameraConfiguration::Status rv = r.config->validate();
-  if (rv == lc::CameraConfiguration::Invalid || rsc.pixelFormat != left_sc.pixelFormat ||
-      rsc.size != left_sc.size) {
-    return Status::Error(StatusCode::kFailedPrecondition,
-                         "right camera cannot match left configuration %s %ux%u (offers %s %ux%u)",
-                         left_sc.pixelFormat.toString().c_str(), left_sc.size.width,
-                         left_sc.size.height, rsc.pixelFormat.toString().c_str(), rsc.size.width,
-                         rsc.size.height);
+  if (mode == CaptureMode::kStereo) {
+    r.config = libcamera_adapter::GenerateConfiguration(*r.camera, ToStreamRole(config.role));
+    if (!r.config || r.config->size() != 1) {
+      return Status::Error(StatusCode::kFailedPrecondition,
+                           "right camera %s cannot generate a configuration for this role",
+                           r.camera->id().c_str());
+    }
+    lc::StreamConfiguration& rsc = r.config->at(0);
+    rsc.pixelFormat = left_sc.pixelFormat;
+    rsc.size = left_sc.size;
+    rsc.bufferCount = left_sc.bufferCount;
+    const lc::CameraConfiguration::Status rv = r.config->validate();
+    if (rv == lc::CameraConfiguration::Invalid || rsc.pixelFormat != left_sc.pixelFormat ||
+        rsc.size != left_sc.size) {
+      return Status::Error(
+          StatusCode::kFailedPrecondition,
+          "right camera cannot match left configuration %s %ux%u (offers %s %ux%u)",
+          left_sc.pixelFormat.toString().c_str(), left_sc.size.width, left_sc.size.height,
+          rsc.pixelFormat.toString().c_str(), rsc.size.width, rsc.size.height);
+    }
   }
   if (left_sc.size.width > static_cast<unsigned>(kMaxImageWidth) ||
       left_sc.size.height > static_cast<unsigned>(kMaxImageHeight)) {
@@ -213,6 +227,7 @@ Status LibcameraStereoCamera::Impl::Configure() {
                          left_sc.size.width, left_sc.size.height, kMaxImageWidth, kMaxImageHeight);
   }
   for (Side& s : sides) {
+    if (!Used(s)) continue;
     const int ret = s.camera->configure(s.config.get());
     if (ret != 0) {
       return Status::Error(StatusCode::kUnavailable, "%s camera configure failed: %s", s.name(),
@@ -286,11 +301,13 @@ Status LibcameraStereoCamera::Impl::StartStreaming() {
   pairer.Reset(recycled);
   holding = false;
   for (Side& s : sides) {
+    if (!Used(s)) continue;
     s.camera->requestCompleted.connect(&s, &Side::OnRequestCompleted);
     s.camera->disconnected.connect(&s, &Side::OnDisconnected);
   }
   running = true;
   for (Side& s : sides) {
+    if (!Used(s)) continue;
     const int ret = s.camera->start();
     if (ret != 0) {
       return Status::Error(StatusCode::kUnavailable, "%s camera %s start failed: %s", s.name(),
@@ -299,6 +316,7 @@ Status LibcameraStereoCamera::Impl::StartStreaming() {
     s.started = true;
   }
   for (Side& s : sides) {
+    if (!Used(s)) continue;
     for (std::unique_ptr<lc::Request>& request : s.requests) {
       const int ret = s.camera->queueRequest(request.get());
       if (ret != 0) {
@@ -431,12 +449,26 @@ Status LibcameraStereoCamera::Capture(StereoFrame* out, int timeout_ms) {
 
 void LibcameraStereoCamera::Release() {
   if (!impl_->holding) return;
-  impl_->Requeue(StereoSide::kLeft, impl_->held.left.buffer_id);
-  impl_->Requeue(StereoSide::kRight, impl_->held.right.buffer_id);
+  // The empty half of a one-side frame holds no buffer.
+  if (impl_->held.left.view.data != nullptr) {
+    impl_->Requeue(StereoSide::kLeft, impl_->held.left.buffer_id);
+  }
+  if (impl_->held.right.view.data != nullptr) {
+    impl_->Requeue(StereoSide::kRight, impl_->held.right.buffer_id);
+  }
   impl_->holding = false;
 }
 
 CameraStats LibcameraStereoCamera::stats() const { return impl_->pairer.stats(); }
+
+Status LibcameraStereoCamera::SetCaptureMode(CaptureMode mode) {
+  impl_->mode = mode;  // read by the next Start()
+  return Status::Ok();
+}
+
+CaptureMode LibcameraStereoCamera::capture_mode() const { return impl_->mode; }
+
+Result<StereoSide> LibcameraStereoCamera::SilentSide() const { return impl_->pairer.SilentSide(); }
 
 const LibcameraStreamInfo& LibcameraStereoCamera::stream_info() const { return impl_->info; }
 

@@ -1,4 +1,6 @@
-// Board stereo camera: two libcamera cameras streaming freely, paired by sensor timestamp.
+// Board stereo camera: two libcamera cameras streaming freely, paired by sensor timestamp. In a
+// one-side capture mode (SetCaptureMode, for the next Start()) only that camera is opened, so a
+// failed or unplugged other camera does not keep the board from capturing.
 //
 // Start() opens one CameraManager, picks the two cameras, gives both the same configuration,
 // allocates the buffers with FrameBufferAllocator, maps the grey (luma) plane of every buffer once
@@ -73,6 +75,9 @@ class LibcameraStereoCamera final : public StereoCamera {
   Status Capture(StereoFrame* out, int timeout_ms) override;
   void Release() override;
   CameraStats stats() const override;
+  Status SetCaptureMode(CaptureMode mode) override;
+  CaptureMode capture_mode() const override;
+  Result<StereoSide> SilentSide() const override;
 
   // Valid after a successful Start().
   const LibcameraStreamInfo& stream_info() const;

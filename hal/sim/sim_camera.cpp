@@ -59,13 +59,24 @@ Status SimCamera::Start() {
     delivered_[s] = 0;
   }
   RecycleList recycled;
+  pairer_.SetMode(mode_);
   pairer_.Reset(recycled);  // nothing queued yet: buffers were just handed to the pools
   next_frame_ = 0;
   jitter_state_ = config_.jitter_seed == 0 ? 1u : config_.jitter_seed;
   end_of_stream_ = Status::Ok();
   holding_ = false;
   started_ = true;
+  ++starts_;
   return Status::Ok();
+}
+
+Status SimCamera::SetCaptureMode(CaptureMode mode) {
+  mode_ = mode;  // read by the next Start()
+  return Status::Ok();
+}
+
+bool SimCamera::FaultsActive() const {
+  return config_.fault_starts < 0 || starts_ <= config_.fault_starts;
 }
 
 Status SimCamera::Stop() {
@@ -96,7 +107,7 @@ void SimCamera::GiveBack(const Vector<RecycledFrame>& recycled) {
 bool SimCamera::SideStopped(StereoSide side) const {
   const int64_t limit =
       side == StereoSide::kLeft ? config_.left_stop_after : config_.right_stop_after;
-  return limit >= 0 && delivered_[Index(side)] >= static_cast<uint64_t>(limit);
+  return FaultsActive() && limit >= 0 && delivered_[Index(side)] >= static_cast<uint64_t>(limit);
 }
 
 int64_t SimCamera::Timestamp(StereoSide side, uint64_t frame_index) {
@@ -144,7 +155,7 @@ Status SimCamera::ProduceFrame() {
     const int i = Index(side);
     const uint32_t every =
         side == StereoSide::kLeft ? config_.drop_left_every : config_.drop_right_every;
-    const bool dropped = every > 0 && (n + 1) % every == 0;
+    const bool dropped = FaultsActive() && every > 0 && (n + 1) % every == 0;
     if (SideStopped(side) || dropped) {
       GiveBack(side, ids[i]);
       continue;
@@ -177,8 +188,10 @@ Status SimCamera::Capture(StereoFrame* out, int timeout_ms) {
       break;
     }
     if (!end_of_stream_.ok()) return end_of_stream_;
-    const bool both_stopped = SideStopped(StereoSide::kLeft) && SideStopped(StereoSide::kRight);
-    if (produced == kSimFramesPerCapture || both_stopped) break;
+    // In a one-side mode only the used side matters.
+    const bool left_stopped = mode_ == CaptureMode::kRightOnly || SideStopped(StereoSide::kLeft);
+    const bool right_stopped = mode_ == CaptureMode::kLeftOnly || SideStopped(StereoSide::kRight);
+    if (produced == kSimFramesPerCapture || (left_stopped && right_stopped)) break;
     const Status s = ProduceFrame();
     if (s.code() == StatusCode::kOutOfRange) {
       end_of_stream_ = s;  // pairs already queued are still delivered first
@@ -201,8 +214,9 @@ Status SimCamera::Capture(StereoFrame* out, int timeout_ms) {
 
 void SimCamera::Release() {
   if (!holding_) return;
-  GiveBack(StereoSide::kLeft, held_.left.buffer_id);
-  GiveBack(StereoSide::kRight, held_.right.buffer_id);
+  // The empty half of a one-side frame holds no buffer.
+  if (held_.left.view.data != nullptr) GiveBack(StereoSide::kLeft, held_.left.buffer_id);
+  if (held_.right.view.data != nullptr) GiveBack(StereoSide::kRight, held_.right.buffer_id);
   holding_ = false;
 }
 

@@ -36,6 +36,9 @@ struct SimCameraConfig {
   int64_t right_stop_after = -1;
   uint32_t drop_left_every = 0;  // drop every n-th left frame, counting from frame n-1 (0: never)
   uint32_t drop_right_every = 0;
+  // The stop and drop faults apply in the first `fault_starts` Start()s only (-1: in all), so a
+  // test can have a camera come back when the firmware restarts it.
+  int64_t fault_starts = -1;
 };
 
 class SimCamera final : public StereoCamera {
@@ -49,6 +52,9 @@ class SimCamera final : public StereoCamera {
   Status Capture(StereoFrame* out, int timeout_ms) override;
   void Release() override;
   CameraStats stats() const override;
+  Status SetCaptureMode(CaptureMode mode) override;
+  CaptureMode capture_mode() const override { return mode_; }
+  Result<StereoSide> SilentSide() const override { return pairer_.SilentSide(); }
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -66,6 +72,7 @@ class SimCamera final : public StereoCamera {
   void GiveBack(const Vector<RecycledFrame>& recycled);
   void GiveBack(StereoSide side, uint32_t buffer_id);
   bool SideStopped(StereoSide side) const;
+  bool FaultsActive() const;
   GrayView BufferView(StereoSide side, uint32_t buffer_id) const;
 
   FrameSource* source_;
@@ -76,6 +83,8 @@ class SimCamera final : public StereoCamera {
   int width_ = 0;
   int height_ = 0;
   bool started_ = false;
+  CaptureMode mode_ = CaptureMode::kStereo;
+  int64_t starts_ = 0;    // Start() calls that succeeded
   Status end_of_stream_;  // non-ok once the source reported kOutOfRange
   uint64_t next_frame_ = 0;
   uint64_t delivered_[2] = {};

@@ -155,6 +155,9 @@ class Pipeline {
   void SetSearchObserver(SearchObserver* observer) { recognizer_.SetObserver(observer); }
   const ImageFeatures& left_features() const { return features_[0]; }
   const ImageFeatures& right_features() const { return features_[1]; }
+  // The feature workspace of one image (0 left, 1 right), lent between frames to another
+  // recogniser on the same thread (the one-camera fallback): its contents change.
+  FeatureWorkspace& workspace(int image) { return workspace_[image == 0 ? 0 : 1]; }
 
  private:
   float MsSince(int64_t start_ns) const;

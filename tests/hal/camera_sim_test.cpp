@@ -135,6 +135,53 @@ TEST(CameraSim, RightCameraStoppingTimesOutNamingIt) {
   EXPECT_EQ(st.left_overflow_drops, kSimFramesPerCapture - kStereoQueueDepth);
 }
 
+TEST(CameraSim, SilentSideIsReportedAndTheOtherSideCapturesAlone) {
+  PatternSource source(8, 6);
+  SimCameraConfig config;
+  config.right_stop_after = 3;
+  config.fault_starts = 1;  // the right camera is back after a restart
+  SimCamera cam(&source, config);
+  EXPECT_EQ(cam.SilentSide().status().code(), StatusCode::kNotFound) << "nothing captured yet";
+  ASSERT_TRUE(cam.Start().ok());
+  StereoFrame f;
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(cam.Capture(&f, 100).ok());
+  ASSERT_EQ(cam.Capture(&f, 10).code(), StatusCode::kDeadlineExceeded);
+  const Result<StereoSide> silent = cam.SilentSide();
+  ASSERT_TRUE(silent.ok());
+  EXPECT_EQ(*silent, StereoSide::kRight);
+
+  // Left alone: every frame delivered, the right view empty, buffers recycled over many frames.
+  ASSERT_TRUE(cam.Stop().ok());
+  ASSERT_TRUE(cam.SetCaptureMode(CaptureMode::kLeftOnly).ok());
+  EXPECT_EQ(cam.capture_mode(), CaptureMode::kLeftOnly);
+  ASSERT_TRUE(cam.Start().ok());
+  for (uint32_t i = 0; i < 3 * kSimBuffersPerSide; ++i) {
+    ASSERT_TRUE(cam.Capture(&f, 100).ok()) << i;
+    EXPECT_NE(f.left.data, nullptr);
+    EXPECT_EQ(f.right.data, nullptr);
+    EXPECT_EQ(f.left_sequence, i);
+    EXPECT_EQ(f.left.at(1, 0), Pattern(i, 1, 0, false));
+  }
+  EXPECT_EQ(cam.stats().pairs_delivered, 3u * kSimBuffersPerSide);
+  EXPECT_EQ(cam.stats().right_unpaired_drops, 0u);
+
+  // Right alone.
+  ASSERT_TRUE(cam.Stop().ok());
+  ASSERT_TRUE(cam.SetCaptureMode(CaptureMode::kRightOnly).ok());
+  ASSERT_TRUE(cam.Start().ok());
+  ASSERT_TRUE(cam.Capture(&f, 100).ok());
+  EXPECT_EQ(f.left.data, nullptr);
+  EXPECT_NE(f.right.data, nullptr);
+
+  // Stereo again, with the right camera back (the fault applied to the first start only).
+  ASSERT_TRUE(cam.Stop().ok());
+  ASSERT_TRUE(cam.SetCaptureMode(CaptureMode::kStereo).ok());
+  ASSERT_TRUE(cam.Start().ok());
+  for (int i = 0; i < 6; ++i) ASSERT_TRUE(cam.Capture(&f, 100).ok()) << i;
+  EXPECT_NE(f.left.data, nullptr);
+  EXPECT_NE(f.right.data, nullptr);
+}
+
 TEST(CameraSim, BothCamerasStoppedTimesOut) {
   PatternSource source(8, 6);
   SimCameraConfig config;

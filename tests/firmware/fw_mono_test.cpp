@@ -1,0 +1,253 @@
+// The one-camera fallback of the firmware core with the simulator's world and the real
+// recognition: the right camera goes silent after three frames, EMCY 0x7300 (one camera) follows
+// with the state staying ready, result sets come with the monocular status and poses that match
+// the rendered truth, without heap allocation, and a clear-fault returns to stereo once the
+// camera is back. Own binary: it counts every operator new of the process.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <optional>
+#include <vector>
+
+#include "firmware/pipeline_recognition.hpp"
+#include "firmware/truth_recognition.hpp"
+#include "recog/mono/aspect.hpp"
+#include "tests/support/counting_allocator.hpp"
+#include "tests/support/firmware_doubles.hpp"
+#include "tools/eval/synthetic_scene.hpp"
+
+namespace sh::testing {
+namespace {
+
+constexpr uint8_t kNodeId = 1;
+
+// The PLC side: result sets, EMCYs and acks from the bus, each kept in arrival order.
+class Plc {
+ public:
+  explicit Plc(hal::SimCanEndpoint* endpoint) : endpoint_(endpoint), assembler_(kNodeId) {
+    // Room for every frame of the test, so the PLC side allocates nothing while counting.
+    emcys_.reserve(64);
+    acks_.reserve(64);
+  }
+
+  void Send(std::initializer_list<uint8_t> bytes) {
+    hal::CanFrame f;
+    f.id = kCobCommand + kNodeId;
+    for (uint8_t b : bytes) f.data[f.len++] = b;
+    ASSERT_TRUE(endpoint_->Send(f).ok());
+  }
+  void Trigger(uint16_t request_id) {
+    Send({0x01, uint8_t(request_id), uint8_t(request_id >> 8), 0, 0, 0, 0, 0});
+  }
+
+  // The next result set (up to 120 s: a frame under qemu takes seconds).
+  std::optional<ResultSet> WaitSet() {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (std::chrono::steady_clock::now() < end) {
+      if (set_ready_) {
+        set_ready_ = false;
+        return assembler_.set();
+      }
+      Poll();
+    }
+    return std::nullopt;
+  }
+  std::optional<Emcy> WaitEmcy(uint16_t code) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (true) {
+      while (emcy_read_ < emcys_.size()) {
+        const Emcy e = emcys_[emcy_read_++];
+        if (e.error_code == code) return e;
+      }
+      if (std::chrono::steady_clock::now() >= end) return std::nullopt;
+      Poll();
+    }
+  }
+  std::optional<CommandAck> WaitAck(uint8_t code) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (true) {
+      while (ack_read_ < acks_.size()) {
+        const CommandAck a = acks_[ack_read_++];
+        if (a.command_code == code) return a;
+      }
+      if (std::chrono::steady_clock::now() >= end) return std::nullopt;
+      Poll();
+    }
+  }
+
+ private:
+  void Poll() {
+    hal::CanFrame f;
+    const Result<bool> got = endpoint_->Receive(&f, 10);
+    if (!got.ok() || !*got) return;
+    if (f.id == kCobEmcy + kNodeId) {
+      const Result<Emcy> e = DecodeEmcy(f, kNodeId);
+      if (e.ok()) emcys_.push_back(*e);
+      return;
+    }
+    if (f.id == kCobCommandAck + kNodeId) {
+      const Result<CommandAck> a = DecodeCommandAck(f, kNodeId);
+      if (a.ok()) acks_.push_back(*a);
+      return;
+    }
+    const Result<bool> done = assembler_.Feed(f);
+    if (done.ok() && *done) set_ready_ = true;
+  }
+
+  hal::SimCanEndpoint* endpoint_;
+  ResultAssembler assembler_;
+  bool set_ready_ = false;
+  std::vector<Emcy> emcys_;
+  size_t emcy_read_ = 0;
+  std::vector<CommandAck> acks_;
+  size_t ack_read_ = 0;
+};
+
+struct SetScore {
+  int correct = 0, false_alarms = 0;
+};
+
+// Objects of a set against the rendered truth of the world's only scene: same model, corner
+// centroid (which the model's symmetries fix) within 5 mm, rotation within 5 degrees modulo the
+// symmetries (the tables' models carry them); each truth object matches once.
+SetScore ScoreSet(const render::SimWorld& world, const TableView& table, const int* table_ids,
+                  const ResultSet& set) {
+  const render::GeneratedScene& g = world.scene(0);
+  bool used[render::kMaxRenderObjects] = {};
+  SetScore score;
+  for (int i = 0; i < set.object_count; ++i) {
+    const ObjectPose& p = set.objects[i];
+    const Model& model = table.model(p.model_id);
+    const Eigen::Quaternionf q(float(p.cam_q_model[0]), float(p.cam_q_model[1]),
+                               float(p.cam_q_model[2]), float(p.cam_q_model[3]));
+    RigidTransform found;
+    found.R = q.normalized().toRotationMatrix();
+    found.t_mm = Eigen::Vector3f(float(p.cam_t_model_mm[0]), float(p.cam_t_model_mm[1]),
+                                 float(p.cam_t_model_mm[2]));
+    const Eigen::Vector3f centroid = ModelCentroid(model);
+    bool matched = false;
+    for (size_t k = 0; k < g.scene.objects.size() && !matched; ++k) {
+      if (used[k] || table_ids[g.scene.objects[k].model_index] != p.model_id) continue;
+      const RigidTransform& truth = g.left_T_model[k];
+      const float position_mm = (truth * centroid - found * centroid).norm();
+      const float rotation_deg = SymmetricRotationErrorDeg(model, found.R, truth.R);
+      if (position_mm <= 5.0f && rotation_deg <= 5.0f) used[k] = matched = true;
+    }
+    ++(matched ? score.correct : score.false_alarms);
+  }
+  return score;
+}
+
+TEST(FirmwareMonocular, RightCameraSilentThenMonocularSetsThenStereoAfterClearFault) {
+  // One scene: the simulator's scenes differ in the rig's tilt, and the fallback lays objects
+  // onto the table pose it was given (scene 0's).
+  static render::SimWorld world;
+  render::SimWorldConfig wc;
+  wc.models_dir = STEREOHASH_FW_SOURCE_MODELS_DIR;
+  wc.scenes = 1;
+  wc.objects = 3;
+  const Status built = world.Build(wc);
+  ASSERT_TRUE(built.ok()) << built.message();
+
+  hal::SimCanBus bus;
+  hal::SimCanEndpoint* fw = *bus.AddEndpoint(hal::SimCanEndpointConfig{});
+  hal::SimCanEndpointConfig plc_config;
+  plc_config.name = "plc";
+  Plc plc(*bus.AddEndpoint(plc_config));
+  hal::SimCameraConfig cc;
+  cc.right_stop_after = 3;  // frames 0..2 paired, then the right camera is silent ...
+  cc.fault_starts = 1;      // ... until the firmware restarts the camera
+  hal::SimCamera camera(&world, cc);
+  FileDataSource data("builtin", "", &world.calibration());
+  static Pipeline pipeline;
+  static MonoPipeline mono;
+  static MonoResult mono_result;
+  PipelineRecognitionConfig pc;
+  pc.mono_table_known = true;
+  pc.left_T_table_at_init = &world.left_T_table();
+  PipelineRecognition recognition(&pipeline, pc, nullptr, nullptr, &mono, &mono_result);
+  int table_ids[render::kMaxWorldModels] = {};
+  {
+    const Result<TableView> table = data.LoadTable();
+    ASSERT_TRUE(table.ok());
+    MapWorldModelsToIds(world, ModelSet(&*table, nullptr), table_ids);
+  }
+  CoreConfig config;
+  config.node_id = kNodeId;
+  config.heartbeat_ms = 100;
+  config.capture_timeout_ms = 500;
+  config.budget_ms = 10000;  // this test checks poses and allocations, not time
+  CoreDevices devices;
+  devices.can = fw;
+  devices.camera = &camera;
+  devices.recognition = &recognition;
+  devices.data = &data;
+  static FirmwareCore core;
+  ASSERT_TRUE(core.Start(config, devices).ok());
+  ASSERT_EQ(core.state(), FirmwareState::kReady);
+  ASSERT_TRUE(recognition.monocular());
+
+  uint16_t request = 1;
+  for (int i = 0; i < 3; ++i) {  // both cameras deliver
+    plc.Trigger(request++);
+    const std::optional<ResultSet> s = plc.WaitSet();
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->status, ResultStatus::kOk);
+  }
+
+  // The right camera is silent: the warning, then this very trigger answered from the left one.
+  plc.Trigger(request++);
+  const std::optional<ResultSet> first_mono = plc.WaitSet();
+  ASSERT_TRUE(first_mono);
+  EXPECT_EQ(first_mono->status, ResultStatus::kMonocular);
+  const std::optional<Emcy> e = plc.WaitEmcy(uint16_t(EmcyCode::kSensor));
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->detail >> 24, kSensorOneCamera >> 24);
+  EXPECT_EQ((e->detail >> 16) & 0xFF, 1u) << "the right camera failed";
+  EXPECT_NE(e->state, FirmwareState::kFault) << "a warning: triggers are still answered";
+  EXPECT_NE(e->error_register, 0);
+  EXPECT_EQ(core.capture_mode(), hal::CaptureMode::kLeftOnly);
+
+  constexpr int kSets = 4;
+  int truth_objects = 0, correct = 0, false_alarms = 0;
+  const uint64_t allocations_before = HeapAllocations();
+  for (int i = 0; i < kSets; ++i) {
+    plc.Trigger(request++);
+    const std::optional<ResultSet> s = plc.WaitSet();
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->status, ResultStatus::kMonocular);
+    const SetScore c = ScoreSet(world, data.table(), table_ids, *s);
+    truth_objects += int(world.scene(0).scene.objects.size());
+    correct += c.correct;
+    false_alarms += c.false_alarms;
+  }
+  const uint64_t allocations = HeapAllocations() - allocations_before;
+  std::printf(
+      "monocular sets: %d of %d truth objects within 5 mm / 5 deg, %d false, %llu "
+      "allocations\n",
+      correct, truth_objects, false_alarms, static_cast<unsigned long long>(allocations));
+  EXPECT_EQ(allocations, 0u) << "heap allocations in " << kSets << " monocular triggers";
+  EXPECT_GE(correct, truth_objects / 2);
+  EXPECT_EQ(false_alarms, 0);
+
+  // Clear-fault restarts the camera in stereo; the right camera is back: ack 0, error reset.
+  plc.Send({0x04, 0, 0, 0, 0, 0, 0, 0});
+  const std::optional<CommandAck> ack = plc.WaitAck(0x04);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, 0);
+  const std::optional<Emcy> reset = plc.WaitEmcy(uint16_t(EmcyCode::kNoError));
+  ASSERT_TRUE(reset);
+  EXPECT_EQ(reset->error_register, 0);
+  EXPECT_EQ(core.capture_mode(), hal::CaptureMode::kStereo);
+  plc.Trigger(request++);
+  const std::optional<ResultSet> stereo = plc.WaitSet();
+  ASSERT_TRUE(stereo);
+  EXPECT_EQ(stereo->status, ResultStatus::kOk);
+  const SetScore c = ScoreSet(world, data.table(), table_ids, *stereo);
+  EXPECT_GE(c.correct, 1);
+  core.Stop();
+}
+
+}  // namespace
+}  // namespace sh::testing
