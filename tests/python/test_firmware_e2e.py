@@ -130,6 +130,28 @@ def angle_deg(R):
     return math.degrees(math.acos(c))
 
 
+def nearest_truth(models, got, truth, used):
+    """The unused ground-truth object of the decoded object's model (RO_* values) nearest to it:
+    (index, position error in mm at the corner centroid, rotation error in degrees modulo the
+    model's symmetries), or None when there is none."""
+    model = int(got["RO_ModelId"])
+    R = quat_to_matrix(*[got["RO_Quat" + a] for a in "WXYZ"])
+    t = [got["RO_Position" + a] for a in "XYZ"]
+    c = models["centroids_mm"][model]
+    p = apply(R, t, c)
+    best = None
+    for j, tr in enumerate(truth):
+        if j in used or tr["model_id"] != model:
+            continue
+        Rt = [tr["R"][0:3], tr["R"][3:6], tr["R"][6:9]]
+        dp = math.dist(p, apply(Rt, tr["t_mm"], c))
+        da = min(angle_deg(matmul(transpose(R), matmul(Rt, [s[0:3], s[3:6], s[6:9]])))
+                 for s in models["symmetries"][model])
+        if best is None or dp < best[1]:
+            best = (j, dp, da)
+    return best
+
+
 def percentile(values, p):
     s = sorted(values)
     return s[min(len(s) - 1, int(math.ceil(p / 100.0 * len(s))) - 1)]
@@ -304,21 +326,7 @@ class FirmwareEndToEndTest(unittest.TestCase):
                     self.assertAlmostEqual(a, sign * b, delta=QUATERNION_LSB / 2 + 1e-12)
                 # Against the renderer's ground truth, modulo the model's symmetries.
                 model = int(got["RO_ModelId"])
-                R = quat_to_matrix(*q)
-                t = [got["RO_Position" + a] for a in "XYZ"]
-                c = models["centroids_mm"][model]
-                p = apply(R, t, c)
-                best = None
-                for j, tr in enumerate(truth):
-                    if j in used or tr["model_id"] != model:
-                        continue
-                    Rt = [tr["R"][0:3], tr["R"][3:6], tr["R"][6:9]]
-                    pt = apply(Rt, tr["t_mm"], c)
-                    dp = math.dist(p, pt)
-                    da = min(angle_deg(matmul(transpose(R), matmul(Rt, [s[0:3], s[3:6], s[6:9]])))
-                             for s in models["symmetries"][model])
-                    if best is None or dp < best[1]:
-                        best = (j, dp, da)
+                best = nearest_truth(models, got, truth, used)
                 if best is None or best[1] > ARGS.max_position_error_mm or \
                         best[2] > ARGS.max_rotation_error_deg:
                     false_positives += 1

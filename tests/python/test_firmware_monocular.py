@@ -11,16 +11,15 @@ which the DBC's value table names "monocular", whose poses match the renderer's 
 and stereo sets (status 0) again. Prints how many monocular poses were correct.
 """
 import argparse
-import math
 import os
+import statistics
 import sys
 import time
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from test_can_socketcand import Plc  # noqa: E402 (skips without python-can)
-from test_firmware_e2e import (Firmware, angle_deg, apply, matmul, quat_to_matrix,  # noqa: E402
-                               transpose)
+from test_firmware_e2e import Firmware, nearest_truth  # noqa: E402
 
 ARGS = None
 NODE = 1
@@ -53,21 +52,7 @@ class MonocularFallbackTest(unittest.TestCase):
         correct = false = 0
         used = set()
         for got in objects.values():
-            model = int(got["RO_ModelId"])
-            R = quat_to_matrix(*[got["RO_Quat" + a] for a in "WXYZ"])
-            t = [got["RO_Position" + a] for a in "XYZ"]
-            c = models["centroids_mm"][model]
-            p = apply(R, t, c)
-            best = None
-            for j, tr in enumerate(truth):
-                if j in used or tr["model_id"] != model:
-                    continue
-                Rt = [tr["R"][0:3], tr["R"][3:6], tr["R"][6:9]]
-                dp = math.dist(p, apply(Rt, tr["t_mm"], c))
-                da = min(angle_deg(matmul(transpose(R), matmul(Rt, [s[0:3], s[3:6], s[6:9]])))
-                         for s in models["symmetries"][model])
-                if best is None or dp < best[1]:
-                    best = (j, dp, da)
+            best = nearest_truth(models, got, truth, used)
             if best is None or best[1] > ARGS.max_position_error_mm or \
                     best[2] > ARGS.max_rotation_error_deg:
                 false += 1
@@ -160,8 +145,11 @@ class MonocularFallbackTest(unittest.TestCase):
                  ARGS.max_position_error_mm, ARGS.max_rotation_error_deg, self.false,
                  self.reported))
         if self.position_errors:
-            print("  correct ones: position max %.2f mm, rotation max %.2f deg"
-                  % (max(self.position_errors), max(self.rotation_errors)))
+            print("  correct ones: position median %.2f mm, max %.2f mm; rotation median %.2f deg, "
+                  "max %.2f deg" % (statistics.median(self.position_errors),
+                                    max(self.position_errors),
+                                    statistics.median(self.rotation_errors),
+                                    max(self.rotation_errors)))
         sys.stdout.flush()
         self.assertGreaterEqual(self.correct, ARGS.min_recall * self.truth_objects)
         self.assertLessEqual(self.false, ARGS.max_false_fraction * self.reported)
