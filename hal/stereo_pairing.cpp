@@ -138,8 +138,8 @@ void StereoPairer::DropFrontLocked(StereoSide side, Vector<RecycledFrame>& recyc
 
 void StereoPairer::RecyclePairLocked(const FramePair& pair, Vector<RecycledFrame>& recycled) {
   // A one-side pair's empty half holds no buffer.
-  if (pair.left.view.data != nullptr) Recycle(recycled, StereoSide::kLeft, pair.left);
-  if (pair.right.view.data != nullptr) Recycle(recycled, StereoSide::kRight, pair.right);
+  if (mode_ != CaptureMode::kRightOnly) Recycle(recycled, StereoSide::kLeft, pair.left);
+  if (mode_ != CaptureMode::kLeftOnly) Recycle(recycled, StereoSide::kRight, pair.right);
 }
 
 void StereoPairer::MatchLocked(Vector<RecycledFrame>& recycled) {

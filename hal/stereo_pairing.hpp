@@ -76,7 +76,8 @@ class StereoPairer {
   // Rejects a negative tolerance. Takes effect at the next Reset().
   Status Configure(const PairingConfig& config);
   // One-side mode (kLeftOnly, kRightOnly): every frame of that side is a "pair" on its own, with
-  // the other side's frame empty (view.data null, never handed back); frames pushed for the
+  // the other side's frame empty (a default TimestampedFrame, never handed back); frames pushed
+  // for the
   // other side are handed straight back. Takes effect at the next Reset().
   void SetMode(CaptureMode mode);
 

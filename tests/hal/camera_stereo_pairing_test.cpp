@@ -216,6 +216,52 @@ TEST(CameraStereoPairing, SlowConsumerLosesOldestPairs) {
   EXPECT_EQ(h.recycled[1], s.pair_overflow_drops);
 }
 
+TEST(CameraStereoPairing, OneSideModeDeliversEachFrameAloneAndHandsTheOtherSideBack) {
+  Harness h;
+  h.pairer.SetMode(CaptureMode::kRightOnly);
+  EXPECT_EQ(h.pairer.SilentSide().status().code(), StatusCode::kNotFound);
+  h.DrainAll();
+  {
+    RecycleList r;
+    h.pairer.Reset(r);  // the mode applies from here
+  }
+  // Right frames alone; left frames (if the camera still sent any) go straight back.
+  constexpr int kFrames = static_cast<int>(kStereoPairDepth) + 3;
+  for (int i = 0; i < kFrames; ++i) {
+    h.Push(StereoSide::kLeft, i * kPeriodNs, i);
+    h.Push(StereoSide::kRight, i * kPeriodNs + 5 * kMs, i);  // far outside the tolerance
+  }
+  EXPECT_EQ(h.recycled[0], static_cast<uint64_t>(kFrames));
+  const CameraStats s = h.pairer.stats();
+  EXPECT_EQ(s.frames_paired, static_cast<uint64_t>(kFrames));
+  EXPECT_EQ(s.pair_overflow_drops, static_cast<uint64_t>(kFrames) - kStereoPairDepth);
+  EXPECT_EQ(s.left_unpaired_drops + s.right_unpaired_drops, 0u);
+  EXPECT_EQ(h.recycled[1], s.pair_overflow_drops) << "only the right half of dropped pairs";
+  FramePair p;
+  for (size_t k = 0; k < kStereoPairDepth; ++k) {
+    ASSERT_TRUE(h.Take(&p));
+    EXPECT_EQ(p.right.sequence, static_cast<uint32_t>(kFrames - kStereoPairDepth + k));
+    EXPECT_EQ(p.left.timestamp_ns, 0);
+  }
+  EXPECT_FALSE(h.Take(&p));
+  h.DrainAll();
+  EXPECT_EQ(h.recycled[0] + h.recycled[1] + kStereoPairDepth, h.pushed[0] + h.pushed[1]);
+}
+
+TEST(CameraStereoPairing, SilentSideNamesTheSideWithoutFrames) {
+  Harness h;
+  h.Push(StereoSide::kLeft, 0, 0);
+  h.Push(StereoSide::kRight, 0, 0);
+  FramePair p;
+  ASSERT_TRUE(h.Take(&p));
+  EXPECT_EQ(h.pairer.SilentSide().status().code(), StatusCode::kNotFound) << "both delivered";
+  h.Push(StereoSide::kLeft, kPeriodNs, 1);
+  h.Push(StereoSide::kLeft, 2 * kPeriodNs, 2);
+  const Result<StereoSide> silent = h.pairer.SilentSide();
+  ASSERT_TRUE(silent.ok());
+  EXPECT_EQ(*silent, StereoSide::kRight);
+}
+
 TEST(CameraStereoPairing, BurstOnOneSidePairsEachFrameWithItsPartner) {
   Harness h;
   // Right delivers three frames late in a burst after the left ones; kStereoQueueDepth >= 3.
