@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -139,54 +140,86 @@ SetScore ScoreSet(const render::SimWorld& world, const TableView& table, const i
   return score;
 }
 
-TEST(FirmwareMonocular, RightCameraSilentThenMonocularSetsThenStereoAfterClearFault) {
-  // One scene: the simulator's scenes differ in the rig's tilt, and the fallback lays objects
-  // onto the table pose it was given (scene 0's).
-  static render::SimWorld world;
-  render::SimWorldConfig wc;
-  wc.models_dir = STEREOHASH_FW_SOURCE_MODELS_DIR;
-  wc.scenes = 1;
-  wc.objects = 3;
-  const Status built = world.Build(wc);
-  ASSERT_TRUE(built.ok()) << built.message();
+// The firmware core with the simulated world's camera (one scene: the simulator's scenes differ
+// in the rig's tilt, and the fallback lays objects onto the table pose it was given, scene 0's),
+// the real stereo and monocular pipelines (static: one rig runs at a time) and a PLC.
+struct FallbackRig {
+  explicit FallbackRig(const hal::SimCameraConfig& camera_config)
+      : fw(*bus.AddEndpoint(hal::SimCanEndpointConfig{})),
+        plc(*bus.AddEndpoint(PlcConfig())),
+        camera(&World(), camera_config),
+        data(std::make_unique<FileDataSource>("builtin", "", &World().calibration())) {}
+  ~FallbackRig() { core.Stop(); }
 
+  static render::SimWorld& World() {
+    static render::SimWorld world;
+    if (!world.built()) {
+      render::SimWorldConfig wc;
+      wc.models_dir = STEREOHASH_FW_SOURCE_MODELS_DIR;
+      wc.scenes = 1;
+      wc.objects = 3;
+      const Status built = world.Build(wc);
+      EXPECT_TRUE(built.ok()) << built.message();
+    }
+    return world;
+  }
+
+  void Start() {
+    static Pipeline pipeline;
+    static MonoPipeline mono;
+    static MonoResult mono_result;
+    PipelineRecognitionConfig pc;
+    pc.mono_table_known = true;
+    pc.left_T_table_at_init = &World().left_T_table();
+    recognition =
+        std::make_unique<PipelineRecognition>(&pipeline, pc, nullptr, nullptr, &mono, &mono_result);
+    const Result<TableView> table = data->LoadTable();
+    ASSERT_TRUE(table.ok());
+    MapWorldModelsToIds(World(), ModelSet(&*table, nullptr), table_ids);
+    CoreConfig config;
+    config.node_id = kNodeId;
+    config.heartbeat_ms = 100;
+    config.capture_timeout_ms = 500;
+    config.budget_ms = 10000;  // these tests check poses and allocations, not time
+    CoreDevices devices;
+    devices.can = fw;
+    devices.camera = &camera;
+    devices.recognition = recognition.get();
+    devices.data = data.get();
+    ASSERT_TRUE(core.Start(config, devices).ok());
+    ASSERT_EQ(core.state(), FirmwareState::kReady);
+    ASSERT_TRUE(recognition->monocular());
+  }
+
+  static hal::SimCanEndpointConfig PlcConfig() {
+    hal::SimCanEndpointConfig c;
+    c.name = "plc";
+    return c;
+  }
   hal::SimCanBus bus;
-  hal::SimCanEndpoint* fw = *bus.AddEndpoint(hal::SimCanEndpointConfig{});
-  hal::SimCanEndpointConfig plc_config;
-  plc_config.name = "plc";
-  Plc plc(*bus.AddEndpoint(plc_config));
+  hal::SimCanEndpoint* fw;
+
+  Plc plc;
+
+  hal::SimCamera camera;
+
+  std::unique_ptr<FileDataSource> data;
+  std::unique_ptr<PipelineRecognition> recognition;
+  int table_ids[render::kMaxWorldModels] = {};
+  FirmwareCore core;
+};
+
+TEST(FirmwareMonocular, RightCameraSilentThenMonocularSetsThenStereoAfterClearFault) {
   hal::SimCameraConfig cc;
   cc.right_stop_after = 3;  // frames 0..2 paired, then the right camera is silent ...
   cc.fault_starts = 1;      // ... until the firmware restarts the camera
-  hal::SimCamera camera(&world, cc);
-  FileDataSource data("builtin", "", &world.calibration());
-  static Pipeline pipeline;
-  static MonoPipeline mono;
-  static MonoResult mono_result;
-  PipelineRecognitionConfig pc;
-  pc.mono_table_known = true;
-  pc.left_T_table_at_init = &world.left_T_table();
-  PipelineRecognition recognition(&pipeline, pc, nullptr, nullptr, &mono, &mono_result);
-  int table_ids[render::kMaxWorldModels] = {};
-  {
-    const Result<TableView> table = data.LoadTable();
-    ASSERT_TRUE(table.ok());
-    MapWorldModelsToIds(world, ModelSet(&*table, nullptr), table_ids);
-  }
-  CoreConfig config;
-  config.node_id = kNodeId;
-  config.heartbeat_ms = 100;
-  config.capture_timeout_ms = 500;
-  config.budget_ms = 10000;  // this test checks poses and allocations, not time
-  CoreDevices devices;
-  devices.can = fw;
-  devices.camera = &camera;
-  devices.recognition = &recognition;
-  devices.data = &data;
-  static FirmwareCore core;
-  ASSERT_TRUE(core.Start(config, devices).ok());
-  ASSERT_EQ(core.state(), FirmwareState::kReady);
-  ASSERT_TRUE(recognition.monocular());
+  FallbackRig rig(cc);
+  rig.Start();
+  const render::SimWorld& world = FallbackRig::World();
+  Plc& plc = rig.plc;
+  FirmwareCore& core = rig.core;
+  const FileDataSource& data = *rig.data;
+  const int* table_ids = rig.table_ids;
 
   uint16_t request = 1;
   for (int i = 0; i < 3; ++i) {  // both cameras deliver
@@ -246,7 +279,33 @@ TEST(FirmwareMonocular, RightCameraSilentThenMonocularSetsThenStereoAfterClearFa
   EXPECT_EQ(stereo->status, ResultStatus::kOk);
   const SetScore c = ScoreSet(world, data.table(), table_ids, *stereo);
   EXPECT_GE(c.correct, 1);
-  core.Stop();
+}
+
+TEST(FirmwareMonocular, ClearFaultWhileTheCameraIsStillSilentStaysMonocular) {
+  hal::SimCameraConfig cc;
+  cc.right_stop_after = 0;  // the right camera never delivers, after any restart
+  FallbackRig rig(cc);
+  rig.Start();
+  rig.plc.Trigger(1);
+  std::optional<ResultSet> s = rig.plc.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->status, ResultStatus::kMonocular);
+  ASSERT_TRUE(rig.plc.WaitEmcy(uint16_t(EmcyCode::kSensor)));
+
+  // Stereo is tried and fails: refused (not possible), back to the left camera alone.
+  rig.plc.Send({0x04, 0, 0, 0, 0, 0, 0, 0});
+  const std::optional<CommandAck> ack = rig.plc.WaitAck(0x04);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, uint8_t(StatusCode::kFailedPrecondition));
+  EXPECT_EQ(rig.core.capture_mode(), hal::CaptureMode::kLeftOnly);
+  EXPECT_EQ(rig.core.state(), FirmwareState::kReady);
+  rig.plc.Trigger(2);
+  s = rig.plc.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->request_id, 2);
+  EXPECT_EQ(s->status, ResultStatus::kMonocular);
+  const SetScore c = ScoreSet(FallbackRig::World(), rig.data->table(), rig.table_ids, *s);
+  EXPECT_EQ(c.false_alarms, 0);
 }
 
 }  // namespace
