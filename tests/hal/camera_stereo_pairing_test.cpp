@@ -352,10 +352,13 @@ TEST(CameraStereoPairing, ConcurrentProducersAndConsumerAccountForEveryFrame) {
   std::thread consumer([&] {
     FramePair p;
     for (;;) {
+      // Read before waiting: a wait that times out after the producers finished has seen every
+      // pair. Reading it after the wait would miss pairs formed between the timeout and the read.
+      const bool producers_were_done = producers_done;
       const Status s = h.pairer.WaitPair(20, &p);
       if (s.ok()) {
         pairs.push_back(p);
-      } else if (producers_done) {
+      } else if (producers_were_done) {
         return;
       }
     }
