@@ -63,6 +63,20 @@ struct FramePair {
   uint64_t pair_index = 0;  // pairs delivered before this one since Reset()
 };
 
+// What a backend's Capture() hands out for a pair: the views, timestamps and counters, with the
+// buffers still held by the backend until Release().
+inline StereoFrame ToStereoFrame(const FramePair& pair) {
+  StereoFrame frame;
+  frame.left = pair.left.view;
+  frame.right = pair.right.view;
+  frame.left_timestamp_ns = pair.left.timestamp_ns;
+  frame.right_timestamp_ns = pair.right.timestamp_ns;
+  frame.left_sequence = pair.left.sequence;
+  frame.right_sequence = pair.right.sequence;
+  frame.pair_index = pair.pair_index;
+  return frame;
+}
+
 struct PairingConfig {
   int64_t tolerance_ns = 2'000'000;  // 2 ms: well inside half a frame period up to 250 fps
 };

@@ -437,13 +437,7 @@ Status LibcameraStereoCamera::Capture(StereoFrame* out, int timeout_ms) {
   SH_RETURN_IF_ERROR(impl_->pairer.WaitPair(timeout_ms, &pair));
   impl_->held = pair;
   impl_->holding = true;
-  out->left = pair.left.view;
-  out->right = pair.right.view;
-  out->left_timestamp_ns = pair.left.timestamp_ns;
-  out->right_timestamp_ns = pair.right.timestamp_ns;
-  out->left_sequence = pair.left.sequence;
-  out->right_sequence = pair.right.sequence;
-  out->pair_index = pair.pair_index;
+  *out = ToStereoFrame(pair);
   return Status::Ok();
 }
 

@@ -202,13 +202,7 @@ Status SimCamera::Capture(StereoFrame* out, int timeout_ms) {
   if (!have_pair) SH_RETURN_IF_ERROR(pairer_.WaitPair(timeout_ms, &pair));
   held_ = pair;
   holding_ = true;
-  out->left = pair.left.view;
-  out->right = pair.right.view;
-  out->left_timestamp_ns = pair.left.timestamp_ns;
-  out->right_timestamp_ns = pair.right.timestamp_ns;
-  out->left_sequence = pair.left.sequence;
-  out->right_sequence = pair.right.sequence;
-  out->pair_index = pair.pair_index;
+  *out = ToStereoFrame(pair);
   return Status::Ok();
 }
 
