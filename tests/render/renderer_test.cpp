@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "hal/sim/world/scene_generator.hpp"
+#include "hal/sim/world/sim_world.hpp"
 #include "tables/model_files.hpp"
 
 namespace sh::render {
@@ -112,6 +113,61 @@ TEST(SceneGenerator, RefusesBadParameters) {
   ASSERT_FALSE(crowded.ok());
   EXPECT_NE(std::string(crowded.status().message()).find("could not place"), std::string::npos);
   EXPECT_FALSE(GenerateScene(1, ScenarioParams(), m.models, 0).ok());
+}
+
+TEST(SceneGenerator, AFixedTiltGivesEverySceneOneTablePose) {
+  const Models& m = ReferenceModels();
+  ScenarioParams p;
+  Result<GeneratedScene> first = GenerateScene(11, p, m.models, m.n);
+  ASSERT_TRUE(first.ok()) << first.status().message();
+  EXPECT_GE(first->tilt_deg, 12.0f);
+  EXPECT_LE(first->tilt_deg, 22.0f);
+  Result<GeneratedScene> drawn = GenerateScene(12, p, m.models, m.n);
+  ASSERT_TRUE(drawn.ok());
+  // Drawn per scene: another seed, another tilt, another table pose.
+  EXPECT_NE(drawn->tilt_deg, first->tilt_deg);
+  EXPECT_GT((drawn->scene.left_T_table.R - first->scene.left_T_table.R).norm(), 1e-3f);
+
+  p.tilt_deg = first->tilt_deg;
+  Result<GeneratedScene> fixed = GenerateScene(12, p, m.models, m.n);
+  ASSERT_TRUE(fixed.ok()) << fixed.status().message();
+  EXPECT_EQ(fixed->tilt_deg, first->tilt_deg);
+  EXPECT_LT((fixed->scene.left_T_table.t_mm - first->scene.left_T_table.t_mm).norm(), 1e-3f);
+  EXPECT_LT((fixed->scene.left_T_table.R - first->scene.left_T_table.R).norm(), 1e-6f);
+  // The same seed with its own tilt fixed is the scene it draws.
+  p.tilt_deg = drawn->tilt_deg;
+  Result<GeneratedScene> same = GenerateScene(12, p, m.models, m.n);
+  ASSERT_TRUE(same.ok());
+  ASSERT_EQ(same->scene.objects.size(), drawn->scene.objects.size());
+  for (size_t i = 0; i < same->scene.objects.size(); ++i) {
+    EXPECT_LT((same->left_T_model[i].t_mm - drawn->left_T_model[i].t_mm).norm(), 1e-3f);
+  }
+
+  p.tilt_deg = 61.0f;
+  EXPECT_EQ(GenerateScene(12, p, m.models, m.n).status().code(), StatusCode::kOutOfRange);
+  p.tilt_deg = std::nanf("");
+  EXPECT_EQ(GenerateScene(12, p, m.models, m.n).status().code(), StatusCode::kOutOfRange);
+}
+
+TEST(SimWorld, EverySceneSharesTheRigAndTheTablePose) {
+  SimWorld world;
+  SimWorldConfig config;
+  config.models_dir = STEREOHASH_MODELS_DIR;
+  config.scenes = 4;
+  config.seed = 7;
+  const Status s = world.Build(config);
+  ASSERT_TRUE(s.ok()) << s.message();
+  ASSERT_EQ(world.scene_count(), 4);
+  for (int i = 0; i < world.scene_count(); ++i) {
+    const GeneratedScene& g = world.scene(i);
+    EXPECT_EQ(g.tilt_deg, world.scene(0).tilt_deg) << "scene " << i;
+    EXPECT_LT((g.scene.left_T_table.t_mm - world.left_T_table().t_mm).norm(), 1e-3f);
+    EXPECT_LT((g.scene.left_T_table.R - world.left_T_table().R).norm(), 1e-6f);
+    // The objects still differ from scene to scene.
+    if (i > 0) {
+      EXPECT_GT((g.left_T_model[0].t_mm - world.scene(0).left_T_model[0].t_mm).norm(), 1e-3f);
+    }
+  }
 }
 
 TEST(Renderer, SameSeedGivesIdenticalBytesAndOtherSeedsDiffer) {

@@ -290,6 +290,10 @@ Result<GeneratedScene> GenerateScene(uint64_t seed, const ScenarioParams& params
       !(params.noise_sigma >= 0 && params.noise_sigma <= 50)) {
     return Status::Error(StatusCode::kOutOfRange, "scene: baseline, spread or noise out of range");
   }
+  if (!(params.tilt_deg <= 60.0f)) {  // negative: drawn per scene; NaN refused
+    return Status::Error(StatusCode::kOutOfRange, "scene: tilt %g degrees is above 60",
+                         double(params.tilt_deg));
+  }
   int stable[64][kMaxModelFaces];
   float areas[64][kMaxModelFaces];
   int n_stable[64] = {};
@@ -304,8 +308,10 @@ Result<GeneratedScene> GenerateScene(uint64_t seed, const ScenarioParams& params
   }
 
   Rng rng(Mix64(seed) ^ 0x5ce7e5ce7e5ce7e5ull);
-  const float tilt = rng.Uniform(12.0f, 22.0f) * kPi / 180.0f;
-  const Rig rig = MakeRig(params, tilt);
+  // Drawn even when fixed, so that a fixed tilt leaves the rest of the scene as drawn.
+  float tilt_deg = rng.Uniform(12.0f, 22.0f);
+  if (params.tilt_deg >= 0.0f) tilt_deg = params.tilt_deg;
+  const Rig rig = MakeRig(params, tilt_deg * kPi / 180.0f);
 
   // How tightly objects are packed, and how many overlapping pairs the left image must show.
   float spread_factor = 1.0f, gap_mm = 15.0f;
@@ -329,6 +335,7 @@ Result<GeneratedScene> GenerateScene(uint64_t seed, const ScenarioParams& params
   for (int attempt = 0; attempt < kSceneTries; ++attempt) {
     GeneratedScene out;
     out.calib = rig.calib;
+    out.tilt_deg = tilt_deg;
     out.scene.left_T_table = rig.left_T_table;
     out.scene.background = params.background;
     out.scene.noise_sigma = params.noise_sigma;

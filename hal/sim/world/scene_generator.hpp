@@ -33,6 +33,9 @@ struct ScenarioParams {
   float spread_mm = 400.0f;           // side of the square the objects are scattered over
   float baseline_mm = 120.0f;
   float noise_sigma = 1.5f;  // grey levels
+  // The rig's tilt from the vertical, 0..60 degrees. Negative: drawn for each scene from 12..22
+  // degrees. A fixed camera over a conveyor sees every scene from one tilt, so one table pose.
+  float tilt_deg = -1.0f;
   // Another camera than the thesis's for both eyes (size, focal length, principal point,
   // distortion); the right one then differs from it as real ones do (focal length -0.4 %,
   // principal point shifted by a few pixels, distortion -5 %). Off: the thesis pair.
@@ -51,6 +54,7 @@ struct GeneratedScene {
   StereoCalibration calib;
   // Ground truth: model -> left camera (OpenCV axes, mm), one per scene.objects entry.
   RigidTransform left_T_model[kMaxRenderObjects];
+  float tilt_deg = 0.0f;  // the rig's tilt from the vertical this scene was rendered with
 };
 
 // Fails with a clear Status if the parameters are out of range or the objects cannot be placed

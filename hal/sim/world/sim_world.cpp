@@ -65,6 +65,9 @@ Status SimWorld::BuildNow() {
                                     static_cast<unsigned long long>(seed - 1));
     }
     scenes_[i] = *g;
+    // The cameras stay where they were bolted: every later scene is seen from scene 0's tilt, so
+    // all scenes share one table pose (the firmware bounds and the one-camera fallback use it).
+    if (i == 0) params.tilt_deg = g->tilt_deg;
     for (SceneObject& o : scenes_[i].scene.objects) {
       if (!is_printed(o.model_index)) continue;
       o.albedo = 0.95f;  // the print sets the reflectance
@@ -74,7 +77,8 @@ Status SimWorld::BuildNow() {
     const StereoCalibration& ci = scenes_[i].calib;
     if (ci.left.width != c0.left.width || ci.left.height != c0.left.height ||
         !ci.right_R_left.isApprox(c0.right_R_left, 1e-4) ||
-        !ci.right_t_left_mm.isApprox(c0.right_t_left_mm, 1e-4)) {
+        !ci.right_t_left_mm.isApprox(c0.right_t_left_mm, 1e-4) ||
+        !scenes_[i].scene.left_T_table.R.isApprox(scenes_[0].scene.left_T_table.R, 1e-4)) {
       return Status::Error(StatusCode::kInternal, "sim scene %d uses a different rig", i);
     }
     // One calibration for every scene (the rigs agree up to float rounding).

@@ -39,7 +39,7 @@ class SimWorld final : public hal::FrameSource {
   // Loads the models, generates and renders every scene (allocates: boot, and a clear-fault
   // after a failed build) unless that has been done. A failure (a missing model folder) is
   // kept and tried again at the next call, so a folder repaired on the machine is picked up
-  // without a restart. All scenes share one stereo rig.
+  // without a restart. All scenes share one stereo rig and one table pose (a fixed camera).
   Status EnsureBuilt();
   Status Build(const SimWorldConfig& config) {
     Configure(config);
