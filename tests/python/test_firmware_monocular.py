@@ -66,9 +66,10 @@ class MonocularFallbackTest(unittest.TestCase):
     def run_seed(self, seed):
         fw = Firmware(ARGS.firmware, "\n".join([
             "node_id = %d" % NODE, "heartbeat_ms = 100", "sim_port = 0", "sim_seed = %d" % seed,
-            # One scene: the simulator's scenes tilt the rig differently, and the fallback lays
-            # the objects onto the table pose it knows (the rendered rig's, scene 0's).
-            "sim_scenes = 1", "sim_objects = %d" % ARGS.objects, "budget_ms = 5000",
+            # Every scene is seen by the same fixed rig over one table, the pose the fallback lays
+            # the objects onto; the sets go through several scenes.
+            "sim_scenes = %d" % ARGS.scenes, "sim_objects = %d" % ARGS.objects,
+            "budget_ms = 5000",
             "recognition = pipeline", "sim_camera_fault = right_silent",
             "sim_wait_for_client = true", ""]))
         try:
@@ -164,6 +165,7 @@ def main():
                         default=[1, 2, 3], help="scene seeds, one firmware run each")
     parser.add_argument("--sets", type=int, default=4, help="monocular sets per seed")
     parser.add_argument("--objects", type=int, default=3)
+    parser.add_argument("--scenes", type=int, default=4, help="sim_scenes")
     parser.add_argument("--max-position-error-mm", type=float, default=5.0)
     parser.add_argument("--max-rotation-error-deg", type=float, default=5.0)
     parser.add_argument("--min-recall", type=float, default=0.6)
