@@ -241,8 +241,10 @@ class SimBoard final : public Board {
     const Status built = world_.EnsureBuilt();
     if (!built.ok()) std::fprintf(stderr, "%s: simulator scenes: %s\n", program(), built.message());
     hal::SimCameraConfig cc;
-    if (config.sim_camera_fault == SimCameraFault::kRightSilent) {
-      cc.right_stop_after = 3;
+    if (config.sim_camera_fault == SimCameraFault::kRightSilent ||
+        config.sim_camera_fault == SimCameraFault::kLeftSilent) {
+      (config.sim_camera_fault == SimCameraFault::kRightSilent ? cc.right_stop_after
+                                                               : cc.left_stop_after) = 3;
       cc.fault_starts = 1;  // back once the firmware restarts the camera (clear-fault)
     }
     if (config.sim_camera_fault == SimCameraFault::kDropRight) cc.drop_right_every = 3;

@@ -79,17 +79,20 @@ if(TARGET stereohash-fw-sim AND TARGET stereohash_default_tables)
   endif()
 endif()
 
-# The one-camera fallback: right camera silent, EMCY 0x7300, monocular sets against the ground
-# truth, clear-fault back to stereo.
+# The one-camera fallback: one camera silent (each side in turn), EMCY 0x7300, monocular sets
+# against the ground truth, clear-fault back to stereo.
 if(TARGET stereohash-fw-sim AND TARGET stereohash_fw_pipeline)
-  add_test(NAME python_firmware_monocular
-           COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_firmware_monocular.py
-                   --firmware $<TARGET_FILE:stereohash-fw-sim>
-                   --dbc ${PROJECT_SOURCE_DIR}/firmware/stereohash.dbc)
-  set_tests_properties(python_firmware_monocular PROPERTIES TIMEOUT 600 SKIP_RETURN_CODE 77)
-  if(CMAKE_CROSSCOMPILING)
-    set_tests_properties(python_firmware_monocular PROPERTIES LABELS host_only)
-  endif()
+  foreach(side right left)
+    set(name python_firmware_monocular_${side})
+    add_test(NAME ${name}
+             COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_firmware_monocular.py
+                     --firmware $<TARGET_FILE:stereohash-fw-sim>
+                     --dbc ${PROJECT_SOURCE_DIR}/firmware/stereohash.dbc --side ${side})
+    set_tests_properties(${name} PROPERTIES TIMEOUT 600 SKIP_RETURN_CODE 77)
+    if(CMAKE_CROSSCOMPILING)
+      set_tests_properties(${name} PROPERTIES LABELS host_only)
+    endif()
+  endforeach()
 endif()
 
 # A command flood and silent connections on the simulated bus (socketcand bridge).

@@ -1,11 +1,12 @@
 #!/usr/bin/python3
 """The one-camera fallback of stereohash-fw-sim, seen from a PLC on the simulated CAN bus.
 
-For each scene seed, starts `stereohash-fw-sim` with `sim_camera_fault = right_silent` (the right
-camera stops after three frames until the firmware restarts it) and the recognition pipeline,
+For each scene seed, starts `stereohash-fw-sim` with `sim_camera_fault = right_silent` or
+`left_silent` (`--side`: that camera stops after three frames until the firmware restarts it) and
+the recognition pipeline,
 connects with python-can's socketcand client and decodes every frame with canmatrix from
 firmware/stereohash.dbc. Checks: three stereo sets (status 0); then EMCY 0x7300 with the
-one-camera detail (kind 4, right side) and no fault state; result sets with status 4,
+one-camera detail (kind 4, the silent side) and no fault state; result sets with status 4,
 which the DBC's value table names "monocular", whose poses match the renderer's ground truth
 (modulo model symmetries); a clear-fault acknowledged with 0 and the error reset (EMCY 0x0000);
 and stereo sets (status 0) again. Prints how many monocular poses were correct.
@@ -25,6 +26,7 @@ ARGS = None
 NODE = 1
 EMCY_SENSOR = 0x7300
 SENSOR_ONE_CAMERA = 4
+SIDES = {"left": 0, "right": 1}  # the side byte of the one-camera EMCY detail
 STATE_FAULT = 3
 STATUS_OK = 0
 STATUS_MONOCULAR = 4
@@ -70,7 +72,7 @@ class MonocularFallbackTest(unittest.TestCase):
             # the objects onto; the sets go through several scenes.
             "sim_scenes = %d" % ARGS.scenes, "sim_objects = %d" % ARGS.objects,
             "budget_ms = 5000",
-            "recognition = pipeline", "sim_camera_fault = right_silent",
+            "recognition = pipeline", "sim_camera_fault = %s_silent" % ARGS.side,
             "sim_wait_for_client = true", ""]))
         try:
             time.sleep(0.2)
@@ -95,7 +97,7 @@ class MonocularFallbackTest(unittest.TestCase):
             self.assertEqual(header["RH_Status"], STATUS_OK)
             request += 1
 
-        # The right camera is silent: the warning, and this trigger answered from the left one.
+        # One camera is silent: the warning, and this trigger answered from the other one.
         header, objects, frames, report = self.trigger(plc, fw, request)
         request += 1
         self.assertEqual(header["RH_Status"], STATUS_MONOCULAR, "\n".join(fw.stderr_lines[-5:]))
@@ -104,7 +106,7 @@ class MonocularFallbackTest(unittest.TestCase):
         self.assertEqual(len(emcys), 1, "one EMCY 0x7300 for the failed camera")
         detail = int(emcys[0]["EMCY_Detail"])
         self.assertEqual(detail >> 24, SENSOR_ONE_CAMERA)
-        self.assertEqual((detail >> 16) & 0xFF, 1, "the right camera")
+        self.assertEqual((detail >> 16) & 0xFF, SIDES[ARGS.side], "the %s camera" % ARGS.side)
         self.assertNotEqual(emcys[0]["EMCY_FirmwareState"], STATE_FAULT, "a warning, no fault")
 
         sets = [(objects, report)]
@@ -135,14 +137,14 @@ class MonocularFallbackTest(unittest.TestCase):
             request += 1
             self.assertEqual(header["RH_Status"], STATUS_OK, "stereo again")
 
-    def test_right_camera_silent(self):
+    def test_one_camera_silent(self):
         self.truth_objects = self.correct = self.false = self.reported = 0
         self.position_errors, self.rotation_errors = [], []
         for seed in ARGS.seeds:
             self.run_seed(seed)
-        print("\nmonocular fallback: %d seeds x %d sets: %d of %d ground-truth objects within "
+        print("\nmonocular fallback, %s camera silent: %d seeds x %d sets: %d of %d ground-truth objects within "
               "%.1f mm / %.1f deg, %d of %d reported objects false"
-              % (len(ARGS.seeds), ARGS.sets, self.correct, self.truth_objects,
+              % (ARGS.side, len(ARGS.seeds), ARGS.sets, self.correct, self.truth_objects,
                  ARGS.max_position_error_mm, ARGS.max_rotation_error_deg, self.false,
                  self.reported))
         if self.position_errors:
@@ -166,6 +168,8 @@ def main():
     parser.add_argument("--sets", type=int, default=4, help="monocular sets per seed")
     parser.add_argument("--objects", type=int, default=3)
     parser.add_argument("--scenes", type=int, default=4, help="sim_scenes")
+    parser.add_argument("--side", choices=sorted(SIDES), default="right",
+                        help="the camera that goes silent")
     parser.add_argument("--max-position-error-mm", type=float, default=5.0)
     parser.add_argument("--max-rotation-error-deg", type=float, default=5.0)
     parser.add_argument("--min-recall", type=float, default=0.6)
