@@ -248,6 +248,12 @@ class SimBoard final : public Board {
       cc.fault_starts = 1;  // back once the firmware restarts the camera (clear-fault)
     }
     if (config.sim_camera_fault == SimCameraFault::kDropRight) cc.drop_right_every = 3;
+    if (config.sim_camera_fault == SimCameraFault::kRightAbsent ||
+        config.sim_camera_fault == SimCameraFault::kLeftAbsent) {
+      (config.sim_camera_fault == SimCameraFault::kRightAbsent ? cc.right_absent : cc.left_absent) =
+          true;
+      cc.fault_starts = 1;  // plugged in by the time the firmware restarts the camera
+    }
     camera_ = std::make_unique<hal::SimCamera>(&world_, cc);
     devices->camera = camera_.get();
     return Status::Ok();

@@ -40,7 +40,14 @@ enum class RecognitionKind : uint8_t {
   kTruth,     // simulator only: reports the rendered ground truth (exercises CAN and timing paths)
 };
 // Simulated camera faults, injected from the start (tests inject them at run time instead).
-enum class SimCameraFault : uint8_t { kNone, kRightSilent, kDropRight, kLeftSilent };
+enum class SimCameraFault : uint8_t {
+  kNone,
+  kRightSilent,
+  kDropRight,
+  kLeftSilent,
+  kRightAbsent,
+  kLeftAbsent,
+};
 // Where the images come from: the board's cameras (libcamera), the simulated world's, or
 // recorded stereo pairs played from a directory (the simulator program).
 enum class CameraSource : uint8_t { kLibcamera, kSim, kDirectory };
@@ -166,9 +173,10 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
        "print, e.g. models/textured; empty = none")                                                \
   INT(sim_scenes, int, 6, 1, 64, "", "scenes rendered at boot; frame n shows scene n mod count")   \
   CHOICE(sim_camera_fault, SimCameraFault, SimCameraFault::kNone,                                 \
-         "none|right_silent|drop_right|left_silent",                                               \
+         "none|right_silent|drop_right|left_silent|right_absent|left_absent",                      \
          "right_silent (left_silent): that camera stops after 3 frames until the firmware "        \
-         "restarts it (clear-fault); drop_right: every 3rd right frame is lost")                   \
+         "restarts it (clear-fault); drop_right: every 3rd right frame is lost; right_absent "     \
+         "(left_absent): that camera is not connected at boot, and is at the next restart")        \
   BOOL(sim_corrupt_tables, false, "boot with a damaged copy of the tables")                        \
   BOOL(sim_wait_for_client, false,                                                                 \
        "boot only once a socketcand client is in raw mode (to see the boot-up)")                   \

@@ -89,12 +89,12 @@ Status FirmwareCore::Start(const CoreConfig& config, const CoreDevices& devices)
   LoadData();
   canopen_.SetSettings(CurrentSettings());
   const Status camera = dev_.camera->Start();
-  if (!camera.ok()) {
+  if (camera.ok()) {
+    camera_started_ = true;
+  } else if (!StartOnOneCamera(camera)) {
     Log("camera start failed: %s", camera.message());
     RaiseFault(kFaultCamera, EmcyCode::kSensor,
                kSensorStartFailed | static_cast<uint32_t>(camera.code()) << 16);
-  } else {
-    camera_started_ = true;
   }
   booted_ = true;
   UpdateState();
@@ -564,6 +564,23 @@ bool FirmwareCore::FallBackToOneCamera(const Status& failure) {
   return true;
 }
 
+bool FirmwareCore::StartOnOneCamera(const Status& failure) {
+  if (!dev_.recognition->monocular()) return false;
+  for (const hal::CaptureMode mode : {hal::CaptureMode::kLeftOnly, hal::CaptureMode::kRightOnly}) {
+    if (!RestartCamera(mode)) continue;
+    const bool left_failed = mode == hal::CaptureMode::kRightOnly;
+    Log("camera start failed: %s; continuing with the %s camera alone (monocular results)",
+        failure.message(), left_failed ? "right" : "left");
+    SendEmcyFrame(canopen_.Raise(kWarningOneCamera, static_cast<uint16_t>(EmcyCode::kSensor),
+                                 kSensorOneCamera | (left_failed ? 0u : 1u) << 16));
+    return true;
+  }
+  // Neither camera starts alone: the next start is in stereo again.
+  (void)dev_.camera->SetCaptureMode(hal::CaptureMode::kStereo);
+  capture_mode_ = hal::CaptureMode::kStereo;
+  return false;
+}
+
 bool FirmwareCore::TryStereoAgain() {
   const hal::CaptureMode one = capture_mode_.load();
   if (RestartCamera(hal::CaptureMode::kStereo)) {
@@ -604,7 +621,7 @@ void FirmwareCore::ClearFault(const CanFrame& frame) {
     const Status s = dev_.camera->Start();
     if (s.ok()) {
       camera_started_ = true;
-    } else {
+    } else if (!StartOnOneCamera(s)) {
       Log("camera restart failed: %s", s.message());
       RaiseFault(kFaultCamera, EmcyCode::kSensor,
                  kSensorStartFailed | static_cast<uint32_t>(s.code()) << 16);

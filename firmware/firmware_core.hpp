@@ -212,6 +212,10 @@ class FirmwareCore final : public RecorderObserver {
   // from one image, restarts the camera on the other side alone, raises the one-camera warning
   // (EMCY 0x7300) and returns true.
   bool FallBackToOneCamera(const Status& failure);
+  // After the camera failed to start in stereo (a camera not found, at boot or at clear-fault):
+  // when recognition can work from one image, starts the left camera alone, else the right one,
+  // raises the one-camera warning naming the other side and returns true.
+  bool StartOnOneCamera(const Status& failure);
   // Restarts the camera in `mode`; false (logged) when it does not start.
   bool RestartCamera(hal::CaptureMode mode);
   // Clear-fault while on one camera: back to stereo when a stereo pair arrives, else back to the

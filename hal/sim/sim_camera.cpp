@@ -28,6 +28,17 @@ Status SimCamera::Start() {
   if (config_.jitter_ns < 0) {
     return Status::Error(StatusCode::kInvalidArgument, "sim camera jitter must not be negative");
   }
+  if (config_.fault_starts < 0 || starts_ < config_.fault_starts) {  // this start's faults
+    for (const StereoSide side : kSides) {
+      const bool absent = side == StereoSide::kLeft ? config_.left_absent : config_.right_absent;
+      const CaptureMode without =
+          side == StereoSide::kLeft ? CaptureMode::kRightOnly : CaptureMode::kLeftOnly;
+      if (absent && mode_ != without) {
+        return Status::Error(StatusCode::kNotFound, "sim camera: no %s camera connected",
+                             StereoSideName(side));
+      }
+    }
+  }
   SH_RETURN_IF_ERROR(pairer_.Configure(config_.pairing));
   int width = 0;
   int height = 0;

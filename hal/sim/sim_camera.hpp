@@ -36,8 +36,11 @@ struct SimCameraConfig {
   int64_t right_stop_after = -1;
   uint32_t drop_left_every = 0;  // drop every n-th left frame, counting from frame n-1 (0: never)
   uint32_t drop_right_every = 0;
-  // The stop and drop faults apply in the first `fault_starts` Start()s only (-1: in all), so a
-  // test can have a camera come back when the firmware restarts it.
+  // A camera that is not connected: Start() fails (not found) in every mode that needs it.
+  bool left_absent = false;
+  bool right_absent = false;
+  // The stop, drop and absence faults apply in the first `fault_starts` Start()s only (-1: in
+  // all), so a test can have a camera come back when the firmware restarts it.
   int64_t fault_starts = -1;
 };
 

@@ -308,5 +308,45 @@ TEST(FirmwareMonocular, ClearFaultWhileTheCameraIsStillSilentStaysMonocular) {
   EXPECT_EQ(c.false_alarms, 0);
 }
 
+// A board that boots with one camera not connected starts on the other one: the one-camera
+// warning naming the missing side, READY, monocular sets; clear-fault cannot bring stereo back
+// while the camera is still missing.
+TEST(FirmwareMonocular, BootWithOneCameraMissingStartsOnTheOther) {
+  for (const hal::StereoSide missing : {hal::StereoSide::kRight, hal::StereoSide::kLeft}) {
+    SCOPED_TRACE(hal::StereoSideName(missing));
+    hal::SimCameraConfig cc;
+    (missing == hal::StereoSide::kRight ? cc.right_absent : cc.left_absent) = true;
+    FallbackRig rig(cc);
+    rig.Start();  // READY: a warning, not the camera fault
+    const hal::CaptureMode working = missing == hal::StereoSide::kRight
+                                         ? hal::CaptureMode::kLeftOnly
+                                         : hal::CaptureMode::kRightOnly;
+    EXPECT_EQ(rig.core.capture_mode(), working);
+    const std::optional<Emcy> e = rig.plc.WaitEmcy(uint16_t(EmcyCode::kSensor));
+    ASSERT_TRUE(e);
+    EXPECT_EQ(e->detail >> 24, kSensorOneCamera >> 24);
+    EXPECT_EQ((e->detail >> 16) & 0xFF, missing == hal::StereoSide::kRight ? 1u : 0u);
+    EXPECT_NE(e->state, FirmwareState::kFault);
+
+    rig.plc.Trigger(1);
+    std::optional<ResultSet> s = rig.plc.WaitSet();
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->status, ResultStatus::kMonocular);
+    const SetScore c = ScoreSet(FallbackRig::World(), rig.data->table(), rig.table_ids, *s);
+    std::printf("booted without the %s camera: %d of %zu objects, %d false\n",
+                hal::StereoSideName(missing), c.correct,
+                FallbackRig::World().scene(0).scene.objects.size(), c.false_alarms);
+    EXPECT_GE(c.correct, 1);
+    EXPECT_LE(c.false_alarms, c.correct);
+
+    rig.plc.Send({0x04, 0, 0, 0, 0, 0, 0, 0});
+    const std::optional<CommandAck> ack = rig.plc.WaitAck(0x04);
+    ASSERT_TRUE(ack);
+    EXPECT_EQ(ack->status, uint8_t(StatusCode::kFailedPrecondition));
+    EXPECT_EQ(rig.core.capture_mode(), working);
+    EXPECT_EQ(rig.core.state(), FirmwareState::kReady);
+  }
+}
+
 }  // namespace
 }  // namespace sh::testing

@@ -195,6 +195,40 @@ TEST(CameraSim, BothCamerasStoppedTimesOut) {
   EXPECT_NE(std::strstr(s.message(), "both cameras silent"), nullptr) << s.message();
 }
 
+TEST(CameraSim, AnAbsentCameraFailsTheStartOfEveryModeThatNeedsIt) {
+  PatternSource source(8, 6);
+  SimCameraConfig config;
+  config.right_absent = true;
+  SimCamera cam(&source, config);
+  Status s = cam.Start();
+  EXPECT_EQ(s.code(), StatusCode::kNotFound);
+  EXPECT_NE(std::strstr(s.message(), "no right camera"), nullptr) << s.message();
+  ASSERT_TRUE(cam.SetCaptureMode(CaptureMode::kRightOnly).ok());
+  EXPECT_EQ(cam.Start().code(), StatusCode::kNotFound);
+  ASSERT_TRUE(cam.SetCaptureMode(CaptureMode::kLeftOnly).ok());
+  ASSERT_TRUE(cam.Start().ok());
+  StereoFrame f;
+  ASSERT_TRUE(cam.Capture(&f, 100).ok());
+  EXPECT_NE(f.left.data, nullptr);
+  EXPECT_EQ(f.right.data, nullptr);
+  cam.Release();
+  ASSERT_TRUE(cam.Stop().ok());
+
+  // Only in the first fault_starts starts: then the camera is plugged in.
+  config.right_absent = false;
+  config.left_absent = true;
+  config.fault_starts = 1;
+  SimCamera back(&source, config);
+  ASSERT_TRUE(back.SetCaptureMode(CaptureMode::kRightOnly).ok());
+  ASSERT_TRUE(back.Start().ok());  // start 1: the left camera is absent
+  ASSERT_TRUE(back.Stop().ok());
+  ASSERT_TRUE(back.SetCaptureMode(CaptureMode::kStereo).ok());
+  ASSERT_TRUE(back.Start().ok());  // start 2: both there
+  ASSERT_TRUE(back.Capture(&f, 100).ok());
+  EXPECT_NE(f.left.data, nullptr);
+  EXPECT_NE(f.right.data, nullptr);
+}
+
 TEST(CameraSim, DroppedLeftFramesLeaveRightFramesUnpaired) {
   PatternSource source(8, 6);
   SimCameraConfig config;
