@@ -19,6 +19,7 @@
 #include "firmware/sd_notify.hpp"
 #include "hal/can_log.hpp"
 #include "recog/base/crc32.hpp"
+#include "recog/base/zeroed.hpp"
 #include "recog/camera/handeye_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "recog/mono/mono_pipeline.hpp"
@@ -341,12 +342,19 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   Recognition* recognition = nullptr;
   if (config.recognition == RecognitionKind::kPipeline) {
     static Pipeline pipeline;  // tens of MiB: static storage, locked and pre-faulted below
-    // The texture path's buffers (about 63 MiB) only when printed models are configured.
-    static std::unique_ptr<texture::TextureRecognizer> texture;
-    static std::unique_ptr<texture::TextureResult> texture_result;
+    // The texture path's buffers (about 63 MiB) only when printed models are configured;
+    // unlocked, only the pages a frame uses become resident (docs/memory.md).
+    static ZeroedPtr<texture::TextureRecognizer> texture;
+    static ZeroedPtr<texture::TextureResult> texture_result;
     if (config.features[0] != '\0') {
-      texture = std::make_unique<texture::TextureRecognizer>();
-      texture_result = std::make_unique<texture::TextureResult>();
+      texture = MakeZeroed<texture::TextureRecognizer>();
+      texture_result = MakeZeroed<texture::TextureResult>();
+      if (texture == nullptr || texture_result == nullptr) {
+        return Fail(
+            *board, "memory",
+            Status::Error(StatusCode::kUnavailable, "cannot allocate the texture path's %zu bytes",
+                          sizeof(texture::TextureRecognizer)));
+      }
     }
     // The one-camera fallback when a camera fails (4.8 MiB, static as well).
     static MonoPipeline mono;

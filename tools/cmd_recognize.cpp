@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hal/sim/image_files.hpp"
+#include "recog/base/zeroed.hpp"
 #include "recog/pipeline/pipeline.hpp"
 #include "tools/command.hpp"
 #include "tools/mono_setup.hpp"
@@ -96,8 +97,8 @@ int RunMonocular(const char* calib_path, const char* image_path, int camera,
   LoadedImage image;
   s = LoadImage(image_path, camera == 0 ? "left" : "right", &image);
   if (!s.ok()) return Fail("%s", s.message());
-  auto pipeline = std::make_unique<MonoPipeline>();
-  auto workspace = std::make_unique<FeatureWorkspace>();  // ~42 MiB
+  auto pipeline = MakeZeroed<MonoPipeline>();
+  auto workspace = MakeZeroed<FeatureWorkspace>();  // ~42 MiB, resident as used
   s = pipeline->Init(*calib, camera, aspects.view, table.present ? &table.left_T_table : nullptr,
                      MakeMonoConfig(options), NowNs);
   if (!s.ok()) return Fail("%s", s.message());
@@ -231,7 +232,7 @@ int RunRecognize(int argc, char** argv) {
   if (!s.ok()) return Fail("%s", s.message());
 
   const PipelineConfig config = MakePipelineConfig(options, table);
-  auto pipeline = std::make_unique<Pipeline>();  // ~90 MiB of frame buffers
+  auto pipeline = MakeZeroed<Pipeline>();  // ~118 MiB, resident as used (docs/memory.md)
   s = pipeline->Init(*calib, tables.view, config, NowNs, tables.shape());
   if (!s.ok()) return Fail("%s", s.message());
   auto result = std::make_unique<PipelineResult>();

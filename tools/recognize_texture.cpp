@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "hal/sim/image_files.hpp"
+#include "recog/base/zeroed.hpp"
 #include "recog/pipeline/worker_pool.hpp"
 #include "tools/overlay.hpp"
 #include "tools/recognize_setup.hpp"
@@ -98,7 +99,7 @@ int RecognizePrinted(const StereoCalibration& calib, const FeatureDbView& db, Co
   if (!s.ok()) return Fail("%s", s.message());
   texture::ParallelFor parallel;
   if (pool.threads() > 1) parallel = texture::ParallelOn(&pool);
-  auto recognizer = std::make_unique<texture::TextureRecognizer>();  // ~63 MiB of buffers
+  auto recognizer = MakeZeroed<texture::TextureRecognizer>();  // ~63 MiB, resident as used
   s = recognizer->Init(calib, db, texture::TextureRecognizerConfig{}, NowNs, parallel);
   if (!s.ok()) return Fail("%s", s.message());
   auto result = std::make_unique<texture::TextureResult>();
