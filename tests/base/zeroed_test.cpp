@@ -8,7 +8,7 @@ namespace sh {
 namespace {
 
 // A large object like the pipeline's: arrays without initialisers beside members with them.
-struct Buffers {
+struct Buffers {  // NOLINT(cppcoreguidelines-pro-type-member-init): zero from MakeZeroed
   int32_t counter = 7;
   uint8_t pixels[3 << 20];
   float plane[1 << 16];
@@ -16,7 +16,7 @@ struct Buffers {
 };
 
 int g_destroyed = 0;
-struct Counted {
+struct Counted {  // NOLINT(cppcoreguidelines-pro-type-member-init)
   uint32_t words[1 << 12];
   ~Counted() { ++g_destroyed; }
 };
