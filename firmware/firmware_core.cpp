@@ -473,8 +473,8 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
   UpdateState();
   PublishResult(&set, &frame);
   // A copy for the recorder's writer thread (no heap, never waits); a full ring drops the pair.
-  // Recordings are stereo pairs: nothing is recorded while on one camera.
-  if (dev_.recorder != nullptr && mode == hal::CaptureMode::kStereo) {
+  // On one camera, the image of the camera in use alone.
+  if (dev_.recorder != nullptr) {
     (void)dev_.recorder->Submit(frame, set);
   }
   if (!processed.ok()) {

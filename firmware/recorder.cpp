@@ -188,16 +188,23 @@ bool Recorder::Submit(const hal::StereoFrame& frame, const protocol::ResultSet& 
       break;
     }
   }
-  const int w = frame.left.width;
-  const int h = frame.left.height;
-  if (slot == nullptr || static_cast<size_t>(w) * static_cast<size_t>(h) > kMaxImagePixels ||
-      frame.right.width != w || frame.right.height != h) {
+  // On one camera the other side's view is empty: only the camera in use is recorded.
+  const ConstGrayView* views[2] = {&frame.left, &frame.right};
+  const bool present[2] = {frame.left.data != nullptr, frame.right.data != nullptr};
+  const ConstGrayView& first = present[0] ? frame.left : frame.right;
+  const int w = first.width;
+  const int h = first.height;
+  const bool sizes_agree =
+      !(present[0] && present[1]) || (frame.right.width == w && frame.right.height == h);
+  if (slot == nullptr || !(present[0] || present[1]) || w <= 0 || h <= 0 ||
+      static_cast<size_t>(w) * static_cast<size_t>(h) > kMaxImagePixels || !sizes_agree) {
     ++counters_.dropped;
     return false;
   }
   // Rows one by one: camera buffers may have a stride.
-  const ConstGrayView* views[2] = {&frame.left, &frame.right};
   for (int side = 0; side < 2; ++side) {
+    slot->present[side] = present[side];
+    if (!present[side]) continue;
     for (int y = 0; y < h; ++y) {
       std::memcpy(slot->pixels[side].get() + static_cast<size_t>(y) * static_cast<size_t>(w),
                   &views[side]->at(0, y), static_cast<size_t>(w));
@@ -282,6 +289,7 @@ Status Recorder::WritePair(const Slot& slot) {
                                     config_.model_count, slot.timestamp_ns, json, sizeof(json));
   Status s = Status::Ok();
   for (int side = 0; side < 2 && s.ok(); ++side) {
+    if (!slot.present[side]) continue;
     const ConstGrayView view{slot.pixels[side].get(), slot.width, slot.height, slot.width};
     const char* side_name = side == 0 ? "left" : "right";
     char name[16];

@@ -6,7 +6,7 @@
 //   DIR/table.yaml           the table pose, if one is known
 //   DIR/<n>/left.png         n: 8 digits, counting up across restarts; the last record_max kept
 //   DIR/<n>/right.png        (.pgm with record_format = pgm: 30 times faster to write, 3 times
-//                            larger)
+//                            larger); on one camera only the image of the camera in use
 //   DIR/<n>/result.json      the result set as sent (sequence, request id, status, time, frame,
 //                            objects with model, pose, score), image timestamps
 //
@@ -86,6 +86,7 @@ class Recorder {
     std::unique_ptr<uint8_t[]> pixels[2];
     int width = 0, height = 0;
     int64_t timestamp_ns[2] = {0, 0};
+    bool present[2] = {false, false};  // false: that camera was not in use (one-camera sets)
     protocol::ResultSet set;
     uint64_t index = 0;
     bool full = false;  // submitted, not yet written

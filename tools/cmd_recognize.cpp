@@ -38,7 +38,8 @@ void PrintHelp() {
       "                (blue), line segments (yellow), corners (green: paired into a 3-D point)\n"
       "  --scene DIR   a recorded pair instead of --left/--right: DIR/left.png and right.png (or\n"
       "                .pgm) of a recorded-scenes set or a firmware recording; --calib and\n"
-      "                --table default to calib.yaml and table.yaml beside DIR\n"
+      "                --table default to calib.yaml and table.yaml beside DIR; a folder\n"
+      "                recorded on one camera holds one image and is recognised from it\n"
       "  --monocular left|right  one camera only (2-D aspect hashing; with --table, objects\n"
       "                rest on the table); also chosen by giving only --left or only --right\n"
       "%s",
@@ -170,8 +171,9 @@ int RunRecognize(int argc, char** argv) {
     }
     const Status found = FindRecordedPair(scene_dir, &recorded);
     if (!found.ok()) return Fail("%s", found.message());
-    left_path = recorded.left.c_str();
-    right_path = recorded.right.c_str();
+    // A pair recorded on one camera holds that camera's image alone: recognised from it.
+    if (!recorded.left.empty()) left_path = recorded.left.c_str();
+    if (!recorded.right.empty()) right_path = recorded.right.c_str();
     if (calib_path == nullptr) calib_path = recorded.calib.c_str();
     if (options.table_path == nullptr && !recorded.table.empty()) {
       options.table_path = recorded.table.c_str();

@@ -24,9 +24,9 @@ Status FindRecordedPair(const char* scene_dir, RecordedPair* out) {
   while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
   out->left = Image(dir, "left");
   out->right = Image(dir, "right");
-  if (out->left.empty() || out->right.empty()) {
-    return Status::Error(StatusCode::kNotFound, "%s has no %s.png (or .pgm)", dir.c_str(),
-                         out->left.empty() ? "left" : "right");
+  if (out->left.empty() && out->right.empty()) {
+    return Status::Error(StatusCode::kNotFound, "%s has neither left nor right .png (or .pgm)",
+                         dir.c_str());
   }
   const std::string parent = dir + "/..";
   out->calib = parent + "/calib.yaml";

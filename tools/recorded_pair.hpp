@@ -10,12 +10,14 @@
 namespace sh::tools {
 
 struct RecordedPair {
-  std::string left, right;  // DIR/left.png or .pgm, DIR/right.png or .pgm
-  std::string calib;        // DIR/../calib.yaml (must exist)
-  std::string table;        // DIR/../table.yaml, "" if there is none
+  // DIR/left.png or .pgm, DIR/right.png or .pgm; one of them "" for a folder recorded while on
+  // one camera (then recognised from the other image alone).
+  std::string left, right;
+  std::string calib;  // DIR/../calib.yaml (must exist)
+  std::string table;  // DIR/../table.yaml, "" if there is none
 };
 
-// kNotFound naming what is missing.
+// kNotFound naming what is missing (both images, or the calibration).
 Status FindRecordedPair(const char* scene_dir, RecordedPair* out);
 
 }  // namespace sh::tools

@@ -139,6 +139,36 @@ TEST_F(RecorderTest, KeepsTheLastPairsInTheReplayLayoutAcrossRestarts) {
   EXPECT_EQ(observer_.failed.load(), 0);
 }
 
+TEST_F(RecorderTest, OnOneCameraOnlyTheImageOfTheCameraInUseIsWritten) {
+  RecorderConfig c;
+  c.directory = dir_;
+  Recorder r;
+  ASSERT_TRUE(r.Start(c, calib_, nullptr, &observer_).ok());
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 64; ++x) pixels_[1][y * 64 + x] = uint8_t(3 * x + y);
+  }
+  hal::StereoFrame f;  // the left camera failed: its view is empty
+  f.right = ConstGrayView{pixels_[1].data(), 64, 48, 64};
+  f.right_timestamp_ns = 77;
+  protocol::ResultSet set;
+  set.status = protocol::ResultStatus::kMonocular;
+  while (!r.Submit(f, set)) usleep(1000);
+  hal::StereoFrame nothing;  // neither camera: nothing to record
+  EXPECT_FALSE(r.Submit(nothing, set));
+  r.Stop();
+  EXPECT_EQ(r.counters().written, 1u);
+  EXPECT_EQ(r.counters().dropped, 1u);
+  EXPECT_FALSE(Exists(Pair(0) + "/left.png"));
+  ASSERT_TRUE(Exists(Pair(0) + "/right.png"));
+  std::vector<uint8_t> image(size_t{64} * 48);
+  const Result<hal::ImageInfo> right = hal::ReadImageFile(
+      (Pair(0) + "/right.png").c_str(), hal::PixelFormat::kGray8, image.data(), image.size());
+  ASSERT_TRUE(right.ok()) << right.status().message();
+  EXPECT_EQ(image[10 * 64 + 7], uint8_t(3 * 7 + 10));
+  const std::string json = ReadText(Pair(0) + "/result.json");
+  EXPECT_NE(json.find("\"status\": 4"), std::string::npos) << json;
+}
+
 TEST_F(RecorderTest, AWriteErrorIsAWarningUntilWritingWorksAgain) {
   RecorderConfig c;
   c.directory = dir_;

@@ -454,9 +454,33 @@ TEST_F(RecognizeToolTest, ReadsARecordedPairWithTheSetsCalibrationAndTable) {
   EXPECT_NE(r.output.find("no calib.yaml beside"), std::string::npos) << r.output;
   r = RunTool("recognize --scene " + set + "/missing");
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.output.find("has no left.png"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("has neither left nor right"), std::string::npos) << r.output;
   r = RunTool("recognize --scene " + set + "/scene1 --left " + Path("left.png"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
+}
+
+TEST_F(RecognizeToolTest, AFolderRecordedOnOneCameraIsRecognisedFromThatImage) {
+  // The firmware records only the camera in use while on one camera.
+  const std::string set = Path("mono_set");
+  ASSERT_EQ(std::system(("mkdir -p " + set + "/00000000 && cp " + Path("right.png") + " " + set +
+                         "/00000000/ && cp " + Path("calib.yaml") + " " + Path("table.yaml") + " " +
+                         set + "/")
+                            .c_str()),
+            0);
+  ToolRun r = RunTool("recognize --scene " + set + "/00000000 --json " + Path("mono_scene.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunTool("recognize --calib " + Path("calib.yaml") + " --right " + Path("right.png") +
+              " --table " + Path("table.yaml") + " --json " + Path("mono_right.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  Json scene, right;
+  ASSERT_TRUE(JsonReader(ReadText(Path("mono_scene.json"))).Parse(&scene));
+  ASSERT_TRUE(JsonReader(ReadText(Path("mono_right.json"))).Parse(&right));
+  ASSERT_GT(right["objects"].size(), 0u);
+  ASSERT_EQ(scene["objects"].size(), right["objects"].size());
+  for (size_t i = 0; i < scene["objects"].size(); ++i) {
+    EXPECT_EQ(scene["objects"][i]["model"].text, right["objects"][i]["model"].text);
+    EXPECT_EQ(PoseOf(scene["objects"][i]).t_mm, PoseOf(right["objects"][i]).t_mm);
+  }
 }
 
 }  // namespace
