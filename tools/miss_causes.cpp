@@ -248,8 +248,9 @@ void ExplainMisses(const std::vector<Model>& models, const std::vector<TruthObje
       PosedModel object{&pipeline.models().model(static_cast<uint32_t>(truth[i].model)),
                         truth[i].cam_T_model};
       ShapeRecognizer::Assessment a;
-      const bool ok =
-          pipeline.shape().Assess(&object, occluders, n_occluders, &a).ok() && a.accepted;
+      const bool ok = pipeline.shape() != nullptr &&
+                      pipeline.shape()->Assess(&object, occluders, n_occluders, &a).ok() &&
+                      a.accepted;
       MissRecord record;
       record.truth_index = i;
       record.verify_score[0] = a.edge_score[0];

@@ -162,8 +162,16 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
   }
   shape_enabled_ = models_.shape_count() > 0;
   if (shape_enabled_) {
-    SH_RETURN_IF_ERROR(shape_.Init(calib, *shape_views, config.shape,
-                                   static_cast<uint16_t>(models_.shape_offset()), now_ns));
+    if (shape_ == nullptr) shape_ = MakeZeroed<ShapeRecognizer>();  // start-up, not per frame
+    if (shape_ == nullptr) {
+      return Status::Error(StatusCode::kUnavailable,
+                           "pipeline: cannot allocate the colour path's %zu bytes",
+                           sizeof(ShapeRecognizer));
+    }
+    SH_RETURN_IF_ERROR(shape_->Init(calib, *shape_views, config.shape,
+                                    static_cast<uint16_t>(models_.shape_offset()), now_ns));
+  } else {
+    shape_.reset();
   }
   SH_RETURN_IF_ERROR(pool_.Start(config.threads));
   calib_ = calib;
@@ -224,7 +232,7 @@ Status Pipeline::Process(const FrameView& left, const FrameView& right, float bu
     SH_RETURN_IF_ERROR(RecognisePolyhedra(grey[0], grey[1], budget_ms, t0, out));
   }
   if (shape_enabled_ && left.has_colour() && right.has_colour()) {
-    SH_RETURN_IF_ERROR(shape_.Process(left, right, out->objects, &out->shape));
+    SH_RETURN_IF_ERROR(shape_->Process(left, right, out->objects, &out->shape));
   }
   if (now_ns_) out->time.total_ms = MsSince(t0);
   return Status::Ok();

@@ -8,6 +8,7 @@
 
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
+#include "recog/base/zeroed.hpp"
 #include "recog/camera/camera_model.hpp"
 #include "recog/hashing/recognizer.hpp"
 #include "recog/image/features.hpp"
@@ -144,7 +145,8 @@ class Pipeline {
   const Scene& scene() const;
   const TableView& table() const;
   const ModelSet& models() const { return models_; }
-  const ShapeRecognizer& shape() const { return shape_; }
+  // The colour parts' recogniser; null unless the view database of the last Init() holds models.
+  const ShapeRecognizer* shape() const { return shape_.get(); }
   const StereoCalibration& calibration() const;
   const PipelineConfig& config() const { return config_; }
   int threads() const { return pool_.threads(); }
@@ -189,10 +191,12 @@ class Pipeline {
   // Per-frame state of the parallel feature extraction (one slot per image).
   ConstGrayView frame_images_[2];
   Status frame_status_[2];
-  // The shape path (~20 MB) and the grey images of RGB frames for the polyhedral path.
+  // The shape path (26 MiB) is allocated by Init only when the model set holds colour parts, so
+  // a pipeline without them neither holds nor locks its buffers (docs/memory.md); then the grey
+  // images of RGB frames for the polyhedral path.
   ModelSet models_;
   bool shape_enabled_ = false;
-  ShapeRecognizer shape_;
+  ZeroedPtr<ShapeRecognizer> shape_;
   uint8_t grey_[2][kMaxImagePixels];
 };
 
