@@ -298,6 +298,11 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   long run_seconds = 0;
   const int exit_code = ParseOptions(argc, argv, board, &config, &run_seconds);
   if (exit_code >= 0) return exit_code;
+  // Before any thread starts: every thread's stack is locked in full by mlock.
+  {
+    const Status s = LimitThreadStacks();
+    if (!s.ok()) std::fprintf(stderr, "%s: %s\n", board->program(), s.message());
+  }
   signal(SIGTERM, OnSignal);
   signal(SIGINT, OnSignal);
   signal(SIGPIPE, SIG_IGN);

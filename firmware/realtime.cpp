@@ -18,6 +18,23 @@ Status LockMemory() {
   return Status::Ok();
 }
 
+Status LimitThreadStacks(size_t bytes) {
+  pthread_attr_t attr;
+  int rc = pthread_attr_init(&attr);
+  if (rc == 0) {
+    rc = pthread_attr_setstacksize(&attr, bytes);
+    // A GNU extension (glibc 2.18): the attributes of threads created without any, as
+    // std::thread creates them.
+    if (rc == 0) rc = pthread_setattr_default_np(&attr);
+    (void)pthread_attr_destroy(&attr);
+  }
+  if (rc != 0) {
+    return Status::Error(StatusCode::kUnavailable, "thread stack size %zu refused: %s", bytes,
+                         std::strerror(rc));
+  }
+  return Status::Ok();
+}
+
 // noinline keeps the array in this frame; volatile keeps the writes.
 __attribute__((noinline)) void PrefaultStack(size_t bytes) {
   constexpr size_t kChunk = 16 * 1024;

@@ -13,6 +13,17 @@ namespace sh::fw {
 // stays far below this; see docs/firmware.md).
 inline constexpr size_t kPrefaultStackBytes = size_t{256} * 1024;
 
+// Stack of every thread the firmware starts. The default (the stack rlimit, 8 MiB on Debian) is
+// locked in full by LockMemory: seven threads locked 56 MiB. The deepest thread touches at most
+// 264 KiB including the kPrefaultStackBytes pre-fault (measured per thread from
+// /proc/PID/smaps, docs/memory.md); 1 MiB leaves four times that, and the guard page below each
+// stack turns an overflow into a crash rather than corruption.
+inline constexpr size_t kThreadStackBytes = size_t{1} << 20;
+
+// Makes `bytes` the stack size of the threads created afterwards (std::thread included), for the
+// whole process. kUnavailable with the reason when the C library refuses.
+Status LimitThreadStacks(size_t bytes = kThreadStackBytes);
+
 // mlockall(MCL_CURRENT | MCL_FUTURE). kUnavailable with the reason when not permitted
 // (RLIMIT_MEMLOCK, no CAP_IPC_LOCK); the caller logs it and runs on.
 Status LockMemory();
