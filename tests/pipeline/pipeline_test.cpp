@@ -241,6 +241,21 @@ TEST_F(PipelineTest, RefusesBadInput) {
   EXPECT_FALSE(pipeline_->Init(pair->generated.calib, *table_, bad).ok());
 }
 
+// A camera larger than the buffers is refused at Init, naming both sizes; a pipeline without
+// colour parts allocates no colour path.
+TEST_F(PipelineTest, RefusesACameraLargerThanTheBuffersAndCarvesOnlyConfiguredPaths) {
+  std::unique_ptr<RenderedPair> pair = RenderDark(27);
+  ASSERT_TRUE(pair);
+  StereoCalibration big = pair->generated.calib;
+  big.left.width = big.right.width = kMaxImageWidth + 1;
+  const Status s = pipeline_->Init(big, *table_, PipelineConfig{});
+  EXPECT_EQ(s.code(), StatusCode::kOutOfRange) << s.message();
+  EXPECT_NE(std::string(s.message()).find("1281x"), std::string::npos) << s.message();
+  EXPECT_NE(std::string(s.message()).find("1280x1024"), std::string::npos) << s.message();
+  ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, PipelineConfig{}).ok());
+  EXPECT_EQ(pipeline_->shape(), nullptr);
+}
+
 // The working volume is the stereo configuration's: with a box far behind the table, every 3-D
 // feature that remains lies in that box (only spurious pairings can), and nothing is recognised.
 TEST_F(PipelineTest, WorkingVolumeLimitsTheScene) {
