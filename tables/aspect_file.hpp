@@ -12,7 +12,7 @@ namespace sh {
 
 class MappedAspectTable : public MappedView<AspectTableView> {
  public:
-  MappedAspectTable() : MappedView("aspect table") {}
+  MappedAspectTable() : MappedView("aspect table", SectionKind::kAspects2d) {}
 };
 
 // The six reference models' similarity aspect table, built when the project builds

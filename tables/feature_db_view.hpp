@@ -66,7 +66,7 @@ class FeatureDbView {
 // `features` key).
 class MappedFeatureDb : public MappedView<FeatureDbView> {
  public:
-  MappedFeatureDb() : MappedView("feature database") {}
+  MappedFeatureDb() : MappedView("feature database", SectionKind::kTextureFeatures) {}
 };
 
 }  // namespace sh

@@ -11,7 +11,7 @@ namespace sh {
 
 class MappedShapeViews : public MappedView<ShapeViewsView> {
  public:
-  MappedShapeViews() : MappedView("view database") {}
+  MappedShapeViews() : MappedView("view database", SectionKind::kShapeViews) {}
 };
 
 }  // namespace sh

@@ -4,6 +4,7 @@
 #include <cstddef>
 
 #include "recog/base/status.hpp"
+#include "tables/model_set.hpp"
 #include "tables/table_view.hpp"
 
 namespace sh {
@@ -28,40 +29,49 @@ class MappedFile {
 };
 
 // A blob file mapped read-only and validated in place by `View::Open(data, size)` (hash tables,
-// aspect tables, view databases). `what` names the kind of file in messages.
+// aspect tables, view databases, feature databases): a bare blob of that kind, or the `kind`
+// section of a model set (tables/model_set.hpp; the container is validated first). `what` names
+// the kind of file in messages.
 template <typename View>
 class MappedView {
  public:
-  explicit MappedView(const char* what) : what_(what) {}
+  MappedView(const char* what, SectionKind kind) : what_(what), kind_(kind) {}
 
   // Maps `path` and validates it; on failure nothing stays mapped.
   Status Open(const char* path) {
     Close();
     SH_RETURN_IF_ERROR(file_.Open(path, what_));
-    Result<View> view = View::Open(file_.data(), file_.size());
+    Result<BlobSpan> blob = SectionOrBareBlob(file_.data(), file_.size(), kind_);
+    Result<View> view = blob.ok() ? View::Open(blob->data, blob->size) : Result<View>(blob.status());
     if (!view.ok()) {
       file_.Close();
       return view.status().WithContext("%s", path);
     }
+    blob_ = *blob;
     view_ = *view;
     return Status::Ok();
   }
   void Close() {
     file_.Close();
+    blob_ = BlobSpan();
     view_ = View();
   }
   const View& view() const { return view_; }
-  size_t size() const { return file_.size(); }
+  // The blob the view reads: the whole file, or its section of a model set.
+  const void* blob() const { return blob_.data; }
+  size_t size() const { return blob_.size; }
 
  private:
   const char* what_;
+  SectionKind kind_;
   MappedFile file_;
+  BlobSpan blob_;
   View view_;
 };
 
 class MappedTable : public MappedView<TableView> {
  public:
-  MappedTable() : MappedView("table file") {}
+  MappedTable() : MappedView("table file", SectionKind::kHash3d) {}
 };
 
 // The reference models' hash fn 5 tables, built at compile time and linked in as read-only data.

@@ -1,5 +1,6 @@
-// `stereohash tables build` and `stereohash tables info`: offline preprocessing and inspection
-// of hash table blobs and shape view databases.
+// `stereohash tables build` and `stereohash tables info`: offline preprocessing of model folders
+// into one model set (hash tables, view database, feature database, aspect table as sections),
+// and its inspection.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -7,7 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "tables/aspect_file.hpp"
 #include "tables/model_files.hpp"
+#include "tables/model_set.hpp"
+#include "tables/model_set_writer.hpp"
 #include "tables/shape_view_builder.hpp"
 #include "tables/shape_views_file.hpp"
 #include "tables/table_builder.hpp"
@@ -34,20 +38,23 @@ constexpr ThesisRow kThesis[6] = {{},
 
 void BuildUsage() {
   std::printf(
-      "usage: stereohash tables build --out FILE [--hash-fn 1..5] [--models DIR]\n"
-      "                               [--names cube,hexagon,...] [--views-out FILE]\n"
-      "                               [--spacing-deg D] [--components N]\n"
-      "Builds the hash table blob of one hash function (default 5) for the models\n"
-      "DIR/<name>.obj (default: the models of ./models/models.txt; with --models DIR and no\n"
-      "--names, the models of DIR's models.txt or every DIR/*.obj). Models whose OBJ names a\n"
-      "material (mtllib, usemtl with an MTL Kd colour) are single-colour parts: their view\n"
-      "database (views over the viewing sphere and in-plane rotation every D degrees, default\n"
-      "10, PCA to N dimensions, default 100) goes to --out when every model is one, else to\n"
-      "--views-out.\n"
-      "A folder of printed models (OBJ with vt, MTL with map_Kd: models/textured) gives their\n"
-      "feature database.\n"
-      "       stereohash tables build --hash-2d similarity|affine --out FILE ...\n"
-      "Builds the aspect table of the monocular mode ('--hash-2d x --help' for more).\n");
+      "usage: stereohash tables build --out FILE [--models DIR] [--names cube,hexagon,...]\n"
+      "                               [--hash-fn 1..5] [--spacing-deg D] [--components N]\n"
+      "                               [--hash-2d similarity|affine ...] [--views-out FILE]\n"
+      "                               [--bare]\n"
+      "Builds one model set (docs/tables.md) holding whatever the models need, each kind as a\n"
+      "section; a folder may mix them:\n"
+      "  polyhedra (plain OBJ)  -> HASH3D: the hash tables of one hash function (default 5)\n"
+      "  colour parts (OBJ naming an MTL with a Kd colour) -> SHAPE_VIEWS: views over the\n"
+      "                viewing sphere and in-plane rotation every D degrees (--spacing-deg,\n"
+      "                default 10), PCA to N dimensions (--components, default 100)\n"
+      "  printed models (OBJ with vt, MTL with map_Kd) -> TEXTURE_FEATURES: the feature database\n"
+      "Models: those of DIR/models.txt, or every DIR/*.obj (default DIR: ./models), or --names.\n"
+      "%s"
+      "  --views-out FILE  write the colour parts' view database to FILE instead\n"
+      "  --bare        write the single-kind blob itself when the set has one section (the\n"
+      "                format older builds read)\n",
+      kAspectOptionsHelp);
 }
 
 void InfoUsage() {
@@ -55,8 +62,8 @@ void InfoUsage() {
       "usage: stereohash tables info [FILE ...] [--models DIR]\n"
       "Without FILE: builds the tables of all five hash functions and the 2-D aspect tables\n"
       "from the reference models and prints them beside the thesis's tables 5.3, 6.1 and 6.2.\n"
-      "With FILE: describes that blob or aspect table (the built-in ones when FILE is\n"
-      "'builtin' or 'builtin-aspects').\n");
+      "With FILE: lists a model set's sections and describes each (or describes a single-kind\n"
+      "blob; the built-in ones when FILE is 'builtin' or 'builtin-aspects').\n");
 }
 
 std::vector<std::string> Split(const std::string& s) {
@@ -105,16 +112,164 @@ void Describe(const TableView& view, size_t size) {
   PrintModels(view);
 }
 
-int RunBuild(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--hash-2d") == 0) return BuildAspectTable(argc, argv);
+void DescribeShapeViews(const ShapeViewsView& v, size_t size) {
+  const ShapeViewsHeader& h = v.header();
+  std::printf(
+      "view database, format version %u, %zu bytes, CRC-32 %08x\n  %u colour parts, %u views "
+      "every %.1f deg, %u PCA dimensions keeping %.1f %% of the views' variance\n",
+      h.format_version, size, h.payload_crc32, h.n_models, h.n_views, double(h.view_spacing_deg),
+      h.n_components, 100.0 * double(h.explained_energy));
+  for (uint32_t m = 0; m < v.model_count(); ++m) {
+    const ShapeModelRecord& r = v.shape_model(m);
+    std::printf("  model %u %-10s %6u views, colour (%.2f, %.2f, %.2f)\n", m, v.model(m).name,
+                r.n_views, double(r.kd[0]), double(r.kd[1]), double(r.kd[2]));
   }
+}
+
+// Opens `blob` with the view of `kind` and prints what it holds; false (message printed) if the
+// view refuses it.
+bool DescribeBlob(uint32_t kind, BlobSpan blob) {
+  Status s = Status::Ok();
+  switch (static_cast<SectionKind>(kind)) {
+    case SectionKind::kHash3d: {
+      const Result<TableView> v = TableView::Open(blob.data, blob.size);
+      if (v.ok()) Describe(*v, blob.size);
+      s = v.status();
+      break;
+    }
+    case SectionKind::kTextureFeatures: {
+      const Result<FeatureDbView> v = FeatureDbView::Open(blob.data, blob.size);
+      if (v.ok()) DescribeFeatureDb(*v, blob.size);
+      s = v.status();
+      break;
+    }
+    case SectionKind::kShapeViews: {
+      const Result<ShapeViewsView> v = ShapeViewsView::Open(blob.data, blob.size);
+      if (v.ok()) DescribeShapeViews(*v, blob.size);
+      s = v.status();
+      break;
+    }
+    case SectionKind::kAspects2d: {
+      const Result<AspectTableView> v = AspectTableView::Open(blob.data, blob.size);
+      if (v.ok()) DescribeAspects(*v, blob.size);
+      s = v.status();
+      break;
+    }
+    default:
+      std::printf("kind %u, not known to this build: skipped\n", kind);
+      return true;
+  }
+  if (!s.ok()) {
+    std::printf("\n");
+    std::fprintf(stderr, "stereohash tables info: %s: %s\n", SectionKindName(kind), s.message());
+  }
+  return s.ok();
+}
+
+// `tables info FILE`: a model set's sections, or a single-kind blob. Returns the exit code.
+int DescribeFile(const std::string& file) {
+  MappedFile mapped;
+  Status s = mapped.Open(file.c_str(), "file");
+  if (!s.ok()) {
+    std::printf("\n");
+    std::fprintf(stderr, "stereohash tables info: %s\n", s.message());
+    return 1;
+  }
+  if (!IsModelSet(mapped.data(), mapped.size())) {
+    const Result<uint32_t> kinds = BlobKinds(mapped.data(), mapped.size());
+    for (const SectionKindInfo& k : kSectionKinds) {
+      if (kinds.ok() && *kinds == KindBit(k.kind)) {
+        return DescribeBlob(uint32_t(k.kind), {mapped.data(), mapped.size()}) ? 0 : 1;
+      }
+    }
+    std::printf("\n");
+    std::fprintf(stderr, "stereohash tables info: %s: not a model set or a stereohash blob\n",
+                 file.c_str());
+    return 1;
+  }
+  const Result<ModelSetView> set = ModelSetView::Open(mapped.data(), mapped.size());
+  if (!set.ok()) {
+    std::printf("\n");
+    std::fprintf(stderr, "stereohash tables info: %s: %s\n", file.c_str(), set.status().message());
+    return 1;
+  }
+  const ModelSetHeader& h = set->header();
+  std::printf("model set, format version %u, %zu bytes, CRC-32 %08x, %u section%s\n",
+              h.format_version, mapped.size(), h.blob_crc32, h.section_count,
+              h.section_count == 1 ? "" : "s");
+  int rc = 0;
+  for (uint32_t i = 0; i < set->section_count(); ++i) {
+    const ModelSetSection& d = set->section(i);
+    std::printf("section %u: %s (kind %u, version %u) at %llu, %llu bytes, CRC-32 %08x\n  ", i,
+                SectionKindName(d.kind), d.kind, d.kind_version,
+                static_cast<unsigned long long>(d.offset), static_cast<unsigned long long>(d.size),
+                d.crc32);
+    if (!DescribeBlob(d.kind, set->payload(i))) rc = 1;
+  }
+  return rc;
+}
+
+// The names of `list` whose DIR/<name>.obj is not one of `printed` (paths).
+std::vector<std::string> WithoutPrinted(const std::string& dir,
+                                        const std::vector<std::string>& list,
+                                        const std::vector<std::string>& printed) {
+  std::vector<std::string> out;
+  for (const std::string& name : list) {
+    const std::string path = dir + "/" + name + ".obj";
+    if (std::find(printed.begin(), printed.end(), path) == printed.end()) out.push_back(name);
+  }
+  return out;
+}
+
+struct BuiltSection {
+  uint32_t kind;
+  std::vector<uint8_t> bytes;
+};
+
+// Writes `sections` to `path`: a model set, or with `bare` the one section's blob itself.
+bool WriteSections(const std::string& path, const std::vector<BuiltSection>& sections, bool bare) {
+  if (bare && sections.size() != 1) {
+    std::fprintf(stderr,
+                 "stereohash tables build: --bare writes one kind; %s would hold %zu sections\n",
+                 path.c_str(), sections.size());
+    return false;
+  }
+  std::vector<uint8_t> blob;
+  if (bare) {
+    blob = sections[0].bytes;
+  } else {
+    std::vector<ModelSetInput> inputs;
+    for (const BuiltSection& s : sections)
+      inputs.push_back({s.kind, s.bytes.data(), s.bytes.size()});
+    Result<std::vector<uint8_t>> set = BuildModelSet(inputs);
+    if (!set.ok()) {
+      std::fprintf(stderr, "stereohash tables build: %s\n", set.status().message());
+      return false;
+    }
+    blob = std::move(*set);
+  }
+  if (!WriteFileBytes(path.c_str(), blob.data(), blob.size())) {
+    std::fprintf(stderr, "stereohash tables build: cannot write '%s'\n", path.c_str());
+    return false;
+  }
+  std::printf("wrote %s: %s, %zu bytes:", path.c_str(), bare ? "single-kind blob" : "model set",
+              blob.size());
+  for (const BuiltSection& s : sections) std::printf(" %s", SectionKindName(s.kind));
+  std::printf("\n");
+  return true;
+}
+
+int RunBuild(int argc, char** argv) {
   std::string out, models_dir = "models", names, views_out;
-  bool models_given = false;
+  bool models_given = false, bare = false, want_aspects = false;
   int hf = 5;
   ShapeViewBuildOptions view_options;
+  AspectBuildOptions aspect_options;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    const int aspect = ParseAspectOption(argc, argv, &i, &aspect_options, &want_aspects);
+    if (aspect < 0) return 2;
+    if (aspect > 0) continue;
     auto value = [&]() -> std::string {
       if (i + 1 >= argc) {
         std::fprintf(stderr, "stereohash tables build: %s needs a value\n", a.c_str());
@@ -140,41 +295,38 @@ int RunBuild(int argc, char** argv) {
       view_options.n_components = std::atoi(value().c_str());
     } else if (a == "--names") {
       names = value();
+    } else if (a == "--bare") {
+      bare = true;
     } else {
       std::fprintf(stderr, "stereohash tables build: unknown option '%s'\n", a.c_str());
       BuildUsage();
       return 2;
     }
   }
-  // A folder of printed models (OBJ with texture coordinates and an image) gives their feature
-  // database; the hash tables are for the others.
-  if (names.empty() && models_given && !out.empty()) {
-    std::vector<std::string> printed, plain;
+  if (out.empty() || !IsValidHashFunction(hf)) {
+    std::fprintf(stderr, "stereohash tables build: need --out FILE and --hash-fn 1..5\n");
+    return 2;
+  }
+  // Printed models (OBJ with texture coordinates and an image) of a folder: the feature database.
+  std::vector<std::string> printed, plain;
+  if (names.empty() && models_given) {
     const Status s = ClassifyModelFolder(models_dir, &printed, &plain);
     if (!s.ok()) {
       std::fprintf(stderr, "stereohash tables build: %s\n", s.message());
       return 1;
     }
-    if (!printed.empty() && !plain.empty()) {
-      std::fprintf(stderr,
-                   "stereohash tables build: %s holds printed and plain models; build each kind "
-                   "from its own folder\n",
-                   models_dir.c_str());
-      return 2;
-    }
-    if (!printed.empty()) return BuildPrintedTables(printed, out);
-  }
-  if (out.empty() || !IsValidHashFunction(hf)) {
-    std::fprintf(stderr, "stereohash tables build: need --out FILE and --hash-fn 1..5\n");
-    return 2;
   }
   std::vector<std::string> list;
-  const Status named = names.empty() ? ModelFolderNames(models_dir, &list) : Status::Ok();
-  if (!named.ok()) {
-    std::fprintf(stderr, "stereohash tables build: %s\n", named.message());
-    return 1;
+  if (!names.empty()) {
+    list = Split(names);
+  } else if (!models_given || !plain.empty()) {
+    const Status named = ModelFolderNames(models_dir, &list);
+    if (!named.ok()) {
+      std::fprintf(stderr, "stereohash tables build: %s\n", named.message());
+      return 1;
+    }
+    list = WithoutPrinted(models_dir, list, printed);
   }
-  if (!names.empty()) list = Split(names);
   std::vector<Model> all;
   const Status loaded = LoadModels(models_dir, list, &all);
   if (!loaded.ok()) {
@@ -197,56 +349,63 @@ int RunBuild(int argc, char** argv) {
       return 1;
     }
   }
-  if (!parts.empty()) {
-    const std::string& path = models.empty() ? out : views_out;
-    if (path.empty()) {
-      std::fprintf(stderr,
-                   "stereohash tables build: %zu models are colour parts and %zu polyhedra: give "
-                   "--views-out FILE for the colour parts' view database\n",
-                   parts.size(), models.size());
-      return 2;
+  if (want_aspects && models.empty()) {
+    std::fprintf(stderr, "stereohash tables build: --hash-2d needs polyhedra; %s holds none\n",
+                 models_dir.c_str());
+    return 2;
+  }
+  if (models.empty() && parts.empty() && printed.empty()) {
+    std::fprintf(stderr, "stereohash tables build: no models in %s\n", models_dir.c_str());
+    return 2;
+  }
+  std::printf("building %s from %s: %zu polyhedra, %zu colour parts, %zu printed models\n",
+              out.c_str(), models_dir.c_str(), models.size(), parts.size(), printed.size());
+  std::vector<BuiltSection> sections, views_sections;
+  if (!models.empty()) {
+    TableBuildOptions options;
+    options.hash_function = static_cast<HashFunction>(hf);
+    TableBuildReport report;
+    Result<std::vector<uint8_t>> blob = BuildTableBlob(models, options, &report);
+    if (!blob.ok()) {
+      std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
+      return 1;
     }
+    std::printf("  HASH3D: ");
+    // What each model became (a changed model shows here: other counts, a smaller symmetry group).
+    if (!DescribeBlob(uint32_t(SectionKind::kHash3d), {blob->data(), blob->size()})) return 1;
+    sections.push_back({uint32_t(SectionKind::kHash3d), std::move(*blob)});
+  }
+  if (!parts.empty()) {
     ShapeViewBuildReport report;
     Result<std::vector<uint8_t>> blob = BuildShapeViewBlob(parts, view_options, &report);
     if (!blob.ok()) {
       std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
       return 1;
     }
-    if (!WriteFileBytes(path.c_str(), blob->data(), blob->size())) {
-      std::fprintf(stderr, "stereohash tables build: cannot write '%s'\n", path.c_str());
+    std::printf("  SHAPE_VIEWS: ");
+    if (!DescribeBlob(uint32_t(SectionKind::kShapeViews), {blob->data(), blob->size()})) return 1;
+    (views_out.empty() ? sections : views_sections)
+        .push_back({uint32_t(SectionKind::kShapeViews), std::move(*blob)});
+  }
+  if (!printed.empty()) {
+    Result<std::vector<uint8_t>> blob = BuildPrintedSection(printed);
+    if (!blob.ok()) {
+      std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
       return 1;
     }
-    std::printf(
-        "wrote %s: view database, %zu bytes, %u views of %zu colour parts every %.1f "
-        "deg, %d PCA dimensions keeping %.1f %% of the views' variance\n",
-        path.c_str(), blob->size(), report.views, parts.size(),
-        double(view_options.view_spacing_deg), view_options.n_components,
-        100.0 * report.explained_energy);
-    for (const ShapeModelViewCount& m : report.per_model) {
-      std::printf("  %-10s %6u views (symmetry group of order %u)\n", m.model.c_str(), m.views,
-                  m.symmetries);
+    sections.push_back({uint32_t(SectionKind::kTextureFeatures), std::move(*blob)});
+  }
+  if (want_aspects) {
+    Result<std::vector<uint8_t>> blob = BuildAspectSection(models, aspect_options);
+    if (!blob.ok()) {
+      std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
+      return 1;
     }
-    if (models.empty()) return 0;
+    sections.push_back({uint32_t(SectionKind::kAspects2d), std::move(*blob)});
   }
-  TableBuildOptions options;
-  options.hash_function = static_cast<HashFunction>(hf);
-  TableBuildReport report;
-  auto blob = BuildTableBlob(models, options, &report);
-  if (!blob.ok()) {
-    std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
-    return 1;
-  }
-  if (!WriteFileBytes(out.c_str(), blob->data(), blob->size())) {
-    std::fprintf(stderr, "stereohash tables build: cannot write '%s'\n", out.c_str());
-    return 1;
-  }
-  std::printf("wrote %s: hash fn %d, %zu bytes, %u bases, %u point and %u line entries\n",
-              out.c_str(), hf, blob->size(), report.bases, report.point_entries,
-              report.line_entries);
-  // What each model became (a changed model shows here: other counts, a smaller symmetry group).
-  const Result<TableView> view = TableView::Open(blob->data(), blob->size());
-  if (view.ok()) PrintModels(*view);
-  return 0;
+  if (!views_sections.empty() && !WriteSections(views_out, views_sections, bare)) return 1;
+  if (sections.empty()) return 0;
+  return WriteSections(out, sections, bare) ? 0 : 1;
 }
 
 int CompareWithThesis(const std::string& models_dir) {
@@ -333,39 +492,15 @@ int RunInfo(int argc, char** argv) {
   int rc = 0;
   for (const std::string& file : files) {
     std::printf("%s: ", file.c_str());
-    if (DescribeAspectFile(file, &rc)) continue;
-    if (file == "builtin") {
-      auto view = OpenDefaultTable();
-      if (!view.ok()) {
-        std::printf("\n");
-        std::fprintf(stderr, "stereohash tables info: %s\n", view.status().message());
+    if (file == "builtin" || file == "builtin-aspects") {
+      const bool aspects = file == "builtin-aspects";
+      const BlobSpan blob = aspects ? BlobSpan{DefaultAspectBlob(), DefaultAspectBlobSize()}
+                                    : BlobSpan{DefaultTableBlob(), DefaultTableBlobSize()};
+      if (!DescribeBlob(uint32_t(aspects ? SectionKind::kAspects2d : SectionKind::kHash3d), blob))
         rc = 1;
-        continue;
-      }
-      Describe(*view, DefaultTableBlobSize());
-      continue;
-    }
-    if (IsFeatureDbFile(file.c_str())) {
-      MappedFeatureDb db;
-      const Status s = db.Open(file.c_str());
-      if (!s.ok()) {
-        std::printf("\n");
-        std::fprintf(stderr, "stereohash tables info: %s\n", s.message());
-        rc = 1;
-        continue;
-      }
-      DescribeFeatureDb(db.view(), db.size());
-      continue;
-    }
-    MappedTable table;
-    const Status s = table.Open(file.c_str());
-    if (!s.ok()) {
-      std::printf("\n");
-      std::fprintf(stderr, "stereohash tables info: %s\n", s.message());
+    } else if (DescribeFile(file) != 0) {
       rc = 1;
-      continue;
     }
-    Describe(table.view(), table.size());
   }
   return rc;
 }
@@ -380,7 +515,8 @@ int RunTables(int argc, char** argv) {
 
 }  // namespace
 
-SH_REGISTER_COMMAND(tables, "build or describe hash table blobs (thesis table 5.3 beside ours)",
+SH_REGISTER_COMMAND(tables,
+                    "build or describe model sets (thesis tables 5.3, 6.1, 6.2 beside ours)",
                     RunTables);
 
 }  // namespace sh::tools

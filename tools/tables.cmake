@@ -1,7 +1,7 @@
 target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/cmd_tables.cpp)
 target_link_libraries(stereohash PRIVATE stereohash_table_builder stereohash_default_tables
                       stereohash_model_files stereohash_tables stereohash_shape_builder
-                      stereohash_shape_views_file)
+                      stereohash_shape_views_file stereohash_model_set_writer)
 # The aspect tables of the monocular mode: `tables build --hash-2d`, and `tables info`.
 target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/tables_aspects.cpp)
 target_link_libraries(stereohash PRIVATE stereohash_aspect_builder stereohash_default_aspects)

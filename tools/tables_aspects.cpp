@@ -25,24 +25,13 @@ constexpr ThesisModelRow kThesisModels[] = {{"cube", 40, 1423},     {"hexagon", 
 constexpr uint32_t kThesisPointEntries = 60720, kThesisPointMaxBin = 142;
 constexpr uint32_t kThesisLineEntries = 100182, kThesisLineMaxBin = 4722;
 
-void Usage() {
-  std::printf(
-      "usage: stereohash tables build --hash-2d similarity|affine --out FILE [--all-pairs]\n"
-      "                               [--spacing DEG] [--levels N] [--models DIR]\n"
-      "                               [--names cube,wedge,...] [--slices DIRECTIONS,SIZES]\n"
-      "Builds the aspect table of the monocular mode: aspect models of the six reference\n"
-      "models over a tessellated viewing sphere, refined where test views fail, hashed with\n"
-      "2-point (similarity) or 3-point (affine) bases over corners joined by edges\n"
-      "(--all-pairs: over all corner pairs or triples, as the thesis). --spacing: initial grid\n"
-      "(default 10 deg); --levels: refinements (default 3; 0: none); --slices: line bins per\n"
-      "direction and size (default 18,6).\n");
-}
-
 double Seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-void Describe(const AspectTableView& v, size_t size) {
+}  // namespace
+
+void DescribeAspects(const AspectTableView& v, size_t size) {
   const AspectHeader& h = v.header();
   std::printf(
       "aspect table, %s bases%s, format version %u, %zu bytes, CRC-32 %08x\n",
@@ -70,88 +59,64 @@ void Describe(const AspectTableView& v, size_t size) {
   }
 }
 
-}  // namespace
+const char kAspectOptionsHelp[] =
+    "  --hash-2d similarity|affine  add the aspect table of the monocular mode (ASPECTS_2D):\n"
+    "                aspect models of the polyhedra over a tessellated viewing sphere, refined\n"
+    "                where test views fail, hashed with 2-point (similarity) or 3-point (affine)\n"
+    "                bases over corners joined by edges (--all-pairs: over all corner pairs or\n"
+    "                triples, as the thesis). --spacing DEG: initial grid (default 10);\n"
+    "                --levels N: refinements (default 3; 0: none); --slices DIRECTIONS,SIZES:\n"
+    "                line bins per direction and size (default 18,6).\n";
 
-int BuildAspectTable(int argc, char** argv) {
-  std::string out, models_dir = "models", kind, names;
-  AspectBuildOptions options;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (a == "--help" || a == "-h") {
-      Usage();
-      return 0;
-    } else if (a == "--all-pairs") {
-      options.edge_bases_only = false;
-    } else if (a == "--out" && has_value) {
-      out = argv[++i];
-    } else if (a == "--hash-2d" && has_value) {
-      kind = argv[++i];
-    } else if (a == "--models" && has_value) {
-      models_dir = argv[++i];
-    } else if (a == "--names" && has_value) {
-      names = argv[++i];
-    } else if (a == "--slices" && has_value) {
-      if (std::sscanf(argv[++i], "%d,%d", &options.line_angle_slices, &options.size_slices) != 2) {
-        std::fprintf(stderr, "stereohash tables build: --slices needs DIRECTIONS,SIZES\n");
-        return 2;
-      }
-    } else if (a == "--spacing" && has_value) {
-      options.initial_spacing_deg = static_cast<float>(std::atof(argv[++i]));
-    } else if (a == "--levels" && has_value) {
-      options.max_levels = std::atoi(argv[++i]);
-      options.refine = options.max_levels > 0;
-    } else {
-      std::fprintf(stderr, "stereohash tables build: bad option '%s' (see --help)\n", a.c_str());
-      return 2;
-    }
-  }
-  if (kind == "similarity") {
-    options.kind = AspectBasisKind::kSimilarity;
-  } else if (kind == "affine") {
-    options.kind = AspectBasisKind::kAffine;
-  } else {
-    std::fprintf(stderr, "stereohash tables build: --hash-2d is similarity or affine\n");
-    return 2;
-  }
-  if (out.empty()) {
-    std::fprintf(stderr, "stereohash tables build: need --out FILE\n");
-    return 2;
-  }
-  std::vector<std::string> list;
-  for (size_t start = 0; start < names.size();) {
-    const size_t comma = names.find(',', start);
-    const std::string part =
-        names.substr(start, comma == std::string::npos ? comma : comma - start);
-    if (!part.empty()) list.push_back(part);
-    start = comma == std::string::npos ? names.size() : comma + 1;
-  }
-  std::vector<Model> models;
-  const Status loaded =
-      list.empty() ? LoadModelFolder(models_dir, &models) : LoadModels(models_dir, list, &models);
-  if (!loaded.ok()) {
-    std::fprintf(stderr, "stereohash tables build: %s\n", loaded.message());
+int ParseAspectOption(int argc, char** argv, int* i, AspectBuildOptions* options, bool* wanted) {
+  const std::string a = argv[*i];
+  const bool has_value = *i + 1 < argc;
+  if (a == "--all-pairs") {
+    options->edge_bases_only = false;
     return 1;
   }
+  if (a != "--hash-2d" && a != "--slices" && a != "--spacing" && a != "--levels") return 0;
+  if (!has_value) {
+    std::fprintf(stderr, "stereohash tables build: %s needs a value\n", a.c_str());
+    return -1;
+  }
+  const char* value = argv[++*i];
+  if (a == "--hash-2d") {
+    if (std::strcmp(value, "similarity") == 0) {
+      options->kind = AspectBasisKind::kSimilarity;
+    } else if (std::strcmp(value, "affine") == 0) {
+      options->kind = AspectBasisKind::kAffine;
+    } else {
+      std::fprintf(stderr, "stereohash tables build: --hash-2d is similarity or affine\n");
+      return -1;
+    }
+    *wanted = true;
+  } else if (a == "--slices") {
+    if (std::sscanf(value, "%d,%d", &options->line_angle_slices, &options->size_slices) != 2) {
+      std::fprintf(stderr, "stereohash tables build: --slices needs DIRECTIONS,SIZES\n");
+      return -1;
+    }
+  } else if (a == "--spacing") {
+    options->initial_spacing_deg = static_cast<float>(std::atof(value));
+  } else {
+    options->max_levels = std::atoi(value);
+    options->refine = options->max_levels > 0;
+  }
+  return 1;
+}
+
+Result<std::vector<uint8_t>> BuildAspectSection(const std::vector<Model>& models,
+                                                const AspectBuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   AspectBuildReport report;
   Result<std::vector<uint8_t>> blob = BuildAspectBlob(models, options, &report);
-  if (!blob.ok()) {
-    std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
-    return 1;
-  }
-  FILE* f = std::fopen(out.c_str(), "wb");
-  if (f == nullptr || std::fwrite(blob->data(), 1, blob->size(), f) != blob->size() ||
-      std::fclose(f) != 0) {
-    std::fprintf(stderr, "stereohash tables build: cannot write '%s'\n", out.c_str());
-    return 1;
-  }
+  if (!blob.ok()) return blob.status().WithContext("aspect table");
   std::printf(
-      "wrote %s: %s aspect table, %zu bytes, %u aspects, %u bases, %u point and %u line "
+      "  ASPECTS_2D: %s aspect table, %zu bytes, %u aspects, %u bases, %u point and %u line "
       "entries (%.1f s)\n",
-      out.c_str(), kind.c_str(), blob->size(), report.aspects, report.bases, report.point_entries,
-      report.line_entries, Seconds(start));
-  return 0;
+      options.kind == AspectBasisKind::kSimilarity ? "similarity" : "affine", blob->size(),
+      report.aspects, report.bases, report.point_entries, report.line_entries, Seconds(start));
+  return blob;
 }
 
 int CompareAspectsWithThesis(const std::string& models_dir) {
@@ -213,34 +178,6 @@ int CompareAspectsWithThesis(const std::string& models_dir) {
       "(they lie on the basis axis in every basis), and features farther than 4 basis lengths\n"
       "from a basis's origin are not stored.\n");
   return 0;
-}
-
-bool DescribeAspectFile(const std::string& path, int* exit_code) {
-  if (path == "builtin-aspects") {
-    const Result<AspectTableView> view = OpenDefaultAspectTable();
-    if (!view.ok()) {
-      std::fprintf(stderr, "stereohash tables info: %s\n", view.status().message());
-      *exit_code = 1;
-      return true;
-    }
-    Describe(*view, DefaultAspectBlobSize());
-    return true;
-  }
-  FILE* f = std::fopen(path.c_str(), "rb");
-  char magic[sizeof(kAspectMagic)] = {};
-  const bool is_aspects = f != nullptr && std::fread(magic, 1, sizeof(magic), f) == sizeof(magic) &&
-                          std::memcmp(magic, kAspectMagic, sizeof(magic)) == 0;
-  if (f != nullptr) std::fclose(f);
-  if (!is_aspects) return false;
-  MappedAspectTable table;
-  const Status s = table.Open(path.c_str());
-  if (!s.ok()) {
-    std::fprintf(stderr, "stereohash tables info: %s\n", s.message());
-    *exit_code = 1;
-    return true;
-  }
-  Describe(table.view(), table.size());
-  return true;
 }
 
 }  // namespace sh::tools

@@ -7,7 +7,6 @@
 
 #include "hal/sim/textured_model_files.hpp"
 #include "tables/feature_db_builder.hpp"
-#include "tools/report_util.hpp"
 
 namespace sh::tools {
 
@@ -56,30 +55,21 @@ void DescribeFeatureDb(const FeatureDbView& db, size_t size) {
   }
 }
 
-int BuildPrintedTables(const std::vector<std::string>& paths, const std::string& out) {
+Result<std::vector<uint8_t>> BuildPrintedSection(const std::vector<std::string>& paths) {
   std::vector<TexturedModel> models;
   for (const std::string& p : paths) {
     Result<TexturedModel> m = LoadTexturedModelFile(p);
-    if (!m.ok()) {
-      std::fprintf(stderr, "stereohash tables build: %s\n", m.status().message());
-      return 1;
-    }
+    if (!m.ok()) return m.status();
     models.push_back(std::move(*m));
   }
   FeatureDbBuildReport report;
   Result<std::vector<uint8_t>> blob = BuildFeatureDb(models, FeatureDbBuildOptions{}, &report);
-  if (!blob.ok()) {
-    std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
-    return 1;
-  }
-  if (!WriteFileBytes(out.c_str(), blob->data(), blob->size())) {
-    std::fprintf(stderr, "stereohash tables build: cannot write '%s'\n", out.c_str());
-    return 1;
-  }
-  std::printf("wrote %s: ", out.c_str());
+  if (!blob.ok()) return blob.status().WithContext("feature database");
+  std::printf("  TEXTURE_FEATURES: ");
   const Result<FeatureDbView> view = FeatureDbView::Open(blob->data(), blob->size());
-  if (view.ok()) DescribeFeatureDb(*view, blob->size());
-  return 0;
+  if (!view.ok()) return view.status().WithContext("feature database as built");
+  DescribeFeatureDb(*view, blob->size());
+  return blob;
 }
 
 }  // namespace sh::tools

@@ -2,6 +2,7 @@
 // become a feature database (docs/texture.md); `info` describes one.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -15,9 +16,9 @@ namespace sh::tools {
 Status ClassifyModelFolder(const std::string& dir, std::vector<std::string>* printed,
                            std::vector<std::string>* plain);
 
-// Learns the feature database of the printed models `paths` and writes it to `out`; prints what
-// it holds. Returns the exit code.
-int BuildPrintedTables(const std::vector<std::string>& paths, const std::string& out);
+// Learns the feature database of the printed models `paths` (the TEXTURE_FEATURES section);
+// prints what it holds.
+Result<std::vector<uint8_t>> BuildPrintedSection(const std::vector<std::string>& paths);
 
 // Prints what a feature database holds.
 void DescribeFeatureDb(const FeatureDbView& db, size_t size);

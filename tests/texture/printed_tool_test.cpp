@@ -98,7 +98,7 @@ TEST_F(PrintedTool, BuildsRendersAndRecognisesCartons) {
   EXPECT_GT(st.st_size, 1000);
 }
 
-TEST_F(PrintedTool, RefusesDamagedDatabasesAndMixedFolders) {
+TEST_F(PrintedTool, RefusesDamagedModelSetsAndBuildsMixedFolders) {
   // A database with a flipped byte: the CRC names the damage.
   const std::string db = dir_ + "/small.bin";
   ASSERT_EQ(RunTool("tables build --models models/textured --out " + db).exit_code, 0);
@@ -107,8 +107,8 @@ TEST_F(PrintedTool, RefusesDamagedDatabasesAndMixedFolders) {
   std::ofstream(db, std::ios::binary) << bytes;
   ToolRun info = RunTool("tables info " + db);
   EXPECT_EQ(info.exit_code, 1);
-  EXPECT_NE(info.output.find("feature database corrupt"), std::string::npos) << info.output;
-  // A folder with printed and plain models.
+  EXPECT_NE(info.output.find("model set corrupt"), std::string::npos) << info.output;
+  // A folder with printed and plain models: one model set with a section of each kind.
   const std::string mixed = dir_ + "/mixed";
   ASSERT_EQ(mkdir(mixed.c_str(), 0777), 0);
   for (const char* f :
@@ -118,8 +118,15 @@ TEST_F(PrintedTool, RefusesDamagedDatabasesAndMixedFolders) {
         << ReadText(std::string("models/") + f);
   }
   ToolRun build = RunTool("tables build --models " + mixed + " --out " + dir_ + "/m.bin");
-  EXPECT_EQ(build.exit_code, 2) << build.output;
-  EXPECT_NE(build.output.find("printed and plain models"), std::string::npos) << build.output;
+  ASSERT_EQ(build.exit_code, 0) << build.output;
+  EXPECT_NE(build.output.find("model set, "), std::string::npos) << build.output;
+  ToolRun mixed_info = RunTool("tables info " + dir_ + "/m.bin");
+  ASSERT_EQ(mixed_info.exit_code, 0) << mixed_info.output;
+  EXPECT_NE(mixed_info.output.find("section 0: HASH3D"), std::string::npos) << mixed_info.output;
+  EXPECT_NE(mixed_info.output.find("section 1: TEXTURE_FEATURES"), std::string::npos)
+      << mixed_info.output;
+  EXPECT_NE(mixed_info.output.find("model 0 cube"), std::string::npos) << mixed_info.output;
+  EXPECT_NE(mixed_info.output.find("model 0 pills"), std::string::npos) << mixed_info.output;
 }
 
 }  // namespace
