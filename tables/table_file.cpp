@@ -41,4 +41,12 @@ Status MappedFile::Open(const char* path, const char* what) {
   return Status::Ok();
 }
 
+Result<uint32_t> FileBlobKinds(const char* path) {
+  MappedFile file;
+  SH_RETURN_IF_ERROR(file.Open(path, "file"));
+  Result<uint32_t> kinds = BlobKinds(file.data(), file.size());
+  if (!kinds.ok()) return kinds.status().WithContext("%s", path);
+  return kinds;
+}
+
 }  // namespace sh

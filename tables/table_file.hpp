@@ -42,7 +42,8 @@ class MappedView {
     Close();
     SH_RETURN_IF_ERROR(file_.Open(path, what_));
     Result<BlobSpan> blob = SectionOrBareBlob(file_.data(), file_.size(), kind_);
-    Result<View> view = blob.ok() ? View::Open(blob->data, blob->size) : Result<View>(blob.status());
+    Result<View> view =
+        blob.ok() ? View::Open(blob->data, blob->size) : Result<View>(blob.status());
     if (!view.ok()) {
       file_.Close();
       return view.status().WithContext("%s", path);
@@ -68,6 +69,10 @@ class MappedView {
   BlobSpan blob_;
   View view_;
 };
+
+// The kinds a file holds (BlobKinds: a model set's sections, or the one kind of a bare blob);
+// errors name the file.
+Result<uint32_t> FileBlobKinds(const char* path);
 
 class MappedTable : public MappedView<TableView> {
  public:

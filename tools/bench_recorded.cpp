@@ -337,7 +337,7 @@ int RunBenchRecorded(int argc, char** argv) {
   std::unique_ptr<MonoPipeline> mono;
   std::unique_ptr<FeatureWorkspace> workspace;
   if (run_mono) {
-    s = LoadAspects(options.aspects_path, &aspects);
+    s = LoadAspects(options, &aspects);
     if (!s.ok()) return Fail(s.message());
     // Poses are scored by model index: both tables must list the same models in order.
     bool same = aspects.view.model_count() == tables.view.model_count();

@@ -25,13 +25,15 @@ void PrintHelp() {
   std::printf(
       "usage: stereohash recognize --calib CALIB.yaml --left L.png --right R.png\n"
       "       stereohash recognize --calib CALIB.yaml --left L.png | --right R.png  (one camera)\n"
-      "                            [--json OUT.json] [--overlay OUT.png] [--tables TABLES.bin]\n"
+      "                            [--json OUT.json] [--overlay OUT.png] [--tables MODELS.bin]\n"
       "                            [--table TABLE.yaml] [--budget-ms N] [--background dark|light]\n"
       "                            [--threads N] [--overlay-features OUT.png]\n"
       "Recognises the reference objects in a calibrated stereo pair (PNG or PGM, grey or colour)\n"
       "and prints their poses: x_cam = R x_model + t, model and left-camera millimetres. With a\n"
-      "feature database as --tables (`stereohash tables build --models models/textured`), the\n"
-      "printed models it holds (docs/texture.md).\n"
+      "model set as --tables (`stereohash tables build --models DIR`), every model it holds:\n"
+      "polyhedra, colour parts and printed models (docs/texture.md; the printed models' results\n"
+      "go into the JSON's \"printed\" member when the set holds other models too, and the\n"
+      "overlay then shows the others).\n"
       "  --json        write {\"objects\": [...], \"features\": {...}, \"time_ms\": {...}, ...}\n"
       "  --overlay     write left | right with the recognised models' visible edges (RGB PNG)\n"
       "  --overlay-features  write left | right with what the detectors found: edge pixels\n"
@@ -93,7 +95,7 @@ int RunMonocular(const char* calib_path, const char* image_path, int camera,
   if (!loaded_table.ok()) return Fail("%s", loaded_table.status().message());
   const TableChoice& table = *loaded_table;
   LoadedAspects aspects;
-  Status s = LoadAspects(options.aspects_path, &aspects);
+  Status s = LoadAspects(options, &aspects);
   if (!s.ok()) return Fail("%s", s.message());
   LoadedImage image;
   s = LoadImage(image_path, camera == 0 ? "left" : "right", &image);
@@ -218,16 +220,29 @@ int RunRecognize(int argc, char** argv) {
   Status s = LoadImage(left_path, "left", &left);
   if (s.ok()) s = LoadImage(right_path, "right", &right);
   if (!s.ok()) return Fail("%s", s.message());
-  // A feature database (printed models) goes through the texture path.
-  if (IsFeatureDbFile(options.tables_path)) {
-    MappedFeatureDb db;
+  // Printed models (a feature database, alone or as a model set's section) go through the
+  // texture path; the polyhedra and colour parts of the same set through the pipeline.
+  uint32_t kinds = 0;
+  if (options.tables_path != nullptr) {
+    const Result<uint32_t> k = FileBlobKinds(options.tables_path);
+    if (!k.ok()) return Fail("tables: %s", k.status().message());
+    kinds = *k;
+  }
+  const bool printed = (kinds & KindBit(SectionKind::kTextureFeatures)) != 0;
+  const bool others =
+      options.views_path != nullptr ||
+      (kinds & (KindBit(SectionKind::kHash3d) | KindBit(SectionKind::kShapeViews))) != 0;
+  MappedFeatureDb db;
+  TextureRun run;
+  run.threads = options.threads;
+  if (printed) {
     s = db.Open(options.tables_path);
     if (!s.ok()) return Fail("%s", s.message());
-    TextureRun run;
-    run.json_path = json_path;
-    run.overlay_path = overlay_path;
-    run.threads = options.threads;
-    return RecognizePrinted(*calib, db.view(), left.view, right.view, run);
+    if (!others) {
+      run.json_path = json_path;
+      run.overlay_path = overlay_path;
+      return RecognizePrinted(*calib, db.view(), left.view, right.view, run);
+    }
   }
   LoadedTables tables;
   s = LoadTables(options, &tables);
@@ -242,8 +257,18 @@ int RunRecognize(int argc, char** argv) {
   if (!s.ok()) return Fail("%s", s.message());
 
   PrintTable(pipeline->models(), *result);
-  if (json_path != nullptr && !WriteTextFile(json_path, ResultJson(pipeline->models(), *result,
-                                                                   table, pipeline->threads()))) {
+  std::string json = ResultJson(pipeline->models(), *result, table, pipeline->threads());
+  if (printed) {
+    // The set's printed models: their results as a "printed" member of the same JSON.
+    std::string printed_json;
+    run.json_text = &printed_json;
+    const int rc = RecognizePrinted(*calib, db.view(), left.view, right.view, run);
+    if (rc != 0) return rc;
+    const size_t end = json.find_last_of('}');
+    json.insert(end,
+                ", \"printed\": " + printed_json.substr(0, printed_json.find_last_of('}') + 1));
+  }
+  if (json_path != nullptr && !WriteTextFile(json_path, json)) {
     return Fail("cannot write %s: %s", json_path, std::strerror(errno));
   }
   if (overlay_path != nullptr) {

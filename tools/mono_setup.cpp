@@ -11,7 +11,14 @@
 
 namespace sh::tools {
 
-Status LoadAspects(const char* path, LoadedAspects* out) {
+Status LoadAspects(const RecognizeOptions& options, LoadedAspects* out) {
+  // --aspects, else the ASPECTS_2D section of the --tables model set, else the built-in table.
+  const char* path = options.aspects_path;
+  if (path == nullptr && options.tables_path != nullptr) {
+    const Result<uint32_t> kinds = FileBlobKinds(options.tables_path);
+    if (!kinds.ok()) return kinds.status().WithContext("tables");
+    if ((*kinds & KindBit(SectionKind::kAspects2d)) != 0) path = options.tables_path;
+  }
   if (path != nullptr) {
     const Status s = out->mapped.Open(path);
     if (!s.ok()) return s;

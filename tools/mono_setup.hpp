@@ -12,12 +12,13 @@
 
 namespace sh::tools {
 
-// The aspect table: a mapped file or the built-in one.
+// The aspect table: the --aspects file, the ASPECTS_2D section of the --tables model set, or the
+// built-in one.
 struct LoadedAspects {
   MappedAspectTable mapped;
   AspectTableView view;
 };
-Status LoadAspects(const char* path, LoadedAspects* out);
+Status LoadAspects(const RecognizeOptions& options, LoadedAspects* out);
 
 // The monocular configuration for the options: the background preset if one is forced,
 // otherwise the automatic one (thresholds measured from the image).

@@ -18,11 +18,14 @@
 namespace sh::tools {
 
 const char kRecognizeOptionsHelp[] =
-    "  --tables      hash table file (default: the built-in hash fn 5 tables, unless --views\n"
-    "                alone gives the model set)\n"
-    "  --views       view database of single-colour parts (stereohash tables build --models\n"
-    "                DIR with coloured OBJ/MTL models); needs colour images\n"
-    "  --aspects     aspect table file of the monocular mode (default: the built-in one)\n"
+    "  --tables      model set (stereohash tables build --models DIR): each path takes its\n"
+    "                section (hash tables, view database, feature database, aspect table);\n"
+    "                or a single-kind blob (default: the built-in hash fn 5 tables, unless\n"
+    "                --views alone gives the model set)\n"
+    "  --views       view database of single-colour parts, in place of the model set's\n"
+    "                (a model set or a view database file); needs colour images\n"
+    "  --aspects     aspect table of the monocular mode, in place of the model set's (default:\n"
+    "                the built-in one)\n"
     "  --table       table.yaml: pose of the table the objects stand on (left camera);\n"
     "                bounds the working volume to the space over it\n"
     "  --budget-ms   time limit for the frame (default 0: none)\n"
@@ -159,10 +162,25 @@ Status LoadImage(const char* path, const char* which, LoadedImage* out) {
 }
 
 Status LoadTables(const RecognizeOptions& options, LoadedTables* out) {
-  if (options.views_path != nullptr) {
-    const Status s = out->views.Open(options.views_path);
+  // A model set gives each path its section: the hash tables and, unless --views names
+  // another file, the colour parts' view database.
+  uint32_t kinds = 0;
+  if (options.tables_path != nullptr) {
+    const Result<uint32_t> k = FileBlobKinds(options.tables_path);
+    if (!k.ok()) return k.status().WithContext("tables");
+    kinds = *k;
+  }
+  const char* views_path = options.views_path;
+  if (views_path == nullptr && (kinds & KindBit(SectionKind::kShapeViews)) != 0) {
+    views_path = options.tables_path;
+  }
+  if (views_path != nullptr) {
+    const Status s = out->views.Open(views_path);
     if (!s.ok()) return s;  // names the view database and its path
-    if (options.tables_path == nullptr) return Status::Ok();  // colour parts only
+    // Colour parts only: no hash tables, not even the built-in ones.
+    if (options.tables_path == nullptr || (kinds & KindBit(SectionKind::kHash3d)) == 0) {
+      return Status::Ok();
+    }
   }
   if (options.tables_path != nullptr) {
     const Status s = out->mapped.Open(options.tables_path);

@@ -4,7 +4,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 
 #include "hal/sim/image_files.hpp"
 #include "recog/base/zeroed.hpp"
@@ -53,14 +52,6 @@ void PrintObjects(const FeatureDbView& db, const texture::TextureResult& r) {
 
 }  // namespace
 
-bool IsFeatureDbFile(const char* path) {
-  if (path == nullptr) return false;
-  std::ifstream in(path, std::ios::binary);
-  char magic[sizeof(kFeatureDbMagic)] = {};
-  return in.read(magic, sizeof(magic)) &&
-         std::memcmp(magic, kFeatureDbMagic, sizeof(kFeatureDbMagic)) == 0;
-}
-
 std::string TextureResultJson(const FeatureDbView& db, const texture::TextureResult& r,
                               int threads) {
   std::string json = "{\"frame\": \"camera\", \"objects\": [";
@@ -106,7 +97,8 @@ int RecognizePrinted(const StereoCalibration& calib, const FeatureDbView& db, Co
   s = recognizer->Process(left, right, result.get());
   if (!s.ok()) return Fail("%s", s.message());
   PrintObjects(db, *result);
-  if (run.json_path != nullptr &&
+  if (run.json_text != nullptr) *run.json_text = TextureResultJson(db, *result, pool.threads());
+  if (run.json_text == nullptr && run.json_path != nullptr &&
       !WriteTextFile(run.json_path, TextureResultJson(db, *result, pool.threads()))) {
     return Fail("cannot write %s: %s", run.json_path, std::strerror(errno));
   }

@@ -16,11 +16,9 @@
 
 namespace sh::tools {
 
-// Whether the file at `path` starts like a feature database (its magic number).
-bool IsFeatureDbFile(const char* path);
-
 struct TextureRun {
   const char* json_path = nullptr;
+  std::string* json_text = nullptr;  // when set, the JSON goes here instead of to json_path
   const char* overlay_path = nullptr;
   int threads = 0;  // 0: all cores
 };

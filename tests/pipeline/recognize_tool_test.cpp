@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "hal/sim/image_files.hpp"
+#include "tables/aspect_file.hpp"
+#include "tables/model_set_writer.hpp"
 #include "tables/table_file.hpp"
 #include "tests/support/tool_run.hpp"
 #include "tools/eval/mini_json.hpp"
@@ -343,6 +345,64 @@ TEST_F(RecognizeToolTest, OneCameraWithTheTableFindsRestingObjects) {
                                   Path("left.png") + " --monocular right");
   EXPECT_EQ(missing.exit_code, 2) << missing.output;
   EXPECT_NE(missing.output.find("needs the right image"), std::string::npos) << missing.output;
+}
+
+// The poses of a JSON result, in order, as text (model and translation to the printed digits).
+std::string PosesText(const std::string& path) {
+  Json out;
+  if (!JsonReader(ReadText(path)).Parse(&out)) return "unreadable " + path;
+  std::string text;
+  for (const Json& o : out["objects"].items) {
+    text += o["model"].text;
+    for (int k = 0; k < 3; ++k) text += " " + std::to_string(o["t"][k].number);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) text += " " + std::to_string(o["R"][r][c].number);
+    text += "\n";
+  }
+  return text;
+}
+
+// One model-set file (the built-in hash tables and aspect table as its sections) gives the
+// stereo and the one-camera paths their data: the same poses as the separate blobs.
+TEST_F(RecognizeToolTest, OneModelSetGivesEveryPathItsSection) {
+  Result<std::vector<uint8_t>> set =
+      BuildModelSet({{uint32_t(SectionKind::kHash3d),
+                      static_cast<const uint8_t*>(DefaultTableBlob()), DefaultTableBlobSize()},
+                     {uint32_t(SectionKind::kAspects2d),
+                      static_cast<const uint8_t*>(DefaultAspectBlob()), DefaultAspectBlobSize()}});
+  ASSERT_TRUE(set.ok()) << set.status().message();
+  WriteText(Path("set.bin"), std::string(set->begin(), set->end()));
+  WriteText(Path("tables.bin"),
+            std::string(static_cast<const char*>(DefaultTableBlob()), DefaultTableBlobSize()));
+  WriteText(Path("aspects.bin"),
+            std::string(static_cast<const char*>(DefaultAspectBlob()), DefaultAspectBlobSize()));
+  const std::string stereo = Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png"));
+  ToolRun r = RunTool(stereo + " --tables " + Path("tables.bin") + " --json " + Path("bare.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunTool(stereo + " --tables " + Path("set.bin") + " --json " + Path("set.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(PosesText(Path("bare.json")).empty());
+  EXPECT_EQ(PosesText(Path("set.json")), PosesText(Path("bare.json")));
+
+  const std::string mono = "recognize --calib " + Path("calib.yaml") + " --left " +
+                           Path("left.png") + " --table " + Path("table.yaml");
+  r = RunTool(mono + " --aspects " + Path("aspects.bin") + " --json " + Path("mono_bare.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunTool(mono + " --tables " + Path("set.bin") + " --json " + Path("mono_set.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(PosesText(Path("mono_bare.json")).empty());
+  EXPECT_EQ(PosesText(Path("mono_set.json")), PosesText(Path("mono_bare.json")));
+
+  // A damaged set, or one without the section a path needs, is refused naming the problem.
+  std::string damaged(set->begin(), set->end());
+  damaged[damaged.size() / 3] ^= 0x08;
+  WriteText(Path("damaged.bin"), damaged);
+  r = RunTool(stereo + " --tables " + Path("damaged.bin"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("model set corrupt"), std::string::npos) << r.output;
+  r = RunTool(stereo + " --views " + Path("set.bin"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("no SHAPE_VIEWS section"), std::string::npos) << r.output;
 }
 
 // `bench recorded` on a folder in the recorded-set layout made of two rendered scenes.
