@@ -103,10 +103,12 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
        "stereo calibration YAML; required on the board; empty in the simulator = the rendered "    \
        "rig (with camera = directory: the set's calib.yaml)")                                      \
   TEXT(tables, kConfigPathMax, "builtin",                                                          \
-       "builtin (the tables linked into the program) or a table blob file (mapped)")               \
+       "builtin (the tables linked into the program), a model set (stereohash tables build; "      \
+       "its HASH3D section, and its TEXTURE_FEATURES section unless features is set) or a table "  \
+       "blob file (mapped)")                                                                       \
   TEXT(features, kConfigPathMax, "",                                                               \
-       "feature database of printed cartons (stereohash tables build --models of printed "         \
-       "models), mapped; their model ids follow the tables' models; empty = none")                 \
+       "feature database of printed cartons (a model set or a feature database file), mapped; "    \
+       "their model ids follow the tables' models; empty = the tables' model set's, if any")       \
   TEXT(models_dir, kConfigPathMax, "",                                                             \
        "simulator: the model folder it renders; empty = the installed share/stereohash/models, "   \
        "else the source tree's models/")                                                           \

@@ -34,7 +34,7 @@ Result<TableView> FileDataSource::LoadTable() {
       table_ = mapped_.view();
       return table_;
     }
-    blob = &mapped_.view().header();
+    blob = mapped_.blob();  // the hash tables: the whole file, or the model set's HASH3D section
     size = mapped_.size();
   }
   if (corrupt_tables_) {
@@ -55,9 +55,21 @@ Result<TableView> FileDataSource::LoadTable() {
 Result<FeatureDbView> FileDataSource::LoadFeatures() {
   // The previous view points into the mapping about to be replaced.
   mapped_features_.Close();
-  if (features_path_[0] == '\0') return FeatureDbView();
-  SH_RETURN_IF_ERROR(mapped_features_.Open(features_path_));
+  if (features_path_[0] != '\0') {
+    SH_RETURN_IF_ERROR(mapped_features_.Open(features_path_));
+    return mapped_features_.view();
+  }
+  // Without `features`, a model set given as `tables` supplies its TEXTURE_FEATURES section. A
+  // set that does not open is the tables' fault (LoadTable reports it), not a second one.
+  if (!TablesHoldPrintedModels()) return FeatureDbView();
+  SH_RETURN_IF_ERROR(mapped_features_.Open(tables_path_));
   return mapped_features_.view();
+}
+
+bool FileDataSource::TablesHoldPrintedModels() const {
+  if (std::strcmp(tables_path_, "builtin") == 0) return false;
+  const Result<uint32_t> kinds = FileBlobKinds(tables_path_);
+  return kinds.ok() && (*kinds & KindBit(SectionKind::kTextureFeatures)) != 0;
 }
 
 Result<StereoCalibration> FileDataSource::LoadCalibration() {

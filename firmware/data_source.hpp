@@ -1,5 +1,6 @@
-// The firmware's data: model tables (linked in or a mapped file), the printed models' feature
-// database (a mapped file, optional) and the stereo calibration (YAML file, or the simulator
+// The firmware's data: model tables (linked in, a mapped file, or the HASH3D section of a model
+// set), the printed models' feature database (a mapped file, or the model set's
+// TEXTURE_FEATURES section; optional) and the stereo calibration (YAML file, or the simulator
 // rig). Reloaded when a data fault is cleared, so a file fixed on
 // the board is picked up without a restart.
 #pragma once
@@ -23,8 +24,8 @@ class RigCalibration {
 
 class FileDataSource final : public DataSource {
  public:
-  // tables_path: "builtin" or a table blob file. calibration_path: a YAML file, or "" to use
-  // the rig's calibration (nullptr = none, which is a missing calibration).
+  // tables_path: "builtin", a model set or a table blob file. calibration_path: a YAML file, or ""
+  // to use the rig's calibration (nullptr = none, which is a missing calibration).
   FileDataSource(const char* tables_path, const char* calibration_path, RigCalibration* rig);
   // The same with a fixed calibration in place of the rig (nullptr = none).
   FileDataSource(const char* tables_path, const char* calibration_path,
@@ -34,8 +35,12 @@ class FileDataSource final : public DataSource {
   Result<StereoCalibration> LoadCalibration() override;
   Result<FeatureDbView> LoadFeatures() override;
 
-  // The feature database file (`features`); "" = no printed models (the default).
+  // The feature database file (`features`); "" = the TEXTURE_FEATURES section of the model set
+  // given as tables, if it has one, else no printed models (the default).
   void SetFeaturesPath(const char* path) { features_path_ = path; }
+  // Whether the tables file is a model set that opens and holds printed models (for sizing the
+  // texture path's buffers at boot).
+  bool TablesHoldPrintedModels() const;
 
   // Fault injection (simulator and tests): the next loads see a copy of the tables with one
   // payload byte flipped, or no calibration.

@@ -347,11 +347,12 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   Recognition* recognition = nullptr;
   if (config.recognition == RecognitionKind::kPipeline) {
     static Pipeline pipeline;  // tens of MiB: static storage, locked and pre-faulted below
-    // The texture path's buffers (about 63 MiB) only when printed models are configured;
+    // The texture path's buffers (about 63 MiB) only when printed models are configured (the
+    // features key, or a tables model set holding them);
     // unlocked, only the pages a frame uses become resident (docs/memory.md).
     static ZeroedPtr<texture::TextureRecognizer> texture;
     static ZeroedPtr<texture::TextureResult> texture_result;
-    if (config.features[0] != '\0') {
+    if (config.features[0] != '\0' || data->TablesHoldPrintedModels()) {
       texture = MakeZeroed<texture::TextureRecognizer>();
       texture_result = MakeZeroed<texture::TextureResult>();
       if (texture == nullptr || texture_result == nullptr) {

@@ -125,10 +125,6 @@ Result<ModelSetView> ModelSetView::Open(const void* blob, size_t size) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set truncated: the directory of %u sections ends past the blob",
                          h->section_count);
-  const uint32_t crc = ModelSetCrc32(bytes, size);
-  if (crc != h->blob_crc32)
-    return Status::Error(StatusCode::kDataLoss, "model set corrupt: CRC-32 %08x, header says %08x",
-                         crc, h->blob_crc32);
   const auto* dir = reinterpret_cast<const ModelSetSection*>(bytes + sizeof(ModelSetHeader));
   for (uint32_t i = 0; i < h->section_count; ++i) {
     SH_RETURN_IF_ERROR(CheckEntry(dir[i], i, bytes, size, directory_end));
@@ -145,6 +141,11 @@ Result<ModelSetView> ModelSetView::Open(const void* blob, size_t size) {
                              SectionKindName(dir[i].kind), j, SectionKindName(dir[j].kind));
     }
   }
+  // Last, the whole blob: header, directory and padding (a damaged section was named above).
+  const uint32_t crc = ModelSetCrc32(bytes, size);
+  if (crc != h->blob_crc32)
+    return Status::Error(StatusCode::kDataLoss, "model set corrupt: CRC-32 %08x, header says %08x",
+                         crc, h->blob_crc32);
   ModelSetView view;
   view.bytes_ = bytes;
   view.header_ = h;

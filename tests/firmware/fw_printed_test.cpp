@@ -23,6 +23,7 @@
 #include "hal/sim/textured_model_files.hpp"
 #include "recog/geometry/rigid_transform.hpp"
 #include "tables/feature_db_builder.hpp"
+#include "tables/model_set_writer.hpp"
 #include "tests/support/aligned_blob.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
@@ -59,6 +60,10 @@ struct Files {
   std::string dir;
   std::string features, damaged, plain_dir;
   std::vector<uint8_t> blob;
+  // One model set holding the default hash tables and the cartons' database, and a copy of it
+  // with one flipped byte in the database's section.
+  std::string set, damaged_set;
+  std::vector<uint8_t> set_blob;
 };
 
 const Files& TestFiles() {
@@ -82,6 +87,18 @@ const Files& TestFiles() {
     std::vector<uint8_t> damaged = f->blob;
     if (!damaged.empty()) damaged[damaged.size() / 2] ^= 0x5A;
     EXPECT_TRUE(WriteFile(f->damaged, damaged));
+    Result<std::vector<uint8_t>> set =
+        BuildModelSet({{uint32_t(SectionKind::kHash3d),
+                        static_cast<const uint8_t*>(DefaultTableBlob()), DefaultTableBlobSize()},
+                       {uint32_t(SectionKind::kTextureFeatures), f->blob.data(), f->blob.size()}});
+    EXPECT_TRUE(set.ok()) << set.status().message();
+    if (set.ok()) f->set_blob = *set;
+    f->set = f->dir + "/models.bin";
+    f->damaged_set = f->dir + "/damaged_models.bin";
+    EXPECT_TRUE(WriteFile(f->set, f->set_blob));
+    std::vector<uint8_t> damaged_set = f->set_blob;
+    if (!damaged_set.empty()) damaged_set[damaged_set.size() - f->blob.size() / 2] ^= 0x5A;
+    EXPECT_TRUE(WriteFile(f->damaged_set, damaged_set));
     f->plain_dir = f->dir + "/plain";
     EXPECT_EQ(mkdir(f->plain_dir.c_str(), 0700), 0);
     EXPECT_TRUE(CopyFile(kModels + "/cube.obj", f->plain_dir + "/cube.obj"));
@@ -328,6 +345,116 @@ TEST(FirmwarePrinted, DamagedOrMissingFeatureDatabaseIsADataFaultUntilReplaced) 
     rig.Trigger(7);
     EXPECT_TRUE(rig.WaitSet());
   }
+}
+
+// `tables = ` one model set (hash tables and the cartons' database as its sections, no
+// `features` key) gives the result sets that the separate blobs give, scene for scene.
+TEST(FirmwarePrinted, OneModelSetAsTablesGivesTheSamePosesAsTheSeparateBlobs) {
+  const Files& files = TestFiles();
+  ASSERT_FALSE(files.set_blob.empty());
+  static render::SimWorld world;
+  render::SimWorldConfig wc;
+  wc.models_dir = files.plain_dir.c_str();
+  wc.printed_dir = "models/textured";
+  wc.scenes = 2;
+  wc.objects = 5;
+  const Status built = world.Build(wc);
+  ASSERT_TRUE(built.ok()) << built.message();
+  static Pipeline pipeline;
+  static texture::TextureRecognizer texture;
+  static texture::TextureResult texture_result;
+  // Result set of each scene seen, for one configuration of the data.
+  auto run = [&](const char* tables, const char* features, std::vector<ResultSet>* by_scene) {
+    PlcBus can;
+    hal::SimGpio gpio;
+    hal::SimCamera camera(&world, hal::SimCameraConfig{});
+    FileDataSource data(tables, "", &world.calibration());
+    data.SetFeaturesPath(features);
+    PipelineRecognition recognition(&pipeline, PipelineRecognitionConfig{}, &texture,
+                                    &texture_result);
+    SceneObserver observer(&world);
+    CoreConfig config;
+    config.node_id = 1;
+    config.heartbeat_ms = 50;
+    config.capture_timeout_ms = 2000;
+    config.budget_ms = 10000;
+    CoreDevices devices;
+    devices.can = can.fw;
+    devices.gpio = &gpio;
+    devices.camera = &camera;
+    devices.recognition = &recognition;
+    devices.data = &data;
+    devices.observer = &observer;
+    auto core = std::make_unique<FirmwareCore>();
+    ASSERT_TRUE(core->Start(config, devices).ok());
+    ASSERT_EQ(core->state(), FirmwareState::kReady) << tables;
+    EXPECT_EQ(core->loaded_models(), 10u) << tables;
+    ResultAssembler assembler(1);
+    by_scene->assign(2, ResultSet());
+    for (uint8_t i = 0; i < 2; ++i) {
+      hal::CanFrame trigger;
+      trigger.id = kCobCommand + 1;
+      trigger.len = 3;
+      trigger.data[0] = 0x01;
+      trigger.data[1] = uint8_t(1 + i);
+      ASSERT_TRUE(can.plc->Send(trigger).ok());
+      ResultSet set;
+      ASSERT_TRUE(WaitResultSet(can.plc, &assembler, &set, 12000));
+      const int scene = observer.SceneOf(set.sequence);
+      ASSERT_TRUE(scene >= 0 && scene < 2);
+      (*by_scene)[size_t(scene)] = set;
+    }
+    core->Stop();
+  };
+  std::vector<ResultSet> separate, one_set;
+  run("builtin", files.features.c_str(), &separate);
+  run(files.set.c_str(), "", &one_set);
+  int compared = 0, objects = 0;
+  for (size_t scene = 0; scene < 2; ++scene) {
+    const ResultSet &a = separate[scene], &b = one_set[scene];
+    if (a.request_id == 0 || b.request_id == 0) continue;  // scene not seen by both runs
+    ++compared;
+    ASSERT_EQ(a.object_count, b.object_count) << "scene " << scene;
+    objects += a.object_count;
+    for (int k = 0; k < a.object_count; ++k) {
+      EXPECT_EQ(a.objects[k].model_id, b.objects[k].model_id);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_EQ(a.objects[k].cam_t_model_mm[c], b.objects[k].cam_t_model_mm[c]);
+      for (int c = 0; c < 4; ++c)
+        EXPECT_EQ(a.objects[k].cam_q_model[c], b.objects[k].cam_q_model[c]);
+    }
+  }
+  EXPECT_GE(compared, 1);
+  EXPECT_GT(objects, 0);
+}
+
+// A model set whose cartons' section is damaged is a fault of the tables (the file named by
+// `tables`): EMCY 0x6300 with the tables' detail, heartbeat on, ready once the file is repaired.
+TEST(FirmwarePrinted, DamagedModelSetIsATablesFaultUntilReplaced) {
+  const Files& files = TestFiles();
+  ASSERT_FALSE(files.set_blob.empty());
+  const std::string configured = files.dir + "/configured_set.bin";
+  ASSERT_TRUE(CopyFile(files.damaged_set, configured));
+  Rig rig;
+  rig.data = std::make_unique<FileDataSource>(configured.c_str(), "", &rig.calib);
+  rig.Start();
+  std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kDataSet));
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->detail, kDetailTables);
+  EXPECT_EQ(rig.core.state(), FirmwareState::kFault);
+  EXPECT_EQ(rig.recognition.inits.load(), 0);
+  EXPECT_TRUE(rig.SeeHeartbeats(2));
+  // The log names the damaged section.
+  const std::string why = rig.data->LoadTable().status().message();
+  EXPECT_NE(why.find("section 1 (TEXTURE_FEATURES) CRC-32"), std::string::npos) << why;
+
+  ASSERT_TRUE(WriteFile(configured, files.set_blob));
+  rig.ClearFault();
+  std::optional<CommandAck> ack = rig.WaitAck(0x04);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, 0);
+  EXPECT_TRUE(rig.WaitState(FirmwareState::kReady));
+  EXPECT_EQ(rig.core.loaded_models(), 10u);  // six polyhedra and four cartons, from the one file
 }
 
 }  // namespace
