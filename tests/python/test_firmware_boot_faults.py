@@ -2,8 +2,8 @@
 """Boot-path faults of the firmware, run through the real main() of stereohash-fw-sim.
 
 Each case starts `stereohash-fw-sim --config FILE` with one piece of its data broken (a
-missing, truncated or corrupt table file, the injected corrupt tables, a missing calibration, a
-missing model folder) and checks, from a python-can/socketcand PLC: the boot-up, an EMCY naming
+missing, truncated or corrupt table file, a model set with a damaged section, the injected
+corrupt tables, a missing calibration, a missing model folder) and checks, from a python-can/socketcand PLC: the boot-up, an EMCY naming
 the fault with the firmware state "fault", heartbeats that keep coming while the process stays
 alive, and - once the file is repaired - a clear-fault command that is acknowledged, an EMCY
 0x0000 back to "ready" and a trigger that gets its result set.
@@ -12,7 +12,9 @@ import argparse
 import os
 import shutil
 import socket
+import struct
 import sys
+import zlib
 import tempfile
 import time
 import unittest
@@ -33,6 +35,27 @@ STATE_FAULT = 3
 CMD_TRIGGER = 1
 CMD_CLEAR_FAULT = 4
 ACK_NOT_POSSIBLE = 8
+
+def model_set(sections):
+    """A model set of (kind, blob) sections, packed from the layout in docs/tables.md."""
+    def align(n):
+        return (n + 63) // 64 * 64
+    offset = align(64 + 32 * len(sections))
+    directory, payloads = b"", []
+    for kind, blob in sections:
+        version = struct.unpack_from("<H", blob, 8)[0]
+        directory += struct.pack("<IHHQQII", kind, version, 0, offset, len(blob),
+                                 zlib.crc32(blob), 0)
+        payloads.append((offset, blob))
+        offset = align(offset + len(blob))
+    out = bytearray(offset)
+    out[64:64 + len(directory)] = directory
+    for at, blob in payloads:
+        out[at:at + len(blob)] = blob
+    struct.pack_into("<8sHHIQIII", out, 0, b"SHMODSET", 1, 0, 64, offset, 0, len(sections), 32)
+    struct.pack_into("<I", out, 24, zlib.crc32(bytes(out)))
+    return bytes(out)
+
 
 # The simulator rig's cameras (hal/sim/render/scene_generator.cpp, MakeRig) as a calibration file.
 SIM_RIG_YAML = """%YAML:1.0
@@ -172,6 +195,22 @@ class BootFaultTest(unittest.TestCase):
             with open(path, "wb") as f:
                 f.write(blob)
         self.table_case(write)
+
+    def test_damaged_model_set_section(self):
+        """A model set (docs/tables.md) holding the tables: a flipped byte in its section is a
+        tables fault; the repaired set boots to ready."""
+        with open(ARGS.table, "rb") as f:
+            good = model_set([(1, f.read())])
+        damaged = bytearray(good)
+        damaged[len(damaged) // 2] ^= 0x10
+        table = self.path("models.bin")
+        with open(table, "wb") as f:
+            f.write(damaged)
+        self.boot("tables = " + table)
+        self.expect_fault(EMCY_DATA_SET, DETAIL_TABLES)
+        with open(table, "wb") as f:
+            f.write(good)
+        self.expect_recovery()
 
     def test_injected_corrupt_tables_stay_in_fault(self):
         self.boot("sim_corrupt_tables = true")
