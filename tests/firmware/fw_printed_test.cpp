@@ -185,16 +185,30 @@ void ScoreSet(const render::SimWorld& world, const int* ids, int scene, const Re
   }
 }
 
+// The cube and the four cartons, five objects in each of `scenes` scenes.
+Status BuildCartonWorld(const Files& files, int scenes, render::SimWorld* world) {
+  render::SimWorldConfig wc;
+  wc.models_dir = files.plain_dir.c_str();
+  wc.printed_dir = "models/textured";
+  wc.scenes = scenes;
+  wc.objects = 5;
+  return world->Build(wc);
+}
+
+CoreConfig CartonCoreConfig() {
+  CoreConfig config;
+  config.node_id = 1;
+  config.heartbeat_ms = 50;
+  config.capture_timeout_ms = 2000;
+  config.budget_ms = 10000;  // the largest: these tests check poses, not time
+  return config;
+}
+
 TEST(FirmwarePrinted, CartonsInResultSetsAtTheirTruthWithIdsAfterThePolyhedra) {
   const Files& files = TestFiles();
   ASSERT_FALSE(files.blob.empty());
   static render::SimWorld world;
-  render::SimWorldConfig wc;
-  wc.models_dir = files.plain_dir.c_str();
-  wc.printed_dir = "models/textured";
-  wc.scenes = 3;
-  wc.objects = 5;
-  const Status built = world.Build(wc);
+  const Status built = BuildCartonWorld(files, 3, &world);
   ASSERT_TRUE(built.ok()) << built.message();
   ASSERT_EQ(world.model_count(), 5);
 
@@ -211,11 +225,7 @@ TEST(FirmwarePrinted, CartonsInResultSetsAtTheirTruthWithIdsAfterThePolyhedra) {
   PipelineRecognition recognition(&pipeline, PipelineRecognitionConfig{}, &texture,
                                   &texture_result);
   SceneObserver observer(&world);
-  CoreConfig config;
-  config.node_id = 1;
-  config.heartbeat_ms = 50;
-  config.capture_timeout_ms = 2000;
-  config.budget_ms = 10000;  // the largest: this test checks poses, not time
+  const CoreConfig config = CartonCoreConfig();
   CoreDevices devices;
   devices.can = fw;
   devices.gpio = &gpio;
@@ -353,12 +363,7 @@ TEST(FirmwarePrinted, OneModelSetAsTablesGivesTheSamePosesAsTheSeparateBlobs) {
   const Files& files = TestFiles();
   ASSERT_FALSE(files.set_blob.empty());
   static render::SimWorld world;
-  render::SimWorldConfig wc;
-  wc.models_dir = files.plain_dir.c_str();
-  wc.printed_dir = "models/textured";
-  wc.scenes = 2;
-  wc.objects = 5;
-  const Status built = world.Build(wc);
+  const Status built = BuildCartonWorld(files, 2, &world);
   ASSERT_TRUE(built.ok()) << built.message();
   static Pipeline pipeline;
   static texture::TextureRecognizer texture;
@@ -373,11 +378,6 @@ TEST(FirmwarePrinted, OneModelSetAsTablesGivesTheSamePosesAsTheSeparateBlobs) {
     PipelineRecognition recognition(&pipeline, PipelineRecognitionConfig{}, &texture,
                                     &texture_result);
     SceneObserver observer(&world);
-    CoreConfig config;
-    config.node_id = 1;
-    config.heartbeat_ms = 50;
-    config.capture_timeout_ms = 2000;
-    config.budget_ms = 10000;
     CoreDevices devices;
     devices.can = can.fw;
     devices.gpio = &gpio;
@@ -386,7 +386,7 @@ TEST(FirmwarePrinted, OneModelSetAsTablesGivesTheSamePosesAsTheSeparateBlobs) {
     devices.data = &data;
     devices.observer = &observer;
     auto core = std::make_unique<FirmwareCore>();
-    ASSERT_TRUE(core->Start(config, devices).ok());
+    ASSERT_TRUE(core->Start(CartonCoreConfig(), devices).ok());
     ASSERT_EQ(core->state(), FirmwareState::kReady) << tables;
     EXPECT_EQ(core->loaded_models(), 10u) << tables;
     ResultAssembler assembler(1);
