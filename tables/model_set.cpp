@@ -21,48 +21,56 @@ Status CheckEntry(const ModelSetSection& s, uint32_t i, const uint8_t* bytes, ui
   const char* name = SectionKindName(s.kind);
   if (s.kind == 0)
     return Status::Error(StatusCode::kDataLoss, "model set corrupt: section %u has kind 0", i);
-  if (s.reserved0 != 0 || s.reserved1 != 0)
+  if (s.reserved0 != 0 || s.reserved1 != 0) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set corrupt: section %u (%s) has non-zero reserved fields", i,
                          name);
-  if (s.offset % kModelSetAlignment != 0)
+  }
+  if (s.offset % kModelSetAlignment != 0) {
     return Status::Error(
         StatusCode::kDataLoss,
         "model set corrupt: section %u (%s) is misaligned (offset not a multiple of 64)", i, name);
-  if (s.offset < first_payload)
+  }
+  if (s.offset < first_payload) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set corrupt: section %u (%s) overlaps the header or the directory",
                          i, name);
-  if (s.offset > total || s.size > total - s.offset)
+  }
+  if (s.offset > total || s.size > total - s.offset) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set truncated: section %u (%s) ends past the blob (offset %llu, "
                          "%llu bytes, blob %llu bytes)",
                          i, name, static_cast<unsigned long long>(s.offset),
                          static_cast<unsigned long long>(s.size),
                          static_cast<unsigned long long>(total));
-  if (s.size < sizeof(SectionBlobPrefix))
+  }
+  if (s.size < sizeof(SectionBlobPrefix)) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set corrupt: section %u (%s) is too small for a blob header", i,
                          name);
+  }
   const uint8_t* payload = bytes + s.offset;
-  SectionBlobPrefix prefix;
+  SectionBlobPrefix prefix{};
   std::memcpy(&prefix, payload, sizeof(prefix));
   const SectionKindInfo* info = FindSectionKind(s.kind);
-  if (info != nullptr && std::memcmp(prefix.magic, info->magic, sizeof(prefix.magic)) != 0)
+  if (info != nullptr && std::memcmp(prefix.magic, info->magic, sizeof(prefix.magic)) != 0) {
     return Status::Error(
         StatusCode::kDataLoss,
         "model set corrupt: section %u (%s) does not hold a %s blob (bad magic number)", i, name,
         name);
-  if (prefix.format_version != s.kind_version || prefix.total_size != s.size)
+  }
+  if (prefix.format_version != s.kind_version || prefix.total_size != s.size) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set corrupt: section %u (%s): directory and section header "
                          "disagree on its version or size",
                          i, name);
+  }
   const uint32_t crc = Crc32(payload, static_cast<size_t>(s.size));
-  if (crc != s.crc32)
+  if (crc != s.crc32) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set corrupt: section %u (%s) CRC-32 %08x, directory says %08x", i,
                          name, crc, s.crc32);
+  }
   return Status::Ok();
 }
 
@@ -79,7 +87,7 @@ const char* SectionKindName(uint32_t kind) {
 }
 
 uint32_t ModelSetCrc32(const uint8_t* blob, size_t size) {
-  ModelSetHeader header;
+  ModelSetHeader header{};
   std::memcpy(&header, blob, sizeof(header));
   header.blob_crc32 = 0;
   const uint32_t crc = Crc32(&header, sizeof(header));
@@ -90,62 +98,74 @@ Result<ModelSetView> ModelSetView::Open(const void* blob, size_t size) {
   if (blob == nullptr) return Status::Error(StatusCode::kInvalidArgument, "model set: no data");
   if (reinterpret_cast<uintptr_t>(blob) % 8 != 0)
     return Status::Error(StatusCode::kInvalidArgument, "model set: memory not 8-byte aligned");
-  if (size < sizeof(ModelSetHeader))
+  if (size < sizeof(ModelSetHeader)) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set truncated: %zu bytes, the header alone needs %zu", size,
                          sizeof(ModelSetHeader));
+  }
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = static_cast<const ModelSetHeader*>(blob);
-  if (!IsModelSet(blob, size))
+  if (!IsModelSet(blob, size)) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "not a stereohash model set (bad magic number)");
-  if (h->format_version != kModelSetFormatVersion)
+  }
+  if (h->format_version != kModelSetFormatVersion) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "model set format version %u, this build reads version %u",
                          h->format_version, kModelSetFormatVersion);
-  if (h->header_size != sizeof(ModelSetHeader))
+  }
+  if (h->header_size != sizeof(ModelSetHeader)) {
     return Status::Error(StatusCode::kDataLoss, "model set corrupt: header size field is %u",
                          h->header_size);
-  if (h->entry_size != sizeof(ModelSetSection))
+  }
+  if (h->entry_size != sizeof(ModelSetSection)) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set corrupt: directory entry size field is %u", h->entry_size);
-  if (h->reserved0 != 0 || !AllZero(h->reserved1, sizeof(h->reserved1)))
+  }
+  if (h->reserved0 != 0 || !AllZero(h->reserved1, sizeof(h->reserved1))) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set corrupt: non-zero reserved header fields");
-  if (h->total_size != size)
+  }
+  if (h->total_size != size) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set truncated or padded: header says %llu bytes, got %zu",
                          static_cast<unsigned long long>(h->total_size), size);
-  if (h->section_count == 0 || h->section_count > kMaxModelSetSections)
+  }
+  if (h->section_count == 0 || h->section_count > kMaxModelSetSections) {
     return Status::Error(StatusCode::kDataLoss, "model set corrupt: %u sections (1..%u supported)",
                          h->section_count, kMaxModelSetSections);
+  }
   const uint64_t directory_end =
       sizeof(ModelSetHeader) + uint64_t{h->section_count} * sizeof(ModelSetSection);
-  if (directory_end > size)
+  if (directory_end > size) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set truncated: the directory of %u sections ends past the blob",
                          h->section_count);
+  }
   const auto* dir = reinterpret_cast<const ModelSetSection*>(bytes + sizeof(ModelSetHeader));
   for (uint32_t i = 0; i < h->section_count; ++i) {
     SH_RETURN_IF_ERROR(CheckEntry(dir[i], i, bytes, size, directory_end));
     for (uint32_t j = 0; j < i; ++j) {
-      if (dir[j].kind == dir[i].kind)
+      if (dir[j].kind == dir[i].kind) {
         return Status::Error(StatusCode::kDataLoss,
                              "model set corrupt: sections %u and %u both hold kind %u (%s)", j, i,
                              dir[i].kind, SectionKindName(dir[i].kind));
+      }
       const bool apart = dir[i].offset + dir[i].size <= dir[j].offset ||
                          dir[j].offset + dir[j].size <= dir[i].offset;
-      if (!apart)
+      if (!apart) {
         return Status::Error(StatusCode::kDataLoss,
                              "model set corrupt: section %u (%s) overlaps section %u (%s)", i,
                              SectionKindName(dir[i].kind), j, SectionKindName(dir[j].kind));
+      }
     }
   }
   // Last, the whole blob: header, directory and padding (a damaged section was named above).
   const uint32_t crc = ModelSetCrc32(bytes, size);
-  if (crc != h->blob_crc32)
+  if (crc != h->blob_crc32) {
     return Status::Error(StatusCode::kDataLoss, "model set corrupt: CRC-32 %08x, header says %08x",
                          crc, h->blob_crc32);
+  }
   ModelSetView view;
   view.bytes_ = bytes;
   view.header_ = h;

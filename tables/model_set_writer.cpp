@@ -16,35 +16,40 @@ Status CheckInput(const ModelSetInput& in, size_t index) {
   const char* name = SectionKindName(in.kind);
   if (in.kind == 0)
     return Status::Error(StatusCode::kInvalidArgument, "model set: section %zu has kind 0", index);
-  if (in.data == nullptr || in.size < sizeof(SectionBlobPrefix))
+  if (in.data == nullptr || in.size < sizeof(SectionBlobPrefix)) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "model set: section %zu (%s) is too small for a blob header", index, name);
-  SectionBlobPrefix prefix;
+  }
+  SectionBlobPrefix prefix{};
   std::memcpy(&prefix, in.data, sizeof(prefix));
   const SectionKindInfo* info = FindSectionKind(in.kind);
-  if (info != nullptr && std::memcmp(prefix.magic, info->magic, sizeof(info->magic)) != 0)
+  if (info != nullptr && std::memcmp(prefix.magic, info->magic, sizeof(info->magic)) != 0) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "model set: section %zu is not a %s blob (bad magic number)", index, name);
-  if (prefix.total_size != in.size)
+  }
+  if (prefix.total_size != in.size) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "model set: section %zu (%s) says %llu bytes, %zu given", index, name,
                          static_cast<unsigned long long>(prefix.total_size), in.size);
+  }
   return Status::Ok();
 }
 
 }  // namespace
 
 Result<std::vector<uint8_t>> BuildModelSet(const std::vector<ModelSetInput>& sections) {
-  if (sections.empty() || sections.size() > kMaxModelSetSections)
+  if (sections.empty() || sections.size() > kMaxModelSetSections) {
     return Status::Error(StatusCode::kInvalidArgument, "model set: %zu sections (1..%u supported)",
                          sections.size(), kMaxModelSetSections);
+  }
   for (size_t i = 0; i < sections.size(); ++i) {
     SH_RETURN_IF_ERROR(CheckInput(sections[i], i));
     for (size_t j = 0; j < i; ++j) {
-      if (sections[j].kind == sections[i].kind)
+      if (sections[j].kind == sections[i].kind) {
         return Status::Error(StatusCode::kInvalidArgument,
                              "model set: sections %zu and %zu are both %s", j, i,
                              SectionKindName(sections[i].kind));
+      }
     }
   }
   ModelSetHeader header{};
@@ -57,7 +62,7 @@ Result<std::vector<uint8_t>> BuildModelSet(const std::vector<ModelSetInput>& sec
   size_t end = AlignUp(sizeof(ModelSetHeader) + sections.size() * sizeof(ModelSetSection));
   for (size_t i = 0; i < sections.size(); ++i) {
     ModelSetSection& d = directory[i];
-    SectionBlobPrefix prefix;
+    SectionBlobPrefix prefix{};
     std::memcpy(&prefix, sections[i].data, sizeof(prefix));
     d.kind = sections[i].kind;
     d.kind_version = prefix.format_version;

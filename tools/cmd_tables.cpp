@@ -215,7 +215,7 @@ std::vector<std::string> WithoutPrinted(const std::string& dir,
                                         const std::vector<std::string>& printed) {
   std::vector<std::string> out;
   for (const std::string& name : list) {
-    const std::string path = dir + "/" + name + ".obj";
+    const std::string path = std::string(dir).append("/").append(name).append(".obj");
     if (std::find(printed.begin(), printed.end(), path) == printed.end()) out.push_back(name);
   }
   return out;
@@ -239,6 +239,7 @@ bool WriteSections(const std::string& path, const std::vector<BuiltSection>& sec
     blob = sections[0].bytes;
   } else {
     std::vector<ModelSetInput> inputs;
+    inputs.reserve(sections.size());
     for (const BuiltSection& s : sections)
       inputs.push_back({s.kind, s.bytes.data(), s.bytes.size()});
     Result<std::vector<uint8_t>> set = BuildModelSet(inputs);
