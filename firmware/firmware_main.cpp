@@ -253,6 +253,8 @@ PipelineRecognitionConfig PipelineSettings(const FwConfig& config, const TablePo
   pc.table_known = table.configured;
   // One camera needs the table for millimetre poses: any known pose, the rendered rig's too.
   pc.mono_table_known = table.known;
+  // A model set as tables may carry the fallback's aspect table too.
+  if (std::strcmp(config.tables, "builtin") != 0) pc.aspects_file = config.tables;
   return pc;
 }
 

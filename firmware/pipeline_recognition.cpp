@@ -40,10 +40,10 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const ModelSet&
   SH_RETURN_IF_ERROR(pipeline_->Init(calib, table, config, &MonotonicNs));
   if (models.printed() != nullptr) SH_RETURN_IF_ERROR(InitPrinted(calib, models));
   if (mono_ == nullptr) return Status::Ok();
-  // The monocular fallback: the linked-in aspect table, its models found in the stereo tables by
-  // name (the tables may come from a file with other models), set up for the left camera now so
-  // that bad data shows at boot.
-  const Result<AspectTableView> aspects = OpenDefaultAspectTable();
+  // The monocular fallback: the model set's aspect table, else the linked-in one; its models
+  // found in the stereo tables by name (the tables may come from a file with other models), set
+  // up for the left camera now so that bad data shows at boot.
+  const Result<AspectTableView> aspects = OpenAspects();
   if (!aspects.ok()) {
     return Status::Error(aspects.status().code(), "aspect table: %s", aspects.status().message());
   }
@@ -54,6 +54,20 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const ModelSet&
   }
   calib_ = calib;
   return InitMono(0);
+}
+
+Result<AspectTableView> PipelineRecognition::OpenAspects() {
+  // The previous view may point into the mapping about to be replaced.
+  aspects_ = AspectTableView();
+  mapped_aspects_.Close();
+  if (config_.aspects_file != nullptr) {
+    const Result<uint32_t> kinds = FileBlobKinds(config_.aspects_file);
+    if (kinds.ok() && (*kinds & KindBit(SectionKind::kAspects2d)) != 0) {
+      SH_RETURN_IF_ERROR(mapped_aspects_.Open(config_.aspects_file));
+      return mapped_aspects_.view();
+    }
+  }
+  return OpenDefaultAspectTable();
 }
 
 Status PipelineRecognition::InitPrinted(const StereoCalibration& calib, const ModelSet& models) {

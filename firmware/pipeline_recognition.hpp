@@ -9,6 +9,7 @@
 #include "recog/mono/mono_pipeline.hpp"
 #include "recog/pipeline/pipeline.hpp"
 #include "recog/texture/texture_recognizer.hpp"
+#include "tables/aspect_file.hpp"
 #include "tables/aspect_view.hpp"
 
 namespace sh::fw {
@@ -33,6 +34,9 @@ struct PipelineRecognitionConfig {
   // a configured table pose, or the simulator's rendered one. Without it, free 6-D poses from one
   // image (far less reliable: docs/monocular.md).
   bool mono_table_known = false;
+  // A model set (the `tables` file) whose ASPECTS_2D section, if it has one, replaces the
+  // linked-in aspect table of the monocular fallback; nullptr: the linked-in one.
+  const char* aspects_file = nullptr;
 };
 
 class PipelineRecognition final : public Recognition {
@@ -54,6 +58,8 @@ class PipelineRecognition final : public Recognition {
         mono_result_(mono_result) {}
 
   Status Init(const StereoCalibration& calib, const ModelSet& models, uint32_t model_mask) override;
+  // The monocular fallback's aspect table (valid after Init).
+  const AspectTableView& aspects() const { return aspects_; }
   Status SetModelMask(uint32_t model_mask) override;
   Status Process(const hal::StereoFrame& frame, float budget_ms, protocol::ResultSet* set) override;
   bool monocular() const override { return mono_ != nullptr && mono_->initialised(); }
@@ -67,6 +73,8 @@ class PipelineRecognition final : public Recognition {
   bool InsideCarton(const Model& model, const RigidTransform& cam_T_model) const;
   // Sets the texture path up for the model set's printed models.
   Status InitPrinted(const StereoCalibration& calib, const ModelSet& models);
+  // The aspect table of the monocular fallback (config_.aspects_file's, else the linked-in one).
+  Result<AspectTableView> OpenAspects();
   // Sets the monocular pipeline up for `camera` (0 left, 1 right): no allocation.
   Status InitMono(int camera);
 
@@ -81,6 +89,7 @@ class PipelineRecognition final : public Recognition {
   MonoPipeline* mono_;
   MonoResult* mono_result_;
   AspectTableView aspects_;
+  MappedAspectTable mapped_aspects_;  // the model set's ASPECTS_2D section, when it has one
   StereoCalibration calib_;
   // Stereo table model id of each aspect table model, by name (-1: not in the stereo tables).
   int table_id_of_aspect_model_[kMaxAspectModels] = {};

@@ -7,13 +7,17 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "firmware/pipeline_recognition.hpp"
 #include "firmware/truth_recognition.hpp"
 #include "recog/mono/aspect.hpp"
+#include "tables/aspect_file.hpp"
+#include "tables/model_set_writer.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
 #include "tools/eval/synthetic_scene.hpp"
@@ -208,6 +212,49 @@ struct FallbackRig {
   int table_ids[render::kMaxWorldModels] = {};
   FirmwareCore core;
 };
+
+// A model set as tables with an ASPECTS_2D section gives the fallback its aspect table (mapped
+// from the set, not the linked-in one); a set without one leaves the linked-in table.
+TEST(FirmwareMonocular, AModelSetsAspectSectionReplacesTheLinkedInTable) {
+  const Result<std::vector<uint8_t>> with =
+      BuildModelSet({{uint32_t(SectionKind::kHash3d),
+                      static_cast<const uint8_t*>(DefaultTableBlob()), DefaultTableBlobSize()},
+                     {uint32_t(SectionKind::kAspects2d),
+                      static_cast<const uint8_t*>(DefaultAspectBlob()), DefaultAspectBlobSize()}});
+  const Result<std::vector<uint8_t>> without =
+      BuildModelSet({{uint32_t(SectionKind::kHash3d),
+                      static_cast<const uint8_t*>(DefaultTableBlob()), DefaultTableBlobSize()}});
+  ASSERT_TRUE(with.ok() && without.ok());
+  char dir[] = "/tmp/stereohash_mono_set_XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  const std::string with_path = std::string(dir) + "/with.bin";
+  const std::string without_path = std::string(dir) + "/without.bin";
+  for (const auto& [path, bytes] :
+       {std::make_pair(with_path, *with), std::make_pair(without_path, *without)}) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    ASSERT_EQ(std::fwrite(bytes.data(), 1, bytes.size(), f), bytes.size());
+    std::fclose(f);
+  }
+  static Pipeline pipeline;
+  static MonoPipeline mono;
+  static MonoResult mono_result;
+  const Result<TableView> table = OpenDefaultTable();
+  ASSERT_TRUE(table.ok());
+  for (const std::string& path : {with_path, without_path}) {
+    PipelineRecognitionConfig pc;
+    pc.aspects_file = path.c_str();
+    PipelineRecognition recognition(&pipeline, pc, nullptr, nullptr, &mono, &mono_result);
+    const Status s =
+        recognition.Init(FallbackRig::World().calibration(), ModelSet(&*table, nullptr), 0x3F);
+    ASSERT_TRUE(s.ok()) << s.message();
+    const bool linked_in =
+        static_cast<const void*>(&recognition.aspects().header()) == DefaultAspectBlob();
+    EXPECT_EQ(linked_in, path == without_path) << path;
+    EXPECT_EQ(recognition.aspects().aspect_count(), OpenDefaultAspectTable()->aspect_count());
+  }
+  (void)std::system(("rm -rf " + std::string(dir)).c_str());
+}
 
 TEST(FirmwareMonocular, RightCameraSilentThenMonocularSetsThenStereoAfterClearFault) {
   hal::SimCameraConfig cc;
