@@ -333,7 +333,9 @@ TEST(FirmwarePrinted, DamagedOrMissingFeatureDatabaseIsADataFaultUntilReplaced) 
     // The file the key names, damaged (or absent) at boot, then replaced by a good one.
     const std::string configured = files.dir + "/configured.bin";
     std::remove(configured.c_str());
-    if (path == files.damaged) ASSERT_TRUE(CopyFile(path, configured));
+    if (path == files.damaged) {
+      ASSERT_TRUE(CopyFile(path, configured));
+    }
     Rig rig;
     rig.data->SetFeaturesPath(configured.c_str());
     rig.Start();
