@@ -164,7 +164,18 @@ Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_
     const float spent_ms = static_cast<float>(MonotonicNs() - start_ns) * 1e-6f;
     if (budget_ms > 0) polyhedra_budget_ms = std::max(budget_ms - spent_ms, 1.0f);
   }
-  SH_RETURN_IF_ERROR(pipeline_->Process(frame.left, frame.right, polyhedra_budget_ms, &result_));
+  // The cartons found are hidden from the polyhedral path: their box edges, corners and the
+  // print's straight lines would otherwise fill its features and its search.
+  PosedModel cartons[texture::kMaxTextureObjects];
+  size_t n_cartons = 0;
+  if (printed) {
+    for (const texture::TextureObject& c : texture_result_->objects) {
+      if (n_cartons == texture::kMaxTextureObjects) break;
+      cartons[n_cartons++] = {&texture_->db().model(c.model), c.cam_T_model};
+    }
+  }
+  SH_RETURN_IF_ERROR(pipeline_->Process(frame.left, frame.right, polyhedra_budget_ms, &result_,
+                                        cartons, n_cartons));
   set->status = result_.recognition.budget_exhausted ? protocol::ResultStatus::kTimeBudgetHit
                                                      : protocol::ResultStatus::kOk;
   size_t n = 0;

@@ -87,7 +87,8 @@ Status ChooseDetection(const ConstGrayView& image, const FeatureConfig& config,
 }
 
 Status ExtractFeatures(const ConstGrayView& image, const FeatureConfig& requested,
-                       FeatureWorkspace& workspace, ImageFeatures& features) {
+                       FeatureWorkspace& workspace, ImageFeatures& features,
+                       const FeatureMask* mask) {
   features.corners.clear();
   features.lines.clear();
   features.edges = EdgeMapView{};
@@ -95,6 +96,8 @@ Status ExtractFeatures(const ConstGrayView& image, const FeatureConfig& requeste
   features.canny_stats = CannyStats{};
   features.hough_stats = HoughStats{};
   features.chosen = DetectionChoice{};
+  features.masked_corners = 0;
+  features.masked_edge_pixels = 0;
   SH_RETURN_IF_ERROR(ValidateGrayImage(image, "ExtractFeatures"));
   FeatureConfig config;
   SH_RETURN_IF_ERROR(ChooseDetection(image, requested, &config, &features.chosen));
@@ -105,6 +108,18 @@ Status ExtractFeatures(const ConstGrayView& image, const FeatureConfig& requeste
   }
   SH_RETURN_IF_ERROR(DetectEdges(image, config.canny, workspace.filter, workspace.edges,
                                  features.edges, &features.canny_stats));
+  if (mask != nullptr) {
+    // In place, keeping the order of strength.
+    size_t kept = 0;
+    for (size_t i = 0; i < features.corners.size(); ++i) {
+      const Corner2D& c = features.corners[i];
+      if (mask->Hides(c.x_px, c.y_px)) continue;
+      features.corners[kept++] = c;
+    }
+    features.masked_corners = static_cast<uint32_t>(features.corners.size() - kept);
+    features.corners.resize(kept);
+    features.masked_edge_pixels = mask->ClearEdges(features.edges);
+  }
   if (config.detect_lines) {
     const ConstEdgeMapView edges{features.edges.edge, features.edges.orientation};
     SH_RETURN_IF_ERROR(

@@ -7,6 +7,7 @@
 #include "recog/image/canny.hpp"
 #include "recog/image/corners.hpp"
 #include "recog/image/edge_map.hpp"
+#include "recog/image/feature_mask.hpp"
 #include "recog/image/gaussian.hpp"
 #include "recog/image/hough.hpp"
 #include "recog/image/image.hpp"
@@ -68,6 +69,8 @@ struct ImageFeatures {
   CannyStats canny_stats;
   HoughStats hough_stats;
   DetectionChoice chosen;
+  // Hidden by the mask (ExtractFeatures' `mask`): corners dropped, edge pixels cleared.
+  uint32_t masked_corners = 0, masked_edge_pixels = 0;
 };
 
 Status ValidateFeatureConfig(const FeatureConfig& config);
@@ -78,8 +81,11 @@ Status ChooseDetection(const ConstGrayView& image, const FeatureConfig& config,
                        FeatureConfig* effective, DetectionChoice* chosen);
 
 // Runs the detectors on one grey image. On failure the outputs are empty and the Status names
-// the problem (empty or oversized image, bad configuration).
+// the problem (empty or oversized image, bad configuration). With a `mask`, the corners it
+// hides are dropped and its edge pixels cleared before the line detector runs, so the lines and
+// the returned edge map have none of them either.
 Status ExtractFeatures(const ConstGrayView& image, const FeatureConfig& config,
-                       FeatureWorkspace& workspace, ImageFeatures& features);
+                       FeatureWorkspace& workspace, ImageFeatures& features,
+                       const FeatureMask* mask = nullptr);
 
 }  // namespace sh

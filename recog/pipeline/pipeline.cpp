@@ -69,9 +69,11 @@ PipelineConfig PipelineConfig::Automatic() {
 void EdgeMapVerifier::Reset(const StereoCalibration* calib, const TableView* table,
                             ConstEdgeMapView left, ConstEdgeMapView right,
                             const VerifyConfig* config, const TableConstraint* support,
-                            int64_t (*now_ns)()) {
+                            int64_t (*now_ns)(), const PosedModel* hidden, size_t n_hidden) {
   calib_ = calib;
   support_ = support;
+  hidden_ = hidden;
+  n_hidden_ = hidden != nullptr ? n_hidden : 0;
   below_table_ = 0;
   table_ = table;
   left_ = left;
@@ -99,28 +101,30 @@ bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>&
     }
   }
   const int64_t start = now_ns_ ? now_ns_() : 0;
-  // Occluders: the accepted objects, or the kMaxOccluders whose centres are nearest to the
-  // candidate when there are more (far objects cannot hide it anyway in a table scene).
+  // Occluders: the hidden objects of another path, then the accepted objects; of each, the
+  // ones whose centres are nearest to the candidate when there are more than the slots left (far
+  // objects cannot hide it anyway in a table scene).
   PosedModel occluders[kMaxOccluders];
   size_t n_occluders = 0;
-  if (accepted.size() <= kMaxOccluders) {
-    for (const RecognizedObject& o : accepted) {
-      occluders[n_occluders++] = {&table_->model(o.model), o.cam_T_model};
+  float dist2[kMaxOccluders];
+  const auto add_nearest = [&](const PosedModel& o, size_t first_slot) {
+    const float d2 = (o.cam_T_model.t_mm - candidate.cam_T_model.t_mm).squaredNorm();
+    size_t slot = n_occluders;
+    if (n_occluders == kMaxOccluders) {
+      slot =
+          static_cast<size_t>(std::max_element(dist2 + first_slot, dist2 + kMaxOccluders) - dist2);
+      if (dist2[slot] <= d2) return;
+    } else {
+      ++n_occluders;
     }
-  } else {
-    float dist2[kMaxOccluders];
-    for (const RecognizedObject& o : accepted) {
-      const float d2 = (o.cam_T_model.t_mm - candidate.cam_T_model.t_mm).squaredNorm();
-      size_t slot = n_occluders;
-      if (n_occluders == kMaxOccluders) {
-        slot = static_cast<size_t>(std::max_element(dist2, dist2 + kMaxOccluders) - dist2);
-        if (dist2[slot] <= d2) continue;
-      } else {
-        ++n_occluders;
-      }
-      occluders[slot] = {&table_->model(o.model), o.cam_T_model};
-      dist2[slot] = d2;
-    }
+    occluders[slot] = o;
+    dist2[slot] = d2;
+  };
+  for (size_t i = 0; i < n_hidden_; ++i) add_nearest(hidden_[i], 0);
+  const size_t first_accepted = n_occluders;
+  for (const RecognizedObject& o : accepted) {
+    if (first_accepted == kMaxOccluders) break;
+    add_nearest({&table_->model(o.model), o.cam_T_model}, first_accepted);
   }
   const PosedModel hypothesis{&model, candidate.cam_T_model};
   const Result<VerifyResult> r =
@@ -183,8 +187,26 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
 
 void Pipeline::ExtractOne(void* self, int image) {
   Pipeline& p = *static_cast<Pipeline*>(self);
-  p.frame_status_[image] = ExtractFeatures(p.frame_images_[image], p.config_.features,
-                                           p.workspace_[image], p.features_[image]);
+  const HiddenMask& mask = p.masks_[image];
+  p.frame_status_[image] =
+      ExtractFeatures(p.frame_images_[image], p.config_.features, p.workspace_[image],
+                      p.features_[image], mask.size() > 0 ? &mask : nullptr);
+}
+
+void Pipeline::BuildMasks(const PosedModel* hidden, size_t n_hidden, PipelineResult* out) {
+  const ViewCamera views[2] = {LeftView(calib_), RightView(calib_)};
+  for (int i = 0; i < 2; ++i) masks_[i].Clear();
+  for (size_t k = 0; k < n_hidden; ++k) {
+    bool both = true;
+    for (int i = 0; i < 2; ++i) {
+      both = masks_[i].Add(views[i], hidden[k], config_.hide_margin_px) && both;
+    }
+    if (both) {
+      ++out->hidden_objects;
+    } else {
+      ++out->hidden_not_masked;
+    }
+  }
 }
 
 float Pipeline::MsSince(int64_t start_ns) const {
@@ -193,12 +215,12 @@ float Pipeline::MsSince(int64_t start_ns) const {
 }
 
 Status Pipeline::Process(ConstGrayView left, ConstGrayView right, float budget_ms,
-                         PipelineResult* out) {
-  return Process(FrameView::Gray(left), FrameView::Gray(right), budget_ms, out);
+                         PipelineResult* out, const PosedModel* hidden, size_t n_hidden) {
+  return Process(FrameView::Gray(left), FrameView::Gray(right), budget_ms, out, hidden, n_hidden);
 }
 
 Status Pipeline::Process(const FrameView& left, const FrameView& right, float budget_ms,
-                         PipelineResult* out) {
+                         PipelineResult* out, const PosedModel* hidden, size_t n_hidden) {
   if (out == nullptr) return Status::Error(StatusCode::kInvalidArgument, "pipeline: no result");
   out->objects.clear();
   *out = PipelineResult{};
@@ -229,7 +251,8 @@ Status Pipeline::Process(const FrameView& left, const FrameView& right, float bu
     }
     SH_RETURN_IF_ERROR(CheckImageFitsCamera(grey[0], calib_.left, "left"));
     SH_RETURN_IF_ERROR(CheckImageFitsCamera(grey[1], calib_.right, "right"));
-    SH_RETURN_IF_ERROR(RecognisePolyhedra(grey[0], grey[1], budget_ms, t0, out));
+    SH_RETURN_IF_ERROR(RecognisePolyhedra(grey[0], grey[1], budget_ms, t0, hidden,
+                                          hidden != nullptr ? n_hidden : 0, out));
   }
   if (shape_enabled_ && left.has_colour() && right.has_colour()) {
     SH_RETURN_IF_ERROR(shape_->Process(left, right, out->objects, &out->shape));
@@ -239,8 +262,11 @@ Status Pipeline::Process(const FrameView& left, const FrameView& right, float bu
 }
 
 Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, float budget_ms,
-                                    int64_t t0, PipelineResult* out) {
-  // 1. Per-image features, the two images in parallel when the pool has two threads.
+                                    int64_t t0, const PosedModel* hidden, size_t n_hidden,
+                                    PipelineResult* out) {
+  // 1. Per-image features, the two images in parallel when the pool has two threads, without
+  // the silhouettes of the hidden objects.
+  BuildMasks(hidden, n_hidden, out);
   frame_images_[0] = left;
   frame_images_[1] = right;
   pool_.ParallelFor(2, &Pipeline::ExtractOne, this);
@@ -253,6 +279,8 @@ Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, flo
     out->points2d[i] = static_cast<uint32_t>(n_points[i]);
     out->lines2d[i] = static_cast<uint32_t>(n_lines[i]);
     out->detection[i] = features_[i].chosen;
+    out->masked_corners[i] = features_[i].masked_corners;
+    out->masked_edge_pixels[i] = features_[i].masked_edge_pixels;
   }
   const int64_t t1 = now_ns_ ? now_ns_() : 0;
   out->time.features_ms = MsSince(t0);
@@ -276,7 +304,7 @@ Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, flo
 
   // 3-5. Hashing, pose refinement and verification against both edge maps.
   verifier_.Reset(&calib_, &table_, AsConst(features_[0].edges), AsConst(features_[1].edges),
-                  &config_.verify, &config_.table, now_ns_);
+                  &config_.verify, &config_.table, now_ns_, hidden, n_hidden);
   Budget budget;
   if (budget_ms > 0 && now_ns_ != nullptr) {
     // The budget covers the whole frame: recognition gets what features and stereo left.
@@ -295,12 +323,12 @@ Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, flo
   }
 
   // 6. The last fit: each accepted pose to the edge pixels of both images.
-  RefineOnEdges(out);
+  RefineOnEdges(hidden, n_hidden, out);
   if (now_ns_) out->time.refine_ms = MsSince(t3);
   return Status::Ok();
 }
 
-void Pipeline::RefineOnEdges(PipelineResult* out) {
+void Pipeline::RefineOnEdges(const PosedModel* hidden, size_t n_hidden, PipelineResult* out) {
   for (RecognizedObject& o : out->objects) {
     o.cam_T_model_features = o.cam_T_model;
     o.edge_refined = false;
@@ -310,6 +338,9 @@ void Pipeline::RefineOnEdges(PipelineResult* out) {
     RecognizedObject& o = out->objects[i];
     PosedModel occluders[kMaxOccluders];
     size_t n_occluders = 0;
+    for (size_t j = 0; j < n_hidden && n_occluders < kMaxOccluders; ++j) {
+      occluders[n_occluders++] = hidden[j];
+    }
     for (size_t j = 0; j < out->objects.size() && n_occluders < kMaxOccluders; ++j) {
       if (j == i) continue;
       occluders[n_occluders++] = {&table_.model(out->objects[j].model),

@@ -14,6 +14,7 @@
 #include "recog/image/features.hpp"
 #include "recog/image/frame.hpp"
 #include "recog/image/image.hpp"
+#include "recog/pipeline/hidden_mask.hpp"
 #include "recog/pipeline/model_set.hpp"
 #include "recog/pipeline/worker_pool.hpp"
 #include "recog/scene/scene.hpp"
@@ -52,6 +53,11 @@ struct PipelineConfig {
   int threads = 0;
   // The shape path for colour parts (used when a view database is given and frames are colour).
   ShapeConfig shape;
+  // Objects found by another path before the polyhedral one (Process's `hidden`, the printed
+  // cartons): their silhouettes, grown by this margin, are hidden from the polyhedral features
+  // (corners dropped, edge pixels cleared before line detection and verification). The margin
+  // covers the carton's pose error (about 1 px) and the Canny and corner blur (2-3 px).
+  float hide_margin_px = 4.0f;
 
   // Presets for the two kinds of scene (thesis 5.3): the detectors' preset plus recognition and
   // verification settings measured on rendered scenes (docs/pipeline.md).
@@ -86,6 +92,11 @@ struct PipelineResult {
   uint32_t below_table = 0;
   // The shape path's counts and stage times (zero when it did not run).
   ShapeStats shape;
+  // Objects hidden from the polyhedral path (Process's `hidden`): those masked in both images,
+  // those not masked in an image (mask full, or not in front of the camera), and per image the
+  // corners dropped and edge pixels cleared.
+  uint32_t hidden_objects = 0, hidden_not_masked = 0;
+  uint32_t masked_corners[2] = {0, 0}, masked_edge_pixels[2] = {0, 0};
 };
 
 // The verifier of the stereo pipeline: projects the refined hypothesis into both images and
@@ -94,9 +105,11 @@ struct PipelineResult {
 // candidate.verify_score = {left, right}.
 class EdgeMapVerifier : public HypothesisVerifier {
  public:
+  // `hidden` (n_hidden objects, may be null): objects of another path, occluders of every
+  // candidate before the accepted ones.
   void Reset(const StereoCalibration* calib, const TableView* table, ConstEdgeMapView left,
              ConstEdgeMapView right, const VerifyConfig* config, const TableConstraint* support,
-             int64_t (*now_ns)());
+             int64_t (*now_ns)(), const PosedModel* hidden = nullptr, size_t n_hidden = 0);
   bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
               RecognizedObject& candidate) override;
 
@@ -110,6 +123,8 @@ class EdgeMapVerifier : public HypothesisVerifier {
   ConstEdgeMapView left_{}, right_{};
   const VerifyConfig* config_ = nullptr;
   const TableConstraint* support_ = nullptr;
+  const PosedModel* hidden_ = nullptr;
+  size_t n_hidden_ = 0;
   int64_t (*now_ns_)() = nullptr;
   int64_t elapsed_ns_ = 0;
   uint32_t errors_ = 0;
@@ -131,12 +146,16 @@ class Pipeline {
   // Recognises the objects in one stereo pair. Images must match the calibration's size.
   // `budget_ms` <= 0 means no time limit. On error the result is empty and the Status names the
   // problem (size mismatch, empty image, ...).
-  Status Process(ConstGrayView left, ConstGrayView right, float budget_ms, PipelineResult* out);
+  // `hidden`: n_hidden objects another path found in this frame (the printed cartons; poses in
+  // the left-camera frame, models outliving the call). The polyhedral path does not see their
+  // silhouettes (PipelineConfig::hide_margin_px) and its verifier takes them as occluders.
+  Status Process(ConstGrayView left, ConstGrayView right, float budget_ms, PipelineResult* out,
+                 const PosedModel* hidden = nullptr, size_t n_hidden = 0);
   // Frames of any format: the polyhedral path reads their grey (the luma plane in place, RGB
   // converted), the shape path runs on colour frames when a view database was given; its
   // objects follow the polyhedral path's in `out->objects`.
   Status Process(const FrameView& left, const FrameView& right, float budget_ms,
-                 PipelineResult* out);
+                 PipelineResult* out, const PosedModel* hidden = nullptr, size_t n_hidden = 0);
 
   // Views of the last frame's edge maps and features (valid until the next Process()), for
   // overlays and diagnostics.
@@ -163,12 +182,14 @@ class Pipeline {
 
  private:
   float MsSince(int64_t start_ns) const;
-  void RefineOnEdges(PipelineResult* out);
+  void RefineOnEdges(const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
 
   static void ExtractOne(void* self, int image);
   // Steps 1-6 of the polyhedral path on grey images; t0 is the frame's start (budget, times).
   Status RecognisePolyhedra(ConstGrayView left, ConstGrayView right, float budget_ms, int64_t t0,
-                            PipelineResult* out);
+                            const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
+  // The masks of both images from the hidden objects (counts into out).
+  void BuildMasks(const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
 
   bool initialised_ = false;
   StereoCalibration calib_;
@@ -191,6 +212,8 @@ class Pipeline {
   // Per-frame state of the parallel feature extraction (one slot per image).
   ConstGrayView frame_images_[2];
   Status frame_status_[2];
+  // Silhouettes of the frame's hidden objects, per image (empty: nothing hidden).
+  HiddenMask masks_[2];
   // The shape path (26 MiB) is allocated by Init only when the model set holds colour parts, so
   // a pipeline without them neither holds nor locks its buffers (docs/memory.md); then the grey
   // images of RGB frames for the polyhedral path.
