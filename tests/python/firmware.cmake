@@ -39,14 +39,14 @@ if(TARGET stereohash-fw-sim)
   stereohash_add_pdo_e2e(both pipeline --min-recall 1.0)
   # Printed cartons beside the polyhedra: the stereohash program learns their feature database,
   # the firmware reports them over the stream with their ids; every carton found, nothing
-  # reported without a ground-truth partner. Polyhedra among cartons are found less often
-  # (docs/firmware.md, Printed cartons), hence the lower recall over all objects.
+  # reported without a ground-truth partner. The cartons found are hidden from the polyhedral
+  # path (docs/texture.md, Polyhedra among cartons): 38 of 40 objects found here, 23 without.
   if(TARGET stereohash_fw_pipeline AND TARGET stereohash)
     add_test(NAME python_firmware_e2e_printed
              COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_firmware_e2e.py
                      --firmware $<TARGET_FILE:stereohash-fw-sim>
                      --dbc ${PROJECT_SOURCE_DIR}/firmware/stereohash.dbc
-                     --triggers 10 --scenes 10 --objects 4 --min-recall 0.5
+                     --triggers 10 --scenes 10 --objects 4 --min-recall 0.85
                      --printed $<TARGET_FILE:stereohash>)
     set_tests_properties(python_firmware_e2e_printed PROPERTIES TIMEOUT 600 SKIP_RETURN_CODE 77)
     if(CMAKE_CROSSCOMPILING)
