@@ -3,37 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "recog/geometry/convex_hull.hpp"
+
 namespace sh {
-namespace {
-
-struct Point2 {
-  float x, y;
-};
-
-// z of (b - a) x (c - a): > 0 for a left turn.
-float Cross(const Point2& a, const Point2& b, const Point2& c) {
-  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-}
-
-// Andrew's monotone chain: the hull of p[0..n) into hull (counter-clockwise in a y-down image,
-// i.e. left turns), returns its vertex count. Sorts p. hull holds n + 1 points.
-int ConvexHull(Point2* p, int n, Point2* hull) {
-  std::sort(p, p + n, [](const Point2& u, const Point2& v) {
-    return u.x < v.x || (u.x == v.x && u.y < v.y);
-  });
-  int k = 0;
-  for (int i = 0; i < n; ++i) {
-    while (k >= 2 && Cross(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
-    hull[k++] = p[i];
-  }
-  for (int i = n - 2, lower = k + 1; i >= 0; --i) {
-    while (k >= lower && Cross(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
-    hull[k++] = p[i];
-  }
-  return n < 3 ? 0 : k - 1;  // the last point repeats the first
-}
-
-}  // namespace
 
 bool HiddenMask::Add(const ViewCamera& view, const PosedModel& object, float margin_px) {
   if (n_regions_ == kMaxHiddenObjects || object.model == nullptr) return false;
@@ -41,14 +13,14 @@ bool HiddenMask::Add(const ViewCamera& view, const PosedModel& object, float mar
   const RigidTransform cam_T_model = view.cam_T_left * object.cam_T_model;
   // Model points to project: samples along the edges (endpoints included), or the corners when
   // the model has too many edges for samples along each.
-  Point2 points[kMaxOutlinePoints];
+  Eigen::Vector2f points[kMaxOutlinePoints];
   int n = 0;
   const auto project = [&](const Eigen::Vector3f& x_model_mm) {
     Eigen::Vector2d pixel;
     if (!ProjectToPixel(view.intrinsics, (cam_T_model * x_model_mm).cast<double>(), &pixel)) {
       return false;
     }
-    points[n++] = {static_cast<float>(pixel.x()), static_cast<float>(pixel.y())};
+    points[n++] = pixel.cast<float>();
     return true;
   };
   const int per_edge = model.n_edges > 0 ? std::min(9, kMaxOutlinePoints / model.n_edges) : 0;
@@ -65,27 +37,27 @@ bool HiddenMask::Add(const ViewCamera& view, const PosedModel& object, float mar
       if (!project(model.corner(i))) return false;
     }
   }
-  Point2 hull[kMaxOutlinePoints + 1];
-  const int h = ConvexHull(points, n, hull);
+  Eigen::Vector2f hull[kMaxOutlinePoints + 1];
+  const int h = ConvexHull2D(points, n, hull);
   if (h < 3) return false;
 
   Region& r = regions_[n_regions_];
   r.n = 0;
-  float x_min = hull[0].x, x_max = hull[0].x, y_min = hull[0].y, y_max = hull[0].y;
+  float x_min = hull[0].x(), x_max = hull[0].x(), y_min = hull[0].y(), y_max = hull[0].y();
   for (int i = 0; i < h; ++i) {
-    const Point2& p = hull[i];
-    const Point2& q = hull[(i + 1) % h];
-    x_min = std::min(x_min, p.x);
-    x_max = std::max(x_max, p.x);
-    y_min = std::min(y_min, p.y);
-    y_max = std::max(y_max, p.y);
+    const Eigen::Vector2f& p = hull[i];
+    const Eigen::Vector2f& q = hull[(i + 1) % h];
+    x_min = std::min(x_min, p.x());
+    x_max = std::max(x_max, p.x());
+    y_min = std::min(y_min, p.y());
+    y_max = std::max(y_max, p.y());
     // Left turns: the interior is left of p -> q; the outward normal is (dy, -dx).
-    const float nx = q.y - p.y, ny = -(q.x - p.x);
+    const float nx = q.y() - p.y(), ny = -(q.x() - p.x());
     const float len = std::sqrt(nx * nx + ny * ny);
     if (!(len > 1e-6f)) continue;
     r.a[r.n] = nx / len;
     r.b[r.n] = ny / len;
-    r.c[r.n] = r.a[r.n] * p.x + r.b[r.n] * p.y + margin_px;
+    r.c[r.n] = r.a[r.n] * p.x() + r.b[r.n] * p.y() + margin_px;
     ++r.n;
   }
   const float box[4][3] = {{1, 0, x_max + margin_px},

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "hal/sim/world/rng.hpp"
+#include "recog/geometry/convex_hull.hpp"
 
 namespace sh::render {
 namespace {
@@ -21,29 +22,12 @@ struct Hull {
   Eigen::Vector2f p[kMaxModelCorners];
 };
 
-float Cross(const Eigen::Vector2f& o, const Eigen::Vector2f& a, const Eigen::Vector2f& b) {
-  return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
-}
-
-// Andrew's monotone chain.
 Hull ConvexHull(const Eigen::Vector2f* points, int n) {
   Eigen::Vector2f sorted[kMaxModelCorners];
   std::copy(points, points + n, sorted);
-  std::sort(sorted, sorted + n, [](const Eigen::Vector2f& a, const Eigen::Vector2f& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
   Eigen::Vector2f chain[2 * kMaxModelCorners];
-  int k = 0;
-  for (int i = 0; i < n; ++i) {
-    while (k >= 2 && Cross(chain[k - 2], chain[k - 1], sorted[i]) <= 0) --k;
-    chain[k++] = sorted[i];
-  }
-  for (int i = n - 2, lower = k + 1; i >= 0; --i) {
-    while (k >= lower && Cross(chain[k - 2], chain[k - 1], sorted[i]) <= 0) --k;
-    chain[k++] = sorted[i];
-  }
   Hull hull;
-  hull.n = std::min(k - 1, kMaxModelCorners);
+  hull.n = std::min(ConvexHull2D(sorted, n, chain), kMaxModelCorners);
   std::copy(chain, chain + hull.n, hull.p);
   return hull;
 }
