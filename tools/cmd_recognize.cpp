@@ -252,18 +252,25 @@ int RunRecognize(int argc, char** argv) {
   auto pipeline = MakeZeroed<Pipeline>();  // ~118 MiB, resident as used (docs/memory.md)
   s = pipeline->Init(*calib, tables.view, config, NowNs, tables.shape());
   if (!s.ok()) return Fail("%s", s.message());
+  // The printed models first: the cartons found are hidden from the polyhedral path (their
+  // edges and print would crowd its features and search), as in the firmware.
+  std::string printed_json;
+  std::vector<PosedModel> cartons;
+  if (printed) {
+    run.json_text = &printed_json;
+    run.found = &cartons;
+    const int rc = RecognizePrinted(*calib, db.view(), left.view, right.view, run);
+    if (rc != 0) return rc;
+  }
   auto result = std::make_unique<PipelineResult>();
-  s = pipeline->Process(left.frame, right.frame, options.budget_ms, result.get());
+  s = pipeline->Process(left.frame, right.frame, options.budget_ms, result.get(), cartons.data(),
+                        cartons.size());
   if (!s.ok()) return Fail("%s", s.message());
 
   PrintTable(pipeline->models(), *result);
   std::string json = ResultJson(pipeline->models(), *result, table, pipeline->threads());
   if (printed) {
     // The set's printed models: their results as a "printed" member of the same JSON.
-    std::string printed_json;
-    run.json_text = &printed_json;
-    const int rc = RecognizePrinted(*calib, db.view(), left.view, right.view, run);
-    if (rc != 0) return rc;
     const size_t end = json.find_last_of('}');
     json.insert(end,
                 ", \"printed\": " + printed_json.substr(0, printed_json.find_last_of('}') + 1));

@@ -97,6 +97,12 @@ int RecognizePrinted(const StereoCalibration& calib, const FeatureDbView& db, Co
   s = recognizer->Process(left, right, result.get());
   if (!s.ok()) return Fail("%s", s.message());
   PrintObjects(db, *result);
+  if (run.found != nullptr) {
+    run.found->clear();
+    for (const texture::TextureObject& o : result->objects) {
+      run.found->push_back({&db.model(o.model), o.cam_T_model});
+    }
+  }
   if (run.json_text != nullptr) *run.json_text = TextureResultJson(db, *result, pool.threads());
   if (run.json_text == nullptr && run.json_path != nullptr &&
       !WriteTextFile(run.json_path, TextureResultJson(db, *result, pool.threads()))) {

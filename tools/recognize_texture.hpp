@@ -11,6 +11,7 @@
 #include "recog/camera/camera_model.hpp"
 #include "recog/image/image.hpp"
 #include "recog/texture/texture_recognizer.hpp"
+#include "recog/verify/view_camera.hpp"
 #include "tables/feature_db_view.hpp"
 #include "tables/table_file.hpp"
 
@@ -21,6 +22,8 @@ struct TextureRun {
   std::string* json_text = nullptr;  // when set, the JSON goes here instead of to json_path
   const char* overlay_path = nullptr;
   int threads = 0;  // 0: all cores
+  // When set, receives the objects found (models of the database), to hide from the pipeline.
+  std::vector<PosedModel>* found = nullptr;
 };
 
 // Recognises the printed models of `db` in the pair and reports them; returns the exit code.
