@@ -126,35 +126,31 @@ void DescribeShapeViews(const ShapeViewsView& v, size_t size) {
   }
 }
 
+// Opens `blob` as a View and, if it is valid, prints it with `describe`; the view's Status.
+template <typename View>
+Status OpenAndDescribe(BlobSpan blob, void (*describe)(const View&, size_t)) {
+  const Result<View> view = View::Open(blob.data, blob.size);
+  if (view.ok()) describe(*view, blob.size);
+  return view.status();
+}
+
 // Opens `blob` with the view of `kind` and prints what it holds; false (message printed) if the
 // view refuses it.
 bool DescribeBlob(uint32_t kind, BlobSpan blob) {
   Status s = Status::Ok();
   switch (static_cast<SectionKind>(kind)) {
-    case SectionKind::kHash3d: {
-      const Result<TableView> v = TableView::Open(blob.data, blob.size);
-      if (v.ok()) Describe(*v, blob.size);
-      s = v.status();
+    case SectionKind::kHash3d:
+      s = OpenAndDescribe<TableView>(blob, Describe);
       break;
-    }
-    case SectionKind::kTextureFeatures: {
-      const Result<FeatureDbView> v = FeatureDbView::Open(blob.data, blob.size);
-      if (v.ok()) DescribeFeatureDb(*v, blob.size);
-      s = v.status();
+    case SectionKind::kTextureFeatures:
+      s = OpenAndDescribe<FeatureDbView>(blob, DescribeFeatureDb);
       break;
-    }
-    case SectionKind::kShapeViews: {
-      const Result<ShapeViewsView> v = ShapeViewsView::Open(blob.data, blob.size);
-      if (v.ok()) DescribeShapeViews(*v, blob.size);
-      s = v.status();
+    case SectionKind::kShapeViews:
+      s = OpenAndDescribe<ShapeViewsView>(blob, DescribeShapeViews);
       break;
-    }
-    case SectionKind::kAspects2d: {
-      const Result<AspectTableView> v = AspectTableView::Open(blob.data, blob.size);
-      if (v.ok()) DescribeAspects(*v, blob.size);
-      s = v.status();
+    case SectionKind::kAspects2d:
+      s = OpenAndDescribe<AspectTableView>(blob, DescribeAspects);
       break;
-    }
     default:
       std::printf("kind %u, not known to this build: skipped\n", kind);
       return true;

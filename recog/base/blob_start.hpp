@@ -1,0 +1,28 @@
+// The first checks of every read-in-place blob view (tables, model sets, feature, view and
+// aspect databases) before its header is read: data present, aligned for its records, and long
+// enough for the header. Each refusal names the blob.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "recog/base/status.hpp"
+
+namespace sh {
+
+inline Status CheckBlobStart(const void* blob, size_t size, size_t alignment, size_t header_size,
+                             const char* what) {
+  if (blob == nullptr) return Status::Error(StatusCode::kInvalidArgument, "%s: no data", what);
+  if (reinterpret_cast<uintptr_t>(blob) % alignment != 0) {
+    return Status::Error(StatusCode::kInvalidArgument, "%s: memory not %zu-byte aligned", what,
+                         alignment);
+  }
+  if (size < header_size) {
+    return Status::Error(StatusCode::kDataLoss,
+                         "%s truncated: %zu bytes, the header alone needs %zu", what, size,
+                         header_size);
+  }
+  return Status::Ok();
+}
+
+}  // namespace sh
