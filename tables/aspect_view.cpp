@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "recog/base/blob_start.hpp"
 #include "recog/base/crc32.hpp"
 
 namespace sh {
@@ -32,15 +33,7 @@ bool AllFinite(const float* v, int n) {
 }  // namespace
 
 Result<AspectTableView> AspectTableView::Open(const void* blob, size_t size) {
-  if (blob == nullptr) return Status::Error(StatusCode::kInvalidArgument, "aspect table: no data");
-  if (reinterpret_cast<uintptr_t>(blob) % 8 != 0) {
-    return Status::Error(StatusCode::kInvalidArgument, "aspect table: memory not 8-byte aligned");
-  }
-  if (size < sizeof(AspectHeader)) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "aspect table truncated: %zu bytes, the header alone needs %zu", size,
-                         sizeof(AspectHeader));
-  }
+  SH_RETURN_IF_ERROR(CheckBlobStart(blob, size, 8, sizeof(AspectHeader), "aspect table"));
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = reinterpret_cast<const AspectHeader*>(bytes);
   if (std::memcmp(h->magic, kAspectMagic, sizeof(kAspectMagic)) != 0) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "recog/base/blob_start.hpp"
 #include "recog/base/crc32.hpp"
 #include "recog/model/model_check.hpp"
 
@@ -67,14 +68,7 @@ Status CheckFace(const TexturedFace& f, uint32_t i, const Model* models, uint32_
 }  // namespace
 
 Result<FeatureDbView> FeatureDbView::Open(const void* blob, size_t size) {
-  if (blob == nullptr) return Status::Error(StatusCode::kInvalidArgument, "%s: no data", kBlob);
-  if (reinterpret_cast<uintptr_t>(blob) % 16 != 0)
-    return Status::Error(StatusCode::kInvalidArgument, "%s: memory not 16-byte aligned", kBlob);
-  if (size < sizeof(FeatureDbHeader)) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "%s truncated: %zu bytes, the header alone needs %zu", kBlob, size,
-                         sizeof(FeatureDbHeader));
-  }
+  SH_RETURN_IF_ERROR(CheckBlobStart(blob, size, 16, sizeof(FeatureDbHeader), kBlob));
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = reinterpret_cast<const FeatureDbHeader*>(bytes);
   if (std::memcmp(h->magic, kFeatureDbMagic, sizeof(kFeatureDbMagic)) != 0) {

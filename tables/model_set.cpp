@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "recog/base/blob_start.hpp"
 #include "recog/base/crc32.hpp"
 
 namespace sh {
@@ -95,14 +96,7 @@ uint32_t ModelSetCrc32(const uint8_t* blob, size_t size) {
 }
 
 Result<ModelSetView> ModelSetView::Open(const void* blob, size_t size) {
-  if (blob == nullptr) return Status::Error(StatusCode::kInvalidArgument, "model set: no data");
-  if (reinterpret_cast<uintptr_t>(blob) % 8 != 0)
-    return Status::Error(StatusCode::kInvalidArgument, "model set: memory not 8-byte aligned");
-  if (size < sizeof(ModelSetHeader)) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "model set truncated: %zu bytes, the header alone needs %zu", size,
-                         sizeof(ModelSetHeader));
-  }
+  SH_RETURN_IF_ERROR(CheckBlobStart(blob, size, 8, sizeof(ModelSetHeader), "model set"));
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = static_cast<const ModelSetHeader*>(blob);
   if (!IsModelSet(blob, size)) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "recog/base/blob_start.hpp"
 #include "recog/base/crc32.hpp"
 #include "recog/model/model_check.hpp"
 
@@ -74,13 +75,7 @@ Status CheckModelRecord(const Model& m, uint32_t index) {
 }
 
 Result<TableView> TableView::Open(const void* blob, size_t size) {
-  if (blob == nullptr) return Status::Error(StatusCode::kInvalidArgument, "table blob: no data");
-  if (reinterpret_cast<uintptr_t>(blob) % 8 != 0)
-    return Status::Error(StatusCode::kInvalidArgument, "table blob: memory not 8-byte aligned");
-  if (size < sizeof(TableHeader))
-    return Status::Error(StatusCode::kDataLoss,
-                         "table blob truncated: %zu bytes, the header alone needs %zu", size,
-                         sizeof(TableHeader));
+  SH_RETURN_IF_ERROR(CheckBlobStart(blob, size, 8, sizeof(TableHeader), "table blob"));
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = reinterpret_cast<const TableHeader*>(bytes);
   if (std::memcmp(h->magic, kTableMagic, sizeof(kTableMagic)) != 0)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "recog/base/blob_start.hpp"
 #include "recog/base/crc32.hpp"
 #include "recog/verify/visible_edges.hpp"
 
@@ -56,15 +57,7 @@ void Insert(Vector<ViewMatch>& best, size_t k, ViewMatch m) {
 }  // namespace
 
 Result<ShapeViewsView> ShapeViewsView::Open(const void* blob, size_t size) {
-  if (blob == nullptr) return Status::Error(StatusCode::kInvalidArgument, "view database: no data");
-  if (reinterpret_cast<uintptr_t>(blob) % 8 != 0) {
-    return Status::Error(StatusCode::kInvalidArgument, "view database: memory not 8-byte aligned");
-  }
-  if (size < sizeof(ShapeViewsHeader)) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "view database truncated: %zu bytes, the header alone needs %zu", size,
-                         sizeof(ShapeViewsHeader));
-  }
+  SH_RETURN_IF_ERROR(CheckBlobStart(blob, size, 8, sizeof(ShapeViewsHeader), "view database"));
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = reinterpret_cast<const ShapeViewsHeader*>(bytes);
   if (std::memcmp(h->magic, kShapeViewsMagic, sizeof(kShapeViewsMagic)) != 0) {
