@@ -575,9 +575,9 @@ bool FirmwareCore::StartOnOneCamera(const Status& failure) {
                                  kSensorOneCamera | (left_failed ? 0u : 1u) << 16));
     return true;
   }
-  // Neither camera starts alone: the next start is in stereo again.
+  // Neither camera starts alone: the next start is in stereo again (capture_mode_ changes only
+  // when a start succeeds, so it still says stereo).
   (void)dev_.camera->SetCaptureMode(hal::CaptureMode::kStereo);
-  capture_mode_ = hal::CaptureMode::kStereo;
   return false;
 }
 
