@@ -20,6 +20,7 @@
 
 #include "firmware/board.hpp"
 #include "firmware/demo_client.hpp"
+#include "firmware/result_json.hpp"
 #include "firmware/sim_config.hpp"
 #include "firmware/truth_recognition.hpp"
 #include "hal/sim/can_sim_bus.hpp"
@@ -99,21 +100,9 @@ class Reporter final : public CoreObserver {
 
   void OnResult(const protocol::ResultSet& set, const hal::StereoFrame* frame) override {
     if (!print_) return;
-    std::printf(
-        "RESULT {\"sequence\": %u, \"request_id\": %u, \"status\": %u, "
-        "\"processing_time_us\": %u, \"output_frame\": \"%s\", \"objects\": [",
-        set.sequence, set.request_id, static_cast<unsigned>(set.status), set.processing_time_us,
-        canopen::OutputFrameName(frame_));
-    for (int i = 0; i < set.object_count; ++i) {
-      const protocol::ObjectPose& p = set.objects[i];
-      std::printf(
-          "%s{\"model_id\": %u, \"instance\": %u, \"score\": %.17g, "
-          "\"t_mm\": [%.17g, %.17g, %.17g], \"q_wxyz\": [%.17g, %.17g, %.17g, %.17g]}",
-          i ? ", " : "", p.model_id, p.instance, p.score, p.cam_t_model_mm[0], p.cam_t_model_mm[1],
-          p.cam_t_model_mm[2], p.cam_q_model[0], p.cam_q_model[1], p.cam_q_model[2],
-          p.cam_q_model[3]);
-    }
-    std::printf("]");
+    std::printf("RESULT {");
+    protocol::WriteResultSetJsonFields(stdout, set);
+    std::printf(", \"output_frame\": \"%s\"", canopen::OutputFrameName(frame_));
     // The frame number of the camera in use (the right one's alone when the left has failed).
     const uint32_t frame_number = frame == nullptr              ? 0
                                   : frame->left.data != nullptr ? frame->left_sequence

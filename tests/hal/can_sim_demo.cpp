@@ -19,6 +19,7 @@
 #include <random>
 
 #include "firmware/can_protocol.hpp"
+#include "firmware/result_json.hpp"
 #include "hal/can_log.hpp"
 #include "hal/sim/can_sim_bus.hpp"
 #include "hal/sim/socketcand_server.hpp"
@@ -193,20 +194,9 @@ class DemoNode {
       return;
     }
     for (const hal::CanFrame& f : frames) Send(f);
-    std::printf(
-        "RESULT {\"sequence\": %u, \"request_id\": %u, \"status\": %u, "
-        "\"processing_time_us\": %u, \"objects\": [",
-        set.sequence, set.request_id, static_cast<unsigned>(set.status), set.processing_time_us);
-    for (uint8_t i = 0; i < set.object_count; ++i) {
-      const ObjectPose& p = set.objects[i];
-      std::printf(
-          "%s{\"model_id\": %u, \"instance\": %u, \"score\": %.17g, "
-          "\"t_mm\": [%.17g, %.17g, %.17g], \"q_wxyz\": [%.17g, %.17g, %.17g, %.17g]}",
-          i ? ", " : "", p.model_id, p.instance, p.score, p.cam_t_model_mm[0], p.cam_t_model_mm[1],
-          p.cam_t_model_mm[2], p.cam_q_model[0], p.cam_q_model[1], p.cam_q_model[2],
-          p.cam_q_model[3]);
-    }
-    std::printf("]}\n");
+    std::printf("RESULT {");
+    WriteResultSetJsonFields(stdout, set);
+    std::printf("}\n");
     std::fflush(stdout);
   }
 
