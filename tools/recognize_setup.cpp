@@ -283,17 +283,23 @@ Result<TableChoice> LoadTableChoice(const char* path) {
   return table;
 }
 
-std::string ObjectJson(const char* model_name, const RecognizedObject& o) {
-  const Eigen::Matrix3f& R = o.cam_T_model.R;
-  const Eigen::Vector3f& t = o.cam_T_model.t_mm;
-  char buffer[768];
+std::string PoseJsonFields(const char* model_name, const RigidTransform& cam_T_model) {
+  const Eigen::Matrix3f& R = cam_T_model.R;
+  const Eigen::Vector3f& t = cam_T_model.t_mm;
+  char buffer[512];
   std::snprintf(buffer, sizeof(buffer),
-                "{\"model\": \"%s\", \"R\": [[%.7f, %.7f, %.7f], [%.7f, %.7f, %.7f], [%.7f, "
-                "%.7f, %.7f]], \"t\": [%.4f, %.4f, %.4f], \"vote\": %.4f, \"verify\": [%.4f, "
-                "%.4f]}",
+                "\"model\": \"%s\", \"R\": [[%.7f, %.7f, %.7f], [%.7f, %.7f, %.7f], [%.7f, "
+                "%.7f, %.7f]], \"t\": [%.4f, %.4f, %.4f]",
                 model_name, R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1),
-                R(2, 2), t.x(), t.y(), t.z(), o.vote, o.verify_score[0], o.verify_score[1]);
+                R(2, 2), t.x(), t.y(), t.z());
   return buffer;
+}
+
+std::string ObjectJson(const char* model_name, const RecognizedObject& o) {
+  char buffer[128];
+  std::snprintf(buffer, sizeof(buffer), ", \"vote\": %.4f, \"verify\": [%.4f, %.4f]}", o.vote,
+                o.verify_score[0], o.verify_score[1]);
+  return "{" + PoseJsonFields(model_name, o.cam_T_model) + buffer;
 }
 
 void PrintObjectLine(size_t index, const char* model_name, const RecognizedObject& o) {

@@ -82,6 +82,10 @@ bool ApplyPipelineSetting(const char* setting, PipelineConfig* config);
 // The table pose of --table (present = false without a path).
 Result<TableChoice> LoadTableChoice(const char* path);
 
+// The fields every path's objects start with: "model": NAME, "R": [[...]], "t": [...] (no braces),
+// so that the polyhedral, carton and colour objects name their pose alike.
+std::string PoseJsonFields(const char* model_name, const RigidTransform& cam_T_model);
+
 // One recognised object as JSON: {"model": ..., "R": ..., "t": ..., "vote": ..., "verify": ...}.
 std::string ObjectJson(const char* model_name, const RecognizedObject& o);
 

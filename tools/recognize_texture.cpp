@@ -58,15 +58,13 @@ std::string TextureResultJson(const FeatureDbView& db, const texture::TextureRes
   char buffer[1024];
   for (size_t i = 0; i < r.objects.size(); ++i) {
     const texture::TextureObject& o = r.objects[i];
-    const Eigen::Matrix3f& R = o.cam_T_model.R;
-    const Eigen::Vector3f& t = o.cam_T_model.t_mm;
+    json += i ? ", {" : "{";
+    json += PoseJsonFields(db.model(o.model).name, o.cam_T_model);
     std::snprintf(buffer, sizeof(buffer),
-                  "%s{\"model\": \"%s\", \"R\": [[%.7f, %.7f, %.7f], [%.7f, %.7f, %.7f], [%.7f, "
-                  "%.7f, %.7f]], \"t\": [%.4f, %.4f, %.4f], \"verify\": [%.4f, %.4f], \"faces\": "
-                  "%u, \"feature_matches\": %u, \"stereo_points\": %u, \"plane_mean_mm\": %.3f}",
-                  i ? ", " : "", db.model(o.model).name, R(0, 0), R(0, 1), R(0, 2), R(1, 0),
-                  R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z(), o.print.zncc[0],
-                  o.print.zncc[1], o.faces, o.feature_matches, o.stereo_points, o.plane_mean_mm);
+                  ", \"verify\": [%.4f, %.4f], \"faces\": %u, \"feature_matches\": %u, "
+                  "\"stereo_points\": %u, \"plane_mean_mm\": %.3f}",
+                  o.print.zncc[0], o.print.zncc[1], o.faces, o.feature_matches, o.stereo_points,
+                  o.plane_mean_mm);
     json += buffer;
   }
   const texture::TextureStats& s = r.stats;
