@@ -23,6 +23,7 @@
 #include "tools/bench_recorded.hpp"
 #include "tools/bench_textured.hpp"
 #include "tools/command.hpp"
+#include "tools/cv_program.hpp"
 #include "tools/eval/rendered_eval.hpp"
 #include "tools/eval/synthetic_scene.hpp"
 #include "tools/eval/truth_pose_fit.hpp"
@@ -611,7 +612,14 @@ int RunBench(int argc, char** argv) {
   if (argc >= 2 && std::strcmp(argv[1], "scenes") == 0) return RunBenchScenes(argc, argv);
   if (argc >= 2 && std::strcmp(argv[1], "synthetic") == 0) return RunBenchSynthetic(argc, argv);
   if (argc >= 2 && std::strcmp(argv[1], "recorded") == 0) return RunBenchRecorded(argc, argv);
-  if (argc >= 2 && std::strcmp(argv[1], "textured") == 0) return RunBenchTextured(argc, argv);
+  if (argc >= 2 && std::strcmp(argv[1], "textured") == 0) {
+    // The OpenCV peer is in stereohash-cv (tools/cv_program.hpp); without it, or with --no-peer,
+    // the texture path runs here alone.
+    bool no_peer = false;
+    for (int i = 2; i < argc; ++i) no_peer = no_peer || std::strcmp(argv[i], "--no-peer") == 0;
+    if (!no_peer && CvProgramPresent()) return RunInCvProgram(argc, argv);
+    return RunBenchTextured(argc, argv);
+  }
   std::fprintf(
       stderr,
       "usage: stereohash bench scenes [--scenes-per-row N] [--json OUT] [--budget-ms MS]\n"

@@ -21,6 +21,7 @@
 #include "tools/board_detection.hpp"
 #include "tools/chessboard.hpp"
 #include "tools/command.hpp"
+#include "tools/cv_commands.hpp"
 
 namespace sh::tools {
 namespace {
@@ -338,6 +339,6 @@ int RunCalibrate(int argc, char** argv) {
 
 }  // namespace
 
-SH_REGISTER_COMMAND(calibrate, "stereo calibration from chessboard image pairs", RunCalibrate);
+SH_REGISTER_COMMAND(calibrate, kCalibrateSummary, RunCalibrate);
 
 }  // namespace sh::tools

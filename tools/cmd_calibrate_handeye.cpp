@@ -16,6 +16,7 @@
 #include "recog/camera/handeye_yaml.hpp"
 #include "tools/chessboard.hpp"
 #include "tools/command.hpp"
+#include "tools/cv_commands.hpp"
 #include "tools/handeye.hpp"
 #include "tools/recognize_setup.hpp"
 #include "tools/report_util.hpp"
@@ -213,8 +214,8 @@ int RunCalibrateHandEye(int argc, char** argv) {
 }  // namespace
 
 // Registered by hand: the command's name has a dash, which the macro's identifier cannot.
-static const CommandRegistrar kCalibrateHandEyeCommand(
-    {"calibrate-handeye", "camera pose in the robot's frame from robot stations (hand-eye)",
-     RunCalibrateHandEye});
+static const CommandRegistrar kCalibrateHandEyeCommand({"calibrate-handeye",
+                                                        kCalibrateHandEyeSummary,
+                                                        RunCalibrateHandEye});
 
 }  // namespace sh::tools

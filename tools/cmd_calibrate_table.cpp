@@ -20,6 +20,7 @@
 #include "tools/board_detection.hpp"
 #include "tools/chessboard.hpp"
 #include "tools/command.hpp"
+#include "tools/cv_commands.hpp"
 #include "tools/recognize_setup.hpp"
 #include "tools/report_util.hpp"
 
@@ -174,8 +175,7 @@ int RunCalibrateTable(int argc, char** argv) {
 }  // namespace
 
 // Registered by hand: the command's name has a dash, which the macro's identifier cannot.
-static const CommandRegistrar kCalibrateTableCommand(
-    {"calibrate-table", "table pose (table.yaml) from a chessboard lying on the table",
-     RunCalibrateTable});
+static const CommandRegistrar kCalibrateTableCommand({"calibrate-table", kCalibrateTableSummary,
+                                                      RunCalibrateTable});
 
 }  // namespace sh::tools

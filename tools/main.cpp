@@ -1,4 +1,5 @@
-// stereohash: host command-line program. Each subcommand lives in its own cmd_*.cpp file.
+// stereohash: host command-line program (and stereohash-cv, see PrintUsage). Each subcommand
+// lives in its own cmd_*.cpp file and registers itself (tools/command.cpp).
 #include <cstdio>
 #include <cstring>
 
@@ -7,73 +8,27 @@
 namespace sh::tools {
 namespace {
 
-constexpr int kMaxCommands = 32;
-Command g_commands[kMaxCommands];
-int g_count = 0;
+// stereohash and stereohash-cv (the commands built with OpenCV, tools/cv_program.hpp) share this
+// file; STEREOHASH_PROGRAM names the one being built.
+#ifndef STEREOHASH_PROGRAM
+#define STEREOHASH_PROGRAM "stereohash"
+#endif
 
 void PrintUsage() {
-  std::printf(
-      "usage: stereohash <command> [options]\n"
-      "Recognises polyhedral objects in calibrated stereo images by 3-D geometric hashing.\n\n"
-      "commands:\n");
+  std::printf("usage: " STEREOHASH_PROGRAM " <command> [options]\n");
+  if (std::strcmp(STEREOHASH_PROGRAM, "stereohash") == 0) {
+    std::printf(
+        "Recognises polyhedral objects in calibrated stereo images by 3-D geometric "
+        "hashing.\n\n");
+  } else {
+    std::printf("The stereohash commands built with OpenCV; 'stereohash <command>' runs them.\n\n");
+  }
+  std::printf("commands:\n");
   ListCommands([](const Command& c) { std::printf("  %-12s %s\n", c.name, c.summary); });
-  std::printf("\n'stereohash <command> --help' describes a command.\n");
+  std::printf("\n'" STEREOHASH_PROGRAM " <command> --help' describes a command.\n");
 }
 
 }  // namespace
-
-bool NextOption(const char* command, int argc, char** argv, void (*print_help)(), int* i,
-                const char** option, const char** value, int* exit_code) {
-  *option = argv[*i];
-  if (std::strcmp(*option, "--help") == 0 || std::strcmp(*option, "-h") == 0) {
-    print_help();
-    *exit_code = 0;
-    return false;
-  }
-  if (*i + 1 >= argc) {
-    std::fprintf(stderr, "stereohash %s: %s needs a value (see --help)\n", command, *option);
-    *exit_code = 2;
-    return false;
-  }
-  // A second value would silently replace the first.
-  if (std::strcmp(*option, "--set") != 0) {
-    for (int j = 1; j < *i; ++j) {
-      if (std::strcmp(argv[j], *option) == 0 && j + 1 < argc) {
-        std::fprintf(stderr, "stereohash %s: %s given twice ('%s' and '%s'); give it once\n",
-                     command, *option, argv[j + 1], argv[*i + 1]);
-        *exit_code = 2;
-        return false;
-      }
-    }
-  }
-  *value = argv[++*i];
-  return true;
-}
-
-void RegisterCommand(const Command& command) {
-  if (g_count < kMaxCommands) g_commands[g_count++] = command;
-}
-
-const Command* FindCommand(const char* name) {
-  for (int i = 0; i < g_count; ++i) {
-    if (std::strcmp(g_commands[i].name, name) == 0) return &g_commands[i];
-  }
-  return nullptr;
-}
-
-void ListCommands(void (*print)(const Command&)) {
-  // Alphabetical, independent of static-initialisation order.
-  bool printed[kMaxCommands] = {};
-  for (int n = 0; n < g_count; ++n) {
-    int best = -1;
-    for (int i = 0; i < g_count; ++i) {
-      if (!printed[i] && (best < 0 || std::strcmp(g_commands[i].name, g_commands[best].name) < 0))
-        best = i;
-    }
-    printed[best] = true;
-    print(g_commands[best]);
-  }
-}
 
 }  // namespace sh::tools
 
@@ -85,7 +40,7 @@ int main(int argc, char** argv) {
   }
   const Command* command = FindCommand(argv[1]);
   if (command == nullptr) {
-    std::fprintf(stderr, "stereohash: unknown command '%s'\n\n", argv[1]);
+    std::fprintf(stderr, STEREOHASH_PROGRAM ": unknown command '%s'\n\n", argv[1]);
     PrintUsage();
     return 2;
   }

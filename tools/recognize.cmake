@@ -1,8 +1,6 @@
 # `stereohash recognize`: the whole pipeline on one stereo pair from image files, with JSON and
 # overlay output. Own image I/O (hal/sim/image_files), no OpenCV.
 target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/cmd_recognize.cpp
-                                  ${CMAKE_CURRENT_LIST_DIR}/recognize_setup.cpp
-                                  ${CMAKE_CURRENT_LIST_DIR}/report_util.cpp
                                   ${CMAKE_CURRENT_LIST_DIR}/overlay.cpp
                                   ${CMAKE_CURRENT_LIST_DIR}/recorded_pair.cpp
                                   ${CMAKE_CURRENT_LIST_DIR}/recognize_texture.cpp)

@@ -1,0 +1,69 @@
+// The command registry and option parsing shared by stereohash and stereohash-cv.
+#include <cstdio>
+#include <cstring>
+
+#include "tools/command.hpp"
+
+namespace sh::tools {
+namespace {
+
+constexpr int kMaxCommands = 32;
+Command g_commands[kMaxCommands];
+int g_count = 0;
+
+}  // namespace
+
+bool NextOption(const char* command, int argc, char** argv, void (*print_help)(), int* i,
+                const char** option, const char** value, int* exit_code) {
+  *option = argv[*i];
+  if (std::strcmp(*option, "--help") == 0 || std::strcmp(*option, "-h") == 0) {
+    print_help();
+    *exit_code = 0;
+    return false;
+  }
+  if (*i + 1 >= argc) {
+    std::fprintf(stderr, "stereohash %s: %s needs a value (see --help)\n", command, *option);
+    *exit_code = 2;
+    return false;
+  }
+  // A second value would silently replace the first.
+  if (std::strcmp(*option, "--set") != 0) {
+    for (int j = 1; j < *i; ++j) {
+      if (std::strcmp(argv[j], *option) == 0 && j + 1 < argc) {
+        std::fprintf(stderr, "stereohash %s: %s given twice ('%s' and '%s'); give it once\n",
+                     command, *option, argv[j + 1], argv[*i + 1]);
+        *exit_code = 2;
+        return false;
+      }
+    }
+  }
+  *value = argv[++*i];
+  return true;
+}
+
+void RegisterCommand(const Command& command) {
+  if (g_count < kMaxCommands) g_commands[g_count++] = command;
+}
+
+const Command* FindCommand(const char* name) {
+  for (int i = 0; i < g_count; ++i) {
+    if (std::strcmp(g_commands[i].name, name) == 0) return &g_commands[i];
+  }
+  return nullptr;
+}
+
+void ListCommands(void (*print)(const Command&)) {
+  // Alphabetical, independent of static-initialisation order.
+  bool printed[kMaxCommands] = {};
+  for (int n = 0; n < g_count; ++n) {
+    int best = -1;
+    for (int i = 0; i < g_count; ++i) {
+      if (!printed[i] && (best < 0 || std::strcmp(g_commands[i].name, g_commands[best].name) < 0))
+        best = i;
+    }
+    printed[best] = true;
+    print(g_commands[best]);
+  }
+}
+
+}  // namespace sh::tools
