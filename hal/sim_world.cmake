@@ -20,9 +20,10 @@ stereohash_module(stereohash_textured_model_files
 stereohash_module(stereohash_sim_world
   SOURCES sim/world/ray_caster.cpp sim/world/renderer.cpp sim/world/printed_surface.cpp
           sim/world/scene_generator.cpp sim/world/sim_world.cpp
+          sim/world/model_colours.cpp
   HEADERS sim/world/render_scene.hpp sim/world/rng.hpp sim/world/ray_caster.hpp
           sim/world/renderer.hpp sim/world/printed_surface.hpp sim/world/scene_generator.hpp
-          sim/world/sim_world.hpp
+          sim/world/sim_world.hpp sim/world/model_colours.hpp
   PUBLIC stereohash_hal_camera_sim stereohash_camera stereohash_model stereohash_image
          stereohash_geometry stereohash_base stereohash_feature_db_builder
   PRIVATE stereohash_model_files stereohash_textured_model_files)

@@ -21,7 +21,6 @@
 #include "hal/sim/image_files.hpp"
 #include "hal/sim/textured_model_files.hpp"
 #include "hal/sim/world/printed_surface.hpp"
-#include "hal/sim/world/ray_caster.hpp"
 #include "hal/sim/world/renderer.hpp"
 #include "hal/sim/world/scene_generator.hpp"
 #include "recog/camera/calibration_yaml.hpp"
@@ -30,6 +29,7 @@
 #include "tables/feature_db_view.hpp"
 #include "tools/command.hpp"
 #include "tools/eval/mini_json.hpp"
+#include "tools/eval/rendered_eval.hpp"
 #include "tools/eval/synthetic_scene.hpp"
 #include "tools/recognize_setup.hpp"
 #include "tools/report_util.hpp"
@@ -214,38 +214,6 @@ Status LoadRecorded(const std::string& dir, const StereoCalibration& calib,
   return Status::Ok();
 }
 
-// Fraction of each object's silhouette seen in one camera: rays through every second pixel
-// against the whole scene, and against the object alone.
-void Visibility(const render::RenderScene& scene, const std::vector<Model>& models,
-                const CameraIntrinsics& cam, const RigidTransform& cam_T_table,
-                std::vector<float>* fraction) {
-  const RigidTransform table_T_cam = cam_T_table.Inverse();
-  auto full = std::make_unique<render::RayCaster>();
-  auto alone = std::make_unique<render::RayCaster>();
-  (void)full->Prepare(scene, models.data(), static_cast<int>(models.size()));
-  const size_t n = scene.objects.size();
-  std::vector<int> seen(n, 0), whole(n, 0);
-  for (size_t i = 0; i < n; ++i) {
-    render::RenderScene one = scene;
-    one.objects.clear();
-    (void)one.objects.push_back(scene.objects[i]);
-    (void)alone->Prepare(one, models.data(), static_cast<int>(models.size()));
-    for (int y = 0; y < cam.height; y += 2) {
-      for (int x = 0; x < cam.width; x += 2) {
-        const Eigen::Vector3f d = table_T_cam.Rotate(
-            PixelRay(cam, {static_cast<double>(x), static_cast<double>(y)}).cast<float>());
-        if (alone->Cast(table_T_cam.t_mm, d).object != 0) continue;
-        ++whole[i];
-        seen[i] += full->Cast(table_T_cam.t_mm, d).object == static_cast<int>(i) ? 1 : 0;
-      }
-    }
-  }
-  fraction->assign(n, 1.0f);
-  for (size_t i = 0; i < n; ++i) {
-    if (whole[i] > 0) (*fraction)[i] = static_cast<float>(seen[i]) / static_cast<float>(whole[i]);
-  }
-}
-
 // Scenes of our renderer: per background x occlusion row, n scenes with seeds from `seed`.
 Status RenderScenes(int n, uint64_t seed, const render::ScenarioParams& camera,
                     const std::vector<TexturedModel>& printed, std::vector<Scene>* scenes,
@@ -299,10 +267,10 @@ Status RenderScenes(int n, uint64_t seed, const render::ScenarioParams& camera,
       SH_RETURN_IF_ERROR(render::RenderStereo(g->scene, models.data(),
                                               static_cast<int>(models.size()), g->calib, left_view,
                                               right_view));
-      std::vector<float> vis_left, vis_right;
-      Visibility(g->scene, models, g->calib.left, g->scene.left_T_table, &vis_left);
-      Visibility(g->scene, models, g->calib.right, render::RightFromTable(g->scene, g->calib),
-                 &vis_right);
+      const std::vector<float> vis_left =
+          VisibleFractions(g->scene, models, g->calib.left, g->scene.left_T_table);
+      const std::vector<float> vis_right = VisibleFractions(
+          g->scene, models, g->calib.right, render::RightFromTable(g->scene, g->calib));
       for (size_t k = 0; k < g->scene.objects.size(); ++k) {
         sc.truth.push_back({g->scene.objects[k].model_index, g->left_T_model[k]});
         sc.visible.push_back(0.5f * (vis_left[k] + vis_right[k]));

@@ -10,12 +10,14 @@
 #include <vector>
 
 #include "hal/sim/image_files.hpp"
+#include "hal/sim/world/model_colours.hpp"
 #include "hal/sim/world/renderer.hpp"
 #include "hal/sim/world/scene_generator.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "tables/model_files.hpp"
 #include "tools/command.hpp"
+#include "tools/render_set.hpp"
 
 namespace sh::tools {
 namespace {
@@ -25,11 +27,16 @@ void PrintHelp() {
       "usage: stereohash render --out DIR [--seed N] [--objects N] [--background dark|light]\n"
       "                         [--occlusion none|some|severe] [--distance-mm MM]\n"
       "                         [--baseline-mm MM] [--noise SIGMA] [--models DIR]\n"
-      "                         [--camera thesis|wide|tele|hd]\n"
+      "                         [--camera thesis|wide|tele|hd] [--scenes-per-row N]\n"
       "Renders reference objects lying on a table, seen by a calibrated stereo pair, and writes\n"
       "DIR/left.png, DIR/right.png, DIR/calib.yaml (OpenCV FileStorage: K1 D1 K2 D2 R T, mm),\n"
       "DIR/table.yaml (R_table, t_table: x_left = R_table x_table + t_table, table z up)\n"
       "and DIR/truth.json (per object: model name, R and t with x_left_cam = R x_model + t, mm).\n"
+      "Colour parts (an OBJ whose material has an MTL Kd, e.g. models/colour) are drawn in their\n"
+      "colour and the images are then RGB PNGs.\n"
+      "--scenes-per-row N writes a recorded set instead (the layout of ../shared/scenes, scored\n"
+      "by `stereohash bench recorded DIR`): N scenes per dark/light x none/some/severe row,\n"
+      "seeds from --seed on, one rig over one table, 4 and 5 objects unless --objects.\n"
       "Defaults: --seed 1 --objects 4 --background dark --occlusion some --distance-mm 400\n"
       "          --baseline-mm 120 --noise 1.5 --models %s\n",
       STEREOHASH_DEFAULT_MODELS_DIR);
@@ -88,6 +95,8 @@ int RunRender(int argc, char** argv) {
   const char* occlusion = "some";
   uint64_t seed = 1;
   render::ScenarioParams params;
+  int per_row = 0;      // --scenes-per-row: a recorded set
+  int set_objects = 0;  // --objects given
   for (int i = 1; i < argc; ++i) {
     const char *arg = nullptr, *value = nullptr;
     int exit_code = 0;
@@ -104,6 +113,10 @@ int RunRender(int argc, char** argv) {
       seed = static_cast<uint64_t>(number);
     } else if (std::strcmp(arg, "--objects") == 0 && numeric) {
       params.n_objects = static_cast<int>(number);
+      set_objects = params.n_objects;
+    } else if (std::strcmp(arg, "--scenes-per-row") == 0 && numeric && number >= 1 &&
+               number <= 100) {
+      per_row = static_cast<int>(number);
     } else if (std::strcmp(arg, "--distance-mm") == 0 && numeric) {
       params.camera_distance_mm = static_cast<float>(number);
     } else if (std::strcmp(arg, "--baseline-mm") == 0 && numeric) {
@@ -134,25 +147,55 @@ int RunRender(int argc, char** argv) {
     return 2;
   }
 
+  if (per_row > 0) {
+    RenderSetOptions set;
+    set.out_dir = out_dir;
+    set.models_dir = models_dir;
+    set.seed = seed;
+    set.per_row = per_row;
+    set.objects = set_objects;
+    set.params = params;
+    const Status written = RenderRecordedSet(set);
+    if (!written.ok()) {
+      std::fprintf(stderr, "stereohash render: %s\n", written.message());
+      return 1;
+    }
+    std::printf("wrote %d scenes to %s\n", 6 * per_row, out_dir);
+    return 0;
+  }
+
   std::vector<Model> model_set;
-  const Status loaded = LoadModelFolder(models_dir, &model_set);
+  std::vector<render::ModelColour> colours;
+  Status loaded = LoadModelFolder(models_dir, &model_set);
+  if (loaded.ok()) loaded = render::LoadModelColours(models_dir, model_set, &colours);
   if (!loaded.ok()) {
     std::fprintf(stderr, "stereohash render: %s\n", loaded.message());
     return 1;
   }
-  const Result<render::GeneratedScene> scene =
+  Result<render::GeneratedScene> scene =
       render::GenerateScene(seed, params, model_set.data(), int(model_set.size()));
   if (!scene.ok()) {
     std::fprintf(stderr, "stereohash render: %s\n", scene.status().message());
     return 1;
   }
+  render::PaintColourParts(colours, &scene->scene);
+  const bool colour = render::AnyColoured(colours);
   const CameraIntrinsics& cam = scene->calib.left;
-  std::vector<uint8_t> left(size_t(cam.width) * cam.height), right(left.size());
+  const size_t pixels = size_t(cam.width) * cam.height;
+  std::vector<uint8_t> left(colour ? 0 : pixels), right(left.size());
+  std::vector<Rgb8> left_rgb(colour ? pixels : 0), right_rgb(left_rgb.size());
+  render::RenderTargets left_targets, right_targets;
+  if (colour) {
+    left_targets.rgb = {left_rgb.data(), cam.width, cam.height, cam.width};
+    right_targets.rgb = {right_rgb.data(), cam.width, cam.height, cam.width};
+  } else {
+    left_targets.image = {left.data(), cam.width, cam.height, cam.width};
+    right_targets.image = {right.data(), cam.width, cam.height, cam.width};
+  }
   const auto start = std::chrono::steady_clock::now();
   const Status rendered =
       render::RenderStereo(scene->scene, model_set.data(), int(model_set.size()), scene->calib,
-                           GrayView{left.data(), cam.width, cam.height, cam.width},
-                           GrayView{right.data(), cam.width, cam.height, cam.width});
+                           left_targets, right_targets);
   const double render_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (!rendered.ok()) {
@@ -169,13 +212,14 @@ int RunRender(int argc, char** argv) {
   std::vector<char> yaml(8192);
   const Result<size_t> yaml_size = WriteCalibrationYaml(scene->calib, yaml.data(), yaml.size());
   Status st = yaml_size.ok() ? Status::Ok() : yaml_size.status();
-  if (st.ok()) {
-    st = hal::WritePng((dir + "/left.png").c_str(),
-                       ConstGrayView{left.data(), cam.width, cam.height, cam.width});
-  }
-  if (st.ok()) {
-    st = hal::WritePng((dir + "/right.png").c_str(),
-                       ConstGrayView{right.data(), cam.width, cam.height, cam.width});
+  for (int k = 0; k < 2 && st.ok(); ++k) {
+    const std::string path = dir + (k == 0 ? "/left.png" : "/right.png");
+    st = colour ? hal::WritePngRgb(
+                      path.c_str(),
+                      reinterpret_cast<const uint8_t*>((k == 0 ? left_rgb : right_rgb).data()),
+                      cam.width, cam.height, 3 * cam.width)
+                : hal::WritePng(path.c_str(), ConstGrayView{(k == 0 ? left : right).data(),
+                                                            cam.width, cam.height, cam.width});
   }
   if (st.ok()) st = WriteText(dir + "/calib.yaml", std::string(yaml.data(), *yaml_size));
   // The table's pose, as an installation measures it once (`recognize --table`).

@@ -333,6 +333,62 @@ TEST(Renderer, OccludedObjectsAreHiddenByNearerOnes) {
   EXPECT_GT(occluded, 100);
 }
 
+// Colour: an object of diffuse colour Kd shows that colour's hue in the RGB image, the table
+// and the grey objects stay neutral, and the grey image is the colour's BT.601 luma; a scene
+// without colours renders its grey image byte for byte as before (the luma of equal channels).
+TEST(Renderer, ColourObjectsShowTheirKdAndTheGreyImageIsItsLuma) {
+  const Models& m = ReferenceModels();
+  const GeneratedScene grey = Generate(41, Occlusion::kNone, Background::kDark, 0.0f);
+  GeneratedScene coloured = grey;
+  ASSERT_GE(coloured.scene.objects.size(), 2u);
+  coloured.scene.objects[0].colour = Eigen::Vector3f(0.8f, 0.12f, 0.1f);  // red, as the can's
+  const CameraIntrinsics& cam = grey.calib.left;
+  Images plain(cam), with_colour(cam);
+  std::vector<Rgb8> rgb(size_t(cam.width) * cam.height), plain_rgb(rgb.size());
+  RenderTargets t = with_colour.targets();
+  t.rgb = {rgb.data(), cam.width, cam.height, cam.width};
+  ASSERT_TRUE(
+      RenderView(coloured.scene, m.models, m.n, cam, coloured.scene.left_T_table, 0, t).ok());
+  RenderTargets tp = plain.targets();
+  tp.rgb = {plain_rgb.data(), cam.width, cam.height, cam.width};
+  ASSERT_TRUE(RenderView(grey.scene, m.models, m.n, cam, grey.scene.left_T_table, 0, tp).ok());
+  // Without noise the channels of a grey scene agree and equal the grey image everywhere.
+  for (size_t k = 0; k < rgb.size(); ++k) {
+    ASSERT_EQ(plain_rgb[k].r, plain.image[k]);
+    ASSERT_EQ(plain_rgb[k].g, plain.image[k]);
+    ASSERT_EQ(plain_rgb[k].b, plain.image[k]);
+  }
+  int red = 0, inside = 0, neutral = 0, others = 0;
+  for (size_t k = 0; k < rgb.size(); ++k) {
+    const Rgb8 p = rgb[k];
+    const float luma = 0.299f * p.r + 0.587f * p.g + 0.114f * p.b;
+    ASSERT_LE(std::fabs(luma - float(with_colour.image[k])), 1.0f) << "pixel " << k;
+    if (with_colour.labels[k] == 1) {
+      ++inside;
+      red += (p.r > 2 * p.g + 10 && p.r > 2 * p.b + 10) ? 1 : 0;
+    } else if (with_colour.labels[k] > 1) {
+      ++others;
+      neutral += (p.r == p.g && p.g == p.b) ? 1 : 0;
+    }
+  }
+  EXPECT_GT(inside, 200);
+  EXPECT_GT(red, inside * 9 / 10);  // edge pixels mix with the table
+  // Other objects stay grey, but for the coloured object's reflections of the lights they never
+  // receive: the renderer has no interreflection, so all of them.
+  EXPECT_EQ(neutral, others);
+  // Only the RGB image is asked for: the same colours without a grey image.
+  std::vector<Rgb8> alone(rgb.size());
+  RenderTargets only_rgb;
+  only_rgb.rgb = {alone.data(), cam.width, cam.height, cam.width};
+  ASSERT_TRUE(
+      RenderView(coloured.scene, m.models, m.n, cam, coloured.scene.left_T_table, 0, only_rgb)
+          .ok());
+  for (size_t k = 0; k < rgb.size(); ++k) ASSERT_EQ(alone[k].r, rgb[k].r);
+  RenderTargets nothing;
+  EXPECT_EQ(RenderView(grey.scene, m.models, m.n, cam, grey.scene.left_T_table, 0, nothing).code(),
+            StatusCode::kInvalidArgument);
+}
+
 TEST(Renderer, RefusesMismatchedTargetsAndBadModels) {
   const Models& m = ReferenceModels();
   const GeneratedScene g = Generate(1, Occlusion::kSome, Background::kDark);

@@ -1,7 +1,9 @@
 #include "tools/eval/rendered_eval.hpp"
 
 #include <cstring>
+#include <memory>
 
+#include "hal/sim/world/ray_caster.hpp"
 #include "hal/sim/world/renderer.hpp"
 #include "tables/model_files.hpp"
 
@@ -52,6 +54,35 @@ std::vector<RecognizedPose> PosesOf(const PipelineResult& result) {
   std::vector<RecognizedPose> poses;
   for (const RecognizedObject& o : result.objects) poses.push_back({o.model, o.cam_T_model});
   return poses;
+}
+
+std::vector<float> VisibleFractions(const render::RenderScene& scene,
+                                    const std::vector<Model>& models, const CameraIntrinsics& cam,
+                                    const RigidTransform& cam_T_table) {
+  const RigidTransform table_T_cam = cam_T_table.Inverse();
+  auto full = std::make_unique<render::RayCaster>();
+  auto alone = std::make_unique<render::RayCaster>();
+  const size_t n = scene.objects.size();
+  std::vector<float> fraction(n, 1.0f);
+  if (!full->Prepare(scene, models.data(), static_cast<int>(models.size())).ok()) return fraction;
+  for (size_t i = 0; i < n; ++i) {
+    render::RenderScene one = scene;
+    one.objects.clear();
+    (void)one.objects.push_back(scene.objects[i]);
+    (void)alone->Prepare(one, models.data(), static_cast<int>(models.size()));
+    int seen = 0, whole = 0;
+    for (int y = 0; y < cam.height; y += 2) {
+      for (int x = 0; x < cam.width; x += 2) {
+        const Eigen::Vector3f d = table_T_cam.Rotate(
+            PixelRay(cam, {static_cast<double>(x), static_cast<double>(y)}).cast<float>());
+        if (alone->Cast(table_T_cam.t_mm, d).object != 0) continue;
+        ++whole;
+        seen += full->Cast(table_T_cam.t_mm, d).object == static_cast<int>(i) ? 1 : 0;
+      }
+    }
+    if (whole > 0) fraction[i] = static_cast<float>(seen) / static_cast<float>(whole);
+  }
+  return fraction;
 }
 
 }  // namespace sh

@@ -39,4 +39,11 @@ Status RenderPair(uint64_t seed, const render::ScenarioParams& params, const Ren
 
 std::vector<RecognizedPose> PosesOf(const PipelineResult& result);
 
+// Fraction of each scene object's silhouette that one camera sees (not hidden by the others):
+// rays through every second pixel against the whole scene and against the object alone. An
+// object outside the view counts as fully visible.
+std::vector<float> VisibleFractions(const render::RenderScene& scene,
+                                    const std::vector<Model>& models, const CameraIntrinsics& cam,
+                                    const RigidTransform& cam_T_table);
+
 }  // namespace sh

@@ -24,6 +24,9 @@ struct SceneObject {
   uint16_t model_index = 0;  // into the model array passed to the renderer
   RigidTransform table_T_model;
   float albedo = 0.8f;  // diffuse reflectance in [0, 1]
+  // Diffuse colour (MTL Kd, linear R, G, B in [0, 1]) that multiplies the albedo per channel;
+  // white for the grey objects. Highlights stay white (the lights' colour).
+  Eigen::Vector3f colour = Eigen::Vector3f::Ones();
   // The model's print (printed_surface.hpp), which multiplies the albedo; null: plain.
   const PrintedSurface* print = nullptr;
 };

@@ -26,6 +26,11 @@ struct TableFinish {
 constexpr TableFinish kDarkTable = {0.07f, 0.02f, 8, 0.0f};
 constexpr TableFinish kLightTable = {0.62f, 0.05f, 16, 0.18f};
 
+// A value on the 0..255 scale to an 8-bit code, rounded and clipped.
+uint8_t ToByte(float v) {
+  return static_cast<uint8_t>(std::lround(std::min(255.0f, std::max(0.0f, v))));
+}
+
 // x^n for n a power of two (cheaper than pow, and bit-identical everywhere).
 float PowerOfTwoPow(float x, int n) {
   for (; n > 1; n >>= 1) x *= x;
@@ -57,10 +62,20 @@ uint32_t SurfaceCode(int object, int face) {
   return o | (uint32_t(face) << 5);
 }
 
+// Linear radiance per channel (R, G, B), 1.0 = white. Grey scenes keep the three equal.
+using Radiance = Eigen::Array3f;
+
 struct Sample {
-  float value = 0;  // linear radiance, 1.0 = white
+  Radiance value = Radiance::Zero();
   uint32_t code = 0;
 };
+
+// The grey a camera without colour filters sees: a grey radiance as it is (so grey scenes keep
+// their exact bytes), a coloured one weighted with the BT.601 luma weights.
+float GreyOf(const Radiance& v) {
+  if (v[0] == v[1] && v[1] == v[2]) return v[0];
+  return 0.299f * v[0] + 0.587f * v[1] + 0.114f * v[2];
+}
 
 class Shader {
  public:
@@ -73,7 +88,7 @@ class Shader {
     const Hit hit = caster_.Cast(o, d);
     Sample s;
     if (hit.object == kNoHit) {
-      s.value = kEnvironment;
+      s.value = Radiance::Constant(kEnvironment);
       s.code = SurfaceCode(kNoHit, 0);
       return s;
     }
@@ -81,11 +96,13 @@ class Shader {
     const Eigen::Vector3f p = o + hit.t_mm * d;
     const Eigen::Vector3f n = caster_.normal(hit);
     float albedo = is_table ? table_.albedo : caster_.albedo(hit.object);
+    Radiance colour = Radiance::Ones();
     if (!is_table) {
       const SceneObject& object = scene_.objects[static_cast<size_t>(hit.object)];
       if (object.print != nullptr) {
         albedo *= object.print->Reflectance(hit.face, object.table_T_model.Inverse() * p);
       }
+      colour = object.colour.array();
     }
     const float ks = is_table ? table_.specular : kObjectSpecular;
     const int shininess = is_table ? table_.shininess : kObjectShininess;
@@ -106,7 +123,7 @@ class Shader {
       const float cos_half = n.dot((l - d).normalized());
       if (cos_half > 0) specular += light.intensity * PowerOfTwoPow(cos_half, shininess);
     }
-    s.value = albedo * diffuse + ks * specular;
+    s.value = (albedo * colour) * diffuse + ks * specular;
     s.code = SurfaceCode(hit.object, hit.face) | (shadow_bits << 10);
     if (is_table && allow_mirror && table_.mirror > 0) {
       const Eigen::Vector3f mirrored(d.x(), d.y(), -d.z());
@@ -159,11 +176,16 @@ Status RenderView(const RenderScene& scene, const Model* models, int n_models,
     return Status::Error(StatusCode::kOutOfRange, "render: camera size %d x %d not supported",
                          width, height);
   }
-  if (targets.image.empty()) {
+  if (targets.image.empty() && targets.rgb.empty()) {
     return Status::Error(StatusCode::kInvalidArgument, "render: no output image");
   }
-  SH_RETURN_IF_ERROR(
-      CheckTarget("image", width, height, targets.image.width, targets.image.height));
+  if (!targets.image.empty()) {
+    SH_RETURN_IF_ERROR(
+        CheckTarget("image", width, height, targets.image.width, targets.image.height));
+  }
+  if (!targets.rgb.empty()) {
+    SH_RETURN_IF_ERROR(CheckTarget("rgb", width, height, targets.rgb.width, targets.rgb.height));
+  }
   if (!targets.labels.empty()) {
     SH_RETURN_IF_ERROR(
         CheckTarget("label", width, height, targets.labels.width, targets.labels.height));
@@ -211,7 +233,8 @@ Status RenderView(const RenderScene& scene, const Model* models, int n_models,
     CornerRow& top = rows[y & 1];
     CornerRow& bottom = rows[(y + 1) & 1];
     fill_row(bottom, y + 1);
-    uint8_t* out = targets.image.row(y);
+    uint8_t* out = targets.image.empty() ? nullptr : targets.image.row(y);
+    Rgb8* out_rgb = targets.rgb.empty() ? nullptr : targets.rgb.row(y);
     for (int x = 0; x < width; ++x) {
       const Sample& a = top.sample[x];
       const Sample& b = top.sample[x + 1];
@@ -224,11 +247,11 @@ Status RenderView(const RenderScene& scene, const Model* models, int n_models,
                 fy * ((1 - fx) * bottom.xy[x] + fx * bottom.xy[x + 1]))
             .eval();
       };
-      float value;
+      Radiance value;
       if (a.code == b.code && a.code == c.code && a.code == d.code) {
         value = 0.25f * (a.value + b.value + c.value + d.value);
       } else {
-        float sum = 0;
+        Radiance sum = Radiance::Zero();
         for (int sj = 0; sj < n; ++sj) {
           for (int si = 0; si < n; ++si) {
             const Eigen::Vector2f xy = xy_at((si + 0.5f) / n, (sj + 0.5f) / n);
@@ -238,8 +261,19 @@ Status RenderView(const RenderScene& scene, const Model* models, int n_models,
         value = sum / static_cast<float>(n * n);
       }
       const uint64_t pixel_hash = Mix64(noise_stream + uint64_t(y) * uint64_t(width) + uint64_t(x));
-      const float grey = 255.0f * value + scene.noise_sigma * GaussianFromHash(pixel_hash);
-      out[x] = static_cast<uint8_t>(std::lround(std::min(255.0f, std::max(0.0f, grey))));
+      if (out != nullptr) {
+        out[x] = ToByte(255.0f * GreyOf(value) + scene.noise_sigma * GaussianFromHash(pixel_hash));
+      }
+      if (out_rgb != nullptr) {
+        // Each colour site has its own noise: the grey stream's draw for red, further draws of
+        // the same pixel's hash for green and blue.
+        uint8_t rgb[3];
+        for (int k = 0; k < 3; ++k) {
+          const uint64_t h = k == 0 ? pixel_hash : Mix64(pixel_hash + uint64_t(k));
+          rgb[k] = ToByte(255.0f * value[k] + scene.noise_sigma * GaussianFromHash(h));
+        }
+        out_rgb[x] = Rgb8{rgb[0], rgb[1], rgb[2]};
+      }
 
       if (!targets.labels.empty() || !targets.depth_mm.empty()) {
         const Eigen::Vector2f xy = xy_at(0.5f, 0.5f);

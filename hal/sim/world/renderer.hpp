@@ -2,6 +2,10 @@
 // and lens distortion: every sample casts the ray PixelRay() gives for its (distorted) pixel
 // position, so features in the images sit exactly where ProjectToPixel() puts the 3-D points.
 //
+// Colour: objects reflect their diffuse colour (SceneObject::colour, the MTL Kd) per channel,
+// highlights and the table are neutral; the grey image is the colour's BT.601 luma (exactly the
+// radiance where the three channels agree, so grey scenes render as before).
+//
 // Shading: Lambert plus Blinn-Phong highlights from two point lights with cast shadows, an
 // ambient term, and on the light table a faint mirror image of the objects. Anti-aliasing: rays
 // through all pixel corners; pixels whose four corners see the same surface, shadow and
@@ -25,7 +29,8 @@ namespace sh::render {
 inline constexpr uint8_t kTableLabel = 0;
 
 struct RenderTargets {
-  GrayView image;             // required; width and height must match the camera
+  GrayView image;             // grey (BT.601 luma of the colour); width and height of the camera
+  ImageView<Rgb8> rgb;        // colour (linear R'G'B' like the grey); image, rgb or both required
   GrayView labels;            // optional (empty view = skip): object at the pixel centre
   ImageView<float> depth_mm;  // optional: camera-frame z of the surface at the pixel centre
 };
