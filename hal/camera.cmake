@@ -19,6 +19,6 @@ if(LIBCAMERA_FOUND)
   stereohash_module(stereohash_hal_camera_libcamera
     SOURCES linux/libcamera_camera.cpp linux/libcamera_adapter.cpp
     HEADERS linux/libcamera_camera.hpp linux/libcamera_adapter.hpp
-    PUBLIC stereohash_hal_camera
+    PUBLIC stereohash_hal_camera stereohash_image
     PRIVATE PkgConfig::LIBCAMERA)
 endif()

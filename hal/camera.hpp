@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "recog/base/status.hpp"
+#include "recog/image/frame.hpp"
 #include "recog/image/image.hpp"
 
 namespace sh::hal {
@@ -29,11 +30,18 @@ enum class CaptureMode : uint8_t {
 };
 const char* CaptureModeName(CaptureMode mode);
 
-// One synchronised left/right pair (or, in a one-side capture mode, one camera's frame). Views are
-// 8-bit grey (the luma plane for YUV sensors).
+// One synchronised left/right pair (or, in a one-side capture mode, one camera's frame).
+//
+// `left`/`right` are always 8-bit grey: the frame itself for grey sensors, the Y plane read in
+// place for Y'CbCr formats (zero-copy), and for RGB888 a luma image the backend converts into a
+// buffer of its own. `left_frame`/`right_frame` are the frames in the format delivered (grey,
+// RGB888, NV12 or I420, recog/image/frame.hpp), for the paths that read colour; for a grey frame
+// they view the same plane as `left`/`right`. Empty on the side a one-side mode does not use.
 struct StereoFrame {
   ConstGrayView left;
   ConstGrayView right;
+  FrameView left_frame;
+  FrameView right_frame;
   // Sensor timestamps (start of exposure as reported by the driver, CLOCK_BOOTTIME/MONOTONIC on
   // the board, synthetic in simulation), nanoseconds.
   int64_t left_timestamp_ns = 0;
@@ -88,6 +96,11 @@ class StereoCamera {
     return Status::Error(StatusCode::kUnimplemented, "this camera captures stereo pairs only");
   }
   virtual CaptureMode capture_mode() const { return CaptureMode::kStereo; }
+  // Asks for colour frames from the next Start() (the model set holds colour parts) or grey ones
+  // (false, the default). A backend that can give colour delivers a Y'CbCr format (the grey path
+  // keeps reading the Y plane in place) or RGB888; one that cannot, or a sensor without colour,
+  // keeps delivering grey: `left_frame.format` says what arrived. Never fails for that reason.
+  virtual void SetColourWanted(bool colour) { (void)colour; }
   // After a stereo Capture() failed: the side that delivered no frame since the last pair while
   // the other one did (the failed camera). kNotFound when both or neither delivered frames.
   virtual Result<StereoSide> SilentSide() const {

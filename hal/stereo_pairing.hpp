@@ -42,7 +42,8 @@ inline constexpr size_t kStereoQueueDepth = 4;
 inline constexpr size_t kStereoPairDepth = 2;
 
 struct TimestampedFrame {
-  ConstGrayView view;
+  ConstGrayView view;  // grey (StereoFrame::left)
+  FrameView frame;     // the delivered format; empty: the grey view is the frame
   int64_t timestamp_ns = 0;
   uint32_t sequence = 0;
   uint32_t buffer_id = 0;  // backend-defined handle to find the buffer again when recycling it
@@ -69,6 +70,10 @@ inline StereoFrame ToStereoFrame(const FramePair& pair) {
   StereoFrame frame;
   frame.left = pair.left.view;
   frame.right = pair.right.view;
+  frame.left_frame =
+      pair.left.frame.width() > 0 ? pair.left.frame : FrameView::Gray(pair.left.view);
+  frame.right_frame =
+      pair.right.frame.width() > 0 ? pair.right.frame : FrameView::Gray(pair.right.view);
   frame.left_timestamp_ns = pair.left.timestamp_ns;
   frame.right_timestamp_ns = pair.right.timestamp_ns;
   frame.left_sequence = pair.left.sequence;

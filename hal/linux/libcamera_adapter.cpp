@@ -1,6 +1,7 @@
 #include "hal/linux/libcamera_adapter.hpp"
 
 #include <libcamera/camera_manager.h>
+#include <libcamera/color_space.h>
 #include <libcamera/control_ids.h>
 
 namespace sh::hal::libcamera_adapter {
@@ -44,6 +45,24 @@ bool BufferCompletedOk(const libcamera::FrameBuffer& buffer) {
 }
 
 void ReuseRequest(libcamera::Request* request) { request->reuse(libcamera::Request::ReuseBuffers); }
+
+void RequestSycc(libcamera::StreamConfiguration* config) {
+  config->colorSpace = libcamera::ColorSpace::Sycc;
+}
+
+void StreamYcbcr(const libcamera::StreamConfiguration& config, YcbcrEncoding* encoding,
+                 YcbcrRange* range) {
+  *encoding = YcbcrEncoding::kRec601;
+  *range = YcbcrRange::kFull;
+  if (!config.colorSpace) return;
+  const libcamera::ColorSpace& cs = *config.colorSpace;
+  *encoding =
+      cs.ycbcrEncoding == libcamera::ColorSpace::YcbcrEncoding::Rec601 ? YcbcrEncoding::kRec601
+      : cs.ycbcrEncoding == libcamera::ColorSpace::YcbcrEncoding::None ? YcbcrEncoding::kRec601
+                                                                       : YcbcrEncoding::kRec709;
+  *range =
+      cs.range == libcamera::ColorSpace::Range::Limited ? YcbcrRange::kLimited : YcbcrRange::kFull;
+}
 
 const std::string& LibraryVersion() { return libcamera::CameraManager::version(); }
 

@@ -18,6 +18,8 @@
 #include <libcamera/request.h>
 #include <libcamera/stream.h>
 
+#include "recog/image/frame.hpp"
+
 namespace sh::hal::libcamera_adapter {
 
 std::unique_ptr<libcamera::CameraConfiguration> GenerateConfiguration(libcamera::Camera& camera,
@@ -36,6 +38,14 @@ bool BufferCompletedOk(const libcamera::FrameBuffer& buffer);
 
 // Makes a completed request ready to be queued again with the same buffer.
 void ReuseRequest(libcamera::Request* request);
+
+// Asks for BT.601 full-range Y'CbCr (sYCC, what the colour path's thresholds assume) on a YUV
+// stream; the pipeline may replace it at validate().
+void RequestSycc(libcamera::StreamConfiguration* config);
+// The Y'CbCr encoding and range a validated stream delivers: its colorSpace when set (Rec2020 is
+// read as Rec709, the nearest the frame views know), else BT.601 full range.
+void StreamYcbcr(const libcamera::StreamConfiguration& config, YcbcrEncoding* encoding,
+                 YcbcrRange* range);
 
 // libcamera's own version string, for logs and error messages.
 const std::string& LibraryVersion();

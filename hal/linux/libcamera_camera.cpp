@@ -3,6 +3,8 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <iterator>
+#include <new>
 #include <vector>
 
 #include <sys/mman.h>
@@ -23,8 +25,21 @@ namespace lc = libcamera;
 
 namespace {
 
-// Preference order of formats whose first plane is 8-bit grey (see the header).
-const lc::PixelFormat kGreyFormats[] = {lc::formats::R8, lc::formats::NV12, lc::formats::YUV420};
+struct FormatChoice {
+  lc::PixelFormat pixel_format;
+  FrameFormat frame_format;  // how the frames are handed out
+};
+
+// Preference orders (see the header). Grey: formats whose first plane is 8-bit grey, delivered
+// as that plane alone. Colour: Y'CbCr first (the grey path keeps its zero-copy Y plane), then
+// 24-bit RGB (libcamera's BGR888 is R, G, B in memory, DRM's naming), then a grey sensor's R8.
+const FormatChoice kGreyFormats[] = {{lc::formats::R8, FrameFormat::kGray8},
+                                     {lc::formats::NV12, FrameFormat::kGray8},
+                                     {lc::formats::YUV420, FrameFormat::kGray8}};
+const FormatChoice kColourFormats[] = {{lc::formats::NV12, FrameFormat::kNv12},
+                                       {lc::formats::YUV420, FrameFormat::kYuv420},
+                                       {lc::formats::BGR888, FrameFormat::kRgb888},
+                                       {lc::formats::R8, FrameFormat::kGray8}};
 
 lc::StreamRole ToStreamRole(LibcameraRole role) {
   switch (role) {
@@ -43,6 +58,9 @@ struct Mapping {
   size_t length = 0;
 };
 
+// Planes a buffer is mapped in: Y (or RGB), and the chroma plane(s) of Y'CbCr formats.
+constexpr int kMaxPlanes = 3;
+
 }  // namespace
 
 struct LibcameraStereoCamera::Impl {
@@ -58,8 +76,12 @@ struct LibcameraStereoCamera::Impl {
     lc::Stream* stream = nullptr;
     std::unique_ptr<lc::FrameBufferAllocator> allocator;
     std::vector<std::unique_ptr<lc::Request>> requests;
-    Mapping mappings[kMaxLibcameraBuffers];
-    ConstGrayView views[kMaxLibcameraBuffers];
+    Mapping mappings[kMaxLibcameraBuffers][kMaxPlanes];
+    ConstGrayView views[kMaxLibcameraBuffers];  // grey: in place, or `luma` of an RGB frame
+    FrameView frames[kMaxLibcameraBuffers];     // the delivered format
+    // RGB888 only: one grey image per buffer, converted on libcamera's thread when the frame
+    // completes (allocated at Start).
+    std::unique_ptr<uint8_t[]> luma;
     unsigned buffer_count = 0;
 
     const char* name() const { return StereoSideName(side); }
@@ -92,6 +114,10 @@ struct LibcameraStereoCamera::Impl {
 
   LibcameraStereoConfig config;
   CaptureMode mode = CaptureMode::kStereo;  // of the next Start()
+  bool colour_wanted = false;               // of the next Start()
+  FrameFormat frame_format = FrameFormat::kGray8;
+  YcbcrEncoding encoding = YcbcrEncoding::kRec601;
+  YcbcrRange range = YcbcrRange::kFull;
   std::unique_ptr<lc::CameraManager> manager;
   bool manager_started = false;
   Side sides[2];
@@ -166,26 +192,34 @@ Status LibcameraStereoCamera::Impl::SelectCameras() {
   return Status::Ok();
 }
 
-// Tries the grey formats in order on the first camera used (the left one in stereo); the first
-// format that validates without being replaced wins. Size adjustments by the camera are accepted
-// (reported in stream_info()).
+// Tries the formats in order (colour or grey, as asked) on the first camera used (the left one
+// in stereo); the first format that validates without being replaced wins. Size adjustments by
+// the camera are accepted (reported in stream_info()).
 Status LibcameraStereoCamera::Impl::ConfigureFirst(Side& s) {
-  for (const lc::PixelFormat& format : kGreyFormats) {
+  const FormatChoice* choices = colour_wanted ? kColourFormats : kGreyFormats;
+  const size_t n_choices = colour_wanted ? std::size(kColourFormats) : std::size(kGreyFormats);
+  for (size_t i = 0; i < n_choices; ++i) {
+    const FormatChoice& choice = choices[i];
     std::unique_ptr<lc::CameraConfiguration> c =
         libcamera_adapter::GenerateConfiguration(*s.camera, ToStreamRole(config.role));
     if (!c || c->size() != 1) continue;
     lc::StreamConfiguration& sc = c->at(0);
-    sc.pixelFormat = format;
+    sc.pixelFormat = choice.pixel_format;
     sc.size = lc::Size(static_cast<unsigned>(config.width), static_cast<unsigned>(config.height));
     sc.bufferCount = kLibcameraBufferCount;
+    const bool ycbcr =
+        choice.frame_format == FrameFormat::kNv12 || choice.frame_format == FrameFormat::kYuv420;
+    if (ycbcr) libcamera_adapter::RequestSycc(&sc);
     if (c->validate() == lc::CameraConfiguration::Invalid) continue;
-    if (sc.pixelFormat != format) continue;
+    if (sc.pixelFormat != choice.pixel_format) continue;
+    frame_format = choice.frame_format;
+    libcamera_adapter::StreamYcbcr(sc, &encoding, &range);
     s.config = std::move(c);
     return Status::Ok();
   }
-  return Status::Error(StatusCode::kFailedPrecondition,
-                       "%s camera %s offers none of R8, NV12, YUV420 for this role", s.name(),
-                       s.camera->id().c_str());
+  return Status::Error(
+      StatusCode::kFailedPrecondition, "%s camera %s offers none of %s for this role", s.name(),
+      s.camera->id().c_str(), colour_wanted ? "NV12, YUV420, BGR888, R8" : "R8, NV12, YUV420");
 }
 
 Status LibcameraStereoCamera::Impl::Configure() {
@@ -211,9 +245,10 @@ Status LibcameraStereoCamera::Impl::Configure() {
     rsc.pixelFormat = left_sc.pixelFormat;
     rsc.size = left_sc.size;
     rsc.bufferCount = left_sc.bufferCount;
+    rsc.colorSpace = left_sc.colorSpace;
     const lc::CameraConfiguration::Status rv = r.config->validate();
     if (rv == lc::CameraConfiguration::Invalid || rsc.pixelFormat != left_sc.pixelFormat ||
-        rsc.size != left_sc.size) {
+        rsc.size != left_sc.size || rsc.colorSpace != left_sc.colorSpace) {
       return Status::Error(
           StatusCode::kFailedPrecondition,
           "right camera cannot match left configuration %s %ux%u (offers %s %ux%u)",
@@ -237,14 +272,28 @@ Status LibcameraStereoCamera::Impl::Configure() {
     s.stream = s.config->at(0).stream();
   }
   info.pixel_format = left_sc.pixelFormat.toString();
+  info.format = frame_format;
+  info.encoding = encoding;
+  info.range = range;
   info.width = static_cast<int>(left_sc.size.width);
   info.height = static_cast<int>(left_sc.size.height);
   info.stride = static_cast<int>(left_sc.stride);
   return Status::Ok();
 }
 
-// Allocates the buffers, maps the grey plane of each once, and builds one request per buffer
-// (cookie = buffer index) that is reused for the whole session.
+// Maps [offset, offset + length) of a plane's dmabuf read-only (from offset 0 of the fd, so the
+// mmap offset stays page aligned); returns the first byte, or null with errno set.
+const uint8_t* MapRange(const lc::FrameBuffer::Plane& plane, size_t offset, Mapping* mapping) {
+  const size_t length = offset + plane.length;
+  void* base = mmap(nullptr, length, PROT_READ, MAP_SHARED, libcamera_adapter::PlaneFd(plane), 0);
+  if (base == MAP_FAILED) return nullptr;
+  *mapping = Mapping{base, length};
+  return static_cast<const uint8_t*>(base) + offset;
+}
+
+// Allocates the buffers, maps the planes of each once (the Y or RGB plane, and for a colour
+// Y'CbCr stream its chroma: a plane of its own, or following Y in a single-plane buffer), and
+// builds one request per buffer (cookie = buffer index) that is reused for the whole session.
 Status LibcameraStereoCamera::Impl::MapBuffers(Side& s) {
   s.allocator = std::make_unique<lc::FrameBufferAllocator>(s.camera);
   const int allocated = s.allocator->allocate(s.stream);
@@ -256,31 +305,96 @@ Status LibcameraStereoCamera::Impl::MapBuffers(Side& s) {
   const lc::StreamConfiguration& sc = s.config->at(0);
   const int width = static_cast<int>(sc.size.width);
   const int height = static_cast<int>(sc.size.height);
-  const size_t stride = sc.stride != 0 ? sc.stride : sc.size.width;
+  const int bytes_per_pixel = frame_format == FrameFormat::kRgb888 ? 3 : 1;
+  const size_t stride = sc.stride != 0 ? sc.stride : size_t(sc.size.width) * bytes_per_pixel;
+  const int cw = (width + 1) / 2, ch = (height + 1) / 2;
+  // Chroma rows: NV12 interleaved pairs with the luma stride in bytes; I420 half the stride.
+  const size_t chroma_stride = frame_format == FrameFormat::kNv12 ? stride : stride / 2;
+  const size_t chroma_bytes = chroma_stride * size_t(ch);
+  if (frame_format == FrameFormat::kRgb888 && stride % 3 != 0) {
+    return Status::Error(StatusCode::kInternal, "%s camera RGB stride %zu is not whole pixels",
+                         s.name(), stride);
+  }
   s.buffer_count = static_cast<unsigned>(
       buffers.size() < kMaxLibcameraBuffers ? buffers.size() : kMaxLibcameraBuffers);
   info.buffers_per_camera = s.buffer_count;
+  if (frame_format == FrameFormat::kRgb888) {
+    s.luma.reset(new (std::nothrow) uint8_t[size_t(width) * size_t(height) * s.buffer_count]);
+    if (!s.luma) return Status::Error(StatusCode::kInternal, "%s grey buffers", s.name());
+  }
   for (unsigned i = 0; i < s.buffer_count; ++i) {
     lc::FrameBuffer* buffer = buffers[i].get();
-    if (buffer->planes().empty()) {
+    const std::vector<lc::FrameBuffer::Plane>& planes = buffer->planes();
+    if (planes.empty()) {
       return Status::Error(StatusCode::kInternal, "%s buffer %u has no planes", s.name(), i);
     }
-    const lc::FrameBuffer::Plane& y = buffer->planes()[0];
-    const size_t needed = stride * static_cast<size_t>(height);
+    const lc::FrameBuffer::Plane& y = planes[0];
+    const bool chroma_in_first = frame_format != FrameFormat::kGray8 &&
+                                 frame_format != FrameFormat::kRgb888 && planes.size() == 1;
+    const size_t needed =
+        stride * static_cast<size_t>(height) +
+        (chroma_in_first ? (frame_format == FrameFormat::kYuv420 ? 2 : 1) * chroma_bytes : 0);
     if (y.length < needed) {
-      return Status::Error(StatusCode::kInternal, "%s buffer %u grey plane has %u bytes, need %zu",
+      return Status::Error(StatusCode::kInternal, "%s buffer %u first plane has %u bytes, need %zu",
                            s.name(), i, y.length, needed);
     }
-    // Map from offset 0 so the mmap offset stays page aligned; the plane starts at y.offset.
-    const size_t length = static_cast<size_t>(y.offset) + y.length;
-    void* base = mmap(nullptr, length, PROT_READ, MAP_SHARED, libcamera_adapter::PlaneFd(y), 0);
-    if (base == MAP_FAILED) {
+    const uint8_t* first = MapRange(y, y.offset, &s.mappings[i][0]);
+    if (first == nullptr) {
       return Status::Error(StatusCode::kInternal, "%s buffer %u mmap failed: %s", s.name(), i,
                            std::strerror(errno));
     }
-    s.mappings[i] = Mapping{base, length};
-    s.views[i] = ConstGrayView{static_cast<const uint8_t*>(base) + y.offset, width, height,
-                               static_cast<int>(stride)};
+    // The chroma planes: in the first plane after Y, or planes 1 (and 2) of their own.
+    const uint8_t* chroma[2] = {first + stride * size_t(height),
+                                first + stride * size_t(height) + chroma_bytes};
+    const int n_chroma = frame_format == FrameFormat::kNv12     ? 1
+                         : frame_format == FrameFormat::kYuv420 ? 2
+                                                                : 0;
+    if (n_chroma > 0 && !chroma_in_first) {
+      // Cb (and Cr) in the second plane, Cr in a third one or after Cb in the second.
+      const bool own_cr = n_chroma == 2 && planes.size() >= 3;
+      const size_t second_needed = chroma_bytes * (n_chroma == 2 && !own_cr ? 2 : 1);
+      if (planes.size() < 2 || planes[1].length < second_needed ||
+          (own_cr && planes[2].length < chroma_bytes)) {
+        return Status::Error(StatusCode::kInternal, "%s buffer %u chroma planes missing or short",
+                             s.name(), i);
+      }
+      chroma[0] = MapRange(planes[1], planes[1].offset, &s.mappings[i][1]);
+      chroma[1] = chroma[0] == nullptr ? nullptr
+                  : own_cr             ? MapRange(planes[2], planes[2].offset, &s.mappings[i][2])
+                                       : chroma[0] + chroma_bytes;
+      if (chroma[0] == nullptr || (n_chroma == 2 && chroma[1] == nullptr)) {
+        return Status::Error(StatusCode::kInternal, "%s buffer %u chroma mmap failed: %s", s.name(),
+                             i, std::strerror(errno));
+      }
+    }
+    switch (frame_format) {
+      case FrameFormat::kGray8:
+        s.views[i] = ConstGrayView{first, width, height, static_cast<int>(stride)};
+        s.frames[i] = FrameView::Gray(s.views[i]);
+        break;
+      case FrameFormat::kNv12:
+        s.views[i] = ConstGrayView{first, width, height, static_cast<int>(stride)};
+        s.frames[i] =
+            FrameView::Nv12(s.views[i],
+                            ImageView<const CbCr8>{reinterpret_cast<const CbCr8*>(chroma[0]), cw,
+                                                   ch, static_cast<int>(chroma_stride / 2)},
+                            encoding, range);
+        break;
+      case FrameFormat::kYuv420:
+        s.views[i] = ConstGrayView{first, width, height, static_cast<int>(stride)};
+        s.frames[i] = FrameView::Yuv420(
+            s.views[i], ConstGrayView{chroma[0], cw, ch, static_cast<int>(chroma_stride)},
+            ConstGrayView{chroma[1], cw, ch, static_cast<int>(chroma_stride)}, encoding, range);
+        break;
+      case FrameFormat::kRgb888:
+        s.frames[i] = FrameView::Rgb(ImageView<const Rgb8>{
+            reinterpret_cast<const Rgb8*>(first), width, height, static_cast<int>(stride / 3)});
+        s.views[i] =
+            ConstGrayView{s.luma.get() + size_t(width) * size_t(height) * i, width, height, width};
+        break;
+    }
+    const Status frame_ok = CheckFrame(s.frames[i]);
+    if (!frame_ok.ok()) return frame_ok.WithContext("%s buffer %u", s.name(), i);
 
     std::unique_ptr<lc::Request> request = s.camera->createRequest(i);
     if (!request) {
@@ -353,8 +467,16 @@ void LibcameraStereoCamera::Impl::OnRequestCompleted(Side& s, lc::Request* reque
     Requeue(s.side, id);
     return;
   }
+  if (frame_format == FrameFormat::kRgb888) {
+    // The grey view of an RGB frame: converted here, into this buffer's own grey image (no
+    // allocation; FrameToGray fails only on sizes, which MapBuffers checked).
+    const ConstGrayView& v = s.views[id];
+    (void)FrameToGray(s.frames[id],
+                      GrayView{const_cast<uint8_t*>(v.data), v.width, v.height, v.stride});
+  }
   TimestampedFrame frame;
   frame.view = s.views[id];
+  frame.frame = s.frames[id];
   frame.timestamp_ns = t_ns;
   frame.sequence = buffer->metadata().sequence;
   frame.buffer_id = id;
@@ -388,10 +510,14 @@ void LibcameraStereoCamera::Impl::Teardown() {
     }
     s.requests.clear();
     for (unsigned i = 0; i < kMaxLibcameraBuffers; ++i) {
-      if (s.mappings[i].base != MAP_FAILED) munmap(s.mappings[i].base, s.mappings[i].length);
-      s.mappings[i] = Mapping{};
+      for (Mapping& m : s.mappings[i]) {
+        if (m.base != MAP_FAILED) munmap(m.base, m.length);
+        m = Mapping{};
+      }
       s.views[i] = ConstGrayView{};
+      s.frames[i] = FrameView{};
     }
+    s.luma.reset();
     s.buffer_count = 0;
     if (s.allocator && s.stream != nullptr) s.allocator->free(s.stream);
     s.allocator.reset();
@@ -461,6 +587,10 @@ Status LibcameraStereoCamera::SetCaptureMode(CaptureMode mode) {
 }
 
 CaptureMode LibcameraStereoCamera::capture_mode() const { return impl_->mode; }
+
+void LibcameraStereoCamera::SetColourWanted(bool colour) {
+  impl_->colour_wanted = colour;  // read by the next Start()
+}
 
 Result<StereoSide> LibcameraStereoCamera::SilentSide() const { return impl_->pairer.SilentSide(); }
 

@@ -9,9 +9,14 @@
 // releases them (next Capture() or Release()). This code allocates nothing after Start();
 // libcamera itself may allocate while handling requests.
 //
-// Pixel format: the first of R8 (8-bit grey sensors), NV12, YUV420 that the camera accepts for the
-// requested role without changing it; for the YUV formats only the Y plane is used. Both cameras
-// must accept exactly the format and size the left one ended up with, otherwise Start() fails.
+// Pixel format: for grey (the default) the first of R8 (8-bit grey sensors), NV12, YUV420 that
+// the camera accepts for the requested role without changing it, of which only the Y plane is
+// mapped and used (zero-copy). With SetColourWanted(true) (a model set with colour parts) the
+// first of NV12, YUV420 (both asked for as sYCC, BT.601 full range; the colour space the pipeline
+// settles on is read back), BGR888 (R, G, B bytes in memory) and R8; Y'CbCr frames keep the Y
+// plane as the grey view in place, RGB frames get a grey view converted into a buffer of the
+// backend's own when the frame completes. Both cameras must accept exactly the format, size and
+// colour space the left one ended up with, otherwise Start() fails.
 //
 // This header does not include libcamera: the firmware links the library without its headers.
 #pragma once
@@ -53,7 +58,10 @@ struct LibcameraStereoConfig {
 struct LibcameraStreamInfo {
   std::string left_id;
   std::string right_id;
-  std::string pixel_format;  // e.g. "R8", "NV12"
+  std::string pixel_format;                  // e.g. "R8", "NV12"
+  FrameFormat format = FrameFormat::kGray8;  // as handed out in StereoFrame::left_frame
+  YcbcrEncoding encoding = YcbcrEncoding::kRec601;
+  YcbcrRange range = YcbcrRange::kFull;
   int width = 0;
   int height = 0;
   int stride = 0;  // bytes per row of the grey plane
@@ -78,6 +86,7 @@ class LibcameraStereoCamera final : public StereoCamera {
   Status SetCaptureMode(CaptureMode mode) override;
   CaptureMode capture_mode() const override;
   Result<StereoSide> SilentSide() const override;
+  void SetColourWanted(bool colour) override;
 
   // Valid after a successful Start().
   const LibcameraStreamInfo& stream_info() const;

@@ -47,10 +47,19 @@ Status SimCamera::Start() {
     return Status::Error(StatusCode::kOutOfRange, "frame source size %dx%d outside 1x1..%dx%d",
                          width, height, kMaxImageWidth, kMaxImageHeight);
   }
-  // All buffers in one block, allocated here and never again while streaming.
-  const size_t frame_bytes = static_cast<size_t>(width) * static_cast<size_t>(height);
+  const FrameFormat format = source_->format();
+  if (format != FrameFormat::kGray8 && format != FrameFormat::kNv12) {
+    return Status::Error(StatusCode::kUnimplemented, "sim camera: frame source format %s",
+                         FrameFormatName(format));
+  }
+  // All buffers in one block, allocated here and never again while streaming. NV12: the chroma
+  // pairs follow the Y plane, ceil(w/2) x ceil(h/2) of them, two bytes each.
+  size_t frame_bytes = static_cast<size_t>(width) * static_cast<size_t>(height);
+  if (format == FrameFormat::kNv12) {
+    frame_bytes += 2 * static_cast<size_t>((width + 1) / 2) * static_cast<size_t>((height + 1) / 2);
+  }
   const size_t total = frame_bytes * kSimBuffersPerSide * 2;
-  if (width != width_ || height != height_ || !memory_) {
+  if (width != width_ || height != height_ || frame_bytes != frame_bytes_ || !memory_) {
     memory_.reset(new (std::nothrow) uint8_t[total]);
     if (!memory_) {
       return Status::Error(StatusCode::kResourceExhausted,
@@ -59,6 +68,8 @@ Status SimCamera::Start() {
   }
   width_ = width;
   height_ = height;
+  format_ = format;
+  frame_bytes_ = frame_bytes;
   for (int s = 0; s < 2; ++s) {
     SidePool& pool = pools_[s];
     for (size_t i = 0; i < kSimBuffersPerSide; ++i) {
@@ -103,6 +114,22 @@ Status SimCamera::Stop() {
 
 GrayView SimCamera::BufferView(StereoSide side, uint32_t buffer_id) const {
   return GrayView{pools_[Index(side)].buffers[buffer_id], width_, height_, width_};
+}
+
+ImageView<CbCr8> SimCamera::ChromaView(StereoSide side, uint32_t buffer_id) const {
+  // The chroma pairs start right after the Y plane: 2-byte CbCr8 at any even or odd offset is
+  // fine (alignment 1).
+  uint8_t* chroma = pools_[Index(side)].buffers[buffer_id] + size_t(width_) * size_t(height_);
+  const int cw = (width_ + 1) / 2, ch = (height_ + 1) / 2;
+  return ImageView<CbCr8>{reinterpret_cast<CbCr8*>(chroma), cw, ch, cw};
+}
+
+FrameView SimCamera::FrameOf(StereoSide side, uint32_t buffer_id) const {
+  const GrayView y = BufferView(side, buffer_id);
+  if (format_ != FrameFormat::kNv12) return FrameView::Gray(y);
+  const ImageView<CbCr8> c = ChromaView(side, buffer_id);
+  return FrameView::Nv12(y, ImageView<const CbCr8>{c.data, c.width, c.height, c.stride},
+                         YcbcrEncoding::kRec601, YcbcrRange::kFull);
 }
 
 void SimCamera::GiveBack(StereoSide side, uint32_t buffer_id) {
@@ -153,8 +180,15 @@ Status SimCamera::ProduceFrame() {
   // Timestamps are drawn for both sides of every frame, so dropping frames does not change the
   // jitter sequence of the others.
   const int64_t t_ns[2] = {Timestamp(StereoSide::kLeft, n), Timestamp(StereoSide::kRight, n)};
-  const Status rendered = source_->Render(n, BufferView(StereoSide::kLeft, ids[0]),
-                                          BufferView(StereoSide::kRight, ids[1]));
+  const Status rendered =
+      format_ == FrameFormat::kNv12
+          ? source_->RenderNv12(n,
+                                Nv12Target{BufferView(StereoSide::kLeft, ids[0]),
+                                           ChromaView(StereoSide::kLeft, ids[0])},
+                                Nv12Target{BufferView(StereoSide::kRight, ids[1]),
+                                           ChromaView(StereoSide::kRight, ids[1])})
+          : source_->Render(n, BufferView(StereoSide::kLeft, ids[0]),
+                            BufferView(StereoSide::kRight, ids[1]));
   if (!rendered.ok()) {
     GiveBack(StereoSide::kLeft, ids[0]);
     GiveBack(StereoSide::kRight, ids[1]);
@@ -174,6 +208,7 @@ Status SimCamera::ProduceFrame() {
     ++delivered_[i];
     TimestampedFrame frame;
     frame.view = BufferView(side, ids[i]);
+    frame.frame = FrameOf(side, ids[i]);
     frame.timestamp_ns = t_ns[i];
     frame.sequence = static_cast<uint32_t>(n);
     frame.buffer_id = ids[i];

@@ -61,6 +61,8 @@ class SimCamera final : public StereoCamera {
 
   int width() const { return width_; }
   int height() const { return height_; }
+  // The delivered frames' format (the source's: grey, or NV12 for a world with colour parts).
+  FrameFormat format() const { return format_; }
 
  private:
   struct SidePool {
@@ -77,6 +79,9 @@ class SimCamera final : public StereoCamera {
   bool SideStopped(StereoSide side) const;
   bool FaultsActive() const;
   GrayView BufferView(StereoSide side, uint32_t buffer_id) const;
+  // The NV12 chroma plane behind the Y plane of a buffer (kNv12 only).
+  ImageView<CbCr8> ChromaView(StereoSide side, uint32_t buffer_id) const;
+  FrameView FrameOf(StereoSide side, uint32_t buffer_id) const;
 
   FrameSource* source_;
   SimCameraConfig config_;
@@ -85,6 +90,8 @@ class SimCamera final : public StereoCamera {
   SidePool pools_[2];
   int width_ = 0;
   int height_ = 0;
+  FrameFormat format_ = FrameFormat::kGray8;
+  size_t frame_bytes_ = 0;  // one buffer: the grey image, or Y then the chroma pairs
   bool started_ = false;
   CaptureMode mode_ = CaptureMode::kStereo;
   int64_t starts_ = 0;    // Start() calls that succeeded

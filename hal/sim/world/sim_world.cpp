@@ -1,5 +1,7 @@
 #include "hal/sim/world/sim_world.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "hal/sim/textured_model_files.hpp"
@@ -7,6 +9,38 @@
 #include "tables/model_files.hpp"
 
 namespace sh::render {
+namespace {
+
+// R'G'B' to Y'CbCr, BT.601 full range, as a colour sensor's ISP delivers NV12: Y' per pixel,
+// Cb/Cr of each 2 x 2 block's mean colour (edge blocks of odd sizes over what they cover).
+void RgbToNv12(ImageView<const Rgb8> rgb, GrayView y_plane, ImageView<CbCr8> chroma) {
+  auto byte = [](float v) {
+    return static_cast<uint8_t>(std::lround(std::min(255.0f, std::max(0.0f, v))));
+  };
+  for (int y = 0; y < rgb.height; ++y) {
+    for (int x = 0; x < rgb.width; ++x) {
+      const Rgb8 p = rgb.at(x, y);
+      y_plane.at(x, y) = byte(0.299f * p.r + 0.587f * p.g + 0.114f * p.b);
+    }
+  }
+  for (int cy = 0; cy < chroma.height; ++cy) {
+    for (int cx = 0; cx < chroma.width; ++cx) {
+      float r = 0, g = 0, b = 0;
+      int n = 0;
+      for (int y = 2 * cy; y < std::min(2 * cy + 2, rgb.height); ++y) {
+        for (int x = 2 * cx; x < std::min(2 * cx + 2, rgb.width); ++x, ++n) {
+          const Rgb8 p = rgb.at(x, y);
+          r += p.r, g += p.g, b += p.b;
+        }
+      }
+      r /= float(n), g /= float(n), b /= float(n);
+      chroma.at(cx, cy) = CbCr8{byte(128.0f - 0.168736f * r - 0.331264f * g + 0.5f * b),
+                                byte(128.0f + 0.5f * r - 0.418688f * g - 0.081312f * b)};
+    }
+  }
+}
+
+}  // namespace
 
 void SimWorld::Configure(const SimWorldConfig& config) {
   config_ = config;
@@ -25,6 +59,23 @@ Status SimWorld::BuildNow() {
                          kMaxSimScenes);
   }
   SH_RETURN_IF_ERROR(LoadModelFolder(config.models_dir, &models_));
+  SH_RETURN_IF_ERROR(LoadModelColours(config.models_dir, models_, &colours_));
+  if (config.colour_dir[0] != '\0') {
+    std::vector<Model> parts;
+    std::vector<ModelColour> part_colours;
+    SH_RETURN_IF_ERROR(LoadModelFolder(config.colour_dir, &parts));
+    SH_RETURN_IF_ERROR(LoadModelColours(config.colour_dir, parts, &part_colours));
+    for (size_t i = 0; i < parts.size(); ++i) {
+      if (!part_colours[i].coloured) {
+        return Status::Error(StatusCode::kInvalidArgument,
+                             "%s/%s.obj names no material with a diffuse colour (Kd)",
+                             config.colour_dir, parts[i].name);
+      }
+    }
+    models_.insert(models_.end(), parts.begin(), parts.end());
+    colours_.insert(colours_.end(), part_colours.begin(), part_colours.end());
+  }
+  colour_ = AnyColoured(colours_);
   n_plain_ = model_count();
   printed_.clear();
   if (config.printed_dir[0] != '\0') {
@@ -39,6 +90,7 @@ Status SimWorld::BuildNow() {
                              config.printed_dir, name.c_str());
       }
       models_.push_back(m->model);
+      colours_.push_back(ModelColour{});
       printed_.push_back(std::move(*m));
     }
     if (model_count() > kMaxWorldModels) {
@@ -68,6 +120,7 @@ Status SimWorld::BuildNow() {
     // The cameras stay where they were bolted: every later scene is seen from scene 0's tilt, so
     // all scenes share one table pose (the firmware bounds and the one-camera fallback use it).
     if (i == 0) params.tilt_deg = g->tilt_deg;
+    PaintColourParts(colours_, &scenes_[i].scene);
     for (SceneObject& o : scenes_[i].scene.objects) {
       if (!is_printed(o.model_index)) continue;
       o.albedo = 0.95f;  // the print sets the reflectance
@@ -87,13 +140,30 @@ Status SimWorld::BuildNow() {
   width_ = scenes_[0].calib.left.width;
   height_ = scenes_[0].calib.left.height;
   const size_t per_image = size_t(width_) * size_t(height_);
-  pixels_.reset(new uint8_t[per_image * 2 * size_t(config.scenes)]);
+  const int cw = (width_ + 1) / 2, ch = (height_ + 1) / 2;
+  image_bytes_ = per_image + (colour_ ? 2 * size_t(cw) * size_t(ch) : 0);
+  pixels_.reset(new uint8_t[image_bytes_ * 2 * size_t(config.scenes)]);
+  std::vector<Rgb8> rgb[2];
+  if (colour_) rgb[0].resize(per_image), rgb[1].resize(per_image);
   for (int i = 0; i < config.scenes; ++i) {
-    uint8_t* left = pixels_.get() + per_image * 2 * size_t(i);
-    GrayView l{left, width_, height_, width_};
-    GrayView r{left + per_image, width_, height_, width_};
-    SH_RETURN_IF_ERROR(
-        RenderStereo(scenes_[i].scene, models_.data(), model_count(), scenes_[i].calib, l, r));
+    uint8_t* images[2] = {pixels_.get() + image_bytes_ * 2 * size_t(i),
+                          pixels_.get() + image_bytes_ * (2 * size_t(i) + 1)};
+    RenderTargets targets[2];
+    for (int k = 0; k < 2; ++k) {
+      if (colour_) {
+        targets[k].rgb = {rgb[k].data(), width_, height_, width_};
+      } else {
+        targets[k].image = {images[k], width_, height_, width_};
+      }
+    }
+    SH_RETURN_IF_ERROR(RenderStereo(scenes_[i].scene, models_.data(), model_count(),
+                                    scenes_[i].calib, targets[0], targets[1]));
+    if (!colour_) continue;
+    for (int k = 0; k < 2; ++k) {
+      RgbToNv12(ImageView<const Rgb8>{rgb[k].data(), width_, height_, width_},
+                GrayView{images[k], width_, height_, width_},
+                ImageView<CbCr8>{reinterpret_cast<CbCr8*>(images[k] + per_image), cw, ch, cw});
+    }
   }
   left_T_table_ = scenes_[0].scene.left_T_table;
   n_scenes_ = config.scenes;  // last: built() means complete
@@ -114,11 +184,29 @@ Status SimWorld::Open(int* width, int* height) {
 }
 
 Status SimWorld::Render(uint64_t frame_index, GrayView left, GrayView right) {
-  const size_t per_image = size_t(width_) * size_t(height_);
-  const uint8_t* src = pixels_.get() + per_image * 2 * size_t(SceneOfFrame(frame_index));
+  const uint8_t* src = pixels_.get() + image_bytes_ * 2 * size_t(SceneOfFrame(frame_index));
   for (int y = 0; y < height_; ++y) {
     std::memcpy(left.row(y), src + size_t(y) * width_, size_t(width_));
-    std::memcpy(right.row(y), src + per_image + size_t(y) * width_, size_t(width_));
+    std::memcpy(right.row(y), src + image_bytes_ + size_t(y) * width_, size_t(width_));
+  }
+  return Status::Ok();
+}
+
+Status SimWorld::RenderNv12(uint64_t frame_index, const hal::Nv12Target& left,
+                            const hal::Nv12Target& right) {
+  if (!colour_) {
+    return Status::Error(StatusCode::kFailedPrecondition, "the sim world renders grey frames");
+  }
+  SH_RETURN_IF_ERROR(Render(frame_index, left.y, right.y));
+  const uint8_t* src = pixels_.get() + image_bytes_ * 2 * size_t(SceneOfFrame(frame_index));
+  const size_t per_image = size_t(width_) * size_t(height_);
+  const int cw = (width_ + 1) / 2, ch = (height_ + 1) / 2;
+  const hal::Nv12Target* targets[2] = {&left, &right};
+  for (int k = 0; k < 2; ++k) {
+    const CbCr8* chroma = reinterpret_cast<const CbCr8*>(src + image_bytes_ * k + per_image);
+    for (int y = 0; y < ch; ++y) {
+      std::memcpy(targets[k]->cbcr.row(y), chroma + size_t(y) * cw, sizeof(CbCr8) * size_t(cw));
+    }
   }
   return Status::Ok();
 }

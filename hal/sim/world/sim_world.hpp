@@ -1,5 +1,6 @@
 // The simulator's world as the firmware sees it: reproducible scenes of the reference objects
-// (and, with a folder of printed models, of printed cartons drawn with their artwork),
+// (and, with a folder of printed models, of printed cartons drawn with their artwork; with a
+// folder of colour parts, of those drawn in their MTL colour, delivered as NV12 frames),
 // rendered at boot (or at the first clear-fault that finds the model folder) into buffers owned
 // here and played to the SimCamera as frames (frame n shows scene n mod scene_count), with the
 // ground truth kept per scene. Rendering in advance keeps the trigger path free of allocation and
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "hal/sim/sim_camera_source.hpp"
+#include "hal/sim/world/model_colours.hpp"
 #include "hal/sim/world/printed_surface.hpp"
 #include "hal/sim/world/scene_generator.hpp"
 #include "tables/textured_model.hpp"
@@ -26,6 +28,10 @@ struct SimWorldConfig {
   // Folder of printed models (OBJ + MTL + artwork, hal/sim/textured_model_files) placed in the
   // scenes beside the plain ones, or "" for none. They follow the plain models in models().
   const char* printed_dir = "";
+  // Folder of single-colour parts (OBJ + MTL with a Kd, e.g. models/colour) placed beside the
+  // plain models and drawn in their colour, or "" for none. They follow the plain models in
+  // models(). Models of models_dir with a Kd are drawn in their colour too.
+  const char* colour_dir = "";
   uint64_t seed = 1;
   int scenes = 6;
   int objects = 3;
@@ -49,8 +55,15 @@ class SimWorld final : public hal::FrameSource {
 
   // FrameSource: builds the world if needed (SimCamera::Start), then the frame size.
   Status Open(int* width, int* height) override;
-  // Copies the pre-rendered images of scene frame_index mod scene_count().
+  // Copies the pre-rendered images of scene frame_index mod scene_count() (the Y planes of a
+  // colour world).
   Status Render(uint64_t frame_index, GrayView left, GrayView right) override;
+  // NV12 frames when the world holds colour parts (BT.601 full range, as a colour sensor's ISP
+  // gives them); grey otherwise.
+  FrameFormat format() const override { return colour_ ? FrameFormat::kNv12 : FrameFormat::kGray8; }
+  Status RenderNv12(uint64_t frame_index, const hal::Nv12Target& left,
+                    const hal::Nv12Target& right) override;
+  bool colour() const { return colour_; }
 
   // The rig of the rendered scenes: builds the world if needed, refuses while it cannot be.
   Result<StereoCalibration> Calibration();
@@ -70,6 +83,7 @@ class SimWorld final : public hal::FrameSource {
   const Model* models() const { return models_.data(); }
   int model_count() const { return int(models_.size()); }
   bool is_printed(int model) const { return model >= n_plain_; }
+  bool is_coloured(int model) const { return colours_[size_t(model)].coloured; }
   uint64_t seed() const { return config_.seed; }
 
  private:
@@ -77,13 +91,18 @@ class SimWorld final : public hal::FrameSource {
 
   SimWorldConfig config_;
   std::vector<Model> models_;
-  int n_plain_ = 0;
+  int n_plain_ = 0;  // the plain models and the colour parts, before the printed models
+  std::vector<ModelColour> colours_;  // one per model
+  bool colour_ = false;               // some model is coloured: frames are NV12
   std::vector<TexturedModel> printed_;
   std::vector<PrintedSurface> prints_;  // one per printed model, pointing into printed_
   std::unique_ptr<GeneratedScene[]> scenes_;
   int n_scenes_ = 0;
   int width_ = 0, height_ = 0;
-  std::unique_ptr<uint8_t[]> pixels_;  // scene i: left then right, width x height each
+  // Scene i: left then right, each width x height (grey) or the Y plane then the chroma pairs
+  // (NV12, image_bytes_ in all).
+  std::unique_ptr<uint8_t[]> pixels_;
+  size_t image_bytes_ = 0;
   RigidTransform left_T_table_;
 };
 
