@@ -219,6 +219,7 @@ class SimBoard final : public Board {
     render::SimWorldConfig wc;
     wc.models_dir = models_dir_;
     wc.printed_dir = config.sim_printed_models;
+    wc.colour_dir = config.sim_colour_models;
     wc.seed = config.sim_seed;
     wc.scenes = config.sim_scenes;
     wc.objects = config.sim_objects;

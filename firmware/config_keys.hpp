@@ -173,6 +173,9 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
   TEXT(sim_printed_models, kConfigPathMax, "",                                                     \
        "folder of printed models (OBJ, MTL, artwork) the scenes also place, drawn with their "     \
        "print, e.g. models/textured; empty = none")                                                \
+  TEXT(sim_colour_models, kConfigPathMax, "",                                                      \
+       "folder of single-colour parts (OBJ + MTL with a Kd) the scenes also place, drawn in "      \
+       "their colour; the cameras then deliver NV12 frames, e.g. models/colour; empty = none")      \
   INT(sim_scenes, int, 6, 1, 64, "", "scenes rendered at boot; frame n shows scene n mod count")   \
   CHOICE(sim_camera_fault, SimCameraFault, SimCameraFault::kNone,                                 \
          "none|right_silent|drop_right|left_silent|right_absent|left_absent",                      \

@@ -29,6 +29,12 @@ Result<TableView> FileDataSource::LoadTable() {
     size = DefaultTableBlobSize();
   } else {
     mapped_.Close();
+    // A model set of colour parts alone has no polyhedra: no hash tables, not the built-in ones.
+    const Result<uint32_t> kinds = FileBlobKinds(tables_path_);
+    if (kinds.ok() && (*kinds & KindBit(SectionKind::kHash3d)) == 0 &&
+        (*kinds & KindBit(SectionKind::kShapeViews)) != 0) {
+      return table_;
+    }
     SH_RETURN_IF_ERROR(mapped_.Open(tables_path_));
     if (!corrupt_tables_) {
       table_ = mapped_.view();
@@ -64,6 +70,20 @@ Result<FeatureDbView> FileDataSource::LoadFeatures() {
   if (!TablesHoldPrintedModels()) return FeatureDbView();
   SH_RETURN_IF_ERROR(mapped_features_.Open(tables_path_));
   return mapped_features_.view();
+}
+
+Result<ShapeViewsView> FileDataSource::LoadShapeViews() {
+  mapped_views_.Close();  // the previous view points into it
+  if (std::strcmp(tables_path_, "builtin") == 0) return ShapeViewsView();
+  const Result<uint32_t> kinds = FileBlobKinds(tables_path_);
+  // A set that does not open is the tables' fault (LoadTable reports it), not a second one.
+  if (!kinds.ok() || (*kinds & KindBit(SectionKind::kShapeViews)) == 0) return ShapeViewsView();
+  if (corrupt_tables_) {
+    return Status::Error(StatusCode::kDataLoss, "%s: view database damaged (injected)",
+                         tables_path_);
+  }
+  SH_RETURN_IF_ERROR(mapped_views_.Open(tables_path_));
+  return mapped_views_.view();
 }
 
 bool FileDataSource::TablesHoldPrintedModels() const {

@@ -1,7 +1,8 @@
 // The firmware's data: model tables (linked in, a mapped file, or the HASH3D section of a model
-// set), the printed models' feature database (a mapped file, or the model set's
-// TEXTURE_FEATURES section; optional) and the stereo calibration (YAML file, or the simulator
-// rig). Reloaded when a data fault is cleared, so a file fixed on
+// set; none for a set of colour parts alone), the colour parts' view database (the model set's
+// SHAPE_VIEWS section; optional), the printed models' feature database (a mapped file, or the
+// model set's TEXTURE_FEATURES section; optional) and the stereo calibration (YAML file, or the
+// simulator rig). Reloaded when a data fault is cleared, so a file fixed on
 // the board is picked up without a restart.
 #pragma once
 
@@ -10,6 +11,7 @@
 
 #include "firmware/firmware_core.hpp"
 #include "tables/feature_db_view.hpp"
+#include "tables/shape_views_file.hpp"
 #include "tables/table_file.hpp"
 
 namespace sh::fw {
@@ -34,6 +36,8 @@ class FileDataSource final : public DataSource {
   Result<TableView> LoadTable() override;
   Result<StereoCalibration> LoadCalibration() override;
   Result<FeatureDbView> LoadFeatures() override;
+  // The SHAPE_VIEWS section of the model set given as tables, or an empty view.
+  Result<ShapeViewsView> LoadShapeViews() override;
 
   // The feature database file (`features`); "" = the TEXTURE_FEATURES section of the model set
   // given as tables, if it has one, else no printed models (the default).
@@ -61,6 +65,7 @@ class FileDataSource final : public DataSource {
   const char* features_path_ = "";
   MappedTable mapped_;
   MappedFeatureDb mapped_features_;
+  MappedShapeViews mapped_views_;
   std::unique_ptr<uint64_t[]> corrupt_copy_;  // 8-byte aligned as TableView requires
   TableView table_;
 };

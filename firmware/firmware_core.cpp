@@ -170,18 +170,36 @@ void FirmwareCore::LoadData() {
     Log("feature database: %s", features.status().message());
     RaiseFault(kFaultTables, EmcyCode::kDataSet, kDetailFeatures);
   }
+  // The colour parts' view database (the model set's SHAPE_VIEWS section): model data too.
+  const Result<ShapeViewsView> views = dev_.data->LoadShapeViews();
+  if (!views.ok()) {
+    Log("view database: %s", views.status().message());
+    RaiseFault(kFaultTables, EmcyCode::kDataSet, kDetailTables);
+  }
   const Result<StereoCalibration> calib = dev_.data->LoadCalibration();
   if (!calib.ok()) {
     Log("calibration: %s", calib.status().message());
     RaiseFault(kFaultCalibration, EmcyCode::kDataSet, kDetailCalibration);
   }
-  if (!table.ok() || !features.ok() || !calib.ok()) return;
+  if (!table.ok() || !features.ok() || !views.ok() || !calib.ok()) return;
 
-  // Model ids: the hash tables' polyhedra, then the printed models (ModelSet's order).
+  // Model ids: the hash tables' polyhedra, the colour parts, then the printed models (ModelSet's
+  // order).
   table_ = *table;
   features_ = *features;
-  models_ = ModelSet(&table_, nullptr, &features_);
+  shape_views_ = *views;
+  models_ = ModelSet(&table_, &shape_views_, &features_);
   model_count_ = models_.count();
+  if (model_count_ == 0 || model_count_ > canopen::kMaxModelNames) {
+    Log("model data: %zu models (1..%u model ids)", model_count_,
+        unsigned{canopen::kMaxModelNames});
+    RaiseFault(kFaultTables, EmcyCode::kDataSet,
+               model_count_ == 0 ? kDetailTables : kDetailFeatures);
+    return;
+  }
+  // Colour parts need colour frames: the camera asks for a colour format from its next start
+  // (boot starts it after this; a set reloaded by clear-fault takes effect at the next restart).
+  dev_.camera->SetColourWanted(models_.shape_count() > 0);
   const char* names[canopen::kMaxModelNames] = {};
   for (size_t m = 0; m < model_count_ && m < canopen::kMaxModelNames; ++m) {
     names[m] = models_.model(static_cast<uint32_t>(m)).name;

@@ -35,6 +35,7 @@
 #include "recog/base/vector.hpp"
 #include "recog/camera/camera_model.hpp"
 #include "recog/pipeline/model_set.hpp"
+#include "recog/shape/view_database.hpp"
 #include "tables/feature_db_view.hpp"
 #include "tables/table_view.hpp"
 
@@ -50,6 +51,8 @@ class DataSource {
   virtual Result<StereoCalibration> LoadCalibration() = 0;
   // The feature database of the printed models, or an empty view when none is configured.
   virtual Result<FeatureDbView> LoadFeatures() { return FeatureDbView(); }
+  // The colour parts' view database (the model set's SHAPE_VIEWS section), or an empty view.
+  virtual Result<ShapeViewsView> LoadShapeViews() { return ShapeViewsView(); }
 };
 
 // Reports from the core (simulator stdout, tests). Called from the core's threads; must not
@@ -267,6 +270,7 @@ class FirmwareCore final : public RecorderObserver {
   // models_ until the next load.
   TableView table_;
   FeatureDbView features_;
+  ShapeViewsView shape_views_;
   ModelSet models_;
 
   // Trigger queue and clear-fault request, guarded by mutex_.

@@ -37,7 +37,9 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const ModelSet&
   }
   config.recognizer.model_mask = model_mask;
   const TableView table = models.hash() != nullptr ? *models.hash() : TableView();
-  SH_RETURN_IF_ERROR(pipeline_->Init(calib, table, config, &MonotonicNs));
+  // The colour parts' view database, when the set has one: the pipeline then allocates the
+  // shape path's buffers (here, at boot) and runs it on colour frames.
+  SH_RETURN_IF_ERROR(pipeline_->Init(calib, table, config, &MonotonicNs, models.shape()));
   if (models.printed() != nullptr) SH_RETURN_IF_ERROR(InitPrinted(calib, models));
   if (mono_ == nullptr) return Status::Ok();
   // The monocular fallback: the model set's aspect table, else the linked-in one; its models
@@ -128,8 +130,8 @@ Status PipelineRecognition::SetModelMask(uint32_t model_mask) {
   config.recognizer.model_mask = model_mask;
   const StereoCalibration calib = pipeline_->calibration();
   const TableView table = pipeline_->table();
-  SH_RETURN_IF_ERROR(pipeline_->Init(calib, table, config, &MonotonicNs));
-  model_mask_ = model_mask;  // the printed models' bits are applied to their objects
+  SH_RETURN_IF_ERROR(pipeline_->Init(calib, table, config, &MonotonicNs, models_.shape()));
+  model_mask_ = model_mask;  // the colour and printed models' bits are applied to their objects
   return Status::Ok();
 }
 
@@ -174,8 +176,10 @@ Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_
       cartons[n_cartons++] = {&texture_->db().model(c.model), c.cam_T_model};
     }
   }
-  SH_RETURN_IF_ERROR(pipeline_->Process(frame.left, frame.right, polyhedra_budget_ms, &result_,
-                                        cartons, n_cartons));
+  // The frames as delivered: the polyhedral path reads their grey (the Y plane in place), the
+  // colour parts' path runs when they are colour and the set holds colour parts.
+  SH_RETURN_IF_ERROR(pipeline_->Process(frame.left_frame, frame.right_frame, polyhedra_budget_ms,
+                                        &result_, cartons, n_cartons));
   set->status = result_.recognition.budget_exhausted ? protocol::ResultStatus::kTimeBudgetHit
                                                      : protocol::ResultStatus::kOk;
   size_t n = 0;
@@ -184,6 +188,8 @@ Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_
     // A polyhedron inside a printed carton is the carton's box edges read as a polyhedron: the
     // carton, confirmed by its print, takes the place.
     if (printed && InsideCarton(models_.model(o.model), o.cam_T_model)) continue;
+    // The mask selects colour parts too (the polyhedral search applies it itself).
+    if (o.model > 31 || (model_mask_ & (1u << o.model)) == 0) continue;
     // The weaker image decides: an object must be confirmed in both views.
     const float score = std::clamp(std::min(o.verify_score[0], o.verify_score[1]), 0.0f, 1.0f);
     set->objects[n++] = protocol::MakeObjectPose(o.cam_T_model, static_cast<uint8_t>(o.model),

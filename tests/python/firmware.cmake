@@ -52,6 +52,18 @@ if(TARGET stereohash-fw-sim)
     if(CMAKE_CROSSCOMPILING)
       set_tests_properties(python_firmware_e2e_printed PROPERTIES LABELS host_only)
     endif()
+    # Colour parts: the can and the bracket beside the polyhedra, NV12 frames from the simulated
+    # cameras, one model set with HASH3D and SHAPE_VIEWS (docs/firmware.md, Single-colour parts).
+    add_test(NAME python_firmware_e2e_colour
+             COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_firmware_e2e.py
+                     --firmware $<TARGET_FILE:stereohash-fw-sim>
+                     --dbc ${PROJECT_SOURCE_DIR}/firmware/stereohash.dbc
+                     --triggers 10 --scenes 10 --objects 4 --seed 101 --min-recall 0.85
+                     --min-colour-recall 0.9 --colour $<TARGET_FILE:stereohash>)
+    set_tests_properties(python_firmware_e2e_colour PROPERTIES TIMEOUT 600 SKIP_RETURN_CODE 77)
+    if(CMAKE_CROSSCOMPILING)
+      set_tests_properties(python_firmware_e2e_colour PROPERTIES LABELS host_only)
+    endif()
   endif()
   stereohash_add_pdo_e2e(pdo truth)
 endif()

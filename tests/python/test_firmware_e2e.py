@@ -18,6 +18,12 @@ models/textured: the program learns their feature database (`stereohash tables b
 firmware maps it (`features`) and reports the cartons with the model ids after the tables'
 polyhedra, and every carton of the ground truth must be found (--min-printed-recall). Counts
 are printed per model. --config-line adds configuration lines (repeatable).
+
+With --colour STEREOHASH the scenes also hold single-colour parts (the can and the bracket of
+models/colour, `sim_colour_models`), which the simulated cameras deliver as NV12 colour frames:
+the program builds one model set of the six polyhedra and the two parts (HASH3D and SHAPE_VIEWS,
+`tables`), the firmware reports the parts with the model ids after the polyhedra, and every part
+of the ground truth must be found (--min-colour-recall), none reported where the truth has none.
 """
 import argparse
 import json
@@ -167,7 +173,7 @@ class FirmwareEndToEndTest(unittest.TestCase):
             "budget_ms = 2000",
             "recognition = %s" % recognition, "sim_wait_for_client = true",
             "result_mode = %s" % ARGS.result_mode] + self.printed_lines() +
-            ARGS.config_line + [""]))
+            self.colour_lines() + ARGS.config_line + [""]))
         try:
             time.sleep(0.2)
             if fw.proc.poll() is not None:
@@ -195,6 +201,35 @@ class FirmwareEndToEndTest(unittest.TestCase):
         subprocess.run([ARGS.printed, "tables", "build", "--models", models, "--out", features],
                        check=True, stdout=subprocess.DEVNULL)
         return ["features = %s" % features, "sim_printed_models = %s" % models]
+
+    def colour_lines(self):
+        """Configuration lines of the colour parts (--colour): one model set of the polyhedra of
+        models/ and the can and bracket of models/colour, and those parts in the scenes."""
+        if not ARGS.colour:
+            return []
+        root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+        self.colour_dir = tempfile.TemporaryDirectory()
+        self.addCleanup(self.colour_dir.cleanup)
+        both = os.path.join(self.colour_dir.name, "mixed")
+        parts = os.path.join(self.colour_dir.name, "parts")
+        os.mkdir(both)
+        os.mkdir(parts)
+        polyhedra = ["cube", "hexagon", "pentagon", "star", "trapezium", "wedge"]
+        self.colour_names = {"can", "bracket"}
+        for name in polyhedra:
+            os.symlink(os.path.join(root, "models", name + ".obj"),
+                       os.path.join(both, name + ".obj"))
+        for name in sorted(self.colour_names):
+            for ext in (".obj", ".mtl"):
+                src = os.path.join(root, "models", "colour", name + ext)
+                os.symlink(src, os.path.join(both, name + ext))
+                os.symlink(src, os.path.join(parts, name + ext))
+        with open(os.path.join(both, "models.txt"), "w") as f:
+            f.write("\n".join(polyhedra + ["can", "bracket"]) + "\n")
+        model_set = os.path.join(self.colour_dir.name, "mixed.bin")
+        subprocess.run([ARGS.colour, "tables", "build", "--models", both, "--out", model_set],
+                       check=True, stdout=subprocess.DEVNULL)
+        return ["tables = %s" % model_set, "sim_colour_models = %s" % parts]
 
     def request_object(self, plc, sequence, count, index):
         """The PDO handshake for one object: RPDO2 out, TPDO5..8 back; fields as RO_* names."""
@@ -387,6 +422,16 @@ class FirmwareEndToEndTest(unittest.TestCase):
             self.assertGreaterEqual(found_printed, ARGS.min_printed_recall * truth_printed)
             self.assertEqual(sum(false_per_model.get(m, 0) for m in printed), 0,
                              "cartons reported where the truth has none")
+        if ARGS.colour:
+            colour = [m for m, n in enumerate(models["names"]) if n in self.colour_names]
+            self.assertEqual(colour, [6, 7], "colour parts follow the six polyhedra")
+            truth_colour = sum(truth_per_model.get(m, 0) for m in colour)
+            found_colour = sum(found_per_model.get(m, 0) for m in colour)
+            print("  colour parts: %d of %d found" % (found_colour, truth_colour))
+            self.assertGreater(truth_colour, 0, "no colour part in the scenes")
+            self.assertGreaterEqual(found_colour, ARGS.min_colour_recall * truth_colour)
+            self.assertEqual(sum(false_per_model.get(m, 0) for m in colour), 0,
+                             "colour parts reported where the truth has none")
 
 
 def main():
@@ -407,6 +452,9 @@ def main():
     parser.add_argument("--printed", help="path of the stereohash tools program: add the "
                         "printed cartons of models/textured")
     parser.add_argument("--min-printed-recall", type=float, default=1.0)
+    parser.add_argument("--colour", help="path of the stereohash tools program: add the colour "
+                        "parts can and bracket of models/colour")
+    parser.add_argument("--min-colour-recall", type=float, default=1.0)
     parser.add_argument("--config-line", action="append", default=[],
                         help="a configuration line added to the simulator's file (repeatable)")
     ARGS, rest = parser.parse_known_args()
