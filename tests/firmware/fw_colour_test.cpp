@@ -95,7 +95,9 @@ const Files& TestFiles() {
         BuildModelSet({{uint32_t(SectionKind::kShapeViews), f->views.data(), f->views.size()}});
     EXPECT_TRUE(set.ok()) << set.status().message();
     f->set = f->dir + "/colour.bin";
-    if (set.ok()) EXPECT_TRUE(WriteFile(f->set, set->data(), set->size()));
+    if (set.ok()) {
+      EXPECT_TRUE(WriteFile(f->set, set->data(), set->size()));
+    }
     return f;
   }();
   return *files;
