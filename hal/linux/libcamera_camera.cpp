@@ -27,7 +27,7 @@ namespace {
 
 struct FormatChoice {
   lc::PixelFormat pixel_format;
-  FrameFormat frame_format;  // how the frames are handed out
+  FrameFormat frame_format = FrameFormat::kGray8;  // how the frames are handed out
 };
 
 // Preference orders (see the header). Grey: formats whose first plane is 8-bit grey, delivered

@@ -25,19 +25,13 @@
 #include "tests/support/aligned_blob.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
+#include "tests/support/sim_scene_observer.hpp"
 
 namespace sh::testing {
 namespace {
 
 const std::string kColourModels = std::string(STEREOHASH_FW_SOURCE_MODELS_DIR) + "/colour";
 constexpr const char* kParts[] = {"cube", "can"};  // model ids 0 and 1 of the set
-
-bool WriteFile(const std::string& path, const void* data, size_t size) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (f == nullptr) return false;
-  const bool ok = std::fwrite(data, 1, size, f) == size;
-  return std::fclose(f) == 0 && ok;
-}
 
 std::string ReadFile(const std::string& path) {
   std::string text;
@@ -73,7 +67,7 @@ const Files& TestFiles() {
       for (const char* ext : {".obj", ".mtl"}) {
         const std::string text = ReadFile(kColourModels + "/" + name + ext);
         EXPECT_FALSE(text.empty()) << name << ext;
-        EXPECT_TRUE(WriteFile(f->parts_dir + "/" + name + ext, text.data(), text.size()));
+        EXPECT_TRUE(WriteTestFile(f->parts_dir + "/" + name + ext, text.data(), text.size()));
       }
       manifest += std::string(name) + "\n";
       Result<Model> m = LoadModelFile(obj);
@@ -84,7 +78,7 @@ const Files& TestFiles() {
       EXPECT_TRUE(LoadModelColour(obj, in.model, in.kd).ok());
       inputs.push_back(in);
     }
-    EXPECT_TRUE(WriteFile(f->parts_dir + "/models.txt", manifest.data(), manifest.size()));
+    EXPECT_TRUE(WriteTestFile(f->parts_dir + "/models.txt", manifest.data(), manifest.size()));
     ShapeViewBuildOptions options;  // fewer components and PCA views: quick under qemu
     options.n_components = 60;
     options.pca_views = 1500;
@@ -96,40 +90,12 @@ const Files& TestFiles() {
     EXPECT_TRUE(set.ok()) << set.status().message();
     f->set = f->dir + "/colour.bin";
     if (set.ok()) {
-      EXPECT_TRUE(WriteFile(f->set, set->data(), set->size()));
+      EXPECT_TRUE(WriteTestFile(f->set, set->data(), set->size()));
     }
     return f;
   }();
   return *files;
 }
-
-// The scene of each result set, by its sequence (the core reports a set after sending it).
-class SceneObserver final : public CoreObserver {
- public:
-  explicit SceneObserver(const render::SimWorld* world) : world_(world) {}
-  void OnResult(const ResultSet& set, const hal::StereoFrame* frame) override {
-    if (frame == nullptr) return;
-    colour_frames_ += frame->left_frame.format == FrameFormat::kNv12 ? 1 : 0;
-    scene_ = world_->SceneOfFrame(frame->left_sequence);
-    sequence_ = set.sequence;
-    ++results_;
-  }
-  int SceneOf(uint16_t sequence) const {
-    for (int i = 0; i < 5000; ++i) {
-      if (results_.load() > 0 && sequence_.load() == sequence) return scene_.load();
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    return -1;
-  }
-  int colour_frames() const { return colour_frames_.load(); }
-
- private:
-  const render::SimWorld* world_;
-  std::atomic<int> scene_{-1};
-  std::atomic<uint16_t> sequence_{0};
-  std::atomic<int> results_{0};
-  std::atomic<int> colour_frames_{0};
-};
 
 // Position error at the corner centroid (which the symmetries fix) and rotation error modulo the
 // model's symmetries.

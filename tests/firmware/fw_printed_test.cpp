@@ -27,6 +27,7 @@
 #include "tests/support/aligned_blob.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
+#include "tests/support/sim_scene_observer.hpp"
 
 namespace sh::testing {
 namespace {
@@ -34,10 +35,7 @@ namespace {
 const std::string kModels = STEREOHASH_FW_SOURCE_MODELS_DIR;
 
 bool WriteFile(const std::string& path, const std::vector<uint8_t>& bytes) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (f == nullptr) return false;
-  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  return std::fclose(f) == 0 && ok;
+  return WriteTestFile(path, bytes.data(), bytes.size());
 }
 
 bool CopyFile(const std::string& from, const std::string& to) {
@@ -106,32 +104,6 @@ const Files& TestFiles() {
   }();
   return *files;
 }
-
-// The scene of each result set, by its sequence (the core reports a set after sending it).
-class SceneObserver final : public CoreObserver {
- public:
-  explicit SceneObserver(const render::SimWorld* world) : world_(world) {}
-  void OnResult(const ResultSet& set, const hal::StereoFrame* frame) override {
-    if (frame == nullptr) return;
-    scene_ = world_->SceneOfFrame(frame->left_sequence);
-    sequence_ = set.sequence;
-    ++results_;
-  }
-  // The scene of the set with this sequence, waiting for the report (-1: none came).
-  int SceneOf(uint16_t sequence) const {
-    for (int i = 0; i < 5000; ++i) {
-      if (results_.load() > 0 && sequence_.load() == sequence) return scene_.load();
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    return -1;
-  }
-
- private:
-  const render::SimWorld* world_;
-  std::atomic<int> scene_{-1};
-  std::atomic<uint16_t> sequence_{0};
-  std::atomic<int> results_{0};
-};
 
 float AngleDeg(const ObjectPose& p, const RigidTransform& truth) {
   const Eigen::Quaternionf q(

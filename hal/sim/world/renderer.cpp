@@ -216,7 +216,8 @@ Status RenderView(const RenderScene& scene, const Model* models, int n_models,
     Eigen::Vector2f xy[kMaxImageWidth + 1];  // undistorted normalised coordinates
     Sample sample[kMaxImageWidth + 1];
   };
-  static_assert(sizeof(CornerRow) < 32 * 1024, "corner rows are meant to live on the stack");
+  static_assert(sizeof(CornerRow) < size_t{32} * 1024,
+                "corner rows are meant to live on the stack");
   CornerRow rows[2];
   auto fill_row = [&](CornerRow& row, int j) {
     Eigen::Vector2d xy = UndistortPixel(camera, {-0.5, j - 0.5});
