@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -145,6 +146,51 @@ TEST_F(RecognizeToolTest, JsonMatchesTheRenderedTruth) {
     EXPECT_EQ(be32(16), uint32_t(2 * width)) << name;
     EXPECT_EQ(uint8_t(png[25]), 2) << name;  // colour type RGB
   }
+}
+
+// `render --scenes-per-row` writes a set in the recorded sets' layout: one calibration and table
+// pose, six rows of scenes in the grid's order, each object's visible fraction per image, and
+// colour PNGs for colour parts (grey ones for plain models).
+TEST_F(RecognizeToolTest, RenderWritesAColourSetInTheRecordedLayout) {
+  const std::string set = Path("colour_set");
+  const ToolRun r = RunTool("render --out " + set +
+                            " --models models/colour --scenes-per-row 1 --objects 2 --seed 9");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("wrote 6 scenes"), std::string::npos) << r.output;
+  EXPECT_FALSE(ReadText(set + "/calib.yaml").empty());
+  EXPECT_FALSE(ReadText(set + "/table.yaml").empty());
+  const char* rows[6][2] = {{"dark", "none"},  {"dark", "some"},  {"dark", "severe"},
+                            {"light", "none"}, {"light", "some"}, {"light", "severe"}};
+  const std::vector<std::string> names = {"bracket",  "can",  "cube",      "hexagon",
+                                          "pentagon", "star", "trapezium", "wedge"};
+  std::vector<uint8_t> pixels(size_t{756} * 581 * 3);
+  for (int i = 0; i < 6; ++i) {
+    char scene[64];
+    std::snprintf(scene, sizeof(scene), "%s/scene%02d/", set.c_str(), i);
+    Json truth;
+    ASSERT_TRUE(JsonReader(ReadText(std::string(scene) + "truth.json")).Parse(&truth)) << scene;
+    EXPECT_EQ(truth["background"].text, rows[i][0]) << scene;
+    EXPECT_EQ(truth["occlusion"].text, rows[i][1]) << scene;
+    ASSERT_EQ(truth["objects"].size(), 2u) << scene;
+    for (const Json& o : truth["objects"].items) {
+      EXPECT_NE(std::find(names.begin(), names.end(), o["model"].text), names.end());
+      ASSERT_EQ(o["visible"].size(), 2u);
+      for (int k = 0; k < 2; ++k) {
+        EXPECT_GE(o["visible"][k].number, 0.0);
+        EXPECT_LE(o["visible"][k].number, 1.0);
+      }
+    }
+    const Result<hal::ImageInfo> left =
+        hal::ReadImageFile((std::string(scene) + "left.png").c_str(), hal::PixelFormat::kRgb8,
+                           pixels.data(), pixels.size());
+    ASSERT_TRUE(left.ok()) << left.status().message();
+    EXPECT_EQ(left->file_channels, 3) << scene;
+  }
+  // Plain models (the suite's pair): grey images.
+  const Result<hal::ImageInfo> info = hal::ReadImageFile(
+      Path("left.png").c_str(), hal::PixelFormat::kRgb8, pixels.data(), pixels.size());
+  ASSERT_TRUE(info.ok()) << info.status().message();
+  EXPECT_EQ(info->file_channels, 1);
 }
 
 TEST_F(RecognizeToolTest, MissingFileIsAClearError) {
