@@ -296,6 +296,15 @@ int RunBenchRecorded(int argc, char** argv) {
     table.left_T_table = *pose;
     table.source = table_path;
   }
+  // The set's table.yaml, also under --no-table: the estimated table is compared with it.
+  bool have_reference = false;
+  RigidTransform reference;
+  if (IsFile(dir + "/table.yaml")) {
+    const Result<RigidTransform> pose = LoadTablePose((dir + "/table.yaml").c_str());
+    if (!pose.ok()) return Fail(pose.status().message());
+    have_reference = true;
+    reference = *pose;
+  }
   LoadedTables tables;
   Status s = LoadTables(options, &tables);
   if (!s.ok()) return Fail(s.message());
@@ -366,6 +375,9 @@ int RunBenchRecorded(int argc, char** argv) {
     int mono_causes[3] = {};  // monocular misses: no features, no edges, not found
     int vis_objects[kVisibilityBins] = {}, vis_correct[kVisibilityBins] = {};
     std::string rows_json, scene_json, vis_json;
+    // Table estimates: made, accepted, their errors against DIR/table.yaml, their time.
+    int estimates = 0, estimates_accepted = 0;
+    std::vector<float> normal_err_deg, offset_err_mm, table_ms;
   };
   auto run = [&](bool monocular, Summary* sum) -> Status {
     std::vector<Row> rows;
@@ -446,6 +458,48 @@ int RunBenchRecorded(int argc, char** argv) {
         row.lines3d.push_back(float(result->lines3d));
       }
       row.time_ms.push_back(total_ms);
+      std::string table_json;
+      if (!monocular) {
+        table_json = std::string("\"table\": \"") + TableSourceName(result->table_source) + "\", ";
+        const TableEstimate& e = result->table_estimate;
+        if (e.outcome != TableEstimateOutcome::kDisabled) {
+          ++sum->estimates;
+          sum->table_ms.push_back(result->time.table_ms);
+          float normal_err = -1, offset_err = 0;
+          if (have_reference) {
+            // Angle between the normals; height of the reference origin over the estimated plane.
+            const Eigen::Vector3f n = e.left_T_table.R.col(2);
+            normal_err = std::acos(std::min(1.0f, n.dot(reference.R.col(2)))) * 57.29578f;
+            offset_err = n.dot(reference.t_mm - e.left_T_table.t_mm);
+          }
+          if (e.accepted()) {
+            ++sum->estimates_accepted;
+            if (have_reference) {
+              sum->normal_err_deg.push_back(normal_err);
+              sum->offset_err_mm.push_back(std::fabs(offset_err));
+            }
+          }
+          char buffer[320];
+          std::snprintf(buffer, sizeof(buffer),
+                        "\"table_estimate\": {\"outcome\": \"%s\", \"objects\": %u, "
+                        "\"resting\": %u, \"rms_mm\": %.3f, \"dropped\": %u, "
+                        "\"normal_err_deg\": %.3f, \"offset_mm\": %.2f}, ",
+                        TableEstimateOutcomeName(e.outcome), e.objects, e.resting, e.rms_mm,
+                        result->table_dropped, normal_err, offset_err);
+          table_json += buffer;
+          if (verbose) {
+            std::printf(
+                "%s: table estimate %s: %u of %u objects rest on it, rms %.2f mm, %u "
+                "features dropped",
+                name.c_str(), TableEstimateOutcomeName(e.outcome), e.resting, e.objects, e.rms_mm,
+                result->table_dropped);
+            if (have_reference && e.accepted()) {
+              std::printf("; against table.yaml %.2f deg, %.2f mm", normal_err, offset_err);
+            }
+            std::printf("\n");
+          }
+        }
+      }
       for (size_t i = 0; i < truth.objects.size(); ++i) {
         const int bin = VisibilityBin(truth.visible[i]);
         ++sum->vis_objects[bin];
@@ -529,6 +583,7 @@ int RunBenchRecorded(int argc, char** argv) {
                       result->points3d, result->lines3d, result->recognition.scene_bases_tried);
         sum->scene_json += buffer;
       }
+      sum->scene_json += table_json;
       sum->scene_json += "\"missed\": [" + missed_json + "], \"false\": [" + false_json + "]}";
     }
 
@@ -583,6 +638,19 @@ int RunBenchRecorded(int argc, char** argv) {
           Median(total.feature_t_err_mm), Median(total.feature_r_err_deg), Median(total.time_ms),
           Max(total.time_ms), Median(total.features_ms), Median(total.stereo_ms),
           Median(total.hashing_ms), Median(total.verify_ms));
+    }
+    if (sum->estimates > 0) {
+      std::printf("table estimated in %d of %d scenes, %.2f ms median, %.2f ms worst",
+                  sum->estimates_accepted, sum->estimates, Median(sum->table_ms),
+                  Max(sum->table_ms));
+      if (!sum->normal_err_deg.empty()) {
+        std::printf(
+            "; against table.yaml: normal %.2f deg median, %.2f worst; offset %.2f mm "
+            "median, %.2f worst",
+            Median(sum->normal_err_deg), Max(sum->normal_err_deg), Median(sum->offset_err_mm),
+            Max(sum->offset_err_mm));
+      }
+      std::printf("\n");
     }
     std::printf("recall by visibility:");
     for (int b = 0; b < kVisibilityBins; ++b) {

@@ -76,6 +76,19 @@ void PrintTable(const ModelSet& models, const PipelineResult& r) {
       d[0].adaptive ? "automatic" : "preset", d[0].noise_sigma, d[1].noise_sigma, d[0].canny_low,
       d[0].canny_high, d[1].canny_low, d[1].canny_high, d[0].corner_threshold,
       d[1].corner_threshold);
+  const TableEstimate& e = r.table_estimate;
+  if (r.table_source == TableSource::kEstimated) {
+    const Eigen::Vector3f n = e.left_T_table.R.col(2);
+    std::printf(
+        "table: estimated from the objects found (%u of %u rest on it, rms %.2f mm): normal "
+        "(%.4f, %.4f, %.4f), camera %.1f mm over it; %u 3-D features outside the space over it "
+        "dropped and the search repeated\n",
+        e.resting, e.objects, e.rms_mm, n.x(), n.y(), n.z(), -n.dot(e.left_T_table.t_mm),
+        r.table_dropped);
+  } else if (r.table_source == TableSource::kNone) {
+    std::printf("table: none (estimate: %s, %u of %u objects on one plane)\n",
+                TableEstimateOutcomeName(e.outcome), e.resting, e.objects);
+  }
   std::printf("recognition: %u of %u scene bases tried, %u hypotheses, %u verified, %u accepted\n",
               r.recognition.scene_bases_tried, r.recognition.scene_bases_available,
               r.recognition.hypotheses, r.recognition.verifications, r.recognition.accepted);

@@ -266,6 +266,14 @@ bool ApplyPipelineSetting(const char* setting, PipelineConfig* c) {
     c->features.corner_contrast_snr = v;
   } else if (name == "features.corner_min_contrast") {
     c->features.corner_min_contrast = v;
+  } else if (name == "table_estimate.enabled") {
+    c->table_estimate.enabled = v != 0.0f;
+  } else if (name == "table_estimate.search_again") {
+    c->table_estimate.search_again = v != 0.0f;
+  } else if (name == "table_estimate.min_objects") {
+    c->table_estimate.min_objects = static_cast<uint32_t>(v);
+  } else if (name == "table_estimate.tolerance_mm") {
+    c->table_estimate.tolerance_mm = v;
   } else {
     return false;
   }
@@ -311,6 +319,29 @@ void PrintObjectLine(size_t index, const char* model_name, const RecognizedObjec
               o.verify_score[1]);
 }
 
+// The estimated plane (normal towards the cameras, a point of it: the table frame's origin), its
+// support and the outcome, as JSON members without braces.
+std::string TableEstimateJson(const PipelineResult& r) {
+  const TableEstimate& e = r.table_estimate;
+  char buffer[768];
+  int n = std::snprintf(buffer, sizeof(buffer),
+                        "\"estimate\": \"%s\", \"objects\": %u, \"resting\": %u",
+                        TableEstimateOutcomeName(e.outcome), e.objects, e.resting);
+  if (e.accepted()) {
+    const Eigen::Vector3f nz = e.left_T_table.R.col(2);
+    const Eigen::Matrix3f& R = e.left_T_table.R;
+    const Eigen::Vector3f& t = e.left_T_table.t_mm;
+    std::snprintf(buffer + n, sizeof(buffer) - size_t(n),
+                  ", \"corners\": %u, \"rms_mm\": %.3f, \"normal\": [%.6f, %.6f, %.6f], "
+                  "\"camera_height_mm\": %.3f, \"R\": [[%.7f, %.7f, %.7f], [%.7f, %.7f, %.7f], "
+                  "[%.7f, %.7f, %.7f]], \"t\": [%.4f, %.4f, %.4f], \"dropped\": %u",
+                  e.corners, e.rms_mm, nz.x(), nz.y(), nz.z(), -nz.dot(t), R(0, 0), R(0, 1),
+                  R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(),
+                  t.z(), r.table_dropped);
+  }
+  return buffer;
+}
+
 std::string ResultJson(const ModelSet& models, const PipelineResult& r, const TableChoice& table,
                        int threads) {
   // The frame of the poses, as the firmware's results name it: recognize reports the left
@@ -346,14 +377,22 @@ std::string ResultJson(const ModelSet& models, const PipelineResult& r, const Ta
                   JsonEscape(table.source).c_str(), R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1),
                   R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z());
     json += buffer;
+  } else if (r.table_source == TableSource::kEstimated) {
+    json += "\"table\": {\"source\": \"estimated\", " + TableEstimateJson(r) + "}, ";
   } else {
-    json += "\"table\": {\"source\": \"none\"}, ";
+    json += "\"table\": {\"source\": \"none\"";
+    // A refused estimate says why and what it saw.
+    if (r.table_estimate.outcome != TableEstimateOutcome::kDisabled) {
+      json += ", " + TableEstimateJson(r);
+    }
+    json += "}, ";
   }
   std::snprintf(buffer, sizeof(buffer),
                 "\"time_ms\": {\"features\": %.3f, \"stereo\": %.3f, \"hashing\": %.3f, "
-                "\"verify\": %.3f, \"refine\": %.3f, \"total\": %.3f}, \"threads\": %d}\n",
+                "\"verify\": %.3f, \"refine\": %.3f, \"table\": %.3f, \"total\": %.3f}, "
+                "\"threads\": %d}\n",
                 r.time.features_ms, r.time.stereo_ms, r.time.hashing_ms, r.time.verify_ms,
-                r.time.refine_ms, r.time.total_ms, threads);
+                r.time.refine_ms, r.time.table_ms, r.time.total_ms, threads);
   json += buffer;
   return json;
 }

@@ -39,6 +39,18 @@ PipelineConfig CommonPreset() {
 
 }  // namespace
 
+const char* TableSourceName(TableSource s) {
+  switch (s) {
+    case TableSource::kNone:
+      return "none";
+    case TableSource::kGiven:
+      return "file";
+    case TableSource::kEstimated:
+      return "estimated";
+  }
+  return "unknown";
+}
+
 PipelineConfig PipelineConfig::DarkBackground() { return CommonPreset(); }
 
 PipelineConfig PipelineConfig::LightBackground() {
@@ -87,15 +99,8 @@ void EdgeMapVerifier::Reset(const StereoCalibration* calib, const TableView* tab
 bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>& accepted,
                              RecognizedObject& candidate) {
   if (support_ != nullptr && support_->known) {
-    // Height of the lowest model corner over the table top (table z axis, left camera frame).
-    const RigidTransform& T = support_->left_T_table;
-    const Eigen::Vector3f up = T.R.col(2);
-    const float top = up.dot(T.t_mm);
-    float lowest = 1e30f;
-    for (int i = 0; i < model.n_corners; ++i) {
-      lowest = std::min(lowest, up.dot(candidate.cam_T_model * model.corner(i)) - top);
-    }
-    if (lowest < -support_->max_below_mm) {
+    if (LowestCornerHeightMm(model, candidate.cam_T_model, support_->left_T_table) <
+        -support_->max_below_mm) {
       ++below_table_;
       return false;
     }
@@ -163,6 +168,7 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
     SH_RETURN_IF_ERROR(CheckVerifyConfig(config.verify));
     SH_RETURN_IF_ERROR(stereo_.Configure(calib, config.stereo));
     SH_RETURN_IF_ERROR(recognizer_.Init(table, config.recognizer));
+    SH_RETURN_IF_ERROR(CheckTableEstimateConfig(config.table_estimate));
   }
   shape_enabled_ = models_.shape_count() > 0;
   if (shape_enabled_) {
@@ -302,29 +308,90 @@ Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, flo
   const int64_t t2 = now_ns_ ? now_ns_() : 0;
   out->time.stereo_ms = MsSince(t1);
 
-  // 3-5. Hashing, pose refinement and verification against both edge maps.
-  verifier_.Reset(&calib_, &table_, AsConst(features_[0].edges), AsConst(features_[1].edges),
-                  &config_.verify, &config_.table, now_ns_, hidden, n_hidden);
+  // 3-5. Hashing, pose refinement and verification against both edge maps, with the given table
+  // when there is one.
+  frame_table_ = config_.table;
+  out->table_source = config_.table.known ? TableSource::kGiven : TableSource::kNone;
   Budget budget;
   if (budget_ms > 0 && now_ns_ != nullptr) {
     // The budget covers the whole frame: recognition gets what features and stereo left.
     budget.deadline_ns = t0 + static_cast<int64_t>(static_cast<double>(budget_ms) * 1e6);
     budget.now_ns = now_ns_;
   }
-  s = recognizer_.Recognize(scene_, verifier_, budget, out->objects, &out->recognition);
-  if (!s.ok()) return s;
-  out->verify_errors = verifier_.errors();
-  out->below_table = verifier_.below_table();
+  int64_t verify_ns = 0;
+  SH_RETURN_IF_ERROR(Search(budget, hidden, n_hidden, out, &verify_ns));
+  // 5b. Without a given table, the plane the objects found rest on (table_estimate.hpp).
+  if (!config_.table.known && config_.table_estimate.enabled) {
+    SH_RETURN_IF_ERROR(UseEstimatedTable(budget, hidden, n_hidden, out, &verify_ns));
+  }
   const int64_t t3 = now_ns_ ? now_ns_() : 0;
   if (now_ns_) {
     const float recognize_ms = MsSince(t2);
-    out->time.verify_ms = static_cast<float>(verifier_.elapsed_ns()) * 1e-6f;
-    out->time.hashing_ms = std::max(0.0f, recognize_ms - out->time.verify_ms);
+    out->time.verify_ms = static_cast<float>(verify_ns) * 1e-6f;
+    out->time.hashing_ms = std::max(0.0f, recognize_ms - out->time.verify_ms - out->time.table_ms);
   }
 
   // 6. The last fit: each accepted pose to the edge pixels of both images.
   RefineOnEdges(hidden, n_hidden, out);
   if (now_ns_) out->time.refine_ms = MsSince(t3);
+  return Status::Ok();
+}
+
+Status Pipeline::Search(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
+                        PipelineResult* out, int64_t* verify_ns) {
+  verifier_.Reset(&calib_, &table_, AsConst(features_[0].edges), AsConst(features_[1].edges),
+                  &config_.verify, &frame_table_, now_ns_, hidden, n_hidden);
+  const Status s =
+      recognizer_.Recognize(scene_, verifier_, budget, out->objects, &out->recognition);
+  out->verify_errors += verifier_.errors();
+  out->below_table += verifier_.below_table();
+  *verify_ns += verifier_.elapsed_ns();
+  return s;
+}
+
+Status Pipeline::UseEstimatedTable(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
+                                   PipelineResult* out, int64_t* verify_ns) {
+  const int64_t start = now_ns_ ? now_ns_() : 0;
+  const Model* models[kMaxObjects];
+  const size_t n = std::min(out->objects.size(), kMaxObjects);
+  for (size_t i = 0; i < n; ++i) models[i] = &table_.model(out->objects[i].model);
+  EstimateTableFromObjects(out->objects.data(), models, n, config_.table_estimate,
+                           &out->table_estimate);
+  if (now_ns_) out->time.table_ms = MsSince(start);
+  if (!out->table_estimate.accepted()) return Status::Ok();
+  frame_table_.known = true;
+  frame_table_.left_T_table = out->table_estimate.left_T_table;
+  out->table_source = TableSource::kEstimated;
+  if (config_.table_estimate.search_again) {
+    // What a given table does, now with the estimate: the features under the table and far over
+    // it leave the scene (WorkingVolume::OverTable), and the search runs again with the table
+    // check. Its objects replace the first search's.
+    const int64_t keep_start = now_ns_ ? now_ns_() : 0;
+    out->table_dropped =
+        KeepOverTable(frame_table_.left_T_table, kTableVolumeBelowMm, kTableVolumeHeightMm,
+                      config_.stereo.min_overlap_mm, &scene_);
+    out->points3d = static_cast<uint32_t>(scene_.points.size());
+    out->lines3d = static_cast<uint32_t>(scene_.lines.size());
+    if (now_ns_) out->time.table_ms += MsSince(keep_start);
+    const RecognitionStats first = out->recognition;
+    SH_RETURN_IF_ERROR(Search(budget, hidden, n_hidden, out, verify_ns));
+    out->recognition.scene_bases_tried += first.scene_bases_tried;
+    out->recognition.hypotheses += first.hypotheses;
+    out->recognition.verifications += first.verifications;
+    return Status::Ok();
+  }
+  // The table check on the objects found: those sunk into the plane the others rest on go.
+  size_t kept = 0;
+  for (size_t i = 0; i < out->objects.size(); ++i) {
+    const RecognizedObject& o = out->objects[i];
+    if (LowestCornerHeightMm(table_.model(o.model), o.cam_T_model, frame_table_.left_T_table) <
+        -frame_table_.max_below_mm) {
+      ++out->below_table;
+      continue;
+    }
+    out->objects[kept++] = o;
+  }
+  (void)out->objects.resize(kept);
   return Status::Ok();
 }
 

@@ -16,6 +16,7 @@
 #include "recog/image/image.hpp"
 #include "recog/pipeline/hidden_mask.hpp"
 #include "recog/pipeline/model_set.hpp"
+#include "recog/pipeline/table_estimate.hpp"
 #include "recog/pipeline/worker_pool.hpp"
 #include "recog/scene/scene.hpp"
 #include "recog/shape/shape_recognizer.hpp"
@@ -45,6 +46,9 @@ struct PipelineConfig {
   RecognizerConfig recognizer;
   VerifyConfig verify;
   TableConstraint table;
+  // Without a known table, the plane the objects found rest on (table_estimate.hpp), used as a
+  // given table is (TableEstimateConfig::search_again).
+  TableEstimateConfig table_estimate;
   // Final fit of every accepted pose to the edge pixels of both images (edge_refine.hpp).
   bool edge_refine = true;
   EdgeRefineConfig edge_refine_config;
@@ -73,7 +77,18 @@ struct PipelineConfig {
 // fit to the image edges, so the five stages add up to total_ms up to bookkeeping.
 struct PipelineTimings {
   float features_ms = 0, stereo_ms = 0, hashing_ms = 0, verify_ms = 0, refine_ms = 0, total_ms = 0;
+  // The table estimate and dropping the features outside the space over it (the second search
+  // counts as hashing and verification).
+  float table_ms = 0;
 };
+
+// Which table the frame's table check and working volume used.
+enum class TableSource : uint8_t {
+  kNone = 0,   // no table: the configured working volume only
+  kGiven,      // PipelineConfig::table (table.yaml, the firmware's table key, the renderer's)
+  kEstimated,  // estimated from the frame's 3-D features (PipelineResult::table_estimate)
+};
+const char* TableSourceName(TableSource s);
 
 struct PipelineResult {
   Vector<RecognizedObject, kMaxObjects> objects;  // verify_score = {left, right}
@@ -88,8 +103,14 @@ struct PipelineResult {
   bool points3d_truncated = false, lines3d_truncated = false;
   // Verifier calls that returned an error (treated as rejections; normally 0).
   uint32_t verify_errors = 0;
-  // Hypotheses rejected for sinking into the known table (PipelineConfig::table).
+  // Hypotheses rejected for sinking into the table (given or estimated).
   uint32_t below_table = 0;
+  // The table used; the estimate (outcome, plane, support) whenever one was made, accepted or
+  // not; 3-D features dropped for lying under the estimated table or too far over it (points3d
+  // and lines3d count those kept).
+  TableSource table_source = TableSource::kNone;
+  TableEstimate table_estimate;
+  uint32_t table_dropped = 0;
   // The shape path's counts and stage times (zero when it did not run).
   ShapeStats shape;
   // Objects hidden from the polyhedral path (Process's `hidden`): those masked in both images,
@@ -183,6 +204,12 @@ class Pipeline {
  private:
   float MsSince(int64_t start_ns) const;
   void RefineOnEdges(const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
+  // One search of the scene with frame_table_ (objects, stats and verifier counts into out).
+  Status Search(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
+                PipelineResult* out, int64_t* verify_ns);
+  // The table estimated from the objects found, and its use (TableEstimateConfig).
+  Status UseEstimatedTable(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
+                           PipelineResult* out, int64_t* verify_ns);
 
   static void ExtractOne(void* self, int image);
   // Steps 1-6 of the polyhedral path on grey images; t0 is the frame's start (budget, times).
@@ -207,7 +234,8 @@ class Pipeline {
   Scene scene_;
   Recognizer recognizer_;  // ~3 MB of vote and candidate tables
   EdgeMapVerifier verifier_;
-  WorkerPool pool_;  // started at Init
+  TableConstraint frame_table_;  // the table of the current frame: given, estimated or none
+  WorkerPool pool_;              // started at Init
 
   // Per-frame state of the parallel feature extraction (one slot per image).
   ConstGrayView frame_images_[2];

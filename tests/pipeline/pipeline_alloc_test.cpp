@@ -36,7 +36,7 @@ TEST(PipelineAllocations, NoneWhileProcessing) {
   }
   auto pipeline = std::make_unique<Pipeline>();
   static PipelineResult result;
-  size_t found = 0;
+  size_t found = 0, estimated_tables = 0;
   long during = 0;
   for (const auto& pair : pairs) {
     // Init (start-up, not per frame) with each scene's own calibration, outside the count.
@@ -46,6 +46,8 @@ TEST(PipelineAllocations, NoneWhileProcessing) {
       const Status s = pipeline->Process(pair->left_view(), pair->right_view(), 1000.0f, &result);
       ASSERT_TRUE(s.ok()) << s.message();
       found += result.objects.size();
+      // No table given: the estimated one and the second search over it ran without the heap.
+      if (result.table_source == TableSource::kEstimated) ++estimated_tables;
     }
     // Errors are reported without allocating too.
     ASSERT_FALSE(pipeline->Process(ConstGrayView{}, pair->right_view(), 0, &result).ok());
@@ -53,6 +55,7 @@ TEST(PipelineAllocations, NoneWhileProcessing) {
   }
   EXPECT_EQ(during, 0) << "heap allocations while processing frames";
   EXPECT_GT(found, 0u);  // the frames were actually recognised
+  EXPECT_GT(estimated_tables, 0u);
   const long probe_before = testing::HeapAllocations();
   auto* probe = new int(1);
   const long probe_after = testing::HeapAllocations();

@@ -288,5 +288,61 @@ TEST_F(PipelineTest, WorkingVolumeLimitsTheScene) {
   EXPECT_GT(r.objects.size(), 0u);
 }
 
+// Without a table the pipeline estimates it from the objects it finds standing on it, bounds the
+// scene by it and says so; a given table is used as it is, and the estimate can be switched off.
+TEST_F(PipelineTest, EstimatesTheTableTheObjectsStandOn) {
+  PipelineResult r;
+  int estimated = 0;
+  for (uint64_t seed : {11u, 12u, 13u}) {
+    std::unique_ptr<RenderedPair> pair = RenderDark(seed);
+    ASSERT_TRUE(pair);
+    const RigidTransform& truth = pair->generated.scene.left_T_table;
+    ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, PipelineConfig::Automatic()).ok());
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, &r).ok());
+    if (r.table_source != TableSource::kEstimated) continue;
+    ++estimated;
+    const TableEstimate& e = r.table_estimate;
+    EXPECT_TRUE(e.accepted());
+    EXPECT_GE(e.resting, 2u);
+    const float normal_err_deg =
+        std::acos(std::min(1.0f, e.left_T_table.R.col(2).dot(truth.R.col(2)))) * 57.29578f;
+    EXPECT_LT(normal_err_deg, 1.0f) << "seed " << seed;
+    EXPECT_NEAR(truth.R.col(2).dot(e.left_T_table.t_mm - truth.t_mm), 0.0f, 2.0f);
+    EXPECT_GT(r.table_dropped, 0u);
+    // The scene searched is the space over the estimated table.
+    const Eigen::Vector3f up = e.left_T_table.R.col(2);
+    const auto height = [&](const Eigen::Vector3f& p) { return up.dot(p - e.left_T_table.t_mm); };
+    for (const ScenePoint& p : pipeline_->scene().points) {
+      EXPECT_GE(height(p.p_mm), -kTableVolumeBelowMm - 0.01f);
+      EXPECT_LE(height(p.p_mm), kTableVolumeHeightMm + 0.01f);
+    }
+    EXPECT_EQ(pipeline_->scene().lines.size(), r.lines3d);
+    EXPECT_GT(r.objects.size(), 1u);
+  }
+  EXPECT_EQ(estimated, 3);
+
+  std::unique_ptr<RenderedPair> pair = RenderDark(11);
+  ASSERT_TRUE(pair);
+  PipelineConfig given = PipelineConfig::Automatic();
+  given.table.known = true;
+  given.table.left_T_table = pair->generated.scene.left_T_table;
+  ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, given).ok());
+  ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, &r).ok());
+  EXPECT_EQ(r.table_source, TableSource::kGiven);
+  EXPECT_EQ(r.table_estimate.outcome, TableEstimateOutcome::kDisabled);
+  EXPECT_EQ(r.table_dropped, 0u);
+
+  PipelineConfig off = PipelineConfig::Automatic();
+  off.table_estimate.enabled = false;
+  ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, off).ok());
+  ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, &r).ok());
+  EXPECT_EQ(r.table_source, TableSource::kNone);
+  EXPECT_EQ(r.table_estimate.outcome, TableEstimateOutcome::kDisabled);
+
+  PipelineConfig bad = PipelineConfig::Automatic();
+  bad.table_estimate.tolerance_mm = -1;
+  EXPECT_FALSE(pipeline_->Init(pair->generated.calib, *table_, bad).ok());
+}
+
 }  // namespace
 }  // namespace sh

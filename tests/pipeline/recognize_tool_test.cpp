@@ -312,9 +312,21 @@ TEST_F(RecognizeToolTest, TableFileBoundsTheVolumeAndIsReported) {
                             " --json " + Path("no_table.json"));
   ASSERT_EQ(n.exit_code, 0) << n.output;
   ASSERT_TRUE(JsonReader(ReadText(Path("no_table.json"))).Parse(&without));
-  EXPECT_EQ(without["table"]["source"].text, "none");
-  // The volume over the table holds no more 3-D lines than the default box.
-  EXPECT_LE(with_table["features"]["lines3d"].number, without["features"]["lines3d"].number);
+  // Without the file the table is estimated from the objects standing on it, close to the file's.
+  ASSERT_EQ(without["table"]["source"].text, "estimated") << ReadText(Path("no_table.json"));
+  EXPECT_EQ(without["table"]["estimate"].text, "accepted");
+  EXPECT_GE(without["table"]["resting"].number, 2.0);
+  ASSERT_EQ(without["table"]["normal"].size(), 3u);
+  double cos_normals = 0;
+  for (size_t i = 0; i < 3; ++i) {
+    cos_normals += without["table"]["normal"][i].number * with_table["table"]["R"][i][2].number;
+  }
+  EXPECT_GT(cos_normals, std::cos(1.0 * 3.14159265 / 180.0));  // within 1 deg
+  EXPECT_GT(without["table"]["camera_height_mm"].number, 100.0);
+  // The volume over the table holds no more 3-D lines than the default box (the estimate's
+  // scene plus what it dropped).
+  EXPECT_LE(with_table["features"]["lines3d"].number,
+            without["features"]["lines3d"].number + without["table"]["dropped"].number);
 
   WriteText(Path("bad_table.yaml"), "%YAML:1.0\n---\nR_table: 7\n");
   const ToolRun b = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) +
