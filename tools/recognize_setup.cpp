@@ -270,6 +270,8 @@ bool ApplyPipelineSetting(const char* setting, PipelineConfig* c) {
     c->table_estimate.enabled = v != 0.0f;
   } else if (name == "table_estimate.search_again") {
     c->table_estimate.search_again = v != 0.0f;
+  } else if (name == "table_estimate.first_search_objects") {
+    c->table_estimate.first_search_objects = static_cast<uint32_t>(v);
   } else if (name == "table_estimate.min_objects") {
     c->table_estimate.min_objects = static_cast<uint32_t>(v);
   } else if (name == "table_estimate.tolerance_mm") {

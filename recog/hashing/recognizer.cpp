@@ -409,6 +409,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     if (!BasisActive(basis)) continue;
     if (ActiveFeatureCount() < config_.min_active_features) break;
     if (fruitless >= config_.max_fruitless_bases) break;
+    if (budget.max_objects != 0 && objects.size() >= budget.max_objects) break;
 
     const uint32_t basis_number = stats.scene_bases_tried++;
     stats.hypotheses += VoteForBasis(basis, hypotheses);

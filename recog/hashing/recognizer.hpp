@@ -127,6 +127,8 @@ class SearchObserver {
 
 struct Budget {
   uint32_t max_scene_bases = 0xffffffffu;
+  // Stop once this many objects are accepted (0: no limit); not counted as budget_exhausted.
+  uint32_t max_objects = 0;
   int64_t deadline_ns = 0;        // 0: no deadline
   int64_t (*now_ns)() = nullptr;  // clock for the deadline (monotonic)
 };

@@ -319,10 +319,20 @@ Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, flo
     budget.now_ns = now_ns_;
   }
   int64_t verify_ns = 0;
-  SH_RETURN_IF_ERROR(Search(budget, hidden, n_hidden, out, &verify_ns));
+  const TableEstimateConfig& estimate = config_.table_estimate;
+  const bool estimating = !config_.table.known && estimate.enabled;
+  // A first search that only has to find the objects for the plane can stop early.
+  Budget first = budget;
+  if (estimating && estimate.search_again) first.max_objects = estimate.first_search_objects;
+  SH_RETURN_IF_ERROR(Search(first, hidden, n_hidden, out, &verify_ns));
   // 5b. Without a given table, the plane the objects found rest on (table_estimate.hpp).
-  if (!config_.table.known && config_.table_estimate.enabled) {
+  if (estimating) {
     SH_RETURN_IF_ERROR(UseEstimatedTable(budget, hidden, n_hidden, out, &verify_ns));
+    const bool cut_short = first.max_objects != 0 && out->recognition.accepted >= first.max_objects;
+    if (out->table_source != TableSource::kEstimated && cut_short) {
+      // No table after all: the first search runs to its end, as it would have without one.
+      SH_RETURN_IF_ERROR(SearchAgain(budget, hidden, n_hidden, out, &verify_ns));
+    }
   }
   const int64_t t3 = now_ns_ ? now_ns_() : 0;
   if (now_ns_) {
@@ -349,6 +359,17 @@ Status Pipeline::Search(const Budget& budget, const PosedModel* hidden, size_t n
   return s;
 }
 
+Status Pipeline::SearchAgain(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
+                             PipelineResult* out, int64_t* verify_ns) {
+  const RecognitionStats first = out->recognition;
+  SH_RETURN_IF_ERROR(Search(budget, hidden, n_hidden, out, verify_ns));
+  // The work of both searches.
+  out->recognition.scene_bases_tried += first.scene_bases_tried;
+  out->recognition.hypotheses += first.hypotheses;
+  out->recognition.verifications += first.verifications;
+  return Status::Ok();
+}
+
 Status Pipeline::UseEstimatedTable(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
                                    PipelineResult* out, int64_t* verify_ns) {
   const int64_t start = now_ns_ ? now_ns_() : 0;
@@ -373,12 +394,7 @@ Status Pipeline::UseEstimatedTable(const Budget& budget, const PosedModel* hidde
     out->points3d = static_cast<uint32_t>(scene_.points.size());
     out->lines3d = static_cast<uint32_t>(scene_.lines.size());
     if (now_ns_) out->time.table_ms += MsSince(keep_start);
-    const RecognitionStats first = out->recognition;
-    SH_RETURN_IF_ERROR(Search(budget, hidden, n_hidden, out, verify_ns));
-    out->recognition.scene_bases_tried += first.scene_bases_tried;
-    out->recognition.hypotheses += first.hypotheses;
-    out->recognition.verifications += first.verifications;
-    return Status::Ok();
+    return SearchAgain(budget, hidden, n_hidden, out, verify_ns);
   }
   // The table check on the objects found: those sunk into the plane the others rest on go.
   size_t kept = 0;

@@ -207,6 +207,9 @@ class Pipeline {
   // One search of the scene with frame_table_ (objects, stats and verifier counts into out).
   Status Search(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
                 PipelineResult* out, int64_t* verify_ns);
+  // Search() once more, its objects replacing the last search's, the counts of both kept.
+  Status SearchAgain(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
+                     PipelineResult* out, int64_t* verify_ns);
   // The table estimated from the objects found, and its use (TableEstimateConfig).
   Status UseEstimatedTable(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
                            PipelineResult* out, int64_t* verify_ns);

@@ -113,6 +113,25 @@ TEST_F(RecognizerTest, StopsWhenTheBudgetRunsOut) {
   EXPECT_TRUE(objects_.empty());
 }
 
+// max_objects stops the search at that many accepted objects, before its fruitless tail.
+TEST_F(RecognizerTest, StopsAtTheObjectLimit) {
+  auto recognizer = MakeRecognizer(view_);
+  SyntheticSceneParams p;
+  p.min_objects = p.max_objects = 4;
+  p.total_features = 300;
+  GenerateSyntheticScene(models_, p, 11, synthetic_.get());
+  SceneSupportVerifier verifier;
+  RecognitionStats all, limited;
+  ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, verifier, Budget{}, objects_, &all).ok());
+  ASSERT_GE(objects_.size(), 3u);
+  Budget budget;
+  budget.max_objects = 2;
+  ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, verifier, budget, objects_, &limited).ok());
+  EXPECT_EQ(objects_.size(), 2u);
+  EXPECT_LT(limited.scene_bases_tried, all.scene_bases_tried);
+  EXPECT_FALSE(limited.budget_exhausted);
+}
+
 TEST_F(RecognizerTest, HonoursTheModelMask) {
   RecognizerConfig config;
   config.model_mask = ~(1u << 0);  // everything but the cube

@@ -339,6 +339,23 @@ TEST_F(PipelineTest, EstimatesTheTableTheObjectsStandOn) {
   EXPECT_EQ(r.table_source, TableSource::kNone);
   EXPECT_EQ(r.table_estimate.outcome, TableEstimateOutcome::kDisabled);
 
+  const PipelineResult without = r;
+
+  // A refused estimate (more objects asked for than the scene has) after the shortened first
+  // search gives exactly what no estimate gives: the search without a table runs to its end.
+  PipelineConfig refused = PipelineConfig::Automatic();
+  refused.table_estimate.min_objects = 20;
+  ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, refused).ok());
+  ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, &r).ok());
+  EXPECT_EQ(r.table_source, TableSource::kNone);
+  EXPECT_EQ(r.table_estimate.outcome, TableEstimateOutcome::kTooFewObjects);
+  ASSERT_EQ(r.objects.size(), without.objects.size());
+  ASSERT_GT(r.objects.size(), refused.table_estimate.first_search_objects);
+  for (size_t i = 0; i < r.objects.size(); ++i) {
+    EXPECT_EQ(r.objects[i].model, without.objects[i].model);
+    EXPECT_LT((r.objects[i].cam_T_model.t_mm - without.objects[i].cam_T_model.t_mm).norm(), 1e-3f);
+  }
+
   PipelineConfig bad = PipelineConfig::Automatic();
   bad.table_estimate.tolerance_mm = -1;
   EXPECT_FALSE(pipeline_->Init(pair->generated.calib, *table_, bad).ok());
