@@ -45,10 +45,10 @@ struct TableEstimateConfig {
   // Off: only the objects found that sink into the plane are removed.
   bool search_again = true;
   // With search_again, the first search (without a table) stops once this many objects are
-  // accepted (0: it runs to its end): enough for the plane, and the long fruitless tail of the
-  // search over the unbounded scene is saved. When the estimate is then refused, the search
-  // without a table runs again to its end.
-  uint32_t first_search_objects = 3;
+  // accepted (0: it runs to its end): it only has to find the objects for the plane, and the
+  // fruitless tail of the search over the unbounded scene is saved when the scene holds that
+  // many. When the estimate is then refused, the search without a table runs on to its end.
+  uint32_t first_search_objects = 5;
 };
 
 // Why an estimate was not accepted (kAccepted when it was).
