@@ -345,6 +345,7 @@ TEST_F(PipelineTest, EstimatesTheTableTheObjectsStandOn) {
   // search gives exactly what no estimate gives: the search without a table runs to its end.
   PipelineConfig refused = PipelineConfig::Automatic();
   refused.table_estimate.min_objects = 20;
+  refused.table_estimate.first_search_objects = 2;  // the first search surely stops early
   ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, refused).ok());
   ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, &r).ok());
   EXPECT_EQ(r.table_source, TableSource::kNone);
