@@ -110,23 +110,28 @@ void EstimateTableFromObjects(const RecognizedObject* objects, const Model* cons
     out->resting = best_resting;
     return;
   }
-  // Least squares through the resting objects' corners in the plane (double sums).
+  // The corners in the plane of the objects resting on it: the least-squares fit's points.
+  const auto for_each_contact = [&](auto&& visit) {
+    for (size_t j = 0; j < n; ++j) {
+      const Model& m = *models[j];
+      const RigidTransform& T = objects[j].cam_T_model;
+      if (!Rests(ContactOf(m, T, best, tol), tol)) continue;
+      for (int k = 0; k < m.n_corners; ++k) {
+        const Eigen::Vector3f x = T * m.corner(k);
+        if (std::fabs(best.Height(x)) <= tol) visit(x);
+      }
+    }
+  };
+  // Least squares plane through them (double sums).
   double count = 0;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-  for (size_t j = 0; j < n; ++j) {
-    const Model& m = *models[j];
-    const RigidTransform& T = objects[j].cam_T_model;
-    if (!Rests(ContactOf(m, T, best, tol), tol)) continue;
-    for (int k = 0; k < m.n_corners; ++k) {
-      const Eigen::Vector3f x = T * m.corner(k);
-      if (std::fabs(best.Height(x)) > tol) continue;
-      const Eigen::Vector3d q = x.cast<double>();
-      count += 1;
-      sum += q;
-      outer += q * q.transpose();
-    }
-  }
+  for_each_contact([&](const Eigen::Vector3f& x) {
+    const Eigen::Vector3d q = x.cast<double>();
+    count += 1;
+    sum += q;
+    outer += q * q.transpose();
+  });
   const Eigen::Vector3d mean = sum / count;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(outer / count - mean * mean.transpose());
   Plane fit = best;
@@ -138,15 +143,7 @@ void EstimateTableFromObjects(const RecognizedObject* objects, const Model* cons
     fit.d = -up.dot(mean.cast<float>());
   }
   double d2 = 0;
-  for (size_t j = 0; j < n; ++j) {
-    const Model& m = *models[j];
-    const RigidTransform& T = objects[j].cam_T_model;
-    if (!Rests(ContactOf(m, T, best, tol), tol)) continue;
-    for (int k = 0; k < m.n_corners; ++k) {
-      const Eigen::Vector3f x = T * m.corner(k);
-      if (std::fabs(best.Height(x)) <= tol) d2 += double(fit.Height(x)) * fit.Height(x);
-    }
-  }
+  for_each_contact([&](const Eigen::Vector3f& x) { d2 += double(fit.Height(x)) * fit.Height(x); });
   // The table frame: z the normal, origin the resting corners' centre in the plane.
   const Eigen::Vector3f z = fit.up;
   const Eigen::Vector3f helper =
