@@ -271,9 +271,10 @@ class SimBoard final : public Board {
       // Copies: the boot checks load the model data again, which replaces mapped files.
       const Result<TableView> t = data->LoadTable();
       const Result<FeatureDbView> f = data->LoadFeatures();
+      const Result<ShapeViewsView> v = data->LoadShapeViews();
       n_names_ = 0;
-      if (t.ok() && f.ok()) {
-        const ModelSet models(&*t, nullptr, &*f);
+      if (t.ok() && f.ok() && v.ok()) {
+        const ModelSet models(&*t, &*v, &*f);
         for (uint32_t m = 0; m < models.count() && m < canopen::kMaxModelNames; ++m) {
           std::snprintf(name_text_[m], sizeof(name_text_[m]), "%s", models.model(m).name);
           names_[n_names_++] = name_text_[m];
