@@ -344,7 +344,7 @@ int RunBenchRecorded(int argc, char** argv) {
   if (run_stereo) pipeline->SetSearchObserver(&trace);
   LoadedAspects aspects;
   std::unique_ptr<MonoPipeline> mono;
-  std::unique_ptr<FeatureWorkspace> workspace;
+  ZeroedPtr<FeatureWorkspace> workspace;
   if (run_mono) {
     s = LoadAspects(options, &aspects);
     if (!s.ok()) return Fail(s.message());
@@ -362,7 +362,7 @@ int RunBenchRecorded(int argc, char** argv) {
       }
     }
     mono = std::make_unique<MonoPipeline>();
-    workspace = std::make_unique<FeatureWorkspace>();
+    workspace = MakeWorkspace<FeatureWorkspace>();  // any image size up to the maximum
     s = mono->Init(*calib, camera, aspects.view, table.present ? &table.left_T_table : nullptr,
                    mono_config, clock);
     if (!s.ok()) return Fail(s.message());

@@ -215,13 +215,13 @@ int RunBenchScenes(int argc, char** argv) {
     return 1;
   }
   std::unique_ptr<MonoPipeline> mono;
-  std::unique_ptr<FeatureWorkspace> workspace;
+  ZeroedPtr<FeatureWorkspace> workspace;
   auto mono_result = std::make_unique<MonoResult>();
   MonoPipelineConfig mono_config = MonoPipelineConfig::Automatic();
   int mono_causes[3] = {};
   if (monocular) {
     mono = std::make_unique<MonoPipeline>();
-    workspace = std::make_unique<FeatureWorkspace>();
+    workspace = MakeWorkspace<FeatureWorkspace>();  // any image size up to the maximum
     for (const char* setting : settings) {
       if (std::strncmp(setting, "mono.", 5) == 0 && !ApplyMonoSetting(setting, &mono_config)) {
         std::fprintf(stderr, "stereohash bench: unknown setting %s\n", setting);

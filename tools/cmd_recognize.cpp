@@ -114,10 +114,12 @@ int RunMonocular(const char* calib_path, const char* image_path, int camera,
   s = LoadImage(image_path, camera == 0 ? "left" : "right", &image);
   if (!s.ok()) return Fail("%s", s.message());
   auto pipeline = MakeZeroed<MonoPipeline>();
-  auto workspace = MakeZeroed<FeatureWorkspace>();  // ~42 MiB, resident as used
   s = pipeline->Init(*calib, camera, aspects.view, table.present ? &table.left_T_table : nullptr,
                      MakeMonoConfig(options), NowNs);
   if (!s.ok()) return Fail("%s", s.message());
+  const CameraIntrinsics& cam = camera == 0 ? calib->left : calib->right;
+  auto workspace = MakeWorkspace<FeatureWorkspace>(cam.width, cam.height);
+  if (workspace == nullptr) return Fail("%s", "cannot allocate the feature workspace");
   auto result = std::make_unique<MonoResult>();
   s = pipeline->Process(image.view, options.budget_ms, *workspace, result.get());
   if (!s.ok()) return Fail("%s", s.message());

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "recog/base/init_block.hpp"
 #include "recog/base/status.hpp"
 #include "recog/image/edge_map.hpp"
 #include "recog/image/gaussian.hpp"
@@ -22,13 +23,13 @@ struct CannyConfig {
   float high_threshold = 10.0f;
 };
 
-// Output and work memory of one edge map, for images up to kMaxImageWidth x kMaxImageHeight:
-// 2 bytes of output and 4 bytes of hysteresis stack per pixel, and three rows of gradient
-// (7.5 MiB). Keep in static storage.
+// Output and work memory of one edge map: 2 bytes of output and 4 bytes of hysteresis stack per
+// pixel for images up to W x H, taken at Init (one block, docs/memory.md), and three rows of
+// gradient for the widest image.
 struct EdgeBuffers {
-  uint8_t edge[kMaxImagePixels];
-  uint8_t orientation[kMaxImagePixels];
-  uint32_t stack[kMaxImagePixels];  // hysteresis work list; each pixel is pushed at most once
+  uint8_t* edge = nullptr;
+  uint8_t* orientation = nullptr;
+  uint32_t* stack = nullptr;  // hysteresis work list; each pixel is pushed at most once
   // Ring of the last three gradient rows (x, y, squared magnitude) for non-maximum suppression.
   float ring_gx[3][kMaxImageWidth];
   float ring_gy[3][kMaxImageWidth];
@@ -36,6 +37,18 @@ struct EdgeBuffers {
   EdgeMapView view(int width, int height) {
     return {{edge, width, height, width}, {orientation, width, height, width}};
   }
+
+  // Bytes Init takes for images up to width x height.
+  static size_t BytesFor(int width, int height);
+  // Carves the buffers for images up to width x height (at start-up: allocates). A second call
+  // with the same size keeps them.
+  Status Init(int width, int height);
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  InitBlock block_;
+  int width_ = 0, height_ = 0;
 };
 
 inline constexpr uint8_t kEdgePixel = 255;

@@ -67,6 +67,51 @@ float DifferenceSmoothingSigma(float sigma_px) {
   return std::max(kMinGaussianSigmaPx, std::sqrt(std::max(0.0f, sigma_px * sigma_px - 0.25f)));
 }
 
+Status CheckWorkspaceSize(int width, int height, const char* what) {
+  if (width <= 0 || height <= 0 || width > kMaxImageWidth || height > kMaxImageHeight) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "%s: image size %dx%d outside the supported 1x1 .. %dx%d", what, width,
+                         height, kMaxImageWidth, kMaxImageHeight);
+  }
+  return Status::Ok();
+}
+
+Status CheckFitsWorkspace(int width, int height, int capacity_width, int capacity_height,
+                          const char* what) {
+  if (capacity_width == 0) {
+    return Status::Error(StatusCode::kFailedPrecondition,
+                         "%s: workspace not initialised (Init with the camera's image size)", what);
+  }
+  if (width > capacity_width || height > capacity_height) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "%s: image %dx%d larger than the %dx%d the workspace was initialised for",
+                         what, width, height, capacity_width, capacity_height);
+  }
+  return Status::Ok();
+}
+
+size_t FilterScratch::BytesFor(int width, int height) {
+  const size_t pixels = size_t{static_cast<size_t>(width)} * static_cast<size_t>(height);
+  return kPlanes * InitBlock::PieceBytes<float>(pixels) +
+         InitBlock::PieceBytes<uint8_t>(ReducedPixels(width, height));
+}
+
+Status FilterScratch::Init(int width, int height) {
+  SH_RETURN_IF_ERROR(CheckWorkspaceSize(width, height, "filter scratch"));
+  if (width == width_ && height == height_) return Status::Ok();
+  width_ = height_ = 0;
+  if (!block_.Allocate(BytesFor(width, height))) {
+    return Status::Error(StatusCode::kUnavailable, "filter scratch: cannot allocate %zu bytes",
+                         BytesFor(width, height));
+  }
+  const size_t pixels = size_t{static_cast<size_t>(width)} * static_cast<size_t>(height);
+  for (FloatPlane& plane : planes) plane.data = block_.Take<float>(pixels);
+  reduced = block_.Take<uint8_t>(ReducedPixels(width, height));
+  width_ = width;
+  height_ = height;
+  return Status::Ok();
+}
+
 Status ValidateGrayImage(const ConstGrayView& image, const char* what) {
   if (image.data == nullptr || image.width <= 0 || image.height <= 0) {
     return Status::Error(StatusCode::kInvalidArgument, "%s: empty image (%dx%d, data %s)", what,

@@ -9,7 +9,9 @@
 
 #include <cstdint>
 
+#include "recog/base/init_block.hpp"
 #include "recog/base/status.hpp"
+#include "recog/base/zeroed.hpp"
 #include "recog/image/image.hpp"
 
 namespace sh {
@@ -38,27 +40,59 @@ int GaussianRadiusFor(float sigma_px);
 // [kMinGaussianSigmaPx, kMaxGaussianSigmaPx] or an unsupported order.
 Status MakeGaussianKernel(float sigma_px, int order, GaussianKernel& kernel);
 
-// A float image plane over caller-owned storage of kMaxImagePixels floats; rows are packed
+// A float image plane over storage carved at initialisation (FilterScratch::Init); rows are packed
 // (stride == width) so the planes of one frame stay contiguous in cache.
 struct FloatPlane {
-  float data[kMaxImagePixels];
+  float* data = nullptr;
   ImageView<float> view(int width, int height) { return {data, width, height, width}; }
   ImageView<const float> view(int width, int height) const { return {data, width, height, width}; }
 };
 
 // Pixels of an image reduced 2x in both directions (every second column and row, from 0).
-inline constexpr size_t kMaxReducedPixels =
-    size_t{(kMaxImageWidth + 1) / 2} * ((kMaxImageHeight + 1) / 2);
+inline constexpr size_t ReducedPixels(int width, int height) {
+  return size_t{static_cast<size_t>(width + 1) / 2} * (static_cast<size_t>(height + 1) / 2);
+}
+inline constexpr size_t kMaxReducedPixels = ReducedPixels(kMaxImageWidth, kMaxImageHeight);
+
+// The size a workspace is initialised for: refuses sizes outside 1 .. kMaxImageWidth x
+// kMaxImageHeight, naming `what`.
+Status CheckWorkspaceSize(int width, int height, const char* what);
+// Whether an image of width x height fits buffers initialised for capacity_width x
+// capacity_height; the error names `what`, both sizes and that Init sets the capacity.
+Status CheckFitsWorkspace(int width, int height, int capacity_width, int capacity_height,
+                          const char* what);
 
 // Float planes shared by the detectors of one frame (corners use up to all four, Canny two), and
-// the 2x reduced grey image of the large corner scales. Sized for the largest image:
-// 4 * kMaxImagePixels floats and kMaxReducedPixels bytes (20.3 MiB); keep one per concurrent
-// frame, in static storage.
+// the 2x reduced grey image of the large corner scales: 16 W H + W H / 4 bytes for images up to
+// W x H, taken at Init (one block, docs/memory.md). Keep one per concurrent frame.
 struct FilterScratch {
   static constexpr int kPlanes = 4;
   FloatPlane planes[kPlanes];
-  uint8_t reduced[kMaxReducedPixels];
+  uint8_t* reduced = nullptr;
+
+  // Bytes Init takes for images up to width x height.
+  static size_t BytesFor(int width, int height);
+  // Carves the buffers for images up to width x height (at start-up: allocates). A second call
+  // with the same size keeps them.
+  Status Init(int width, int height);
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  InitBlock block_;
+  int width_ = 0, height_ = 0;
 };
+
+// A workspace (FilterScratch, EdgeBuffers, HoughWorkspace or FeatureWorkspace) on the heap, its
+// buffers sized for images up to width x height; null when the size is out of range or memory
+// is short. For start-up, tools and tests; the fixed part comes from calloc (MakeZeroed), so its
+// untouched pages stay out of resident memory.
+template <typename T>
+ZeroedPtr<T> MakeWorkspace(int width = kMaxImageWidth, int height = kMaxImageHeight) {
+  ZeroedPtr<T> ws = MakeZeroed<T>();
+  if (ws == nullptr || !ws->Init(width, height).ok()) return nullptr;
+  return ws;
+}
 
 // Smoothing scale that, followed by central differences, approximates Gaussian derivatives at
 // sigma_px: sqrt(sigma^2 - 1/4), at least kMinGaussianSigmaPx. The differences add a blur of their
@@ -66,7 +100,7 @@ struct FilterScratch {
 // smoothing pass replaces the separate derivative filters (the corner detector).
 float DifferenceSmoothingSigma(float sigma_px);
 
-// Checks that a grey image is non-empty, consistent, and no larger than the static buffers.
+// Checks that a grey image is non-empty, consistent, and no larger than the compile-time maximum.
 Status ValidateGrayImage(const ConstGrayView& image, const char* what);
 
 // Row (x-direction) pass: convolves each row of `image` with up to three kernels at once, so the

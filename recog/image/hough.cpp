@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "recog/image/gaussian.hpp"
+
 namespace sh {
 
 namespace {
@@ -502,7 +504,7 @@ void GatherPoints(const ConstEdgeMapView& edges, HoughWorkspace& ws, size_t& dro
       const int end = std::min(w, x + 8);
       for (; x < end; ++x) {
         if (e[x] == 0) continue;
-        if (total == kMaxHoughEdgePixels) {
+        if (total == ws.point_capacity()) {
           ++dropped;
           continue;
         }
@@ -573,6 +575,30 @@ Status ValidateHoughConfig(const HoughConfig& config) {
   return Status::Ok();
 }
 
+size_t HoughWorkspace::BytesFor(int width, int height) {
+  const size_t n = HoughEdgeCapacity(width, height);
+  return InitBlock::PieceBytes<HoughEdgePoint>(n) + 2 * InitBlock::PieceBytes<uint32_t>(n);
+}
+
+Status HoughWorkspace::Init(int width, int height) {
+  SH_RETURN_IF_ERROR(CheckWorkspaceSize(width, height, "Hough workspace"));
+  if (width == width_ && height == height_) return Status::Ok();
+  width_ = height_ = 0;
+  point_capacity_ = 0;
+  if (!block_.Allocate(BytesFor(width, height))) {
+    return Status::Error(StatusCode::kUnavailable, "Hough workspace: cannot allocate %zu bytes",
+                         BytesFor(width, height));
+  }
+  const size_t n = HoughEdgeCapacity(width, height);
+  points = block_.Take<HoughEdgePoint>(n);
+  collected = block_.Take<uint32_t>(n);
+  subset = block_.Take<uint32_t>(n);
+  point_capacity_ = n;
+  width_ = width;
+  height_ = height;
+  return Status::Ok();
+}
+
 Status DetectLines(const ConstEdgeMapView& edges, const HoughConfig& config, HoughWorkspace& ws,
                    Vector<Line2D>& lines, HoughStats* stats) {
   lines.clear();
@@ -594,6 +620,8 @@ Status DetectLines(const ConstEdgeMapView& edges, const HoughConfig& config, Hou
                          e.width, e.height, kMaxImageWidth, kMaxImageHeight);
   }
   SH_RETURN_IF_ERROR(ValidateHoughConfig(config));
+  SH_RETURN_IF_ERROR(
+      CheckFitsWorkspace(e.width, e.height, ws.width(), ws.height(), "DetectLines (workspace)"));
   Tables tb;
   BuildTables(config, tb);
 

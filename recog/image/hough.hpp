@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "recog/base/init_block.hpp"
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
 #include "recog/image/edge_map.hpp"
@@ -46,9 +47,13 @@ static_assert(kHoughMaxDiagonalPx * kHoughMaxDiagonalPx >
                   kMaxImageWidth * kMaxImageWidth + kMaxImageHeight * kMaxImageHeight,
               "rho range must cover the image diagonal");
 
-// Edge pixels taken into the transform. Further edge pixels (in raster order) are ignored and
-// counted in HoughStats::edge_pixels_dropped: with sane Canny thresholds an image has far fewer.
-inline constexpr size_t kMaxHoughEdgePixels = kMaxImagePixels / 2;
+// Edge pixels taken into the transform of a W x H image: half its pixels. Further edge pixels (in
+// raster order) are ignored and counted in HoughStats::edge_pixels_dropped: with sane Canny
+// thresholds an image has far fewer.
+inline constexpr size_t HoughEdgeCapacity(int width, int height) {
+  return size_t{static_cast<size_t>(width)} * static_cast<size_t>(height) / 2;
+}
+inline constexpr size_t kMaxHoughEdgePixels = HoughEdgeCapacity(kMaxImageWidth, kMaxImageHeight);
 
 struct Segment2D {
   float x0 = 0.0f, y0 = 0.0f, x1 = 0.0f, y1 = 0.0f;  // pixel coordinates, ordered along the line
@@ -109,9 +114,9 @@ struct HoughEdgePoint {
   int16_t line = -1;  // index into the output lines; -1 unassigned, -2 assigned to a rejected peak
 };
 
-// Accumulator and work arrays for images up to the maximum size (about 14 MiB); keep it in
-// static storage. After DetectLines, points[0 .. point_count) tell which line each edge pixel
-// supports.
+// Accumulator (for the largest image, 3.7 MiB) and the edge-pixel arrays (8 W H bytes for images
+// up to W x H, taken at Init). After DetectLines, points[0 .. point_count) tell which line each
+// edge pixel supports.
 struct HoughWorkspace {
   static constexpr int kBlock = 64;  // rho bins per block of the incremental maximum search
   static constexpr int kBlocks = (kHoughRhoBins + kBlock - 1) / kBlock;
@@ -126,10 +131,11 @@ struct HoughWorkspace {
   int16_t row_arg[kHoughThetaBins];
   uint8_t row_dirty[kHoughThetaBins];
   int32_t theta_start[kHoughThetaBins + 1];  // points with tc == t: [theta_start[t], [t+1])
-  HoughEdgePoint points[kMaxHoughEdgePixels];
+  // HoughEdgeCapacity(W, H) entries each, taken at Init (one block, docs/memory.md).
+  HoughEdgePoint* points = nullptr;
   size_t point_count = 0;
-  uint32_t collected[kMaxHoughEdgePixels];
-  uint32_t subset[kMaxHoughEdgePixels];  // pixels of the current least-squares fit
+  uint32_t* collected = nullptr;
+  uint32_t* subset = nullptr;  // pixels of the current least-squares fit
   // Support: per 1 px bin along the line, the extreme positions of its pixels.
   float support_lo[kSupportBins];
   float support_hi[kSupportBins];
@@ -141,6 +147,20 @@ struct HoughWorkspace {
     bool keep;
   };
   Run runs[kSupportBins / 2 + 1];
+
+  // Bytes Init takes for images up to width x height.
+  static size_t BytesFor(int width, int height);
+  // Carves the edge-pixel arrays for images up to width x height (at start-up: allocates). A
+  // second call with the same size keeps them.
+  Status Init(int width, int height);
+  int width() const { return width_; }
+  int height() const { return height_; }
+  size_t point_capacity() const { return point_capacity_; }
+
+ private:
+  InitBlock block_;
+  int width_ = 0, height_ = 0;
+  size_t point_capacity_ = 0;
 };
 
 Status ValidateHoughConfig(const HoughConfig& config);

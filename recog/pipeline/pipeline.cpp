@@ -157,6 +157,7 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
                          calib.left.width, calib.left.height, calib.right.width, calib.right.height,
                          kMaxImageWidth, kMaxImageHeight);
   }
+  SH_RETURN_IF_ERROR(InitImageBuffers(calib));
   table_ = table;  // the model set refers to the pipeline's own copy of the view
   models_ = ModelSet(&table_, shape_views);
   if (models_.count() == 0) {
@@ -188,6 +189,35 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
   config_ = config;
   now_ns_ = now_ns;
   initialised_ = true;
+  return Status::Ok();
+}
+
+Status Pipeline::InitImageBuffers(const StereoCalibration& calib) {
+  const CameraIntrinsics* cams[2] = {&calib.left, &calib.right};
+  for (int i = 0; i < 2; ++i) {
+    const Status st = workspace_[i].Init(cams[i]->width, cams[i]->height);
+    if (!st.ok()) return Status::Error(st.code(), "pipeline: %s", st.message());
+  }
+  if (grey_width_[0] == calib.left.width && grey_height_[0] == calib.left.height &&
+      grey_width_[1] == calib.right.width && grey_height_[1] == calib.right.height) {
+    return Status::Ok();
+  }
+  size_t pixels[2];
+  for (int i = 0; i < 2; ++i) {
+    pixels[i] = size_t{static_cast<size_t>(cams[i]->width)} * static_cast<size_t>(cams[i]->height);
+    grey_width_[i] = grey_height_[i] = 0;
+  }
+  const size_t bytes =
+      InitBlock::PieceBytes<uint8_t>(pixels[0]) + InitBlock::PieceBytes<uint8_t>(pixels[1]);
+  if (!grey_block_.Allocate(bytes)) {
+    return Status::Error(StatusCode::kUnavailable, "pipeline: cannot allocate %zu bytes of grey",
+                         bytes);
+  }
+  for (int i = 0; i < 2; ++i) {
+    grey_[i] = grey_block_.Take<uint8_t>(pixels[i]);
+    grey_width_[i] = cams[i]->width;
+    grey_height_[i] = cams[i]->height;
+  }
   return Status::Ok();
 }
 

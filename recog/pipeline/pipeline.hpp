@@ -1,7 +1,7 @@
 // The whole recognition pipeline of one stereo frame (thesis fig. 4.1): per-image features,
 // sloppy stereo, 3-D geometric hashing with pose refinement, and verification against the edge
-// pixels of both images. Statically allocated: a Pipeline object holds every buffer (tens of
-// MiB: keep it in static storage or allocate it once at start-up); Process() never allocates.
+// pixels of both images. Init sizes the image buffers for the calibration's image size (one
+// allocation per workspace, at start-up: docs/memory.md); Process() never allocates.
 #pragma once
 
 #include <cstdint>
@@ -214,6 +214,8 @@ class Pipeline {
   Status UseEstimatedTable(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
                            PipelineResult* out, int64_t* verify_ns);
 
+  // Sizes the feature workspaces and the grey buffers for the calibration's images.
+  Status InitImageBuffers(const StereoCalibration& calib);
   static void ExtractOne(void* self, int image);
   // Steps 1-6 of the polyhedral path on grey images; t0 is the frame's start (budget, times).
   Status RecognisePolyhedra(ConstGrayView left, ConstGrayView right, float budget_ms, int64_t t0,
@@ -227,7 +229,8 @@ class Pipeline {
   PipelineConfig config_;
   ClockFn now_ns_ = nullptr;
 
-  // Per image: detector workspace (~42 MiB each, holds the edge map) and its features.
+  // Per image: detector workspace (buffers sized by Init for the calibration's image size, about
+  // 33 MiB each at 1280 x 800; holds the edge map) and its features.
   FeatureWorkspace workspace_[2];
   ImageFeatures features_[2];
   // Detector output in stereo's input form.
@@ -251,7 +254,10 @@ class Pipeline {
   ModelSet models_;
   bool shape_enabled_ = false;
   ZeroedPtr<ShapeRecognizer> shape_;
-  uint8_t grey_[2][kMaxImagePixels];
+  // Carved by Init for each camera's image size (one block).
+  InitBlock grey_block_;
+  uint8_t* grey_[2] = {nullptr, nullptr};
+  int grey_width_[2] = {0, 0}, grey_height_[2] = {0, 0};
 };
 
 }  // namespace sh

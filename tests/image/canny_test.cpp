@@ -29,8 +29,8 @@ std::vector<Side> SidesOf(const std::vector<Polygon>& polys) {
 }
 
 struct Buffers {
-  std::unique_ptr<FilterScratch> scratch = std::make_unique<FilterScratch>();
-  std::unique_ptr<EdgeBuffers> edges = std::make_unique<EdgeBuffers>();
+  ZeroedPtr<FilterScratch> scratch = MakeWorkspace<FilterScratch>();
+  ZeroedPtr<EdgeBuffers> edges = MakeWorkspace<EdgeBuffers>();
 };
 
 class CannySceneTest : public ::testing::TestWithParam<float> {};

@@ -56,7 +56,7 @@ double NearestVertex(const std::vector<Point2>& vertices, const Corner2D& c) {
 class CornerScaleTest : public ::testing::TestWithParam<float> {};
 
 TEST_P(CornerScaleTest, FindsEveryVertexAndNothingElse) {
-  auto scratch = std::make_unique<FilterScratch>();
+  auto scratch = MakeWorkspace<FilterScratch>();
   for (int run = 0; run < 4; ++run) {
     const bool dark_background = run % 2 == 0;
     const Scene s = dark_background ? MakeScene(30, 200, 2.0, 1) : MakeScene(190, 90, 2.0, 2);
@@ -91,7 +91,7 @@ INSTANTIATE_TEST_SUITE_P(Scales, CornerScaleTest, ::testing::Values(1.5f, 2.0f, 
 
 TEST(Corners, WithoutVertexRefinementTheMaximumLiesInsideTheCorner) {
   // The curvature maximum of a blurred corner sits inside the wedge; the refinement removes that.
-  auto scratch = std::make_unique<FilterScratch>();
+  auto scratch = MakeWorkspace<FilterScratch>();
   const Scene s = MakeScene(30, 200, 1.0, 3);
   CornerConfig config;
   config.sigma_px = 4.0f;
@@ -117,7 +117,7 @@ TEST(Corners, WithoutVertexRefinementTheMaximumLiesInsideTheCorner) {
 // default threshold: the differences on the reduced grid respond to long diagonal edges as the
 // full-resolution ones do at sigma_c / 2, up to about 0.011 for a contrast of 170.)
 TEST(Corners, ReducedLargeScalesMatchTheFullResolutionReference) {
-  auto scratch = std::make_unique<FilterScratch>();
+  auto scratch = MakeWorkspace<FilterScratch>();
   const int w = 756, h = 581;
   for (const bool dark : {true, false}) {
     testing::SyntheticImage synth(w, h, dark ? 30.0 : 190.0);
@@ -165,7 +165,7 @@ TEST(Corners, ReducedLargeScalesMatchTheFullResolutionReference) {
 }
 
 TEST(Corners, StrengthScalesWithContrastCubed) {
-  auto scratch = std::make_unique<FilterScratch>();
+  auto scratch = MakeWorkspace<FilterScratch>();
   CornerConfig config;
   config.refine_to_vertex = false;
   float strength[2];
@@ -185,7 +185,7 @@ TEST(Corners, StrengthScalesWithContrastCubed) {
 }
 
 TEST(Corners, RelativeThresholdKeepsOnlyTheStrongest) {
-  auto scratch = std::make_unique<FilterScratch>();
+  auto scratch = MakeWorkspace<FilterScratch>();
   const Scene s = MakeScene(30, 200, 2.0, 4);
   CornerConfig config;
   config.threshold = 0.0f;
@@ -199,7 +199,7 @@ TEST(Corners, RelativeThresholdKeepsOnlyTheStrongest) {
 }
 
 TEST(Corners, NoiseFillsTheOutputWithTheStrongestMaxima) {
-  auto scratch = std::make_unique<FilterScratch>();
+  auto scratch = MakeWorkspace<FilterScratch>();
   testing::SyntheticImage synth(kMaxImageWidth, kMaxImageHeight, 0);
   synth.FillUniformNoise(5);
   std::vector<uint8_t> px;
@@ -236,7 +236,7 @@ TEST(Corners, NoiseFillsTheOutputWithTheStrongestMaxima) {
 }
 
 TEST(Corners, DegenerateImagesAndConfigs) {
-  auto scratch = std::make_unique<FilterScratch>();
+  auto scratch = MakeWorkspace<FilterScratch>();
   Vector<Corner2D, kMaxCorners2d> corners;
   std::vector<uint8_t> px(kMaxImageWidth * 4, 128);
   CornerConfig config;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "tests/support/synthetic_image.hpp"
@@ -24,7 +25,7 @@ void CheckPreset(const FeatureConfig& config, double background, double object) 
   synth.AddNoise(2.0, 5);
   std::vector<uint8_t> px;
   const ConstGrayView img = synth.ToGray(px);
-  auto ws = std::make_unique<FeatureWorkspace>();
+  auto ws = MakeWorkspace<FeatureWorkspace>();
   auto features = std::make_unique<ImageFeatures>();
   ASSERT_TRUE(ExtractFeatures(img, config, *ws, *features).ok());
   size_t sides = 0;
@@ -60,7 +61,7 @@ TEST(Features, LightBackgroundPreset) {
 }
 
 TEST(Features, RefusesOversizedAndEmptyImagesWithEmptyOutput) {
-  auto ws = std::make_unique<FeatureWorkspace>();
+  auto ws = MakeWorkspace<FeatureWorkspace>();
   auto features = std::make_unique<ImageFeatures>();
   std::vector<uint8_t> px(size_t(kMaxImageWidth + 8) * 4, 0);
   const Status s =
@@ -82,7 +83,7 @@ TEST(Features, UniformNoiseAtFullSizeStaysWithinCapacity) {
   synth.FillUniformNoise(9);
   std::vector<uint8_t> px;
   const ConstGrayView img = synth.ToGray(px);
-  auto ws = std::make_unique<FeatureWorkspace>();
+  auto ws = MakeWorkspace<FeatureWorkspace>();
   auto features = std::make_unique<ImageFeatures>();
   FeatureConfig config = FeatureConfig::LightBackground();
   config.hough.max_peaks = 300;  // bounds the run time of this test
@@ -92,6 +93,57 @@ TEST(Features, UniformNoiseAtFullSizeStaysWithinCapacity) {
   EXPECT_GT(features->canny_stats.edge_pixels, 0u);
   EXPECT_EQ(features->hough_stats.edge_pixels + features->hough_stats.edge_pixels_dropped,
             features->canny_stats.edge_pixels);
+}
+
+// Buffers sized at Init for the camera: an image of that size gives what a workspace of the
+// maximum size gives; a larger one is refused naming both sizes; sizes beyond the maximum and a
+// workspace never initialised are refused.
+TEST(Features, WorkspaceSizedAtInitForTheCamera) {
+  const int w = 320, h = 240;
+  const std::vector<Polygon> polys = testing::TestScene(w, h, 200.0);
+  testing::SyntheticImage synth(w, h, 40.0);
+  for (const Polygon& p : polys) synth.Fill(p);
+  synth.Blur(0.8);
+  synth.AddNoise(2.0, 5);
+  std::vector<uint8_t> px;
+  const ConstGrayView img = synth.ToGray(px);
+  const FeatureConfig config = FeatureConfig::DarkBackground();
+
+  auto small = MakeWorkspace<FeatureWorkspace>(w, h);
+  auto full = MakeWorkspace<FeatureWorkspace>();
+  ASSERT_NE(small, nullptr);
+  ASSERT_NE(full, nullptr);
+  EXPECT_LT(FeatureWorkspace::BytesFor(w, h), FeatureWorkspace::BytesFor(1280, 1024) / 10);
+  auto a = std::make_unique<ImageFeatures>();
+  auto b = std::make_unique<ImageFeatures>();
+  ASSERT_TRUE(ExtractFeatures(img, config, *small, *a).ok());
+  ASSERT_TRUE(ExtractFeatures(img, config, *full, *b).ok());
+  ASSERT_GT(a->corners.size(), 0u);
+  ASSERT_EQ(a->corners.size(), b->corners.size());
+  ASSERT_EQ(a->lines.size(), b->lines.size());
+  EXPECT_EQ(a->canny_stats.edge_pixels, b->canny_stats.edge_pixels);
+  for (size_t i = 0; i < a->corners.size(); ++i) {
+    EXPECT_EQ(a->corners[i].x_px, b->corners[i].x_px);
+    EXPECT_EQ(a->corners[i].y_px, b->corners[i].y_px);
+  }
+  for (size_t i = 0; i < a->lines.size(); ++i) {
+    EXPECT_EQ(a->lines[i].theta_rad, b->lines[i].theta_rad);
+  }
+
+  // One row more than the workspace holds.
+  testing::SyntheticImage taller(w, h + 1, 40.0);
+  std::vector<uint8_t> px2;
+  const Status st = ExtractFeatures(taller.ToGray(px2), config, *small, *a);
+  EXPECT_EQ(st.code(), StatusCode::kOutOfRange);
+  EXPECT_NE(std::string(st.message()).find("320x241"), std::string::npos) << st.message();
+  EXPECT_NE(std::string(st.message()).find("320x240"), std::string::npos) << st.message();
+  EXPECT_EQ(a->corners.size(), 0u);
+
+  FeatureWorkspace ws;
+  EXPECT_EQ(ExtractFeatures(img, config, ws, *a).code(), StatusCode::kFailedPrecondition);
+  EXPECT_EQ(ws.Init(kMaxImageWidth + 1, 800).code(), StatusCode::kOutOfRange);
+  EXPECT_EQ(ws.Init(640, 0).code(), StatusCode::kOutOfRange);
+  EXPECT_EQ(MakeWorkspace<FeatureWorkspace>(1280, kMaxImageHeight + 1), nullptr);
 }
 
 }  // namespace

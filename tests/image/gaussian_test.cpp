@@ -90,7 +90,7 @@ TEST(GaussianFilter, MatchesDoublePrecisionReference) {
   synth.AddNoise(8.0, 7);
   std::vector<uint8_t> pixels;
   const ConstGrayView img = synth.ToGray(pixels);
-  auto scratch = std::make_unique<FilterScratch>();
+  auto scratch = MakeWorkspace<FilterScratch>();
   for (float sigma : {1.0f, 2.0f, 6.0f}) {
     for (auto [ox, oy] : {std::pair{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}}) {
       ImageView<float> out = scratch->planes[1].view(img.width, img.height);
@@ -123,7 +123,7 @@ TEST(GaussianFilter, DerivativesOfASinusoidFollowTheAnalyticResponse) {
     for (int x = 0; x < w; ++x) px[y * w + x] = uint8_t(std::lround(exact[x]));
   }
   const ConstGrayView img{px.data(), w, h, w};
-  auto scratch = std::make_unique<FilterScratch>();
+  auto scratch = MakeWorkspace<FilterScratch>();
   const float sigma = 2.0f;
   const double atten = std::exp(-0.5 * freq * freq * sigma * sigma);
   ImageView<float> dx = scratch->planes[1].view(w, h);
@@ -148,7 +148,7 @@ TEST(GaussianFilter, DerivativesOfASinusoidFollowTheAnalyticResponse) {
 }
 
 TEST(GaussianFilter, RefusesBadImages) {
-  auto scratch = std::make_unique<FilterScratch>();
+  auto scratch = MakeWorkspace<FilterScratch>();
   std::vector<uint8_t> px(16, 0);
   ImageView<float> out = scratch->planes[1].view(4, 4);
   EXPECT_EQ(

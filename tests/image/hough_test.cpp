@@ -23,9 +23,9 @@ struct Side {
 };
 
 struct Workspaces {
-  std::unique_ptr<FilterScratch> scratch = std::make_unique<FilterScratch>();
-  std::unique_ptr<EdgeBuffers> edges = std::make_unique<EdgeBuffers>();
-  std::unique_ptr<HoughWorkspace> hough = std::make_unique<HoughWorkspace>();
+  ZeroedPtr<FilterScratch> scratch = MakeWorkspace<FilterScratch>();
+  ZeroedPtr<EdgeBuffers> edges = MakeWorkspace<EdgeBuffers>();
+  ZeroedPtr<HoughWorkspace> hough = MakeWorkspace<HoughWorkspace>();
 };
 
 ConstEdgeMapView AsConst(const EdgeMapView& e) { return {e.edge, e.orientation}; }
@@ -212,7 +212,7 @@ TEST(Hough, DashedLineGivesSeparateSegmentsAndGapsMerge) {
     }
   }
   ConstEdgeMapView em{{edge.data(), w, h, w}, {orient.data(), w, h, w}};
-  auto hough = std::make_unique<HoughWorkspace>();
+  auto hough = MakeWorkspace<HoughWorkspace>();
   Vector<Line2D, kMaxLines2d> lines;
   HoughConfig config;
   ASSERT_TRUE(DetectLines(em, config, *hough, lines).ok());
@@ -262,7 +262,7 @@ TEST(Hough, PathologicalEdgeMapsFillBuffersWithDefinedResults) {
   std::mt19937 rng(3);
   for (uint8_t& o : orient) o = uint8_t(rng());
   ConstEdgeMapView em{{edge.data(), w, h, w}, {orient.data(), w, h, w}};
-  auto hough = std::make_unique<HoughWorkspace>();
+  auto hough = MakeWorkspace<HoughWorkspace>();
   Vector<Line2D, kMaxLines2d> lines;
   HoughStats stats;
   HoughConfig config;
@@ -296,7 +296,7 @@ TEST(Hough, PathologicalEdgeMapsFillBuffersWithDefinedResults) {
 }
 
 TEST(Hough, EmptyAndBadInput) {
-  auto hough = std::make_unique<HoughWorkspace>();
+  auto hough = MakeWorkspace<HoughWorkspace>();
   Vector<Line2D, kMaxLines2d> lines;
   std::vector<uint8_t> zero(64, 0);
   ConstEdgeMapView em{{zero.data(), 8, 8, 8}, {zero.data(), 8, 8, 8}};

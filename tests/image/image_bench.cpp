@@ -30,7 +30,7 @@ const Frame& SceneFrame(int w, int h) {
 }
 
 FeatureWorkspace& Workspace() {
-  static auto ws = std::make_unique<FeatureWorkspace>();
+  static auto ws = MakeWorkspace<FeatureWorkspace>();
   return *ws;
 }
 

@@ -83,6 +83,7 @@ TEST(Noise, AdaptiveThresholdsFollowTheNoise) {
 
   // Same scene, both noise levels: the edge pixels found stay of the same order.
   static FeatureWorkspace workspace;
+  ASSERT_TRUE(workspace.Init(w, h).ok());
   static ImageFeatures fa, fb;
   ASSERT_TRUE(ExtractFeatures(ConstGrayView{a.data(), w, h, w}, config, workspace, fa).ok());
   ASSERT_TRUE(ExtractFeatures(ConstGrayView{b.data(), w, h, w}, config, workspace, fb).ok());

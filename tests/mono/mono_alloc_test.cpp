@@ -23,7 +23,7 @@ TEST(MonoAllocations, NoneWhileProcessing) {
   p.n_objects = 4;
   ASSERT_TRUE(RenderPair(21, p, models, pair.get()).ok());
   auto pipeline = std::make_unique<MonoPipeline>();
-  auto workspace = std::make_unique<FeatureWorkspace>();
+  auto workspace = MakeWorkspace<FeatureWorkspace>();
   auto result = std::make_unique<MonoResult>();
   const RigidTransform left_T_table = pair->generated.scene.left_T_table;
   size_t found = 0;

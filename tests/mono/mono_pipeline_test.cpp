@@ -19,7 +19,7 @@ using testing::MonoSceneSet;
 TEST(MonoPipeline, SameFrameSameResult) {
   const MonoSceneSet& f = MonoScenes();
   auto pipeline = std::make_unique<MonoPipeline>();
-  auto workspace = std::make_unique<FeatureWorkspace>();
+  auto workspace = MakeWorkspace<FeatureWorkspace>();
   auto a = std::make_unique<MonoResult>(), b = std::make_unique<MonoResult>();
   const RenderedPair& pair = MonoScene(0);
   const RigidTransform left_T_table = pair.generated.scene.left_T_table;
@@ -39,7 +39,7 @@ TEST(MonoPipeline, SameFrameSameResult) {
 TEST(MonoPipeline, BudgetStopsTheSearch) {
   const MonoSceneSet& f = MonoScenes();
   auto pipeline = std::make_unique<MonoPipeline>();
-  auto workspace = std::make_unique<FeatureWorkspace>();
+  auto workspace = MakeWorkspace<FeatureWorkspace>();
   auto result = std::make_unique<MonoResult>();
   const RenderedPair& pair = MonoScene(1);
   const RigidTransform left_T_table = pair.generated.scene.left_T_table;
@@ -56,7 +56,7 @@ TEST(MonoPipeline, BudgetStopsTheSearch) {
 TEST(MonoPipeline, RefusesBadUse) {
   const MonoSceneSet& f = MonoScenes();
   auto pipeline = std::make_unique<MonoPipeline>();
-  auto workspace = std::make_unique<FeatureWorkspace>();
+  auto workspace = MakeWorkspace<FeatureWorkspace>();
   auto result = std::make_unique<MonoResult>();
   const RenderedPair& pair = MonoScene(0);
   EXPECT_EQ(pipeline->Process(pair.left_view(), 0, *workspace, result.get()).code(),

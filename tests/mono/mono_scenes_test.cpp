@@ -46,7 +46,7 @@ float Median(std::vector<float> v) {
 TEST(MonoPipeline, FindsRestingObjectsFromOneImageWithTheTable) {
   const MonoSceneSet& f = MonoScenes();
   auto pipeline = std::make_unique<MonoPipeline>();
-  auto workspace = std::make_unique<FeatureWorkspace>();
+  auto workspace = MakeWorkspace<FeatureWorkspace>();
   auto result = std::make_unique<MonoResult>();
   Score score;
   for (int i = 0; i < testing::kMonoScenes; ++i) {
@@ -75,7 +75,7 @@ TEST(MonoPipeline, FindsRestingObjectsFromOneImageWithTheTable) {
 TEST(MonoPipeline, RightCameraReportsPosesInTheLeftFrame) {
   const MonoSceneSet& f = MonoScenes();
   auto pipeline = std::make_unique<MonoPipeline>();
-  auto workspace = std::make_unique<FeatureWorkspace>();
+  auto workspace = MakeWorkspace<FeatureWorkspace>();
   auto result = std::make_unique<MonoResult>();
   Score score;
   for (int i = 0; i < testing::kMonoScenes; ++i) {
@@ -94,7 +94,7 @@ TEST(MonoPipeline, RightCameraReportsPosesInTheLeftFrame) {
 TEST(MonoPipeline, WithoutTableThePosesAreFreeButCoarser) {
   const MonoSceneSet& f = MonoScenes();
   auto pipeline = std::make_unique<MonoPipeline>();
-  auto workspace = std::make_unique<FeatureWorkspace>();
+  auto workspace = MakeWorkspace<FeatureWorkspace>();
   auto result = std::make_unique<MonoResult>();
   Score score;
   for (int i = 0; i < testing::kMonoScenes; ++i) {
