@@ -164,19 +164,12 @@ size_t EdgeBuffers::BytesFor(int width, int height) {
 }
 
 Status EdgeBuffers::Init(int width, int height) {
-  SH_RETURN_IF_ERROR(CheckWorkspaceSize(width, height, "edge buffers"));
-  if (width == width_ && height == height_) return Status::Ok();
-  width_ = height_ = 0;
-  if (!block_.Allocate(BytesFor(width, height))) {
-    return Status::Error(StatusCode::kUnavailable, "edge buffers: cannot allocate %zu bytes",
-                         BytesFor(width, height));
-  }
+  if (block_.Holds(width, height)) return Status::Ok();
+  SH_RETURN_IF_ERROR(block_.Allocate(width, height, BytesFor(width, height), "edge buffers"));
   const size_t pixels = size_t{static_cast<size_t>(width)} * static_cast<size_t>(height);
   edge = block_.Take<uint8_t>(pixels);
   orientation = block_.Take<uint8_t>(pixels);
   stack = block_.Take<uint32_t>(pixels);
-  width_ = width;
-  height_ = height;
   return Status::Ok();
 }
 
@@ -186,10 +179,10 @@ Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, Filter
   if (stats != nullptr) *stats = CannyStats{};
   SH_RETURN_IF_ERROR(ValidateGrayImage(image, "DetectEdges"));
   SH_RETURN_IF_ERROR(ValidateCannyConfig(config));
-  SH_RETURN_IF_ERROR(CheckFitsWorkspace(image.width, image.height, scratch.width(),
-                                        scratch.height(), "DetectEdges (filter scratch)"));
-  SH_RETURN_IF_ERROR(CheckFitsWorkspace(image.width, image.height, buffers.width(),
-                                        buffers.height(), "DetectEdges (edge buffers)"));
+  SH_RETURN_IF_ERROR(CheckFitsWorkspace(image.width, image.height, scratch.block(),
+                                        "DetectEdges (filter scratch)"));
+  SH_RETURN_IF_ERROR(
+      CheckFitsWorkspace(image.width, image.height, buffers.block(), "DetectEdges (edge buffers)"));
   GaussianKernel g0, g1;
   SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 0, g0));
   SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 1, g1));

@@ -38,17 +38,13 @@ struct EdgeBuffers {
     return {{edge, width, height, width}, {orientation, width, height, width}};
   }
 
-  // Bytes Init takes for images up to width x height.
+  // Sized as FilterScratch is (BytesFor, Init).
   static size_t BytesFor(int width, int height);
-  // Carves the buffers for images up to width x height (at start-up: allocates). A second call
-  // with the same size keeps them.
   Status Init(int width, int height);
-  int width() const { return width_; }
-  int height() const { return height_; }
+  const ImageBlock& block() const { return block_; }
 
  private:
-  InitBlock block_;
-  int width_ = 0, height_ = 0;
+  ImageBlock block_;
 };
 
 inline constexpr uint8_t kEdgePixel = 255;

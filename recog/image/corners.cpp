@@ -471,8 +471,8 @@ Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, Fil
   if (stats != nullptr) *stats = CornerStats{};
   SH_RETURN_IF_ERROR(ValidateGrayImage(image, "DetectCorners"));
   SH_RETURN_IF_ERROR(ValidateCornerConfig(config));
-  SH_RETURN_IF_ERROR(CheckFitsWorkspace(image.width, image.height, scratch.width(),
-                                        scratch.height(), "DetectCorners (filter scratch)"));
+  SH_RETURN_IF_ERROR(CheckFitsWorkspace(image.width, image.height, scratch.block(),
+                                        "DetectCorners (filter scratch)"));
   const int w = image.width, h = image.height;
   if (!config.exact_derivatives && config.reduce_large_scales &&
       config.sigma_px >= kCornerReduceSigmaPx) {

@@ -99,8 +99,8 @@ Status ExtractFeatures(const ConstGrayView& image, const FeatureConfig& requeste
   features.masked_corners = 0;
   features.masked_edge_pixels = 0;
   SH_RETURN_IF_ERROR(ValidateGrayImage(image, "ExtractFeatures"));
-  SH_RETURN_IF_ERROR(CheckFitsWorkspace(image.width, image.height, workspace.filter.width(),
-                                        workspace.filter.height(), "ExtractFeatures (workspace)"));
+  SH_RETURN_IF_ERROR(CheckFitsWorkspace(image.width, image.height, workspace.filter.block(),
+                                        "ExtractFeatures (workspace)"));
   FeatureConfig config;
   SH_RETURN_IF_ERROR(ChooseDetection(image, requested, &config, &features.chosen));
   SH_RETURN_IF_ERROR(ValidateFeatureConfig(config));

@@ -76,16 +76,27 @@ Status CheckWorkspaceSize(int width, int height, const char* what) {
   return Status::Ok();
 }
 
-Status CheckFitsWorkspace(int width, int height, int capacity_width, int capacity_height,
-                          const char* what) {
-  if (capacity_width == 0) {
+Status ImageBlock::Allocate(int width, int height, size_t bytes, const char* what) {
+  SH_RETURN_IF_ERROR(CheckWorkspaceSize(width, height, what));
+  width_ = height_ = 0;
+  if (!block_.Allocate(bytes)) {
+    return Status::Error(StatusCode::kUnavailable, "%s: cannot allocate %zu bytes for %dx%d", what,
+                         bytes, width, height);
+  }
+  width_ = width;
+  height_ = height;
+  return Status::Ok();
+}
+
+Status CheckFitsWorkspace(int width, int height, const ImageBlock& block, const char* what) {
+  if (block.width() == 0) {
     return Status::Error(StatusCode::kFailedPrecondition,
                          "%s: workspace not initialised (Init with the camera's image size)", what);
   }
-  if (width > capacity_width || height > capacity_height) {
+  if (width > block.width() || height > block.height()) {
     return Status::Error(StatusCode::kOutOfRange,
                          "%s: image %dx%d larger than the %dx%d the workspace was initialised for",
-                         what, width, height, capacity_width, capacity_height);
+                         what, width, height, block.width(), block.height());
   }
   return Status::Ok();
 }
@@ -97,18 +108,11 @@ size_t FilterScratch::BytesFor(int width, int height) {
 }
 
 Status FilterScratch::Init(int width, int height) {
-  SH_RETURN_IF_ERROR(CheckWorkspaceSize(width, height, "filter scratch"));
-  if (width == width_ && height == height_) return Status::Ok();
-  width_ = height_ = 0;
-  if (!block_.Allocate(BytesFor(width, height))) {
-    return Status::Error(StatusCode::kUnavailable, "filter scratch: cannot allocate %zu bytes",
-                         BytesFor(width, height));
-  }
+  if (block_.Holds(width, height)) return Status::Ok();
+  SH_RETURN_IF_ERROR(block_.Allocate(width, height, BytesFor(width, height), "filter scratch"));
   const size_t pixels = size_t{static_cast<size_t>(width)} * static_cast<size_t>(height);
   for (FloatPlane& plane : planes) plane.data = block_.Take<float>(pixels);
   reduced = block_.Take<uint8_t>(ReducedPixels(width, height));
-  width_ = width;
-  height_ = height;
   return Status::Ok();
 }
 

@@ -57,10 +57,30 @@ inline constexpr size_t kMaxReducedPixels = ReducedPixels(kMaxImageWidth, kMaxIm
 // The size a workspace is initialised for: refuses sizes outside 1 .. kMaxImageWidth x
 // kMaxImageHeight, naming `what`.
 Status CheckWorkspaceSize(int width, int height, const char* what);
-// Whether an image of width x height fits buffers initialised for capacity_width x
-// capacity_height; the error names `what`, both sizes and that Init sets the capacity.
-Status CheckFitsWorkspace(int width, int height, int capacity_width, int capacity_height,
-                          const char* what);
+
+// The block a workspace carves its image buffers from (InitBlock) and the image size it was taken
+// for (0 x 0 until then).
+class ImageBlock {
+ public:
+  // For images up to width x height: refuses sizes outside 1x1 .. kMaxImageWidth x
+  // kMaxImageHeight (naming `what`), else takes `bytes` (earlier pieces become invalid).
+  Status Allocate(int width, int height, size_t bytes, const char* what);
+  template <typename T>
+  T* Take(size_t count) {
+    return block_.Take<T>(count);
+  }
+  bool Holds(int width, int height) const { return width == width_ && height == height_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  InitBlock block_;
+  int width_ = 0, height_ = 0;
+};
+
+// Whether an image of width x height fits the buffers of `block`; the error names `what`, both
+// sizes, or that the workspace was never initialised.
+Status CheckFitsWorkspace(int width, int height, const ImageBlock& block, const char* what);
 
 // Float planes shared by the detectors of one frame (corners use up to all four, Canny two), and
 // the 2x reduced grey image of the large corner scales: 16 W H + W H / 4 bytes for images up to
@@ -73,14 +93,12 @@ struct FilterScratch {
   // Bytes Init takes for images up to width x height.
   static size_t BytesFor(int width, int height);
   // Carves the buffers for images up to width x height (at start-up: allocates). A second call
-  // with the same size keeps them.
+  // with the same size keeps them. EdgeBuffers and HoughWorkspace size themselves the same way.
   Status Init(int width, int height);
-  int width() const { return width_; }
-  int height() const { return height_; }
+  const ImageBlock& block() const { return block_; }
 
  private:
-  InitBlock block_;
-  int width_ = 0, height_ = 0;
+  ImageBlock block_;
 };
 
 // A workspace (FilterScratch, EdgeBuffers, HoughWorkspace or FeatureWorkspace) on the heap, its

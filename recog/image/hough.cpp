@@ -581,21 +581,14 @@ size_t HoughWorkspace::BytesFor(int width, int height) {
 }
 
 Status HoughWorkspace::Init(int width, int height) {
-  SH_RETURN_IF_ERROR(CheckWorkspaceSize(width, height, "Hough workspace"));
-  if (width == width_ && height == height_) return Status::Ok();
-  width_ = height_ = 0;
+  if (block_.Holds(width, height)) return Status::Ok();
   point_capacity_ = 0;
-  if (!block_.Allocate(BytesFor(width, height))) {
-    return Status::Error(StatusCode::kUnavailable, "Hough workspace: cannot allocate %zu bytes",
-                         BytesFor(width, height));
-  }
+  SH_RETURN_IF_ERROR(block_.Allocate(width, height, BytesFor(width, height), "Hough workspace"));
   const size_t n = HoughEdgeCapacity(width, height);
   points = block_.Take<HoughEdgePoint>(n);
   collected = block_.Take<uint32_t>(n);
   subset = block_.Take<uint32_t>(n);
   point_capacity_ = n;
-  width_ = width;
-  height_ = height;
   return Status::Ok();
 }
 
@@ -620,8 +613,7 @@ Status DetectLines(const ConstEdgeMapView& edges, const HoughConfig& config, Hou
                          e.width, e.height, kMaxImageWidth, kMaxImageHeight);
   }
   SH_RETURN_IF_ERROR(ValidateHoughConfig(config));
-  SH_RETURN_IF_ERROR(
-      CheckFitsWorkspace(e.width, e.height, ws.width(), ws.height(), "DetectLines (workspace)"));
+  SH_RETURN_IF_ERROR(CheckFitsWorkspace(e.width, e.height, ws.block(), "DetectLines (workspace)"));
   Tables tb;
   BuildTables(config, tb);
 

@@ -23,10 +23,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "recog/base/init_block.hpp"
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
 #include "recog/image/edge_map.hpp"
+#include "recog/image/gaussian.hpp"
 #include "recog/image/image.hpp"
 
 namespace sh {
@@ -148,18 +148,14 @@ struct HoughWorkspace {
   };
   Run runs[kSupportBins / 2 + 1];
 
-  // Bytes Init takes for images up to width x height.
+  // Sized as FilterScratch is (BytesFor, Init).
   static size_t BytesFor(int width, int height);
-  // Carves the edge-pixel arrays for images up to width x height (at start-up: allocates). A
-  // second call with the same size keeps them.
   Status Init(int width, int height);
-  int width() const { return width_; }
-  int height() const { return height_; }
+  const ImageBlock& block() const { return block_; }
   size_t point_capacity() const { return point_capacity_; }
 
  private:
-  InitBlock block_;
-  int width_ = 0, height_ = 0;
+  ImageBlock block_;
   size_t point_capacity_ = 0;
 };
 
