@@ -30,10 +30,11 @@ struct EdgeBuffers {
   uint8_t* edge = nullptr;
   uint8_t* orientation = nullptr;
   uint32_t* stack = nullptr;  // hysteresis work list; each pixel is pushed at most once
-  // Ring of the last three gradient rows (x, y, squared magnitude) for non-maximum suppression.
-  float ring_gx[3][kMaxImageWidth];
-  float ring_gy[3][kMaxImageWidth];
-  float ring_mag[3][kMaxImageWidth];
+  // Ring of the last three gradient rows (x, y, squared magnitude) for non-maximum suppression
+  // (45 KiB, zeroed at construction).
+  float ring_gx[3][kMaxImageWidth] = {};
+  float ring_gy[3][kMaxImageWidth] = {};
+  float ring_mag[3][kMaxImageWidth] = {};
   EdgeMapView view(int width, int height) {
     return {{edge, width, height, width}, {orientation, width, height, width}};
   }
