@@ -37,7 +37,7 @@ Status LimitThreadStacks(size_t bytes) {
 
 // noinline keeps the array in this frame; volatile keeps the writes.
 __attribute__((noinline)) void PrefaultStack(size_t bytes) {
-  constexpr size_t kChunk = 16 * 1024;
+  constexpr size_t kChunk = size_t{16} * 1024;
   volatile unsigned char chunk[kChunk];
   for (size_t i = 0; i < kChunk; i += 4096) chunk[i] = 0;
   if (bytes > kChunk) PrefaultStack(bytes - kChunk);

@@ -37,7 +37,7 @@ Status CheckLimits(const TableHeader& h) {
 }  // namespace
 
 uint32_t TableBlobCrc32(const uint8_t* blob, size_t size) {
-  TableHeader header;
+  TableHeader header{};
   std::memcpy(&header, blob, sizeof(header));
   header.blob_crc32 = 0;
   const uint32_t crc = Crc32(&header, sizeof(header));
@@ -48,24 +48,28 @@ Status CheckBlobSection(const SectionRef& s, size_t count, size_t element_size, 
                         const char* name) {
   if (s.offset % kSectionAlignment != 0)
     return Status::Error(StatusCode::kDataLoss, "table blob corrupt: %s section misaligned", name);
-  if (s.offset > total || s.size > total - s.offset)
+  if (s.offset > total || s.size > total - s.offset) {
     return Status::Error(StatusCode::kDataLoss,
                          "table blob truncated: %s section ends past the blob", name);
-  if (s.size != count * element_size)
+  }
+  if (s.size != count * element_size) {
     return Status::Error(StatusCode::kDataLoss,
                          "table blob corrupt: %s section has %llu bytes, expected %zu", name,
                          static_cast<unsigned long long>(s.size), count * element_size);
+  }
   return Status::Ok();
 }
 
 Status CheckBinOffsets(const uint32_t* offsets, uint32_t bins, uint32_t entries, const char* name) {
-  if (offsets[0] != 0 || offsets[bins] != entries)
+  if (offsets[0] != 0 || offsets[bins] != entries) {
     return Status::Error(StatusCode::kDataLoss,
                          "table blob corrupt: %s bin offsets do not cover the entries", name);
+  }
   for (uint32_t i = 0; i < bins; ++i) {
-    if (offsets[i + 1] < offsets[i])
+    if (offsets[i + 1] < offsets[i]) {
       return Status::Error(StatusCode::kDataLoss,
                            "table blob corrupt: %s bin offsets decrease at bin %u", name, i);
+    }
   }
   return Status::Ok();
 }
@@ -78,34 +82,40 @@ Result<TableView> TableView::Open(const void* blob, size_t size) {
   SH_RETURN_IF_ERROR(CheckBlobStart(blob, size, 8, sizeof(TableHeader), "table blob"));
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = reinterpret_cast<const TableHeader*>(bytes);
-  if (std::memcmp(h->magic, kTableMagic, sizeof(kTableMagic)) != 0)
+  if (std::memcmp(h->magic, kTableMagic, sizeof(kTableMagic)) != 0) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "not a stereohash table blob (bad magic number)");
-  if (h->format_version != kTableFormatVersion)
+  }
+  if (h->format_version != kTableFormatVersion) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "table blob format version %u, this build reads version %u",
                          h->format_version, kTableFormatVersion);
+  }
   if (h->header_size != sizeof(TableHeader)) return Corrupt("header size field");
-  if (h->total_size != size)
+  if (h->total_size != size) {
     return Status::Error(StatusCode::kDataLoss,
                          "table blob truncated or padded: header says %llu bytes, got %zu",
                          static_cast<unsigned long long>(h->total_size), size);
+  }
   const uint32_t crc = TableBlobCrc32(bytes, size);
-  if (crc != h->blob_crc32)
+  if (crc != h->blob_crc32) {
     return Status::Error(StatusCode::kDataLoss, "table blob corrupt: CRC-32 %08x, header says %08x",
                          crc, h->blob_crc32);
+  }
   if (!IsValidHashFunction(h->hash_function)) return Corrupt("hash function not in 1..5");
   SH_RETURN_IF_ERROR(CheckLimits(*h));
-  if (h->n_models == 0 || h->n_models > kMaxTableModels)
+  if (h->n_models == 0 || h->n_models > kMaxTableModels) {
     return Status::Error(StatusCode::kOutOfRange, "table blob has %u models (1..%u supported)",
                          h->n_models, kMaxTableModels);
+  }
   if (h->n_bases > kMaxTableBases || h->n_point_entries > kMaxTablePointEntries ||
-      h->n_line_entries > kMaxTableLineEntries)
+      h->n_line_entries > kMaxTableLineEntries) {
     return Status::Error(StatusCode::kOutOfRange,
                          "table blob larger than this build supports (%u bases, %u point and %u "
                          "line entries; limits %u, %u, %u)",
                          h->n_bases, h->n_point_entries, h->n_line_entries, kMaxTableBases,
                          kMaxTablePointEntries, kMaxTableLineEntries);
+  }
   SH_RETURN_IF_ERROR(CheckGrid(h->point_grid, "point"));
   SH_RETURN_IF_ERROR(CheckGrid(h->line_grid, "line"));
   const uint32_t point_bins = h->point_grid.bin_count(), line_bins = h->line_grid.bin_count();

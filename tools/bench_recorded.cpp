@@ -64,8 +64,15 @@ void PrintHelp() {
       kRecognizeOptionsHelp);
 }
 
+// DIR/NAME/, the prefix of a scene's files.
+std::string SceneFolderPath(const std::string& dir, const std::string& name) {
+  std::string path = dir;
+  path.append("/").append(name).append("/");
+  return path;
+}
+
 bool IsFile(const std::string& path) {
-  struct stat st;
+  struct stat st {};
   return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 
@@ -77,7 +84,7 @@ std::vector<std::string> SceneFolders(const std::string& dir) {
   while (const dirent* e = readdir(d)) {
     const std::string name = e->d_name;
     if (name == "." || name == "..") continue;
-    const std::string base = dir + "/" + name + "/";
+    const std::string base = SceneFolderPath(dir, name);
     if (IsFile(base + "left.png") && IsFile(base + "right.png") && IsFile(base + "truth.json")) {
       names.push_back(name);
     }
@@ -385,7 +392,7 @@ int RunBenchRecorded(int argc, char** argv) {
     auto mono_result = std::make_unique<MonoResult>();
     LoadedImage left, right;
     for (const std::string& name : scenes) {
-      const std::string base = dir + "/" + name + "/";
+      const std::string base = SceneFolderPath(dir, name);
       SceneTruth truth;
       Status st = ParseTruth(base + "truth.json", model_set, &truth);
       if (st.ok() && (!monocular || camera == 0)) {
@@ -584,7 +591,8 @@ int RunBenchRecorded(int argc, char** argv) {
         sum->scene_json += buffer;
       }
       sum->scene_json += table_json;
-      sum->scene_json += "\"missed\": [" + missed_json + "], \"false\": [" + false_json + "]}";
+      sum->scene_json.append("\"missed\": [").append(missed_json);
+      sum->scene_json.append("], \"false\": [").append(false_json).append("]}");
     }
 
     if (monocular) {

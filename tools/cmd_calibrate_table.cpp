@@ -80,7 +80,8 @@ int CalibrateTable(const char* calib_path, const char* left_path, const char* ri
     }
     seen.col(i) = m.p_mm;
     ray_gap[i] = static_cast<float>(m.gap_mm);
-    grid.col(i) = Eigen::Vector3d((i % board.width) * square_mm, (i / board.width) * square_mm, 0);
+    const int row = i / board.width, column = i % board.width;  // corner i of the board
+    grid.col(i) = Eigen::Vector3d(column * square_mm, row * square_mm, 0);
   }
   const Eigen::Matrix4d fit = Eigen::umeyama(grid, seen, /*with_scaling=*/false);
   Eigen::Matrix3d R = fit.topLeftCorner<3, 3>();

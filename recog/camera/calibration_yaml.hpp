@@ -33,7 +33,7 @@
 namespace sh {
 
 // Largest calibration file accepted; OpenCV's own output for a stereo pair is about 3 KiB.
-inline constexpr size_t kMaxCalibrationYamlBytes = 64 * 1024;
+inline constexpr size_t kMaxCalibrationYamlBytes = size_t{64} * 1024;
 
 // Parses and validates (see calibration_check.hpp) a calibration file. R is replaced by the
 // nearest exact rotation after it passed the orthonormality check.

@@ -26,7 +26,7 @@
 
 namespace sh {
 
-inline constexpr size_t kMaxTableYamlBytes = 16 * 1024;
+inline constexpr size_t kMaxTableYamlBytes = size_t{16} * 1024;
 
 // Farthest table origin accepted from the left camera: beyond 100 m the file is not a table
 // pose of a stereo cell (millimetres confused with micrometres, a corrupted number).

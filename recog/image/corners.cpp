@@ -446,7 +446,7 @@ ConstGrayView ReduceImage(const ConstGrayView& image, uint8_t* out) {
     for (int x = 0; x < w; ++x) pad[x + 2] = src[x];
     pad[w + 2] = pad[w + 3] = src[w - 1];
     for (int i = 0; i < rw; ++i) {
-      const uint16_t* p = pad + 2 * i;  // p[2] is source column 2i
+      const uint16_t* p = pad + ptrdiff_t{2} * i;  // p[2] is source column 2i
       dst[i] = static_cast<uint16_t>(p[0] + 4 * p[1] + 6 * p[2] + 4 * p[3] + p[4]);
     }
     return dst;

@@ -120,7 +120,7 @@ void VoteRow(int32_t* row, uint8_t* dirty, const Tables& tb, int t, const HoughE
 // vectorises, then the first cell holding it: the same cell as a scan that keeps the earliest of
 // equal maxima).
 void BlockMax(HoughWorkspace& ws, int t, int b) {
-  const int32_t* cell = ws.acc[t] + b * HoughWorkspace::kBlock;
+  const int32_t* cell = ws.acc[t] + static_cast<ptrdiff_t>(b) * HoughWorkspace::kBlock;
   int32_t m = cell[0];
   for (int i = 1; i < HoughWorkspace::kBlock; ++i) m = cell[i] > m ? cell[i] : m;
   int arg = 0;

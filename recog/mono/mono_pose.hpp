@@ -47,6 +47,7 @@ inline constexpr int kMaxMatchedCorners = 64;
 inline constexpr int kMaxMatchedPieces = 128;
 
 // Model corner / edge piece -> image corner / line.
+// NOLINTNEXTLINE(bugprone-reserved-identifier): clang-tidy 14 names the implicit array copy's index
 struct PoseMatches {
   struct Point {
     Eigen::Vector3f model{0, 0, 0};

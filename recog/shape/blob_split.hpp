@@ -19,7 +19,7 @@
 namespace sh {
 
 // Largest mask (bounding box pixels) the scratch is sized for; larger masks are not split.
-inline constexpr size_t kMaxSplitPixels = 512 * 512;
+inline constexpr size_t kMaxSplitPixels = size_t{512} * 512;
 inline constexpr int kMaxMaskParts = 16;
 
 struct MaskPartsScratch {

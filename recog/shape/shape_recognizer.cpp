@@ -620,7 +620,7 @@ Status ShapeRecognizer::Process(const FrameView& left, const FrameView& right,
   st.time.segment_ms = MsSince(t0);
 
   n_occluders_ = 0;
-  for (uint8_t round = 0; round < config_.rounds; ++round) {
+  for (int round = 0; round < config_.rounds; ++round) {
     if (round > 0 && DeriveBlobs(0, round, st) + DeriveBlobs(1, round, st) == 0) break;
     // Stereo seeds: pairs with a blob of this round on either side, cheapest first.
     bool pairs_truncated = false;

@@ -328,10 +328,10 @@ Status SloppyStereo::MatchLines(const StereoLine2D* left, size_t left_count,
         const PreparedLine& p = *sides[side];
         for (uint8_t k = 0; k < p.segment_count; ++k) {
           double s0 = 0.0, s1 = 0.0;
-          if (!RayLineParameter(line, origins[side], p.ray_left[2 * k].cast<double>().normalized(),
-                                &s0) ||
+          if (!RayLineParameter(line, origins[side],
+                                p.ray_left[size_t{2} * k].cast<double>().normalized(), &s0) ||
               !RayLineParameter(line, origins[side],
-                                p.ray_left[2 * k + 1].cast<double>().normalized(), &s1)) {
+                                p.ray_left[size_t{2} * k + 1].cast<double>().normalized(), &s1)) {
             continue;
           }
           const double lo = std::max(std::min(s0, s1), v0);

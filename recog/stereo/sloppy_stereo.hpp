@@ -96,7 +96,7 @@ class SloppyStereo {
   struct RightCorner {
     Eigen::Vector2d xy;        // right normalised coordinates
     Eigen::Vector3d ray_left;  // unit viewing ray, left frame
-    double plane_angle;        // epipolar-plane angle around the baseline, radians
+    double plane_angle = 0;    // epipolar-plane angle around the baseline, radians
   };
   // A 2-D line prepared for pairing: its back-projected plane and its segment end rays.
   struct PreparedLine {

@@ -27,9 +27,10 @@ class PatternSource : public FrameSource {
   }
   Status Render(uint64_t n, GrayView left, GrayView right) override {
     ++renders;
-    if (n == fail_at)
+    if (n == fail_at) {
       return Status::Error(StatusCode::kDataLoss, "frame %llu is corrupt",
                            static_cast<unsigned long long>(n));
+    }
     if (end_after >= 0 && n >= static_cast<uint64_t>(end_after)) {
       return Status::Error(StatusCode::kOutOfRange, "end of pattern");
     }

@@ -132,7 +132,7 @@ TEST(Canny, HysteresisKeepsWeakPixelsOnlyWhenConnected) {
   // A step whose contrast fades along its length: with the high threshold above the faint end,
   // the faint part survives only because it is connected to the strong part.
   const int w = 120, h = 60;
-  std::vector<uint8_t> px(w * h);
+  std::vector<uint8_t> px(static_cast<size_t>(w) * h);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const double contrast = 20.0 + 100.0 * (1.0 - x / double(w - 1));

@@ -238,7 +238,7 @@ TEST(Corners, NoiseFillsTheOutputWithTheStrongestMaxima) {
 TEST(Corners, DegenerateImagesAndConfigs) {
   auto scratch = MakeWorkspace<FilterScratch>();
   Vector<Corner2D, kMaxCorners2d> corners;
-  std::vector<uint8_t> px(kMaxImageWidth * 4, 128);
+  std::vector<uint8_t> px(static_cast<size_t>(kMaxImageWidth) * 4, 128);
   CornerConfig config;
   // Flat images of any shape: no corners.
   for (auto [w, h] : {std::pair{1, 1}, {2, 2}, {1, 300}, {300, 1}, {kMaxImageWidth, 4}}) {

@@ -116,7 +116,7 @@ TEST(GaussianFilter, DerivativesOfASinusoidFollowTheAnalyticResponse) {
   // I = 128 + 100 sin(w x): Gaussian smoothing multiplies the amplitude by exp(-w^2 sigma^2 / 2).
   const int w = 200, h = 8;
   const double freq = 2 * M_PI / 40.0;
-  std::vector<uint8_t> px(w * h);
+  std::vector<uint8_t> px(static_cast<size_t>(w) * h);
   std::vector<double> exact(w);
   for (int x = 0; x < w; ++x) exact[x] = 128 + 100 * std::sin(freq * x);
   for (int y = 0; y < h; ++y) {

@@ -203,7 +203,7 @@ TEST(Hough, LineGeometryIsConsistent) {
 
 TEST(Hough, DashedLineGivesSeparateSegmentsAndGapsMerge) {
   const int w = 260, h = 80;
-  std::vector<uint8_t> edge(w * h, 0), orient(w * h, 0);
+  std::vector<uint8_t> edge(static_cast<size_t>(w) * h, 0), orient(static_cast<size_t>(w) * h, 0);
   // Horizontal line y = 40 with dashes of 20 px separated by 10 px gaps; gradient along y.
   for (int x = 10; x < 250; ++x) {
     if ((x - 10) % 30 < 20) {

@@ -469,8 +469,9 @@ TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
   ASSERT_EQ(mkdir(set.c_str(), 0777), 0);
   for (const char* scene : {"scene00", "scene01"}) {
     const std::string seed = scene[6] == '0' ? "11" : "12";
-    const ToolRun r = RunTool("render --out " + set + (std::string("/") + scene) + " --seed " +
-                              seed + " --objects 3 --occlusion none");
+    std::string command = "render --out ";
+    command.append(set).append("/").append(scene).append(" --seed ").append(seed);
+    const ToolRun r = RunTool(command + " --objects 3 --occlusion none");
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
   // One calibration and table for the set (the camera does not move between scenes).

@@ -56,6 +56,7 @@ class TableEstimateTest : public ::testing::Test {
   TableEstimate Estimate(const std::vector<RecognizedObject>& objects,
                          const TableEstimateConfig& config = {}) const {
     std::vector<const Model*> models;
+    models.reserve(objects.size());
     for (const RecognizedObject& o : objects) models.push_back(&table_.model(o.model));
     TableEstimate e;
     EstimateTableFromObjects(objects.data(), models.data(), objects.size(), config, &e);

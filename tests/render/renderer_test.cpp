@@ -452,12 +452,12 @@ TEST(Renderer, ColourObjectsShowTheirKdAndTheGreyImageIsItsLuma) {
 TEST(Renderer, RefusesMismatchedTargetsAndBadModels) {
   const Models& m = ReferenceModels();
   const GeneratedScene g = Generate(1, Occlusion::kSome, Background::kDark);
-  std::vector<uint8_t> small(100 * 100);
+  std::vector<uint8_t> small(size_t{100} * 100);
   const GrayView view{small.data(), 100, 100, 100};
   const Status wrong_size = RenderStereo(g.scene, m.models, m.n, g.calib, view, view);
   EXPECT_EQ(wrong_size.code(), StatusCode::kInvalidArgument);
   EXPECT_NE(std::string(wrong_size.message()).find("100 x 100"), std::string::npos);
-  std::vector<uint8_t> l(756 * 581), r(756 * 581);
+  std::vector<uint8_t> l(size_t{756} * 581), r(size_t{756} * 581);
   const Status missing_models =
       RenderStereo(g.scene, m.models, 2, g.calib, GrayView{l.data(), 756, 581, 756},
                    GrayView{r.data(), 756, 581, 756});

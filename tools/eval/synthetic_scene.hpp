@@ -54,7 +54,7 @@ struct MatchCounts {
 // Matches recognised objects to the truth: same model, centre within max_translation_mm and
 // rotation within max_rotation_deg (symmetry-aware); each truth object matches once.
 struct RecognizedPose {
-  int model;
+  int model = -1;
   RigidTransform cam_T_model;
 };
 MatchCounts MatchToTruth(const std::vector<Model>& models, const std::vector<TruthObject>& truth,

@@ -36,6 +36,7 @@ struct PointLight {
   float intensity = 0.5f;  // irradiance scale at normal incidence (no distance fall-off)
 };
 
+// NOLINTNEXTLINE(bugprone-reserved-identifier): clang-tidy 14 names the implicit array copy's index
 struct RenderScene {
   Vector<SceneObject, kMaxRenderObjects> objects;
   PointLight lights[2];

@@ -17,6 +17,7 @@ constexpr int kSceneTries = 40;       // whole-scene restarts
 constexpr float kImageMarginPx = 12.0f;
 
 // 2-D convex polygon (counter-clockwise), for footprints on the table and silhouettes in images.
+// NOLINTNEXTLINE(bugprone-reserved-identifier): clang-tidy 14 names the implicit array copy's index
 struct Hull {
   int n = 0;
   Eigen::Vector2f p[kMaxModelCorners];
@@ -138,6 +139,7 @@ Rig MakeRig(const ScenarioParams& params, float tilt_rad) {
   return rig;
 }
 
+// NOLINTNEXTLINE(bugprone-reserved-identifier): clang-tidy 14 names the implicit array copy's index
 struct Candidate {
   RigidTransform table_T_model;
   Hull footprint;      // on the table (x, y)

@@ -49,6 +49,7 @@ struct ScenarioParams {
 // moderate barrel, tangential terms). False for an unknown name.
 bool NamedCamera(const char* name, ScenarioParams* params);
 
+// NOLINTNEXTLINE(bugprone-reserved-identifier): clang-tidy 14 names the implicit array copy's index
 struct GeneratedScene {
   RenderScene scene;
   StereoCalibration calib;
