@@ -23,6 +23,7 @@
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/handeye_yaml.hpp"
 #include "recog/model/obj_model.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace sh {
 namespace {
@@ -145,20 +146,12 @@ class HandEyeRig {
 class CalibrateHandEyeTool : public ::testing::Test {
  protected:
   void SetUp() override {
-    char pattern[] = "/tmp/stereohash_handeye_XXXXXX";
-    ASSERT_NE(mkdtemp(pattern), nullptr);
-    dir_ = pattern;
+    ASSERT_TRUE(temp_.ok());
     char text[8192];
     const Result<size_t> n = WriteCalibrationYaml(rig_.calib(), text, sizeof(text));
     ASSERT_TRUE(n.ok());
     std::ofstream(dir_ + "/calib.yaml") << std::string(text, *n);
   }
-  void TearDown() override {
-    if (std::getenv("STEREOHASH_KEEP") == nullptr) {
-      EXPECT_EQ(std::system(("rm -rf " + dir_).c_str()), 0);
-    }
-  }
-
   std::string Station(const char* side, int i) const {
     char name[64];
     std::snprintf(name, sizeof(name), "/%s%02d.png", side, i);
@@ -221,7 +214,8 @@ class CalibrateHandEyeTool : public ::testing::Test {
   }
 
   HandEyeRig rig_;
-  std::string dir_;
+  const sh::testing::TempDir temp_{"handeye"};
+  const std::string& dir_ = temp_.path();
   // The robot's base in the table (world) frame of the renderer.
   const Iso table_T_base_ = Pose(Eigen::Vector3d(-420, 60, -25), Eigen::Vector3d(0, 0, 90));
 };

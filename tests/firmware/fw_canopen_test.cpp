@@ -13,6 +13,7 @@
 #include "firmware/canopen/pdo.hpp"
 #include "firmware/le_bytes.hpp"
 #include "tests/support/firmware_doubles.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace sh::testing {
 namespace {
@@ -368,8 +369,9 @@ namespace sh::testing {
 namespace {
 
 TEST(FirmwareCanopen, RecordingThatCannotBeWrittenIsAWarningNotAFault) {
-  char dir[] = "/tmp/stereohash_fw_record_XXXXXX";
-  ASSERT_NE(mkdtemp(dir), nullptr);
+  const sh::testing::TempDir temp("fw_record");
+  ASSERT_TRUE(temp.ok());
+  const char* dir = temp.path().c_str();
   // The first pair's folder is taken by a file: its write fails, the next ones work.
   std::FILE* in_the_way = std::fopen((std::string(dir) + "/00000000").c_str(), "w");
   ASSERT_NE(in_the_way, nullptr);
@@ -403,7 +405,6 @@ TEST(FirmwareCanopen, RecordingThatCannotBeWrittenIsAWarningNotAFault) {
   rig.core.Stop();
   recorder.Stop();
   EXPECT_EQ(recorder.counters().written, 1u);
-  EXPECT_EQ(std::system((std::string("rm -rf ") + dir).c_str()), 0);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "tables/model_set_writer.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tools/eval/synthetic_scene.hpp"
 
 namespace sh::testing {
@@ -225,8 +226,9 @@ TEST(FirmwareMonocular, AModelSetsAspectSectionReplacesTheLinkedInTable) {
       BuildModelSet({{uint32_t(SectionKind::kHash3d),
                       static_cast<const uint8_t*>(DefaultTableBlob()), DefaultTableBlobSize()}});
   ASSERT_TRUE(with.ok() && without.ok());
-  char dir[] = "/tmp/stereohash_mono_set_XXXXXX";
-  ASSERT_NE(mkdtemp(dir), nullptr);
+  const sh::testing::TempDir temp("mono_set");
+  ASSERT_TRUE(temp.ok());
+  const char* dir = temp.path().c_str();
   const std::string with_path = std::string(dir) + "/with.bin";
   const std::string without_path = std::string(dir) + "/without.bin";
   for (const auto& [path, bytes] :
@@ -253,7 +255,6 @@ TEST(FirmwareMonocular, AModelSetsAspectSectionReplacesTheLinkedInTable) {
     EXPECT_EQ(linked_in, path == without_path) << path;
     EXPECT_EQ(recognition.aspects().aspect_count(), OpenDefaultAspectTable()->aspect_count());
   }
-  (void)std::system(("rm -rf " + std::string(dir)).c_str());
 }
 
 TEST(FirmwareMonocular, RightCameraSilentThenMonocularSetsThenStereoAfterClearFault) {

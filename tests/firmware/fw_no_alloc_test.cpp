@@ -15,6 +15,7 @@
 #include "firmware/truth_recognition.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
+#include "tests/support/temp_dir.hpp"
 #ifdef STEREOHASH_FW_HAVE_PIPELINE
 #include "firmware/pipeline_recognition.hpp"
 #endif
@@ -53,8 +54,9 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
   // takes seconds on a loaded machine, and a budget cut-off would leave sets without objects.
   config.budget_ms = 10000;
   config.result_mode = canopen::ResultMode::kBoth;
-  char record_dir[] = "/tmp/stereohash_record_XXXXXX";
-  ASSERT_NE(mkdtemp(record_dir), nullptr);
+  const sh::testing::TempDir temp("record");
+  ASSERT_TRUE(temp.ok());
+  const char* record_dir = temp.path().c_str();
   static Recorder recorder;
   RecorderConfig rc;
   rc.directory = record_dir;
@@ -154,7 +156,6 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
     while (const dirent* e = readdir(d)) folders += e->d_name[0] == '0';
     closedir(d);
   }
-  EXPECT_EQ(std::system((std::string("rm -rf ") + record_dir).c_str()), 0);
   EXPECT_EQ(services_answered, kTriggers + 1);
   EXPECT_GT(recorded.written, 0u);
   EXPECT_EQ(recorded.written + recorded.dropped, recorded.submitted);

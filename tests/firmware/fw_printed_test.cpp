@@ -28,6 +28,7 @@
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
 #include "tests/support/sim_scene_observer.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace sh::testing {
 namespace {
@@ -54,8 +55,8 @@ bool CopyFile(const std::string& from, const std::string& to) {
 // (one flipped byte in the middle), and a folder of plain models holding the cube only, so that
 // every scene of five objects shows the cube and all four cartons.
 struct Files {
-  ~Files() { (void)std::system(("rm -rf " + dir).c_str()); }
-  std::string dir;
+  sh::testing::TempDir temp{"printed"};
+  std::string dir = temp.path();
   std::string features, damaged, plain_dir;
   std::vector<uint8_t> blob;
   // One model set holding the default hash tables and the cartons' database, and a copy of it
@@ -67,9 +68,7 @@ struct Files {
 const Files& TestFiles() {
   static const std::unique_ptr<Files> files = [] {
     auto f = std::make_unique<Files>();
-    char dir[] = "/tmp/stereohash_printed_XXXXXX";
-    EXPECT_NE(mkdtemp(dir), nullptr);
-    f->dir = dir;
+    EXPECT_TRUE(f->temp.ok());
     std::vector<TexturedModel> printed;
     for (const char* name : {"cereal", "pills", "tea", "tools"}) {
       Result<TexturedModel> m = LoadTexturedModelFile(kModels + "/textured/" + name + ".obj");

@@ -17,6 +17,7 @@
 
 #include "hal/sim/image_files.hpp"
 #include "recog/camera/calibration_yaml.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace sh::fw {
 namespace {
@@ -46,9 +47,8 @@ std::string ReadText(const std::string& path) {
 class RecorderTest : public ::testing::Test {
  protected:
   RecorderTest() {
-    char dir[] = "/tmp/stereohash_recorder_XXXXXX";
-    EXPECT_NE(mkdtemp(dir), nullptr);
-    dir_ = dir;
+    EXPECT_TRUE(temp_.ok());
+    dir_ = temp_.path();
     calib_.left.width = calib_.right.width = 64;
     calib_.left.height = calib_.right.height = 48;
     calib_.left.fx = calib_.left.fy = calib_.right.fx = calib_.right.fy = 60;
@@ -57,7 +57,6 @@ class RecorderTest : public ::testing::Test {
     calib_.right_t_left_mm = Eigen::Vector3d(-120, 0, 0);
     for (int side = 0; side < 2; ++side) pixels_[side].resize(size_t{64} * 48);
   }
-  ~RecorderTest() override { EXPECT_EQ(std::system(("rm -rf " + dir_).c_str()), 0); }
 
   // Pair k: left pixels k + x, right pixels k + y; one object at x = k mm.
   void Submit(Recorder* r, int k) {
@@ -85,7 +84,8 @@ class RecorderTest : public ::testing::Test {
     return dir_ + name;
   }
 
-  std::string dir_;
+  sh::testing::TempDir temp_{"recorder"};
+  std::string dir_;  // the temporary directory, or a folder in it
   StereoCalibration calib_;
   std::vector<uint8_t> pixels_[2];
   Observer observer_;

@@ -12,33 +12,12 @@
 #include <unistd.h>
 
 #include "hal/sim/image_files.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace sh::hal {
 namespace {
 
-// A fresh temporary directory per test, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    char tmpl[] = "/tmp/stereohash_camera_dir_XXXXXX";
-    const char* made = mkdtemp(tmpl);
-    EXPECT_NE(made, nullptr);
-    path_ = made != nullptr ? made : "/nonexistent";
-  }
-  ~TempDir() {
-    const std::string cmd = "rm -rf '" + path_ + "'";
-    EXPECT_EQ(std::system(cmd.c_str()), 0);
-  }
-  const std::string& path() const { return path_; }
-  std::string Sub(const std::string& name) const {
-    const std::string p = path_ + "/" + name;
-    mkdir(p.c_str(), 0755);
-    return p;
-  }
-
- private:
-  std::string path_;
-};
+using sh::testing::TempDir;
 
 uint8_t Pixel(int value, int x, int y) { return static_cast<uint8_t>(value + 3 * x + 5 * y); }
 
@@ -96,13 +75,13 @@ TEST(CameraDirectory, MissingOrEmptyDirectoryIsNotFound) {
   const Status s = missing.Start();
   EXPECT_EQ(s.code(), StatusCode::kNotFound);
   EXPECT_NE(std::strstr(s.message(), "does not exist"), nullptr) << s.message();
-  TempDir dir;
+  TempDir dir("camera_dir");
   DirectoryCamera empty(Config(dir));
   EXPECT_EQ(empty.Start().code(), StatusCode::kNotFound);
 }
 
 TEST(CameraDirectory, FlatLayoutPlaysInNaturalOrderWithSyntheticTimestamps) {
-  TempDir dir;
+  TempDir dir("camera_dir");
   WriteFlatRecording(dir, {10, 2, 1});
   WriteFile(dir.path() + "/notes.txt", "ignored");
   DirectoryCameraConfig c = Config(dir);
@@ -128,9 +107,9 @@ TEST(CameraDirectory, FlatLayoutPlaysInNaturalOrderWithSyntheticTimestamps) {
 }
 
 TEST(CameraDirectory, SubfolderLayoutAndLooping) {
-  TempDir dir;
-  const std::string l = dir.Sub("left");
-  const std::string r = dir.Sub("right");
+  TempDir dir("camera_dir");
+  const std::string l = dir.Mkdir("left");
+  const std::string r = dir.Mkdir("right");
   for (int k = 0; k < 2; ++k) {
     WritePgm(l + "/frame" + std::to_string(k) + ".pgm", 5, 4, 10 * k);
     WritePgm(r + "/frame" + std::to_string(k) + ".pgm", 5, 4, 10 * k + 1);
@@ -150,15 +129,15 @@ TEST(CameraDirectory, SubfolderLayoutAndLooping) {
 
 TEST(CameraDirectory, SceneFolderLayoutOfRecordedSetsPlaysInNaturalOrder) {
   // The recorded-scenes format: calib.yaml beside scene folders holding left/right and truth.
-  TempDir dir;
+  TempDir dir("camera_dir");
   WriteFile(dir.path() + "/calib.yaml", "%YAML:1.0\n");
   for (int k : {10, 2, 1}) {
-    const std::string scene = dir.Sub("scene" + std::to_string(k));
+    const std::string scene = dir.Mkdir("scene" + std::to_string(k));
     WritePgm(scene + "/left.pgm", 6, 5, 10 * k);
     WritePgm(scene + "/right.pgm", 6, 5, 10 * k + 1);
     WriteFile(scene + "/truth.json", "{}");
   }
-  dir.Sub("empty_folder");
+  dir.Mkdir("empty_folder");
   DirectoryCamera cam(Config(dir, /*loop=*/true));
   ASSERT_TRUE(cam.Start().ok());
   EXPECT_EQ(cam.frame_count(), 3u);
@@ -172,11 +151,11 @@ TEST(CameraDirectory, SceneFolderLayoutOfRecordedSetsPlaysInNaturalOrder) {
 }
 
 TEST(CameraDirectory, SceneFolderWithoutRightImageIsNamed) {
-  TempDir dir;
-  const std::string a = dir.Sub("scene1");
+  TempDir dir("camera_dir");
+  const std::string a = dir.Mkdir("scene1");
   WritePgm(a + "/left.pgm", 6, 5, 0);
   WritePgm(a + "/right.pgm", 6, 5, 1);
-  const std::string b = dir.Sub("scene2");
+  const std::string b = dir.Mkdir("scene2");
   WritePgm(b + "/left.pgm", 6, 5, 0);
   DirectoryCamera cam(Config(dir));
   const Status s = cam.Start();
@@ -186,15 +165,14 @@ TEST(CameraDirectory, SceneFolderWithoutRightImageIsNamed) {
 }
 
 TEST(CameraDirectory, PlaysPngRecordings) {
-  TempDir dir;
-  const std::string l = dir.Sub("left");
-  const std::string r = dir.Sub("right");
-  std::vector<uint8_t> pixels(9 * 5);
+  TempDir dir("camera_dir");
+  const std::string l = dir.Mkdir("left");
+  const std::string r = dir.Mkdir("right");
+  std::vector<uint8_t> pixels(size_t{9} * 5);
   for (int k = 0; k < 3; ++k) {
     for (int side = 0; side < 2; ++side) {
       for (int y = 0; y < 5; ++y) {
-        for (int x = 0; x < 9; ++x)
-          pixels[static_cast<size_t>(y * 9 + x)] = Pixel(10 * k + side, x, y);
+        for (int x = 0; x < 9; ++x) pixels[(size_t{9} * y) + x] = Pixel(10 * k + side, x, y);
       }
       const std::string path = (side == 0 ? l : r) + "/" + std::to_string(k) + ".png";
       ASSERT_TRUE(WritePng(path.c_str(), ConstGrayView{pixels.data(), 9, 5, 9}).ok());
@@ -213,7 +191,7 @@ TEST(CameraDirectory, PlaysPngRecordings) {
 }
 
 TEST(CameraDirectory, MissingPartnerFailsStartNamingTheFile) {
-  TempDir dir;
+  TempDir dir("camera_dir");
   WriteFlatRecording(dir, {1, 2});
   WritePgm(dir.path() + "/left_3.pgm", 12, 7, 0);
   DirectoryCamera cam(Config(dir));
@@ -223,7 +201,7 @@ TEST(CameraDirectory, MissingPartnerFailsStartNamingTheFile) {
 }
 
 TEST(CameraDirectory, DifferentLeftRightSizesAreAnError) {
-  TempDir dir;
+  TempDir dir("camera_dir");
   WritePgm(dir.path() + "/left_1.pgm", 12, 7, 0);
   WritePgm(dir.path() + "/right_1.pgm", 6, 7, 0);
   DirectoryCamera cam(Config(dir));
@@ -233,7 +211,7 @@ TEST(CameraDirectory, DifferentLeftRightSizesAreAnError) {
 }
 
 TEST(CameraDirectory, BadFramesMidRecordingAreReportedCountedAndSkipped) {
-  TempDir dir;
+  TempDir dir("camera_dir");
   WriteFlatRecording(dir, {1, 2, 3, 4, 5});
   // Frame 2: pixels cut short. Frame 3: garbage header. Frame 4: sizes differ left/right.
   const std::string full = PgmBytes(12, 7, 20);
@@ -266,7 +244,7 @@ TEST(CameraDirectory, BadFramesMidRecordingAreReportedCountedAndSkipped) {
 }
 
 TEST(CameraDirectory, FrameWithDifferentSizeThanRecordingIsAnError) {
-  TempDir dir;
+  TempDir dir("camera_dir");
   WriteFlatRecording(dir, {1});
   WritePgm(dir.path() + "/left_2.pgm", 8, 8, 20);
   WritePgm(dir.path() + "/right_2.pgm", 8, 8, 21);

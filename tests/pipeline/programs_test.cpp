@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "tests/support/temp_dir.hpp"
 #include "tests/support/tool_run.hpp"
 
 namespace sh {
@@ -49,9 +50,9 @@ TEST(Programs, OpenCvCommandsRunThroughStereohash) {
 // A `stereohash` copied without its sibling: the recognition commands work, the OpenCV ones say
 // which program is missing and where it was looked for.
 TEST(Programs, MissingCvProgramIsNamed) {
-  char pattern[] = "/tmp/stereohash_programs_XXXXXX";
-  ASSERT_NE(mkdtemp(pattern), nullptr);
-  const std::string dir = pattern;
+  const testing::TempDir temp("programs");
+  ASSERT_TRUE(temp.ok());
+  const std::string& dir = temp.path();
   const std::string copy = dir + "/stereohash";
   ASSERT_EQ(RunTool("cp", std::string(STEREOHASH_EXE) + " " + copy).exit_code, 0);
   const ToolRun help = RunTool(copy, "recognize --help");
@@ -60,7 +61,6 @@ TEST(Programs, MissingCvProgramIsNamed) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("stereohash-cv"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(dir + "/stereohash-cv"), std::string::npos) << r.output;
-  (void)std::system(("rm -rf " + dir).c_str());
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include "tables/aspect_file.hpp"
 #include "tables/model_set_writer.hpp"
 #include "tables/table_file.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tests/support/tool_run.hpp"
 #include "tools/eval/mini_json.hpp"
 #include "tools/eval/synthetic_scene.hpp"
@@ -48,25 +49,24 @@ RigidTransform PoseOf(const Json& o) {
 class RecognizeToolTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    char pattern[] = "/tmp/stereohash_recognize_XXXXXX";
-    ASSERT_NE(mkdtemp(pattern), nullptr);
-    dir_ = new std::string(pattern);
+    temp_ = new testing::TempDir("recognize");
+    ASSERT_TRUE(temp_->ok());
+    dir_ = &temp_->path();
     const ToolRun r = RunTool("render --out " + *dir_ + " --seed 7 --objects 4 --occlusion some");
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
-  static void TearDownTestSuite() {
-    (void)std::system(("rm -rf " + *dir_).c_str());
-    delete dir_;
-  }
+  static void TearDownTestSuite() { delete temp_; }
   static std::string Path(const char* name) { return *dir_ + "/" + name; }
   static std::string Inputs(const std::string& calib, const std::string& left,
                             const std::string& right) {
     return "recognize --calib " + calib + " --left " + left + " --right " + right;
   }
-  static std::string* dir_;
+  static testing::TempDir* temp_;
+  static const std::string* dir_;
 };
 
-std::string* RecognizeToolTest::dir_ = nullptr;
+testing::TempDir* RecognizeToolTest::temp_ = nullptr;
+const std::string* RecognizeToolTest::dir_ = nullptr;
 
 TEST_F(RecognizeToolTest, JsonMatchesTheRenderedTruth) {
   const ToolRun r = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) +

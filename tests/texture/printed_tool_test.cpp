@@ -14,6 +14,7 @@
 #include <string>
 
 #include "recog/geometry/rigid_transform.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tests/support/tool_run.hpp"
 #include "tools/eval/mini_json.hpp"
 
@@ -44,14 +45,15 @@ RigidTransform PoseOf(const Json& o) {
 class PrintedTool : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    char pattern[] = "/tmp/stereohash_printed_XXXXXX";
-    dir_ = mkdtemp(pattern);
+    temp_ = new sh::testing::TempDir("printed");
+    ASSERT_TRUE(temp_->ok());
+    dir_ = temp_->path();
   }
-  static void TearDownTestSuite() {
-    if (!dir_.empty()) std::system(("rm -rf '" + dir_ + "'").c_str());
-  }
+  static void TearDownTestSuite() { delete temp_; }
+  static sh::testing::TempDir* temp_;
   static std::string dir_;
 };
+sh::testing::TempDir* PrintedTool::temp_ = nullptr;
 std::string PrintedTool::dir_;
 
 TEST_F(PrintedTool, BuildsRendersAndRecognisesCartons) {
