@@ -18,9 +18,8 @@ void ExpectRecoveryByClearFault(Rig& rig, uint16_t request_id) {
   ASSERT_TRUE(rig.WaitEmcy(uint16_t(EmcyCode::kNoError)));
   EXPECT_TRUE(rig.WaitState(FirmwareState::kReady));
   rig.Trigger(request_id);
-  std::optional<ResultSet> s = rig.WaitSet();
-  ASSERT_TRUE(s);
-  EXPECT_EQ(s->request_id, request_id);
+  std::optional<ResultSet> s = rig.WaitSetFor(request_id);
+  ASSERT_TRUE(s) << "no set answered request " << request_id;
 }
 
 TEST(FirmwareCore, BootsWithBootUpThenOperationalHeartbeats) {

@@ -179,6 +179,19 @@ class Rig {
     return last_set_;
   }
 
+  // The next set answering `request_id`. Sets of earlier triggers are skipped: one may come
+  // through whole while a fault is injected, when the other threads' frames take the failures.
+  std::optional<ResultSet> WaitSetFor(uint16_t request_id, int timeout_ms = 15000) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          end - std::chrono::steady_clock::now());
+      if (left.count() <= 0) return std::nullopt;
+      std::optional<ResultSet> s = WaitSet(static_cast<int>(left.count()));
+      if (!s || s->request_id == request_id) return s;
+    }
+  }
+
   void Command(std::initializer_list<uint8_t> bytes) {
     hal::CanFrame f;
     f.id = kCobCommand + kNode;
