@@ -1,5 +1,5 @@
 # CAN HAL and PLC protocol tests.
-stereohash_add_test(can_hal_test
+stereohash_add_test(can_hal_test THREADS
   SOURCES ${CMAKE_CURRENT_LIST_DIR}/can_log_test.cpp ${CMAKE_CURRENT_LIST_DIR}/can_sim_bus_test.cpp
           ${CMAKE_CURRENT_LIST_DIR}/socketcand_test.cpp
   LIBS stereohash_hal_can_sim)
