@@ -464,8 +464,13 @@ void SetFromWire(PoseField field, uint32_t raw, ObjectPose* pose) {
   }
 }
 
-void PutLe(uint8_t* p, uint8_t size, uint32_t v) {
-  for (uint8_t b = 0; b < size; ++b) p[b] = static_cast<uint8_t>(v >> (8 * b));
+// Little-endian `size` bytes of v at data[offset]. The part layouts keep every field inside the
+// 8 data bytes; the bound is written out so that the compiler sees it too (GCC otherwise warns of
+// writes past the frame when it unrolls the loop for an unknown size).
+void PutLe(uint8_t (&data)[hal::kCanMaxDataBytes], uint8_t offset, uint8_t size, uint32_t v) {
+  for (uint8_t b = 0; b < size && offset + b < hal::kCanMaxDataBytes; ++b) {
+    data[offset + b] = static_cast<uint8_t>(v >> (8 * b));
+  }
 }
 
 uint32_t GetLe(const uint8_t* p, uint8_t size) {
@@ -524,7 +529,7 @@ Status EncodeResultSet(const ResultSet& set, uint8_t node_id, Vector<CanFrame>& 
       const ObjectPartLayout& layout = kObjectPartLayout[part];
       for (uint8_t k = 0; k < layout.count; ++k) {
         const PartField& field = layout.fields[k];
-        PutLe(&f.data[field.offset], field.size, WireValue(field.field, e, set.objects[i]));
+        PutLe(f.data, field.offset, field.size, WireValue(field.field, e, set.objects[i]));
       }
       crc = Crc8(f.data, f.len, crc);
       (void)frames.push_back(f);
