@@ -43,7 +43,7 @@ int VisibilityBin(float visible) { return visible < 0.4f ? 0 : visible < 0.7f ? 
 
 void PrintHelp() {
   std::printf(
-      "usage: stereohash bench recorded DIR [--json OUT] [--verbose] [--no-table]\n"
+      "usage: stereohash bench recorded DIR [--json OUT] [--verbose] [--no-table [--carry-table]]\n"
       "                                     [--monocular left|right | --compare]\n"
       "                                     [--set NAME=VALUE ...] [recognize options]\n"
       "Runs the pipeline as `stereohash recognize` does on every scene of a recorded set\n"
@@ -53,6 +53,9 @@ void PrintHelp() {
       "  --json      write the figures, with a summary {correct, missed, false_alarms, objects}\n"
       "  --verbose   one line per false alarm and per miss (with its cause at the true pose)\n"
       "  --no-table  ignore DIR/table.yaml (as a user without a table file)\n"
+      "  --carry-table  the scenes in order as the frames of one fixed cell: the plane estimated\n"
+      "              in the first frames is confirmed and carried to the next (firmware\n"
+      "              table_estimate = carry); needs no table file (--no-table)\n"
       "  --set NAME=VALUE  override one pipeline setting (as `bench scenes --set`); mono.NAME\n"
       "              for the monocular recogniser\n"
       "  --monocular left|right  the monocular mode on that camera's images instead\n"
@@ -224,7 +227,7 @@ int RunBenchRecorded(int argc, char** argv) {
   }
   const std::string dir = argv[2];
   const char* json_path = nullptr;
-  bool verbose = false, use_table_file = true;
+  bool verbose = false, use_table_file = true, carry_table = false;
   RecognizeOptions options;
   std::vector<const char*> settings;       // --set name=value, for exploring settings
   std::vector<const char*> mono_settings;  // --set mono.name=value
@@ -239,6 +242,10 @@ int RunBenchRecorded(int argc, char** argv) {
     }
     if (std::strcmp(argv[i], "--no-table") == 0) {
       use_table_file = false;
+      continue;
+    }
+    if (std::strcmp(argv[i], "--carry-table") == 0) {
+      carry_table = true;
       continue;
     }
     if (std::strcmp(argv[i], "--compare") == 0) {
@@ -323,7 +330,15 @@ int RunBenchRecorded(int argc, char** argv) {
   if (scenes.empty()) {
     return Fail(("no scene folders (with left.png, right.png, truth.json) in " + dir).c_str());
   }
+  if (carry_table && table.present) {
+    std::fprintf(stderr,
+                 "stereohash bench recorded: --carry-table carries the estimated plane, but the "
+                 "table of %s is given (add --no-table)\n",
+                 table.source.c_str());
+    return 2;
+  }
   PipelineConfig config = MakePipelineConfig(options, table);
+  config.table_carry.enabled = carry_table;
   for (const char* setting : settings) {
     if (!ApplyPipelineSetting(setting, &config)) {
       std::fprintf(stderr, "stereohash bench recorded: unknown setting %s\n", setting);
@@ -384,6 +399,8 @@ int RunBenchRecorded(int argc, char** argv) {
     std::string rows_json, scene_json, vis_json;
     // Table estimates: made, accepted, their errors against DIR/table.yaml, their time.
     int estimates = 0, estimates_accepted = 0;
+    // Frames that took the carried plane, and planes dropped (--carry-table).
+    int carried = 0, drops = 0;
     std::vector<float> normal_err_deg, offset_err_mm, table_ms;
   };
   auto run = [&](bool monocular, Summary* sum) -> Status {
@@ -469,6 +486,24 @@ int RunBenchRecorded(int argc, char** argv) {
       if (!monocular) {
         table_json = std::string("\"table\": \"") + TableSourceName(result->table_source) + "\", ";
         const TableEstimate& e = result->table_estimate;
+        const TableCarry& carry = result->table_carry;
+        if (config.table_carry.enabled) {
+          if (result->table_source == TableSource::kCarried) ++sum->carried;
+          sum->drops = static_cast<int>(carry.drops());
+          char buffer[200];
+          std::snprintf(buffer, sizeof(buffer),
+                        "\"table_carry\": {\"state\": \"%s\", \"agreeing\": %u, \"misfits\": %u, "
+                        "\"resting\": %u, \"drops\": %u}, ",
+                        TableCarryStateName(carry.state()), carry.agreeing(), carry.misfits(),
+                        result->table_resting, carry.drops());
+          table_json += buffer;
+          if (verbose) {
+            std::printf("%s: table %s; carry %s, %u agreeing, %u misfits, %u of %zu resting\n",
+                        name.c_str(), TableSourceName(result->table_source),
+                        TableCarryStateName(carry.state()), carry.agreeing(), carry.misfits(),
+                        result->table_resting, result->objects.size());
+          }
+        }
         if (e.outcome != TableEstimateOutcome::kDisabled) {
           ++sum->estimates;
           sum->table_ms.push_back(result->time.table_ms);
@@ -659,6 +694,10 @@ int RunBenchRecorded(int argc, char** argv) {
             Max(sum->offset_err_mm));
       }
       std::printf("\n");
+    }
+    if (config.table_carry.enabled && !monocular) {
+      std::printf("table carried in %d of %zu scenes, dropped %d times\n", sum->carried,
+                  scenes.size(), sum->drops);
     }
     std::printf("recall by visibility:");
     for (int b = 0; b < kVisibilityBins; ++b) {

@@ -276,6 +276,16 @@ bool ApplyPipelineSetting(const char* setting, PipelineConfig* c) {
     c->table_estimate.min_objects = static_cast<uint32_t>(v);
   } else if (name == "table_estimate.tolerance_mm") {
     c->table_estimate.tolerance_mm = v;
+  } else if (name == "table_carry.enabled") {
+    c->table_carry.enabled = v != 0.0f;
+  } else if (name == "table_carry.confirm_frames") {
+    c->table_carry.confirm_frames = static_cast<uint32_t>(v);
+  } else if (name == "table_carry.check_every_frames") {
+    c->table_carry.check_every_frames = static_cast<uint32_t>(v);
+  } else if (name == "table_carry.tolerance_mm") {
+    c->table_carry.tolerance_mm = v;
+  } else if (name == "table_carry.tolerance_deg") {
+    c->table_carry.tolerance_deg = v;
   } else {
     return false;
   }
@@ -381,6 +391,18 @@ std::string ResultJson(const ModelSet& models, const PipelineResult& r, const Ta
     json += buffer;
   } else if (r.table_source == TableSource::kEstimated) {
     json += "\"table\": {\"source\": \"estimated\", " + TableEstimateJson(r) + "}, ";
+  } else if (r.table_source == TableSource::kCarried) {
+    // The plane of earlier frames (PipelineConfig::table_carry), checked on this one.
+    const TableCarry& c = r.table_carry;
+    const Eigen::Vector3f nz = c.left_T_table().R.col(2);
+    const Eigen::Vector3f& t = c.left_T_table().t_mm;
+    std::snprintf(buffer, sizeof(buffer),
+                  "\"table\": {\"source\": \"carried\", \"agreeing\": %u, \"resting\": %u, "
+                  "\"objects\": %zu, \"normal\": [%.6f, %.6f, %.6f], \"camera_height_mm\": %.3f, "
+                  "\"t\": [%.4f, %.4f, %.4f], \"dropped\": %u}, ",
+                  c.agreeing(), r.table_resting, r.objects.size(), nz.x(), nz.y(), nz.z(),
+                  -nz.dot(t), t.x(), t.y(), t.z(), r.table_dropped);
+    json += buffer;
   } else {
     json += "\"table\": {\"source\": \"none\"";
     // A refused estimate says why and what it saw.

@@ -47,6 +47,8 @@ const char* TableSourceName(TableSource s) {
       return "file";
     case TableSource::kEstimated:
       return "estimated";
+    case TableSource::kCarried:
+      return "carried";
   }
   return "unknown";
 }
@@ -170,6 +172,7 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
     SH_RETURN_IF_ERROR(stereo_.Configure(calib, config.stereo));
     SH_RETURN_IF_ERROR(recognizer_.Init(table, config.recognizer));
     SH_RETURN_IF_ERROR(CheckTableEstimateConfig(config.table_estimate));
+    SH_RETURN_IF_ERROR(CheckTableCarryConfig(config.table_carry));
   }
   shape_enabled_ = models_.shape_count() > 0;
   if (shape_enabled_) {
@@ -188,6 +191,7 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
   calib_ = calib;
   config_ = config;
   now_ns_ = now_ns;
+  carry_.Reset();  // another calibration or table may mean another cell
   initialised_ = true;
   return Status::Ok();
 }
@@ -351,19 +355,14 @@ Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, flo
   int64_t verify_ns = 0;
   const TableEstimateConfig& estimate = config_.table_estimate;
   const bool estimating = !config_.table.known && estimate.enabled;
-  // A first search that only has to find the objects for the plane can stop early.
-  Budget first = budget;
-  if (estimating && estimate.search_again) first.max_objects = estimate.first_search_objects;
-  SH_RETURN_IF_ERROR(Search(first, hidden, n_hidden, out, &verify_ns));
-  // 5b. Without a given table, the plane the objects found rest on (table_estimate.hpp).
-  if (estimating) {
-    SH_RETURN_IF_ERROR(UseEstimatedTable(budget, hidden, n_hidden, out, &verify_ns));
-    const bool cut_short = first.max_objects != 0 && out->recognition.accepted >= first.max_objects;
-    if (out->table_source != TableSource::kEstimated && cut_short) {
-      // No table after all: the first search runs to its end, as it would have without one.
-      SH_RETURN_IF_ERROR(SearchAgain(budget, hidden, n_hidden, out, &verify_ns));
-    }
+  const bool carrying = estimating && config_.table_carry.enabled;
+  if (carrying && carry_.Next(config_.table_carry) == TableCarryUse::kCarry) {
+    SH_RETURN_IF_ERROR(UseCarriedTable(budget, hidden, n_hidden, out, &verify_ns));
+  } else {
+    SH_RETURN_IF_ERROR(EstimateAndSearch(budget, hidden, n_hidden, out, &verify_ns));
+    if (carrying) carry_.ObserveEstimate(config_.table_carry, out->table_estimate);
   }
+  out->table_carry = carry_;
   const int64_t t3 = now_ns_ ? now_ns_() : 0;
   if (now_ns_) {
     const float recognize_ms = MsSince(t2);
@@ -375,6 +374,53 @@ Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, flo
   RefineOnEdges(hidden, n_hidden, out);
   if (now_ns_) out->time.refine_ms = MsSince(t3);
   return Status::Ok();
+}
+
+Status Pipeline::EstimateAndSearch(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
+                                   PipelineResult* out, int64_t* verify_ns) {
+  const TableEstimateConfig& estimate = config_.table_estimate;
+  const bool estimating = !config_.table.known && estimate.enabled;
+  // A first search that only has to find the objects for the plane can stop early.
+  Budget first = budget;
+  if (estimating && estimate.search_again) first.max_objects = estimate.first_search_objects;
+  SH_RETURN_IF_ERROR(Search(first, hidden, n_hidden, out, verify_ns));
+  if (!estimating) return Status::Ok();
+  // 5b. Without a given table, the plane the objects found rest on (table_estimate.hpp).
+  SH_RETURN_IF_ERROR(UseEstimatedTable(budget, hidden, n_hidden, out, verify_ns));
+  const bool cut_short = first.max_objects != 0 && out->recognition.accepted >= first.max_objects;
+  if (out->table_source != TableSource::kEstimated && cut_short) {
+    // No table after all: the first search runs to its end, as it would have without one.
+    SH_RETURN_IF_ERROR(SearchAgain(budget, hidden, n_hidden, out, verify_ns));
+  }
+  return Status::Ok();
+}
+
+Status Pipeline::UseCarriedTable(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
+                                 PipelineResult* out, int64_t* verify_ns) {
+  // As with a given table: the space over it and one search with the table check.
+  frame_table_.known = true;
+  frame_table_.left_T_table = carry_.left_T_table();
+  out->table_source = TableSource::kCarried;
+  KeepOverFrameTable(out);
+  SH_RETURN_IF_ERROR(Search(budget, hidden, n_hidden, out, verify_ns));
+  // The check: do the objects found rest on it, did hypotheses sink into it.
+  const Model* models[kMaxObjects];
+  const size_t n = std::min(out->objects.size(), kMaxObjects);
+  for (size_t i = 0; i < n; ++i) models[i] = &table_.model(out->objects[i].model);
+  out->table_resting = CountResting(out->objects.data(), models, n, frame_table_.left_T_table,
+                                    config_.table_estimate.tolerance_mm);
+  carry_.ObserveCarried(config_.table_carry, static_cast<uint32_t>(n), out->table_resting,
+                        out->below_table);
+  return Status::Ok();
+}
+
+void Pipeline::KeepOverFrameTable(PipelineResult* out) {
+  const int64_t keep_start = now_ns_ ? now_ns_() : 0;
+  out->table_dropped = KeepOverTable(frame_table_.left_T_table, kTableVolumeBelowMm,
+                                     kTableVolumeHeightMm, config_.stereo.min_overlap_mm, &scene_);
+  out->points3d = static_cast<uint32_t>(scene_.points.size());
+  out->lines3d = static_cast<uint32_t>(scene_.lines.size());
+  if (now_ns_) out->time.table_ms += MsSince(keep_start);
 }
 
 Status Pipeline::Search(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
@@ -417,13 +463,7 @@ Status Pipeline::UseEstimatedTable(const Budget& budget, const PosedModel* hidde
     // What a given table does, now with the estimate: the features under the table and far over
     // it leave the scene (WorkingVolume::OverTable), and the search runs again with the table
     // check. Its objects replace the first search's.
-    const int64_t keep_start = now_ns_ ? now_ns_() : 0;
-    out->table_dropped =
-        KeepOverTable(frame_table_.left_T_table, kTableVolumeBelowMm, kTableVolumeHeightMm,
-                      config_.stereo.min_overlap_mm, &scene_);
-    out->points3d = static_cast<uint32_t>(scene_.points.size());
-    out->lines3d = static_cast<uint32_t>(scene_.lines.size());
-    if (now_ns_) out->time.table_ms += MsSince(keep_start);
+    KeepOverFrameTable(out);
     return SearchAgain(budget, hidden, n_hidden, out, verify_ns);
   }
   // The table check on the objects found: those sunk into the plane the others rest on go.

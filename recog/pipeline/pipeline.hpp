@@ -16,6 +16,7 @@
 #include "recog/image/image.hpp"
 #include "recog/pipeline/hidden_mask.hpp"
 #include "recog/pipeline/model_set.hpp"
+#include "recog/pipeline/table_carry.hpp"
 #include "recog/pipeline/table_estimate.hpp"
 #include "recog/pipeline/worker_pool.hpp"
 #include "recog/scene/scene.hpp"
@@ -49,6 +50,10 @@ struct PipelineConfig {
   // Without a known table, the plane the objects found rest on (table_estimate.hpp), used as a
   // given table is (TableEstimateConfig::search_again).
   TableEstimateConfig table_estimate;
+  // With the estimate enabled and no table given: the estimated plane confirmed over a few
+  // frames and carried to the following ones (table_carry.hpp), each of which then searches once
+  // as with a given table. For a fixed cell; off for scenes seen from different poses.
+  TableCarryConfig table_carry;
   // Final fit of every accepted pose to the edge pixels of both images (edge_refine.hpp).
   bool edge_refine = true;
   EdgeRefineConfig edge_refine_config;
@@ -86,7 +91,8 @@ struct PipelineTimings {
 enum class TableSource : uint8_t {
   kNone = 0,   // no table: the configured working volume only
   kGiven,      // PipelineConfig::table (table.yaml, the firmware's table key, the renderer's)
-  kEstimated,  // estimated from the frame's 3-D features (PipelineResult::table_estimate)
+  kEstimated,  // estimated from this frame's objects (PipelineResult::table_estimate)
+  kCarried,    // estimated in earlier frames and carried (PipelineResult::table_carry)
 };
 const char* TableSourceName(TableSource s);
 
@@ -111,6 +117,10 @@ struct PipelineResult {
   TableSource table_source = TableSource::kNone;
   TableEstimate table_estimate;
   uint32_t table_dropped = 0;
+  // The carried plane after this frame (PipelineConfig::table_carry; kSearching when off), and,
+  // on a carried frame, how many of the objects found rest on it.
+  TableCarry table_carry;
+  uint32_t table_resting = 0;
   // The shape path's counts and stage times (zero when it did not run).
   ShapeStats shape;
   // Objects hidden from the polyhedral path (Process's `hidden`): those masked in both images,
@@ -193,6 +203,11 @@ class Pipeline {
   // The worker pool (started at Init), idle between Process() calls: the firmware runs the
   // texture path on it after the pipeline.
   WorkerPool* pool() { return &pool_; }
+  // The plane carried between frames (PipelineConfig::table_carry). Init() starts again from
+  // no plane; a caller re-initialising a pipeline whose cameras did not move (another model
+  // mask) puts the carried state back.
+  const TableCarry& table_carry() const { return carry_; }
+  void RestoreTableCarry(const TableCarry& carry) { carry_ = carry; }
   // Diagnosis only (bench tools): sees every hypothesis of the following frames' searches.
   void SetSearchObserver(SearchObserver* observer) { recognizer_.SetObserver(observer); }
   const ImageFeatures& left_features() const { return features_[0]; }
@@ -210,9 +225,18 @@ class Pipeline {
   // Search() once more, its objects replacing the last search's, the counts of both kept.
   Status SearchAgain(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
                      PipelineResult* out, int64_t* verify_ns);
+  // The search of a frame with the given table, none, or the plane estimated from the objects
+  // of a first search (the second search with it replacing the first's objects).
+  Status EstimateAndSearch(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
+                           PipelineResult* out, int64_t* verify_ns);
   // The table estimated from the objects found, and its use (TableEstimateConfig).
   Status UseEstimatedTable(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
                            PipelineResult* out, int64_t* verify_ns);
+  // One search with the carried plane as the frame's table, and the check of the plane.
+  Status UseCarriedTable(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
+                         PipelineResult* out, int64_t* verify_ns);
+  // The features outside the space over frame_table_ leave the scene (table_ms, counts).
+  void KeepOverFrameTable(PipelineResult* out);
 
   // Sizes the feature workspaces and the grey buffers for the calibration's images.
   Status InitImageBuffers(const StereoCalibration& calib);
@@ -241,6 +265,7 @@ class Pipeline {
   Recognizer recognizer_;  // ~3 MB of vote and candidate tables
   EdgeMapVerifier verifier_;
   TableConstraint frame_table_;  // the table of the current frame: given, estimated or none
+  TableCarry carry_;             // the plane carried between frames
   WorkerPool pool_;              // started at Init
 
   // Per-frame state of the parallel feature extraction (one slot per image).

@@ -160,6 +160,20 @@ void EstimateTableFromObjects(const RecognizedObject* objects, const Model* cons
   out->outcome = TableEstimateOutcome::kAccepted;
 }
 
+uint32_t CountResting(const RecognizedObject* objects, const Model* const* models, size_t n,
+                      const RigidTransform& left_T_table, float tolerance_mm) {
+  Plane table;
+  table.up = left_T_table.R.col(2);
+  table.d = -table.up.dot(left_T_table.t_mm);
+  uint32_t resting = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (Rests(ContactOf(*models[i], objects[i].cam_T_model, table, tolerance_mm), tolerance_mm)) {
+      ++resting;
+    }
+  }
+  return resting;
+}
+
 float LowestCornerHeightMm(const Model& model, const RigidTransform& cam_T_model,
                            const RigidTransform& left_T_table) {
   const Eigen::Vector3f up = left_T_table.R.col(2);

@@ -77,6 +77,11 @@ Status CheckTableEstimateConfig(const TableEstimateConfig& config);
 void EstimateTableFromObjects(const RecognizedObject* objects, const Model* const* models, size_t n,
                               const TableEstimateConfig& config, TableEstimate* out);
 
+// Objects resting on a table (z up, top at z = 0): the lowest corner within tolerance_mm of the
+// top and at least three corners that near it, as the estimate counts its support.
+uint32_t CountResting(const RecognizedObject* objects, const Model* const* models, size_t n,
+                      const RigidTransform& left_T_table, float tolerance_mm);
+
 // Height of the lowest model corner over the table top (table z axis, left camera frame), mm.
 float LowestCornerHeightMm(const Model& model, const RigidTransform& cam_T_model,
                            const RigidTransform& left_T_table);
