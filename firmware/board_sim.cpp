@@ -103,6 +103,7 @@ class Reporter final : public CoreObserver {
     std::printf("RESULT {");
     protocol::WriteResultSetJsonFields(stdout, set);
     std::printf(", \"output_frame\": \"%s\"", canopen::OutputFrameName(frame_));
+    std::printf(", \"table\": \"%s\"", protocol::TablePlaneName(set.table));
     // The frame number of the camera in use (the right one's alone when the left has failed).
     const uint32_t frame_number = frame == nullptr              ? 0
                                   : frame->left.data != nullptr ? frame->left_sequence

@@ -142,6 +142,20 @@ Status CheckNodeId(uint8_t node_id) {
   return Status::Ok();
 }
 
+const char* TablePlaneName(TablePlane p) {
+  switch (p) {
+    case TablePlane::kNone:
+      return "none";
+    case TablePlane::kFile:
+      return "file";
+    case TablePlane::kEstimated:
+      return "estimated";
+    case TablePlane::kCarried:
+      return "carried";
+  }
+  return "unknown";
+}
+
 const char* NmtStateName(NmtState state) {
   switch (state) {
     case NmtState::kBootUp:

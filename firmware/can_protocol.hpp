@@ -190,6 +190,11 @@ struct ObjectPose {
 ObjectPose MakeObjectPose(const RigidTransform& cam_T_model, uint8_t model_id, uint8_t instance,
                           double score);
 
+// The table plane recognition used for a set (not sent on the bus: the simulator's RESULT lines
+// and the logs name it). Names as the recogniser's JSON `table.source`.
+enum class TablePlane : uint8_t { kNone = 0, kFile, kEstimated, kCarried };
+const char* TablePlaneName(TablePlane p);
+
 struct ResultSet {
   uint16_t sequence = 0;    // increments per set, wraps
   uint16_t request_id = 0;  // from the trigger command; 0 = hardware trigger or free-run
@@ -199,6 +204,7 @@ struct ResultSet {
   // Frame of the poses (end frame byte 4): 0 left camera, 1 table, 2 robot base, 3 robot flange.
   // The field names of ObjectPose say camera; the pose is in this frame.
   uint8_t output_frame = 0;
+  TablePlane table = TablePlane::kNone;  // host side only
   ObjectPose objects[kMaxResultObjects];
 };
 

@@ -57,6 +57,9 @@ enum class OutputFrameKey : uint8_t { kCamera, kTable, kRobot };
 enum class BackgroundKey : uint8_t { kAuto, kDark, kLight };
 enum class TableSurface : uint8_t { kDark, kLight };  // the simulator's rendered table
 enum class VolumeFrame : uint8_t { kCamera, kTable };
+// Without a table pose: no table, the plane estimated in every frame, or estimated, confirmed
+// over a few frames and carried (recog/pipeline/table_carry.hpp).
+enum class TableEstimateKey : uint8_t { kOff, kPerFrame, kCarry };
 enum class RecordFormat : uint8_t { kPng, kPgm };
 
 // clang-format off
@@ -133,6 +136,10 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
        "the simulator's default is its rendered rig's table")                                      \
   VEC3(table_origin_mm, 0, 0, 0, "mm",                                                             \
        "table frame in the left camera: origin; z up from the belt keeps reflections out")         \
+  CHOICE(table_estimate, TableEstimateKey, TableEstimateKey::kCarry, "off|per_frame|carry",       \
+         "without a table pose: off (no table), per_frame (the plane the objects found rest on, "  \
+         "estimated in each frame and searched again) or carry (estimated until 3 frames agree, "  \
+         "then carried: one search per frame, checked and re-estimated when it stops fitting)")    \
   CHOICE(background, BackgroundKey, BackgroundKey::kAuto, "auto|dark|light",                       \
          "auto: detector thresholds measured from each image; dark or light force a preset "       \
          "(the simulator's rendered scenes: the preset of sim_background)")                                   \

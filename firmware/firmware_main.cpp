@@ -251,6 +251,9 @@ PipelineRecognitionConfig PipelineSettings(const FwConfig& config, const TablePo
   // pose only. The simulator's scenes tilt the rig differently, so scene 0's table bounds the
   // volume but is not every scene's support plane.
   pc.table_known = table.configured;
+  // Without one, the plane the objects rest on: per frame, or confirmed and carried.
+  pc.table_estimate = config.table_estimate != TableEstimateKey::kOff;
+  pc.table_carry = config.table_estimate == TableEstimateKey::kCarry;
   // One camera needs the table for millimetre poses: any known pose, the rendered rig's too.
   pc.mono_table_known = table.known;
   // A model set as tables may carry the fallback's aspect table too.

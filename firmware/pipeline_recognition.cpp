@@ -1,6 +1,7 @@
 #include "firmware/pipeline_recognition.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "firmware/firmware_core.hpp"
 #include "tables/aspect_file.hpp"
@@ -12,6 +13,8 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const ModelSet&
   models_ = models;
   model_mask_ = model_mask;
   printed_ = false;
+  carry_trusted_ = false;  // Init starts the carried plane again
+  carry_drops_ = 0;
   // The automatic default or a preset (detectors, verification, search), not bare defaults.
   PipelineConfig config = config_.automatic          ? PipelineConfig::Automatic()
                           : config_.light_background ? PipelineConfig::LightBackground()
@@ -24,6 +27,8 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const ModelSet&
     config.table.known = true;
     config.table.left_T_table = left_T_table;
   }
+  config.table_estimate.enabled = config_.table_estimate;
+  config.table_carry.enabled = config_.table_estimate && config_.table_carry;
   if (config_.volume_set) {
     const Eigen::Vector3f min_mm(config_.volume_min_mm[0], config_.volume_min_mm[1],
                                  config_.volume_min_mm[2]);
@@ -130,7 +135,10 @@ Status PipelineRecognition::SetModelMask(uint32_t model_mask) {
   config.recognizer.model_mask = model_mask;
   const StereoCalibration calib = pipeline_->calibration();
   const TableView table = pipeline_->table();
+  // The cameras did not move: the carried table plane stays.
+  const TableCarry carry = pipeline_->table_carry();
   SH_RETURN_IF_ERROR(pipeline_->Init(calib, table, config, &MonotonicNs, models_.shape()));
+  pipeline_->RestoreTableCarry(carry);
   model_mask_ = model_mask;  // the colour and printed models' bits are applied to their objects
   return Status::Ok();
 }
@@ -182,6 +190,8 @@ Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_
                                         &result_, cartons, n_cartons));
   set->status = result_.recognition.budget_exhausted ? protocol::ResultStatus::kTimeBudgetHit
                                                      : protocol::ResultStatus::kOk;
+  set->table = TablePlaneOf(result_.table_source);
+  NoteCarryChange(result_.table_carry);
   size_t n = 0;
   for (const RecognizedObject& o : result_.objects) {
     if (n == protocol::kMaxResultObjects) break;
@@ -198,6 +208,42 @@ Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_
   set->object_count = static_cast<uint8_t>(n);
   if (printed) AddPrinted(set, n);
   return Status::Ok();
+}
+
+protocol::TablePlane PipelineRecognition::TablePlaneOf(TableSource source) {
+  switch (source) {
+    case TableSource::kNone:
+      return protocol::TablePlane::kNone;
+    case TableSource::kGiven:
+      return protocol::TablePlane::kFile;
+    case TableSource::kEstimated:
+      return protocol::TablePlane::kEstimated;
+    case TableSource::kCarried:
+      return protocol::TablePlane::kCarried;
+  }
+  return protocol::TablePlane::kNone;
+}
+
+void PipelineRecognition::NoteCarryChange(const TableCarry& carry) {
+  const bool trusted = carry.trusted();
+  if (trusted != carry_trusted_ || carry.drops() != carry_drops_) {
+    // The integrator's view of the cell: when the plane is confirmed, and when it is dropped
+    // (the table moved, or the estimate was wrong). Only on a change: no output per frame.
+    const Eigen::Vector3f up = carry.left_T_table().R.col(2);
+    if (carry.drops() != carry_drops_) {
+      std::fprintf(stderr, "stereohash-fw: table plane dropped (%u so far): estimating again\n",
+                   carry.drops());
+    }
+    if (trusted) {
+      std::fprintf(stderr,
+                   "stereohash-fw: table plane confirmed by %u frames and carried: normal "
+                   "(%.4f, %.4f, %.4f), the left camera %.1f mm over it\n",
+                   carry.agreeing(), double(up.x()), double(up.y()), double(up.z()),
+                   double(up.dot(carry.left_T_table().t_mm)) * -1.0);
+    }
+    carry_trusted_ = trusted;
+    carry_drops_ = carry.drops();
+  }
 }
 
 bool PipelineRecognition::InsideCarton(const Model& model,

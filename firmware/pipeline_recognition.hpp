@@ -19,7 +19,11 @@ struct PipelineRecognitionConfig {
   bool light_background = false;  // without `automatic`: the light-table preset
   int threads = 0;                // worker threads, the calling one included; 0 = all cores
   bool table_known = false;       // left_T_table is the table the objects stand on
-  bool volume_set = false;        // working volume box, in the left camera or the table frame
+  // Without table_known: the plane the objects found rest on, estimated in each frame, and
+  // carried between frames once confirmed (firmware key table_estimate; PipelineConfig).
+  bool table_estimate = true;
+  bool table_carry = true;
+  bool volume_set = false;  // working volume box, in the left camera or the table frame
   float volume_min_mm[3] = {0, 0, 0};
   float volume_max_mm[3] = {0, 0, 0};
   bool volume_in_table_frame = false;
@@ -69,6 +73,9 @@ class PipelineRecognition final : public Recognition {
  private:
   // The printed models' objects after the n objects already in *set, masked, up to capacity.
   void AddPrinted(protocol::ResultSet* set, size_t n) const;
+  static protocol::TablePlane TablePlaneOf(TableSource source);
+  // Logs a table plane confirmed or dropped since the last frame.
+  void NoteCarryChange(const TableCarry& carry);
   // Whether the model's corner centroid at this pose lies inside a carton of the last frame.
   bool InsideCarton(const Model& model, const RigidTransform& cam_T_model) const;
   // Sets the texture path up for the model set's printed models.
@@ -86,6 +93,8 @@ class PipelineRecognition final : public Recognition {
   uint32_t model_mask_ = 0;
   bool printed_ = false;  // the model set has printed models and the texture path is set up
   PipelineResult result_;
+  bool carry_trusted_ = false;  // the carried plane's state the log last reported
+  uint32_t carry_drops_ = 0;
   MonoPipeline* mono_;
   MonoResult* mono_result_;
   AspectTableView aspects_;

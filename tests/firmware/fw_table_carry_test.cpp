@@ -1,0 +1,210 @@
+// The firmware's table plane on a fixed cell (the simulator's world: one rig bolted over one
+// table, every scene seen from it), through the board's recogniser (PipelineRecognition) with
+// the simulated cameras: with no table pose and table_estimate = carry, the first frames
+// estimate the plane, the plane is carried once three estimates agree, it agrees with the
+// rendered table, the carried frames find what frames estimating their own plane find (per_frame)
+// without touching the heap, and a new model mask keeps it; off uses no table.
+// Own binary: it counts every operator new of the process.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <vector>
+
+#include "firmware/pipeline_recognition.hpp"
+#include "firmware/truth_recognition.hpp"
+#include "hal/sim/sim_camera.hpp"
+#include "hal/sim/world/sim_world.hpp"
+#include "recog/mono/aspect.hpp"
+#include "tables/table_file.hpp"
+#include "tests/support/counting_allocator.hpp"
+#include "tools/eval/synthetic_scene.hpp"
+
+namespace sh::testing {
+namespace {
+
+using fw::PipelineRecognition;
+using fw::PipelineRecognitionConfig;
+using protocol::ObjectPose;
+using protocol::ResultSet;
+using protocol::TablePlane;
+
+constexpr uint32_t kMask = 0x3F;  // the six reference polyhedra
+
+render::SimWorld& World() {
+  static render::SimWorld world;
+  if (!world.built()) {
+    render::SimWorldConfig wc;
+    wc.models_dir = STEREOHASH_FW_SOURCE_MODELS_DIR;
+    wc.scenes = 8;
+    wc.objects = 4;
+    wc.seed = 31;
+    const Status built = world.Build(wc);
+    EXPECT_TRUE(built.ok()) << built.message();
+  }
+  return world;
+}
+
+struct Score {
+  int truth = 0, correct = 0, false_alarms = 0;
+};
+
+// The set against its scene's truth: same model, corner centroid within 5 mm, rotation within
+// 5 degrees modulo the model's symmetries; each true object matches once.
+void ScoreSet(const render::SimWorld& world, const TableView& table, const int* ids, int scene,
+              const ResultSet& set, Score* score) {
+  const render::GeneratedScene& g = world.scene(scene);
+  std::vector<bool> used(g.scene.objects.size(), false);
+  for (int i = 0; i < set.object_count; ++i) {
+    const ObjectPose& p = set.objects[i];
+    const Model& model = table.model(p.model_id);
+    const Eigen::Quaternionf q(float(p.cam_q_model[0]), float(p.cam_q_model[1]),
+                               float(p.cam_q_model[2]), float(p.cam_q_model[3]));
+    RigidTransform found;
+    found.R = q.normalized().toRotationMatrix();
+    found.t_mm = Eigen::Vector3f(float(p.cam_t_model_mm[0]), float(p.cam_t_model_mm[1]),
+                                 float(p.cam_t_model_mm[2]));
+    const Eigen::Vector3f centroid = ModelCentroid(model);
+    bool matched = false;
+    for (size_t k = 0; k < g.scene.objects.size() && !matched; ++k) {
+      if (used[k] || ids[g.scene.objects[k].model_index] != p.model_id) continue;
+      const RigidTransform& truth = g.left_T_model[k];
+      matched = (truth * centroid - found * centroid).norm() <= 5.0f &&
+                SymmetricRotationErrorDeg(model, found.R, truth.R) <= 5.0f;
+      used[k] = matched;
+    }
+    ++(matched ? score->correct : score->false_alarms);
+  }
+  score->truth += static_cast<int>(g.scene.objects.size());
+}
+
+// The board's recogniser on the simulated cameras, one frame per Next().
+class Cell {
+ public:
+  explicit Cell(const PipelineRecognitionConfig& config)
+      : camera_(&World(), hal::SimCameraConfig{}), recognition_(&pipeline_, config) {
+    const Result<TableView> t = OpenDefaultTable();
+    EXPECT_TRUE(t.ok());
+    table_ = *t;
+    fw::MapWorldModelsToIds(World(), ModelSet(&table_, nullptr), ids_);
+    const Status s = recognition_.Init(World().calibration(), ModelSet(&table_, nullptr), kMask);
+    EXPECT_TRUE(s.ok()) << s.message();
+    EXPECT_TRUE(camera_.Start().ok());
+  }
+  ~Cell() { (void)camera_.Stop(); }
+
+  // One frame into *set; *scene is the world's scene it showed.
+  bool Next(ResultSet* set, int* scene) {
+    hal::StereoFrame frame;
+    if (!camera_.Capture(&frame, 5000).ok()) return false;
+    *set = ResultSet{};
+    const Status s = recognition_.Process(frame, 0.0f, set);  // no budget: poses, not time
+    *scene = World().SceneOfFrame(frame.left_sequence);
+    camera_.Release();
+    return s.ok();
+  }
+  Score ScoreOf(const ResultSet& set, int scene) const {
+    Score score;
+    ScoreSet(World(), table_, ids_, scene, set, &score);
+    return score;
+  }
+
+  PipelineRecognition& recognition() { return recognition_; }
+  static const Pipeline& pipeline() { return pipeline_; }
+
+ private:
+  static Pipeline pipeline_;  // tens of MiB: static storage, as on the board
+  hal::SimCamera camera_;
+  PipelineRecognition recognition_;
+  TableView table_;
+  int ids_[render::kMaxWorldModels] = {};
+};
+Pipeline Cell::pipeline_;
+
+constexpr int kFrames = 7;
+
+TEST(FirmwareTableCarry, ThePlaneIsEstimatedConfirmedAndCarriedWithoutTheHeap) {
+  static ResultSet set;
+  // The same frames with the plane estimated in each (table_estimate = per_frame): the
+  // reference for the carried frames' poses.
+  Score reference[kFrames];
+  {
+    PipelineRecognitionConfig per_frame;
+    per_frame.table_carry = false;
+    Cell cell(per_frame);
+    for (int i = 0; i < kFrames; ++i) {
+      int scene = -1;
+      ASSERT_TRUE(cell.Next(&set, &scene)) << "frame " << i;
+      EXPECT_EQ(set.table, TablePlane::kEstimated) << "frame " << i;
+      reference[i] = cell.ScoreOf(set, scene);
+    }
+    EXPECT_EQ(Cell::pipeline().table_carry().state(), TableCarryState::kSearching);
+  }
+
+  Cell cell{PipelineRecognitionConfig{}};  // the defaults: no table pose, table_estimate = carry
+  Score carried, carried_reference;
+  int estimated_frames = 0, carried_frames = 0;
+  uint64_t carried_allocations = 0;
+  std::printf("table planes:");
+  for (int i = 0; i < kFrames; ++i) {
+    const bool trusted_before = Cell::pipeline().table_carry().trusted();
+    const uint64_t before = HeapAllocations();
+    int scene = -1;
+    ASSERT_TRUE(cell.Next(&set, &scene)) << "frame " << i;
+    if (trusted_before) carried_allocations += HeapAllocations() - before;
+    std::printf(" %s", protocol::TablePlaneName(set.table));
+    // A frame carries exactly when enough agreeing estimates came before it; until then it
+    // estimates.
+    EXPECT_EQ(set.table, trusted_before ? TablePlane::kCarried : TablePlane::kEstimated)
+        << "frame " << i;
+    if (set.table != TablePlane::kCarried) {
+      ++estimated_frames;
+      continue;
+    }
+    ++carried_frames;
+    const Score s = cell.ScoreOf(set, scene);
+    carried.truth += s.truth;
+    carried.correct += s.correct;
+    carried.false_alarms += s.false_alarms;
+    carried_reference.correct += reference[i].correct;
+    carried_reference.false_alarms += reference[i].false_alarms;
+  }
+  std::printf("\ncarried frames: %d of %d correct, %d false (estimated in each: %d, %d false)\n",
+              carried.correct, carried.truth, carried.false_alarms, carried_reference.correct,
+              carried_reference.false_alarms);
+  const TableCarry& carry = Cell::pipeline().table_carry();
+  // Confirmed by three agreeing estimates (a first estimate off the table by a wrong object
+  // starts the count again), then carried to the end without a drop.
+  EXPECT_GE(estimated_frames, 3);
+  EXPECT_GE(carried_frames, 3);
+  EXPECT_TRUE(carry.trusted());
+  EXPECT_EQ(carry.drops(), 0u);
+  EXPECT_EQ(carry.misfits(), 0u);
+  // The carried plane is the rendered table.
+  EXPECT_TRUE(PlanesAgree(carry.left_T_table(), World().left_T_table(), 1.0f, 0.5f));
+  // The carried frames find what the frames estimating their own plane find.
+  EXPECT_GE(carried.correct, carried_reference.correct - 1);
+  EXPECT_LE(carried.false_alarms, carried_reference.false_alarms + 1);
+  EXPECT_EQ(carried_allocations, 0u) << "heap allocations in the carried frames";
+
+  // A new model mask re-initialises the pipeline: the cameras did not move, the plane stays.
+  ASSERT_TRUE(cell.recognition().SetModelMask(kMask).ok());
+  EXPECT_TRUE(Cell::pipeline().table_carry().trusted());
+  int scene = -1;
+  ASSERT_TRUE(cell.Next(&set, &scene));
+  EXPECT_EQ(set.table, TablePlane::kCarried);
+}
+
+TEST(FirmwareTableCarry, OffUsesNoTable) {
+  PipelineRecognitionConfig off;
+  off.table_estimate = false;
+  Cell cell(off);
+  static ResultSet set;
+  int scene = -1;
+  ASSERT_TRUE(cell.Next(&set, &scene));
+  EXPECT_EQ(set.table, TablePlane::kNone);
+  EXPECT_EQ(Cell::pipeline().table_carry().state(), TableCarryState::kSearching);
+}
+
+}  // namespace
+}  // namespace sh::testing
