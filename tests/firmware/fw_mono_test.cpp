@@ -16,6 +16,7 @@
 #include "firmware/pipeline_recognition.hpp"
 #include "firmware/truth_recognition.hpp"
 #include "recog/mono/aspect.hpp"
+#include "set_score.hpp"
 #include "tables/aspect_file.hpp"
 #include "tables/model_set_writer.hpp"
 #include "tests/support/counting_allocator.hpp"
@@ -110,39 +111,10 @@ class Plc {
   size_t ack_read_ = 0;
 };
 
-struct SetScore {
-  int correct = 0, false_alarms = 0;
-};
-
-// Objects of a set against the rendered truth of the world's only scene: same model, corner
-// centroid (which the model's symmetries fix) within 5 mm, rotation within 5 degrees modulo the
-// symmetries (the tables' models carry them); each truth object matches once.
+// The set against the world's only scene.
 SetScore ScoreSet(const render::SimWorld& world, const TableView& table, const int* table_ids,
                   const ResultSet& set) {
-  const render::GeneratedScene& g = world.scene(0);
-  bool used[render::kMaxRenderObjects] = {};
-  SetScore score;
-  for (int i = 0; i < set.object_count; ++i) {
-    const ObjectPose& p = set.objects[i];
-    const Model& model = table.model(p.model_id);
-    const Eigen::Quaternionf q(float(p.cam_q_model[0]), float(p.cam_q_model[1]),
-                               float(p.cam_q_model[2]), float(p.cam_q_model[3]));
-    RigidTransform found;
-    found.R = q.normalized().toRotationMatrix();
-    found.t_mm = Eigen::Vector3f(float(p.cam_t_model_mm[0]), float(p.cam_t_model_mm[1]),
-                                 float(p.cam_t_model_mm[2]));
-    const Eigen::Vector3f centroid = ModelCentroid(model);
-    bool matched = false;
-    for (size_t k = 0; k < g.scene.objects.size() && !matched; ++k) {
-      if (used[k] || table_ids[g.scene.objects[k].model_index] != p.model_id) continue;
-      const RigidTransform& truth = g.left_T_model[k];
-      const float position_mm = (truth * centroid - found * centroid).norm();
-      const float rotation_deg = SymmetricRotationErrorDeg(model, found.R, truth.R);
-      if (position_mm <= 5.0f && rotation_deg <= 5.0f) used[k] = matched = true;
-    }
-    ++(matched ? score.correct : score.false_alarms);
-  }
-  return score;
+  return ScoreSetOnScene(world, table, table_ids, 0, set);
 }
 
 // The firmware core with the simulated world's camera (one scene: the simulator's scenes differ

@@ -15,17 +15,15 @@
 #include "firmware/truth_recognition.hpp"
 #include "hal/sim/sim_camera.hpp"
 #include "hal/sim/world/sim_world.hpp"
-#include "recog/mono/aspect.hpp"
+#include "set_score.hpp"
 #include "tables/table_file.hpp"
 #include "tests/support/counting_allocator.hpp"
-#include "tools/eval/synthetic_scene.hpp"
 
 namespace sh::testing {
 namespace {
 
 using fw::PipelineRecognition;
 using fw::PipelineRecognitionConfig;
-using protocol::ObjectPose;
 using protocol::ResultSet;
 using protocol::TablePlane;
 
@@ -43,39 +41,6 @@ render::SimWorld& World() {
     EXPECT_TRUE(built.ok()) << built.message();
   }
   return world;
-}
-
-struct Score {
-  int truth = 0, correct = 0, false_alarms = 0;
-};
-
-// The set against its scene's truth: same model, corner centroid within 5 mm, rotation within
-// 5 degrees modulo the model's symmetries; each true object matches once.
-void ScoreSet(const render::SimWorld& world, const TableView& table, const int* ids, int scene,
-              const ResultSet& set, Score* score) {
-  const render::GeneratedScene& g = world.scene(scene);
-  std::vector<bool> used(g.scene.objects.size(), false);
-  for (int i = 0; i < set.object_count; ++i) {
-    const ObjectPose& p = set.objects[i];
-    const Model& model = table.model(p.model_id);
-    const Eigen::Quaternionf q(float(p.cam_q_model[0]), float(p.cam_q_model[1]),
-                               float(p.cam_q_model[2]), float(p.cam_q_model[3]));
-    RigidTransform found;
-    found.R = q.normalized().toRotationMatrix();
-    found.t_mm = Eigen::Vector3f(float(p.cam_t_model_mm[0]), float(p.cam_t_model_mm[1]),
-                                 float(p.cam_t_model_mm[2]));
-    const Eigen::Vector3f centroid = ModelCentroid(model);
-    bool matched = false;
-    for (size_t k = 0; k < g.scene.objects.size() && !matched; ++k) {
-      if (used[k] || ids[g.scene.objects[k].model_index] != p.model_id) continue;
-      const RigidTransform& truth = g.left_T_model[k];
-      matched = (truth * centroid - found * centroid).norm() <= 5.0f &&
-                SymmetricRotationErrorDeg(model, found.R, truth.R) <= 5.0f;
-      used[k] = matched;
-    }
-    ++(matched ? score->correct : score->false_alarms);
-  }
-  score->truth += static_cast<int>(g.scene.objects.size());
 }
 
 // The board's recogniser on the simulated cameras, one frame per Next().
@@ -103,10 +68,8 @@ class Cell {
     camera_.Release();
     return s.ok();
   }
-  Score ScoreOf(const ResultSet& set, int scene) const {
-    Score score;
-    ScoreSet(World(), table_, ids_, scene, set, &score);
-    return score;
+  SetScore ScoreOf(const ResultSet& set, int scene) const {
+    return ScoreSetOnScene(World(), table_, ids_, scene, set);
   }
 
   PipelineRecognition& recognition() { return recognition_; }
@@ -127,7 +90,7 @@ TEST(FirmwareTableCarry, ThePlaneIsEstimatedConfirmedAndCarriedWithoutTheHeap) {
   static ResultSet set;
   // The same frames with the plane estimated in each (table_estimate = per_frame): the
   // reference for the carried frames' poses.
-  Score reference[kFrames];
+  SetScore reference[kFrames];
   {
     PipelineRecognitionConfig per_frame;
     per_frame.table_carry = false;
@@ -142,7 +105,7 @@ TEST(FirmwareTableCarry, ThePlaneIsEstimatedConfirmedAndCarriedWithoutTheHeap) {
   }
 
   Cell cell{PipelineRecognitionConfig{}};  // the defaults: no table pose, table_estimate = carry
-  Score carried, carried_reference;
+  SetScore carried, carried_reference;
   int estimated_frames = 0, carried_frames = 0;
   uint64_t carried_allocations = 0;
   std::printf("table planes:");
@@ -162,7 +125,7 @@ TEST(FirmwareTableCarry, ThePlaneIsEstimatedConfirmedAndCarriedWithoutTheHeap) {
       continue;
     }
     ++carried_frames;
-    const Score s = cell.ScoreOf(set, scene);
+    const SetScore s = cell.ScoreOf(set, scene);
     carried.truth += s.truth;
     carried.correct += s.correct;
     carried.false_alarms += s.false_alarms;
