@@ -175,7 +175,8 @@ Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_
     if (budget_ms > 0) polyhedra_budget_ms = std::max(budget_ms - spent_ms, 1.0f);
   }
   // The cartons found are hidden from the polyhedral path: their box edges, corners and the
-  // print's straight lines would otherwise fill its features and its search.
+  // print's straight lines would otherwise fill its features and its search, and a polyhedron
+  // inside a carton (its box edges read as a polyhedron) is not reported.
   PosedModel cartons[texture::kMaxTextureObjects];
   size_t n_cartons = 0;
   if (printed) {
@@ -195,9 +196,6 @@ Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_
   size_t n = 0;
   for (const RecognizedObject& o : result_.objects) {
     if (n == protocol::kMaxResultObjects) break;
-    // A polyhedron inside a printed carton is the carton's box edges read as a polyhedron: the
-    // carton, confirmed by its print, takes the place.
-    if (printed && InsideCarton(models_.model(o.model), o.cam_T_model)) continue;
     // The mask selects colour parts too (the polyhedral search applies it itself).
     if (o.model > 31 || (model_mask_ & (1u << o.model)) == 0) continue;
     // The weaker image decides: an object must be confirmed in both views.
@@ -244,26 +242,6 @@ void PipelineRecognition::NoteCarryChange(const TableCarry& carry) {
     carry_trusted_ = trusted;
     carry_drops_ = carry.drops();
   }
-}
-
-bool PipelineRecognition::InsideCarton(const Model& model,
-                                       const RigidTransform& cam_T_model) const {
-  Eigen::Vector3f centroid_mm = Eigen::Vector3f::Zero();
-  for (int i = 0; i < model.n_corners; ++i) centroid_mm += model.corner(i);
-  if (model.n_corners > 0) centroid_mm /= static_cast<float>(model.n_corners);
-  const Eigen::Vector3f cam_p_mm = cam_T_model.R * centroid_mm + cam_T_model.t_mm;
-  for (const texture::TextureObject& c : texture_result_->objects) {
-    const Model& carton = texture_->db().model(c.model);
-    // The centroid in the carton's frame, against its corners' box.
-    const Eigen::Vector3f p_mm = c.cam_T_model.R.transpose() * (cam_p_mm - c.cam_T_model.t_mm);
-    Eigen::Vector3f lo = carton.corner(0), hi = carton.corner(0);
-    for (int i = 1; i < carton.n_corners; ++i) {
-      lo = lo.cwiseMin(carton.corner(i));
-      hi = hi.cwiseMax(carton.corner(i));
-    }
-    if ((p_mm.array() >= lo.array()).all() && (p_mm.array() <= hi.array()).all()) return true;
-  }
-  return false;
 }
 
 }  // namespace sh::fw

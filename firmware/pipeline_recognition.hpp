@@ -76,8 +76,6 @@ class PipelineRecognition final : public Recognition {
   static protocol::TablePlane TablePlaneOf(TableSource source);
   // Logs a table plane confirmed or dropped since the last frame.
   void NoteCarryChange(const TableCarry& carry);
-  // Whether the model's corner centroid at this pose lies inside a carton of the last frame.
-  bool InsideCarton(const Model& model, const RigidTransform& cam_T_model) const;
   // Sets the texture path up for the model set's printed models.
   Status InitPrinted(const StereoCalibration& calib, const ModelSet& models);
   // The aspect table of the monocular fallback (config_.aspects_file's, else the linked-in one).

@@ -4,6 +4,7 @@
 
 #include "recog/camera/calibration_check.hpp"
 #include "recog/camera/image_check.hpp"
+#include "recog/pipeline/inside_object.hpp"
 #include "recog/stereo/image_adapters.hpp"
 
 namespace sh {
@@ -89,6 +90,7 @@ void EdgeMapVerifier::Reset(const StereoCalibration* calib, const TableView* tab
   hidden_ = hidden;
   n_hidden_ = hidden != nullptr ? n_hidden : 0;
   below_table_ = 0;
+  inside_hidden_ = 0;
   table_ = table;
   left_ = left;
   right_ = right;
@@ -106,6 +108,11 @@ bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>&
       ++below_table_;
       return false;
     }
+  }
+  // An object another path found already (a colour part's outline, a carton's box edges).
+  if (CentreInsideAny(model, candidate.cam_T_model, hidden_, n_hidden_) >= 0) {
+    ++inside_hidden_;
+    return false;
   }
   const int64_t start = now_ns_ ? now_ns_() : 0;
   // Occluders: the hidden objects of another path, then the accepted objects; of each, the
@@ -280,6 +287,28 @@ Status Pipeline::Process(const FrameView& left, const FrameView& right, float bu
     }
   }
   const int64_t t0 = now_ns_ ? now_ns_() : 0;
+  // The colour parts first (segmentation, view search and refinement are not interruptible; the
+  // polyhedral search is the anytime part and gets what is left of the budget). What they find
+  // is hidden from the polyhedral path beside the caller's objects.
+  shape_objects_.clear();
+  if (shape_enabled_ && left.has_colour() && right.has_colour()) {
+    SH_RETURN_IF_ERROR(shape_->Process(left, right, shape_objects_, &out->shape));
+  }
+  size_t n_all = 0;
+  const size_t n_given = hidden != nullptr ? n_hidden : 0;
+  for (size_t i = 0; i < n_given + shape_objects_.size(); ++i) {
+    if (n_all == kMaxHiddenObjects) {
+      ++out->hidden_not_masked;  // capacity: hidden neither from the features nor the search
+      continue;
+    }
+    if (i < n_given) {
+      hidden_[n_all++] = hidden[i];
+    } else {
+      const RecognizedObject& o = shape_objects_[i - n_given];
+      hidden_[n_all++] = {&models_.model(o.model), o.cam_T_model};
+      ++out->hidden_colour_parts;
+    }
+  }
   if (models_.hash_count() > 0) {
     ConstGrayView grey[2];
     for (int i = 0; i < 2; ++i) {
@@ -291,19 +320,23 @@ Status Pipeline::Process(const FrameView& left, const FrameView& right, float bu
     }
     SH_RETURN_IF_ERROR(CheckImageFitsCamera(grey[0], calib_.left, "left"));
     SH_RETURN_IF_ERROR(CheckImageFitsCamera(grey[1], calib_.right, "right"));
-    SH_RETURN_IF_ERROR(RecognisePolyhedra(grey[0], grey[1], budget_ms, t0, hidden,
-                                          hidden != nullptr ? n_hidden : 0, out));
+    const int64_t t1 = now_ns_ ? now_ns_() : 0;
+    SH_RETURN_IF_ERROR(
+        RecognisePolyhedra(grey[0], grey[1], budget_ms, t0, t1, hidden_, n_all, out));
   }
-  if (shape_enabled_ && left.has_colour() && right.has_colour()) {
-    SH_RETURN_IF_ERROR(shape_->Process(left, right, out->objects, &out->shape));
+  for (const RecognizedObject& o : shape_objects_) {
+    if (!out->objects.push_back(o)) {
+      out->shape.objects_full = true;
+      break;
+    }
   }
   if (now_ns_) out->time.total_ms = MsSince(t0);
   return Status::Ok();
 }
 
 Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, float budget_ms,
-                                    int64_t t0, const PosedModel* hidden, size_t n_hidden,
-                                    PipelineResult* out) {
+                                    int64_t frame_t0, int64_t t0, const PosedModel* hidden,
+                                    size_t n_hidden, PipelineResult* out) {
   // 1. Per-image features, the two images in parallel when the pool has two threads, without
   // the silhouettes of the hidden objects.
   BuildMasks(hidden, n_hidden, out);
@@ -349,7 +382,7 @@ Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, flo
   Budget budget;
   if (budget_ms > 0 && now_ns_ != nullptr) {
     // The budget covers the whole frame: recognition gets what features and stereo left.
-    budget.deadline_ns = t0 + static_cast<int64_t>(static_cast<double>(budget_ms) * 1e6);
+    budget.deadline_ns = frame_t0 + static_cast<int64_t>(static_cast<double>(budget_ms) * 1e6);
     budget.now_ns = now_ns_;
   }
   int64_t verify_ns = 0;
@@ -372,6 +405,7 @@ Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, flo
 
   // 6. The last fit: each accepted pose to the edge pixels of both images.
   RefineOnEdges(hidden, n_hidden, out);
+  DropInsideHidden(hidden, n_hidden, out);
   if (now_ns_) out->time.refine_ms = MsSince(t3);
   return Status::Ok();
 }
@@ -423,6 +457,19 @@ void Pipeline::KeepOverFrameTable(PipelineResult* out) {
   if (now_ns_) out->time.table_ms += MsSince(keep_start);
 }
 
+void Pipeline::DropInsideHidden(const PosedModel* hidden, size_t n_hidden, PipelineResult* out) {
+  size_t kept = 0;
+  for (size_t i = 0; i < out->objects.size(); ++i) {
+    const RecognizedObject& o = out->objects[i];
+    if (CentreInsideAny(table_.model(o.model), o.cam_T_model, hidden, n_hidden) >= 0) {
+      ++out->inside_hidden;
+      continue;
+    }
+    out->objects[kept++] = o;
+  }
+  (void)out->objects.resize(kept);
+}
+
 Status Pipeline::Search(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
                         PipelineResult* out, int64_t* verify_ns) {
   verifier_.Reset(&calib_, &table_, AsConst(features_[0].edges), AsConst(features_[1].edges),
@@ -431,6 +478,7 @@ Status Pipeline::Search(const Budget& budget, const PosedModel* hidden, size_t n
       recognizer_.Recognize(scene_, verifier_, budget, out->objects, &out->recognition);
   out->verify_errors += verifier_.errors();
   out->below_table += verifier_.below_table();
+  out->inside_hidden += verifier_.inside_hidden();
   *verify_ns += verifier_.elapsed_ns();
   return s;
 }

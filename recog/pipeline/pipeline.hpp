@@ -128,6 +128,11 @@ struct PipelineResult {
   // corners dropped and edge pixels cleared.
   uint32_t hidden_objects = 0, hidden_not_masked = 0;
   uint32_t masked_corners[2] = {0, 0}, masked_edge_pixels[2] = {0, 0};
+  // Of the hidden objects, the colour parts the shape path found in this frame.
+  uint32_t hidden_colour_parts = 0;
+  // Polyhedral hypotheses rejected, and objects dropped after the edge fit, because their centre
+  // lies inside a hidden object (inside_object.hpp): one object, one report.
+  uint32_t inside_hidden = 0;
 };
 
 // The verifier of the stereo pipeline: projects the refined hypothesis into both images and
@@ -147,6 +152,7 @@ class EdgeMapVerifier : public HypothesisVerifier {
   int64_t elapsed_ns() const { return elapsed_ns_; }
   uint32_t errors() const { return errors_; }
   uint32_t below_table() const { return below_table_; }
+  uint32_t inside_hidden() const { return inside_hidden_; }
 
  private:
   const StereoCalibration* calib_ = nullptr;
@@ -160,6 +166,7 @@ class EdgeMapVerifier : public HypothesisVerifier {
   int64_t elapsed_ns_ = 0;
   uint32_t errors_ = 0;
   uint32_t below_table_ = 0;
+  uint32_t inside_hidden_ = 0;
 };
 
 class Pipeline {
@@ -179,12 +186,16 @@ class Pipeline {
   // problem (size mismatch, empty image, ...).
   // `hidden`: n_hidden objects another path found in this frame (the printed cartons; poses in
   // the left-camera frame, models outliving the call). The polyhedral path does not see their
-  // silhouettes (PipelineConfig::hide_margin_px) and its verifier takes them as occluders.
+  // silhouettes (PipelineConfig::hide_margin_px), its verifier takes them as occluders, and it
+  // reports nothing whose centre lies inside one of them (inside_object.hpp).
   Status Process(ConstGrayView left, ConstGrayView right, float budget_ms, PipelineResult* out,
                  const PosedModel* hidden = nullptr, size_t n_hidden = 0);
   // Frames of any format: the polyhedral path reads their grey (the luma plane in place, RGB
-  // converted), the shape path runs on colour frames when a view database was given; its
-  // objects follow the polyhedral path's in `out->objects`.
+  // converted), the shape path runs on colour frames when a view database was given. The shape
+  // path runs first: the colour parts it finds join `hidden` for the polyhedral path, so a part
+  // is reported once, by its own path, and its outline spends none of the polyhedral search. Its
+  // objects follow the polyhedral path's in `out->objects`. Of `hidden` and the colour parts,
+  // the first kMaxHiddenObjects are hidden (the rest: hidden_not_masked).
   Status Process(const FrameView& left, const FrameView& right, float budget_ms,
                  PipelineResult* out, const PosedModel* hidden = nullptr, size_t n_hidden = 0);
 
@@ -241,9 +252,13 @@ class Pipeline {
   // Sizes the feature workspaces and the grey buffers for the calibration's images.
   Status InitImageBuffers(const StereoCalibration& calib);
   static void ExtractOne(void* self, int image);
-  // Steps 1-6 of the polyhedral path on grey images; t0 is the frame's start (budget, times).
-  Status RecognisePolyhedra(ConstGrayView left, ConstGrayView right, float budget_ms, int64_t t0,
-                            const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
+  // Steps 1-6 of the polyhedral path on grey images; frame_t0 is the frame's start (the budget
+  // covers the whole frame), t0 the path's (its stage times).
+  Status RecognisePolyhedra(ConstGrayView left, ConstGrayView right, float budget_ms,
+                            int64_t frame_t0, int64_t t0, const PosedModel* hidden, size_t n_hidden,
+                            PipelineResult* out);
+  // Drops the objects whose centre lies inside a hidden object (after the edge fit moved them).
+  void DropInsideHidden(const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
   // The masks of both images from the hidden objects (counts into out).
   void BuildMasks(const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
 
@@ -279,6 +294,10 @@ class Pipeline {
   ModelSet models_;
   bool shape_enabled_ = false;
   ZeroedPtr<ShapeRecognizer> shape_;
+  // The frame's colour parts (appended to the polyhedra's objects at the end) and the objects
+  // hidden from the polyhedral path: the caller's, then those colour parts.
+  Vector<RecognizedObject, kMaxObjects> shape_objects_;
+  PosedModel hidden_[kMaxHiddenObjects];
   // Carved by Init for each camera's image size (one block).
   InitBlock grey_block_;
   uint8_t* grey_[2] = {nullptr, nullptr};

@@ -366,6 +366,15 @@ class FirmwareEndToEndTest(unittest.TestCase):
                         best[2] > ARGS.max_rotation_error_deg:
                     false_positives += 1
                     false_per_model[model] = false_per_model.get(model, 0) + 1
+                    if ARGS.verbose:
+                        print("  not matching: trigger %d, %s at %s mm; nearest of its model: %s; "
+                              "truth: %s" % (
+                                  sequence, models["names"][model],
+                                  ["%.1f" % got["RO_Position" + a] for a in "XYZ"],
+                                  "none" if best is None else "%.1f mm, %.1f deg" % best[1:],
+                                  ", ".join("%s at %s" % (models["names"][tr["model_id"]],
+                                                          ["%.1f" % v for v in tr["t_mm"]])
+                                            for tr in truth)))
                     continue
                 used.add(best[0])
                 matched += 1
@@ -455,6 +464,8 @@ def main():
     parser.add_argument("--colour", help="path of the stereohash tools program: add the colour "
                         "parts can and bracket of models/colour")
     parser.add_argument("--min-colour-recall", type=float, default=1.0)
+    parser.add_argument("--verbose", action="store_true",
+                        help="print each reported object that matches no ground truth")
     parser.add_argument("--config-line", action="append", default=[],
                         help="a configuration line added to the simulator's file (repeatable)")
     ARGS, rest = parser.parse_known_args()
