@@ -75,6 +75,7 @@ Status ShapeRecognizer::Init(const StereoCalibration& calib, const ShapeViewsVie
       DeriveColourClasses(kd, static_cast<int>(views.model_count()), &classes, colour_of_model_);
   if (!s.ok()) return Status::Error(s.code(), "shape recognition: %s", s.message());
   SH_RETURN_IF_ERROR(classifier_.Init(classes));
+  for (uint32_t m = 0; m < views.model_count(); ++m) near_[m] = FindNearSymmetries(views.model(m));
   calib_ = calib;
   views_ = views;
   config_ = config;
@@ -397,6 +398,31 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
     }
   }
   if (best.model == nullptr) return false;
+  // A part with a near symmetry (the bracket) may have settled half a turn from the truth: the
+  // turned pose, refined the same way, replaces it when the images explain it better.
+  const NearSymmetries& near = near_[best.model - &views_.model(0)];
+  const PosedModel found = best;
+  for (int k = 0; k < (config_.near_symmetries ? near.n : 0); ++k) {
+    PosedModel turned = found;
+    // x -> R (S x + s) + t: rotation R S, translation t + R s.
+    turned.cam_T_model.R = found.cam_T_model.R * near.R[k];
+    turned.cam_T_model.t_mm = found.cam_T_model.t_mm + found.cam_T_model.R * near.t_mm[k];
+    t = Now();
+    ShapeRefineResult fit;
+    const Status s = refiner_.Refine(calib_, images_, colour, &turned, occluders_, n_occluders_,
+                                     config_.refine, &fit);
+    refine_ns_ += Now() - t;
+    if (!s.ok()) continue;
+    t = Now();
+    const Verdict v = Evaluate(turned, colour, fit);
+    verify_ns_ += Now() - t;
+    ++st.turned;
+    if (v.accepted && v.evidence > best_verdict.evidence) {
+      best = turned;
+      best_verdict = v;
+      ++st.turned_kept;
+    }
+  }
   RecognizedObject o;
   o.model = static_cast<uint16_t>(model_id_offset_ + (best.model - &views_.model(0)));
   o.cam_T_model = best.cam_T_model;

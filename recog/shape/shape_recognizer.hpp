@@ -30,6 +30,7 @@
 #include "recog/image/frame.hpp"
 #include "recog/shape/blob_split.hpp"
 #include "recog/shape/colour_classes.hpp"
+#include "recog/shape/near_symmetry.hpp"
 #include "recog/shape/region_pairs.hpp"
 #include "recog/shape/segmentation.hpp"
 #include "recog/shape/shape_refine.hpp"
@@ -66,6 +67,9 @@ struct ShapeConfig {
   // of the region's.
   float max_extent_ratio = 1.3f;
   int corrective_iterations = 3;
+  // Parts with a near symmetry (near_symmetry.hpp: the bracket) are refined half a turn from
+  // where they were found too, and the pose the images explain better is kept.
+  bool near_symmetries = true;
   // Verification, in each image: confirmed share of the edge samples, and at most this share of
   // the predicted silhouette showing no part colour (the table).
   float min_edge_score = 0.55f;
@@ -99,6 +103,9 @@ struct ShapeStats {
   uint32_t mono_seeds = 0;  // blobs tried from one image (no partner verified)
   uint32_t hypotheses = 0;  // refined
   uint32_t verified = 0;
+  // Accepted parts with a near symmetry refined half a turn away too (near_symmetry.hpp), and
+  // how often that pose replaced the first.
+  uint32_t turned = 0, turned_kept = 0;
   bool runs_truncated = false, regions_truncated = false, pairs_truncated = false;
   bool blobs_full = false;
   bool objects_full = false;
@@ -189,6 +196,7 @@ class ShapeRecognizer {
   ClockFn now_ns_ = nullptr;
   ColourClassifier classifier_;
   uint8_t colour_of_model_[kMaxShapeModels] = {};
+  NearSymmetries near_[kMaxShapeModels];
 
   ColourSegmentation segmentation_[2];
   Vector<RegionPair, kMaxRegionPairs> pairs_;
