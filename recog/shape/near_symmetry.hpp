@@ -21,6 +21,7 @@ namespace sh {
 
 inline constexpr int kMaxNearSymmetries = 3;
 
+// NOLINTNEXTLINE(bugprone-reserved-identifier): clang-tidy 14 names the implicit array copy's index
 struct NearSymmetries {
   int n = 0;
   // model_T_model: x -> R[k] x + t_mm[k].
