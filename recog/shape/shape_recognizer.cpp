@@ -381,16 +381,8 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
   Verdict best_verdict;
   for (size_t i = 0; i < n_coarse && i < static_cast<size_t>(config_.fine_hypotheses); ++i) {
     PosedModel object = coarse[i].object;
-    t = Now();
-    ShapeRefineResult fit;
-    const Status s = refiner_.Refine(calib_, images_, colour, &object, occluders_, n_occluders_,
-                                     config_.refine, &fit);
-    refine_ns_ += Now() - t;
-    if (!s.ok()) continue;
-    t = Now();
-    const Verdict v = Evaluate(object, colour, fit);
-    verify_ns_ += Now() - t;
-    if (!v.accepted) continue;
+    Verdict v;
+    if (!RefineAndEvaluate(colour, &object, &v) || !v.accepted) continue;
     ++st.verified;
     if (best.model == nullptr || v.evidence > best_verdict.evidence) {
       best = object;
@@ -407,15 +399,8 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
     // x -> R (S x + s) + t: rotation R S, translation t + R s.
     turned.cam_T_model.R = found.cam_T_model.R * near.R[k];
     turned.cam_T_model.t_mm = found.cam_T_model.t_mm + found.cam_T_model.R * near.t_mm[k];
-    t = Now();
-    ShapeRefineResult fit;
-    const Status s = refiner_.Refine(calib_, images_, colour, &turned, occluders_, n_occluders_,
-                                     config_.refine, &fit);
-    refine_ns_ += Now() - t;
-    if (!s.ok()) continue;
-    t = Now();
-    const Verdict v = Evaluate(turned, colour, fit);
-    verify_ns_ += Now() - t;
+    Verdict v;
+    if (!RefineAndEvaluate(colour, &turned, &v)) continue;
     ++st.turned;
     if (v.accepted && v.evidence > best_verdict.evidence) {
       best = turned;
@@ -436,6 +421,19 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
   }
   if (n_occluders_ < kMaxOccluders) occluders_[n_occluders_++] = best;
   MarkExplained(best);
+  return true;
+}
+
+bool ShapeRecognizer::RefineAndEvaluate(uint8_t colour, PosedModel* object, Verdict* verdict) {
+  int64_t t = Now();
+  ShapeRefineResult fit;
+  const Status s = refiner_.Refine(calib_, images_, colour, object, occluders_, n_occluders_,
+                                   config_.refine, &fit);
+  refine_ns_ += Now() - t;
+  if (!s.ok()) return false;
+  t = Now();
+  *verdict = Evaluate(*object, colour, fit);
+  verify_ns_ += Now() - t;
   return true;
 }
 

@@ -181,6 +181,8 @@ class ShapeRecognizer {
   // Refines the candidates, verifies the best and accepts the winner; true if one was accepted.
   bool TrySeed(const Seed& seed, Vector<RecognizedObject>& out, ShapeStats& st);
   Verdict Evaluate(const PosedModel& object, uint8_t colour, const ShapeRefineResult& fit) const;
+  // The fine refinement of *object, then Evaluate(); false when refinement fails.
+  bool RefineAndEvaluate(uint8_t colour, PosedModel* object, Verdict* verdict);
   float ExplainedShare(int camera, const ColourRegion& blob) const;
   void MarkExplained(const PosedModel& object);
   // The unexplained pixels of this round's blobs, split into parts, as next round's blobs.

@@ -33,17 +33,6 @@ namespace {
 const std::string kColourModels = std::string(STEREOHASH_FW_SOURCE_MODELS_DIR) + "/colour";
 constexpr const char* kParts[] = {"cube", "can"};  // model ids 0 and 1 of the set
 
-std::string ReadFile(const std::string& path) {
-  std::string text;
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (f == nullptr) return text;
-  char buffer[4096];
-  size_t n;
-  while ((n = std::fread(buffer, 1, sizeof(buffer), f)) > 0) text.append(buffer, n);
-  std::fclose(f);
-  return text;
-}
-
 // A model set of the red cube and the red can of models/colour (SHAPE_VIEWS only: no polyhedra),
 // and a folder with the same two parts (OBJ + MTL) for the simulated world.
 struct Files {
@@ -65,7 +54,7 @@ const Files& TestFiles() {
     for (const char* name : kParts) {
       const std::string obj = kColourModels + "/" + name + ".obj";
       for (const char* ext : {".obj", ".mtl"}) {
-        const std::string text = ReadFile(kColourModels + "/" + name + ext);
+        const std::string text = ReadTestFile(kColourModels + "/" + name + ext);
         EXPECT_FALSE(text.empty()) << name << ext;
         EXPECT_TRUE(WriteTestFile(f->parts_dir + "/" + name + ext, text.data(), text.size()));
       }

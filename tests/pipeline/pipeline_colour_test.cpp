@@ -22,6 +22,7 @@
 #include "tables/table_file.hpp"
 #include "tests/support/aligned_blob.hpp"
 #include "tests/support/counting_allocator.hpp"
+#include "tests/support/test_files.hpp"
 
 namespace sh {
 namespace {
@@ -84,24 +85,6 @@ TEST(CentreInside, AnyNamesTheFirstContainerAndEmptyModelsContainNothing) {
   EXPECT_FALSE(CentreInside(cube, p, {nullptr, p}));
 }
 
-std::string ReadFile(const std::string& path) {
-  std::string text;
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (f == nullptr) return text;
-  char buffer[4096];
-  size_t n;
-  while ((n = std::fread(buffer, 1, sizeof(buffer), f)) > 0) text.append(buffer, n);
-  std::fclose(f);
-  return text;
-}
-
-bool WriteFile(const std::string& path, const void* data, size_t size) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (f == nullptr) return false;
-  const bool ok = std::fwrite(data, 1, size, f) == size;
-  return std::fclose(f) == 0 && ok;
-}
-
 int64_t FakeClock() {
   static int64_t t = 0;
   return t += 1000;  // 1 us per call: the budget is never reached
@@ -126,9 +109,9 @@ class PipelineColour : public ::testing::Test {
     for (const char* name : kParts) {
       const std::string src = std::string(STEREOHASH_MODELS_DIR) + "/colour/" + name;
       for (const char* ext : {".obj", ".mtl"}) {
-        const std::string text = ReadFile(src + ext);
+        const std::string text = testing::ReadTestFile(src + ext);
         ASSERT_FALSE(text.empty()) << src << ext;
-        ASSERT_TRUE(WriteFile(*dir_ + "/" + name + ext, text.data(), text.size()));
+        ASSERT_TRUE(testing::WriteTestFile(*dir_ + "/" + name + ext, text.data(), text.size()));
       }
       manifest += std::string(name) + "\n";
       Result<Model> m = LoadModelFile(src + ".obj");
@@ -138,7 +121,7 @@ class PipelineColour : public ::testing::Test {
       ASSERT_TRUE(LoadModelColour(src + ".obj", in.model, in.kd).ok());
       inputs.push_back(in);
     }
-    ASSERT_TRUE(WriteFile(*dir_ + "/models.txt", manifest.data(), manifest.size()));
+    ASSERT_TRUE(testing::WriteTestFile(*dir_ + "/models.txt", manifest.data(), manifest.size()));
     ShapeViewBuildOptions options;  // fewer components and PCA views: quick under qemu
     options.n_components = 60;
     options.pca_views = 1500;

@@ -11,6 +11,7 @@
 
 #include "firmware/firmware_core.hpp"
 #include "hal/sim/world/sim_world.hpp"
+#include "tests/support/test_files.hpp"
 
 namespace sh::testing {
 
@@ -43,12 +44,5 @@ class SceneObserver final : public fw::CoreObserver {
   std::atomic<int> results_{0};
   std::atomic<int> colour_frames_{0};
 };
-
-inline bool WriteTestFile(const std::string& path, const void* data, size_t size) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (f == nullptr) return false;
-  const bool ok = std::fwrite(data, 1, size, f) == size;
-  return std::fclose(f) == 0 && ok;
-}
 
 }  // namespace sh::testing
