@@ -26,6 +26,7 @@
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
 #include "tests/support/sim_scene_observer.hpp"
+#include "tests/support/tool_run.hpp"
 
 namespace sh::testing {
 namespace {
@@ -54,7 +55,7 @@ const Files& TestFiles() {
     for (const char* name : kParts) {
       const std::string obj = kColourModels + "/" + name + ".obj";
       for (const char* ext : {".obj", ".mtl"}) {
-        const std::string text = ReadTestFile(kColourModels + "/" + name + ext);
+        const std::string text = ReadFileText(kColourModels + "/" + name + ext);
         EXPECT_FALSE(text.empty()) << name << ext;
         EXPECT_TRUE(WriteTestFile(f->parts_dir + "/" + name + ext, text.data(), text.size()));
       }

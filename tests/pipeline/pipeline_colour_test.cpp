@@ -5,10 +5,8 @@
 // rule itself (CentreInside) by its geometry, and no heap in the mixed path (this binary counts
 // operator new).
 #include <gtest/gtest.h>
-#include <sys/stat.h>
 
 #include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,7 +20,9 @@
 #include "tables/table_file.hpp"
 #include "tests/support/aligned_blob.hpp"
 #include "tests/support/counting_allocator.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tests/support/test_files.hpp"
+#include "tests/support/tool_run.hpp"
 
 namespace sh {
 namespace {
@@ -101,17 +101,17 @@ struct Frames {
 class PipelineColour : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    char dir[] = "/tmp/stereohash_pipeline_colour_XXXXXX";
-    ASSERT_NE(mkdtemp(dir), nullptr);
-    dir_ = new std::string(dir);
+    dir_ = new testing::TempDir("pipeline_colour");
+    ASSERT_TRUE(dir_->ok());
     std::vector<ShapeModelInput> inputs;
     std::string manifest;
     for (const char* name : kParts) {
       const std::string src = std::string(STEREOHASH_MODELS_DIR) + "/colour/" + name;
       for (const char* ext : {".obj", ".mtl"}) {
-        const std::string text = testing::ReadTestFile(src + ext);
+        const std::string text = testing::ReadFileText(src + ext);
         ASSERT_FALSE(text.empty()) << src << ext;
-        ASSERT_TRUE(testing::WriteTestFile(*dir_ + "/" + name + ext, text.data(), text.size()));
+        ASSERT_TRUE(
+            testing::WriteTestFile(dir_->Sub(std::string(name) + ext), text.data(), text.size()));
       }
       manifest += std::string(name) + "\n";
       Result<Model> m = LoadModelFile(src + ".obj");
@@ -121,7 +121,7 @@ class PipelineColour : public ::testing::Test {
       ASSERT_TRUE(LoadModelColour(src + ".obj", in.model, in.kd).ok());
       inputs.push_back(in);
     }
-    ASSERT_TRUE(testing::WriteTestFile(*dir_ + "/models.txt", manifest.data(), manifest.size()));
+    ASSERT_TRUE(testing::WriteTestFile(dir_->Sub("models.txt"), manifest.data(), manifest.size()));
     ShapeViewBuildOptions options;  // fewer components and PCA views: quick under qemu
     options.n_components = 60;
     options.pca_views = 1500;
@@ -138,7 +138,7 @@ class PipelineColour : public ::testing::Test {
     world_ = new render::SimWorld();
     render::SimWorldConfig wc;
     wc.models_dir = STEREOHASH_MODELS_DIR;
-    wc.colour_dir = dir_->c_str();
+    wc.colour_dir = dir_->path().c_str();
     wc.seed = 5;
     wc.scenes = kScenes;
     wc.objects = 4;
@@ -172,7 +172,6 @@ class PipelineColour : public ::testing::Test {
     delete table_;
     delete views_;
     delete blob_;
-    if (dir_ != nullptr) (void)std::system(("rm -rf " + *dir_).c_str());
     delete dir_;
   }
 
@@ -198,7 +197,7 @@ class PipelineColour : public ::testing::Test {
   }
 
   static constexpr int kScenes = 6;
-  static std::string* dir_;
+  static testing::TempDir* dir_;
   static testing::AlignedBlob* blob_;
   static ShapeViewsView* views_;
   static TableView* table_;
@@ -207,7 +206,7 @@ class PipelineColour : public ::testing::Test {
   static Pipeline* pipeline_;
 };
 
-std::string* PipelineColour::dir_ = nullptr;
+testing::TempDir* PipelineColour::dir_ = nullptr;
 testing::AlignedBlob* PipelineColour::blob_ = nullptr;
 ShapeViewsView* PipelineColour::views_ = nullptr;
 TableView* PipelineColour::table_ = nullptr;

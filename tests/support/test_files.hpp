@@ -1,4 +1,5 @@
-// Reading and writing the small files tests boot from or copy (models, sets, configurations).
+// Writing the small files tests boot from or copy (models, sets, configurations); reading them:
+// ReadFileText (tool_run.hpp).
 #pragma once
 
 #include <cstddef>
@@ -6,18 +7,6 @@
 #include <string>
 
 namespace sh::testing {
-
-// The whole file, or "" when it cannot be read.
-inline std::string ReadTestFile(const std::string& path) {
-  std::string text;
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (f == nullptr) return text;
-  char buffer[4096];
-  size_t n;
-  while ((n = std::fread(buffer, 1, sizeof(buffer), f)) > 0) text.append(buffer, n);
-  std::fclose(f);
-  return text;
-}
 
 inline bool WriteTestFile(const std::string& path, const void* data, size_t size) {
   std::FILE* f = std::fopen(path.c_str(), "wb");
