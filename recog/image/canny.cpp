@@ -187,16 +187,20 @@ Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, Filter
   SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 0, g0));
   SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 1, g1));
   const int w = image.width, h = image.height;
-  ImageView<float> smooth_x = scratch.planes[0].view(w, h);  // G0 along x
-  ImageView<float> deriv_x = scratch.planes[1].view(w, h);   // G1 along x
-  FilterRows(image, &g0, smooth_x, &g1, deriv_x, nullptr, {});
-  // One pass over the rows: the column filters of row y go straight to the tracer, which
-  // suppresses one row behind; no gradient planes.
+  const int r = std::max(g0.radius, g1.radius);
+  // Row bands (RowBand): ring 0 holds G0 along x, ring 1 G1 along x, filled as the column filters
+  // of row y need them; the column filters of row y go straight to the tracer, which suppresses
+  // one row behind. No image-sized float planes.
+  RowBand band(image, scratch, &g0, &g1);
   EdgeTracer tracer(config, buffers, w, h);
+  const float* rows[2 * kMaxGaussianRadius + 1];
   float gx[kMaxImageWidth], gy[kMaxImageWidth];
   for (int y = 0; y < h; ++y) {
-    FilterColumnRow(deriv_x, g0, y, gx);
-    FilterColumnRow(smooth_x, g1, y, gy);
+    band.FillTo(y + r);
+    band.RowPointers(1, y, g0.radius, rows);
+    FilterColumnRowFrom(rows, g0, w, gx);
+    band.RowPointers(0, y, g1.radius, rows);
+    FilterColumnRowFrom(rows, g1, w, gy);
     tracer.AddRow(gx, gy);
   }
   tracer.Finish(edges, stats);

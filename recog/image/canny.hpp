@@ -57,8 +57,9 @@ struct CannyStats {
 
 Status ValidateCannyConfig(const CannyConfig& config);
 
-// Detects edges; on success `edges` views `buffers` with the image's size. Uses planes 0 and 1 of
-// `scratch`. Pixels on the one-pixel image border are never edges (no gradient neighbours).
+// Detects edges; on success `edges` views `buffers` with the image's size. Uses rings 0 and 1 of
+// `scratch` (row bands). Pixels on the one-pixel image border are never edges (no gradient
+// neighbours).
 Status DetectEdges(const ConstGrayView& image, const CannyConfig& config, FilterScratch& scratch,
                    EdgeBuffers& buffers, EdgeMapView& edges, CannyStats* stats = nullptr);
 

@@ -375,38 +375,40 @@ void ExtractCorners(const ConstGrayView& image, const CornerConfig& config,
 }
 
 // Smooths `image` at smooth_sigma and fills `resp` (same size) with the difference response;
-// returns its maximum. The column pass runs row by row, each response row as soon as its lower
-// neighbour exists: the three smoothed rows are still in cache. Uses planes 0 and 1.
+// returns its maximum. Runs in row bands (RowBand): the row pass fills ring 0 as the column pass
+// needs it, the column pass writes the smoothed rows to ring 1, and each response row follows as
+// soon as its lower neighbour exists.
 float SmoothedResponse(const ConstGrayView& image, const GaussianKernel& g0, float scale,
                        FilterScratch& scratch, ImageView<float> resp) {
   const int w = image.width, h = image.height;
-  ImageView<float> rows = scratch.planes[0].view(w, h);
-  ImageView<float> smooth = scratch.planes[1].view(w, h);
-  FilterRows(image, &g0, rows, nullptr, {}, nullptr, {});
+  const int r = g0.radius;
+  RowBand band(image, scratch, &g0);
+  const float* rows[2 * kMaxGaussianRadius + 1];
   float max_strength = 0.0f;
   auto response_row = [&](int y) {
-    max_strength = std::max(
-        max_strength, CornerResponseRow(smooth.row(std::max(0, y - 1)), smooth.row(y),
-                                        smooth.row(std::min(h - 1, y + 1)), w, scale, resp.row(y)));
+    max_strength =
+        std::max(max_strength,
+                 CornerResponseRow(band.RingRow(1, std::max(0, y - 1)), band.RingRow(1, y),
+                                   band.RingRow(1, std::min(h - 1, y + 1)), w, scale, resp.row(y)));
   };
   for (int y = 0; y < h; ++y) {
-    FilterColumnRow(rows, g0, y, smooth.row(y));
+    band.FillTo(y + r);
+    band.RowPointers(0, y, r, rows);
+    FilterColumnRowFrom(rows, g0, w, band.RingRow(1, y));
     if (y >= 1) response_row(y - 1);
   }
   response_row(h - 1);
   return max_strength;
 }
 
-// The five Gaussian-derivative convolutions at sigma_c (exact_derivatives). Uses all planes.
+// The five Gaussian-derivative convolutions at sigma_c (exact_derivatives), in row bands: the
+// three row-filtered planes are rings 0-2 of a RowBand.
 float ExactResponse(const ConstGrayView& image, const GaussianKernel& g0, const GaussianKernel& g1,
                     const GaussianKernel& g2, float scale, FilterScratch& scratch,
                     ImageView<float> resp) {
   const int w = image.width, h = image.height;
   const int r = g0.radius;
-  ImageView<float> p0 = scratch.planes[0].view(w, h);
-  ImageView<float> p1 = scratch.planes[1].view(w, h);
-  ImageView<float> p2 = scratch.planes[2].view(w, h);
-  FilterRows(image, &g0, p0, &g1, p1, &g2, p2);
+  RowBand band(image, scratch, &g0, &g1, &g2);
   const float* rows0[2 * kMaxGaussianRadius + 1];
   const float* rows1[2 * kMaxGaussianRadius + 1];
   const float* rows2[2 * kMaxGaussianRadius + 1];
@@ -414,9 +416,10 @@ float ExactResponse(const ConstGrayView& image, const GaussianKernel& g0, const 
       iyy[kMaxImageWidth];
   float max_strength = 0.0f;
   for (int y = 0; y < h; ++y) {
-    ClampedRowPointers(p0, y, r, rows0);
-    ClampedRowPointers(p1, y, r, rows1);
-    ClampedRowPointers(p2, y, r, rows2);
+    band.FillTo(y + r);
+    band.RowPointers(0, y, r, rows0);
+    band.RowPointers(1, y, r, rows1);
+    band.RowPointers(2, y, r, rows2);
     float* out = resp.row(y);
     ResponseRow(rows0, rows1, rows2, r, g0, g1, g2, w, scale, out, ix, iy, ixx, ixy, iyy);
     max_strength = RowMax(out, w, max_strength);
@@ -482,7 +485,7 @@ Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, Fil
     const float sigma_r = 0.5f * config.sigma_px;
     GaussianKernel g0;
     SH_RETURN_IF_ERROR(MakeGaussianKernel(std::sqrt(sigma_r * sigma_r - 0.5f), 0, g0));
-    ImageView<float> resp = scratch.planes[3].view(reduced.width, reduced.height);
+    ImageView<float> resp = scratch.response.view(reduced.width, reduced.height);
     const float max_strength =
         SmoothedResponse(reduced, g0, CornerResponseScale(sigma_r), scratch, resp);
     // The neighbourhood halves with the pixels (at least the 8 neighbours).
@@ -490,7 +493,7 @@ Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, Fil
     ExtractCorners(image, config, resp, max_strength, nms_radius, 2, corners, stats);
     return Status::Ok();
   }
-  ImageView<float> resp = scratch.planes[3].view(w, h);
+  ImageView<float> resp = scratch.response.view(w, h);
   const float scale = CornerResponseScale(config.sigma_px);
   float max_strength = 0.0f;
   if (CornersUseSmoothedImage(config)) {

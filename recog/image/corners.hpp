@@ -72,7 +72,9 @@ inline constexpr int kMaxCornerNmsRadiusPx = 16;
 Status ValidateCornerConfig(const CornerConfig& config);
 
 // Detects corners; `corners` is cleared first and holds them sorted by decreasing strength.
-// Uses all planes of `scratch`. Fails (and leaves `corners` empty) on an invalid image or config.
+// Uses the rings (row bands), the response plane and the reduced image of `scratch`; the response
+// plane holds the last image's response afterwards. Fails (and leaves `corners` empty) on an
+// invalid image or config.
 Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, FilterScratch& scratch,
                      Vector<Corner2D>& corners, CornerStats* stats = nullptr);
 

@@ -103,7 +103,8 @@ Status CheckFitsWorkspace(int width, int height, const ImageBlock& block, const 
 
 size_t FilterScratch::BytesFor(int width, int height) {
   const size_t pixels = size_t{static_cast<size_t>(width)} * static_cast<size_t>(height);
-  return kPlanes * InitBlock::PieceBytes<float>(pixels) +
+  const size_t ring = size_t{kRingRows} * static_cast<size_t>(width);
+  return kRings * InitBlock::PieceBytes<float>(ring) + InitBlock::PieceBytes<float>(pixels) +
          InitBlock::PieceBytes<uint8_t>(ReducedPixels(width, height));
 }
 
@@ -111,7 +112,8 @@ Status FilterScratch::Init(int width, int height) {
   if (block_.Holds(width, height)) return Status::Ok();
   SH_RETURN_IF_ERROR(block_.Allocate(width, height, BytesFor(width, height), "filter scratch"));
   const size_t pixels = size_t{static_cast<size_t>(width)} * static_cast<size_t>(height);
-  for (FloatPlane& plane : planes) plane.data = block_.Take<float>(pixels);
+  for (float*& ring : rings) ring = block_.Take<float>(size_t{kRingRows} * width);
+  response.data = block_.Take<float>(pixels);
   reduced = block_.Take<uint8_t>(ReducedPixels(width, height));
   return Status::Ok();
 }
@@ -212,26 +214,66 @@ void AntisymmetricColumnRow(const float* const* rows, int r, const GaussianKerne
   }
 }
 
+int PadRadius(const GaussianKernel* k0, const GaussianKernel* k1, const GaussianKernel* k2) {
+  int pad_radius = 0;
+  for (const GaussianKernel* k : {k0, k1, k2}) {
+    if (k != nullptr) pad_radius = std::max(pad_radius, k->radius);
+  }
+  return pad_radius;
+}
+
+// Row y of `image` with replicated borders into `pad` (pad_radius on each side), then each
+// non-null kernel applied to it. Every output value depends only on its own tap window, so the
+// pad width does not change the result.
+void FilterOneRow(const ConstGrayView& image, int y, int pad_radius, float* pad,
+                  const GaussianKernel* const* kernels, float* const* out) {
+  const int w = image.width;
+  const uint8_t* src = image.row(y);
+  for (int i = 0; i < pad_radius; ++i) pad[i] = src[0];
+  for (int x = 0; x < w; ++x) pad[pad_radius + x] = src[x];
+  for (int i = 0; i < pad_radius; ++i) pad[pad_radius + w + i] = src[w - 1];
+  for (int i = 0; i < FilterScratch::kRings; ++i) {
+    if (kernels[i] != nullptr) ConvolvePaddedRow(pad, pad_radius, w, *kernels[i], out[i]);
+  }
+}
+
 }  // namespace
 
 void FilterRows(const ConstGrayView& image, const GaussianKernel* k0, ImageView<float> out0,
                 const GaussianKernel* k1, ImageView<float> out1, const GaussianKernel* k2,
                 ImageView<float> out2) {
-  int pad_radius = 0;
-  for (const GaussianKernel* k : {k0, k1, k2}) {
-    if (k != nullptr) pad_radius = std::max(pad_radius, k->radius);
-  }
+  const int pad_radius = PadRadius(k0, k1, k2);
   // Row with replicated borders; on the stack, bounded by the compile-time maxima.
   float pad[kMaxImageWidth + 2 * kMaxGaussianRadius];
-  const int w = image.width;
+  const GaussianKernel* const kernels[FilterScratch::kRings] = {k0, k1, k2};
   for (int y = 0; y < image.height; ++y) {
-    const uint8_t* src = image.row(y);
-    for (int i = 0; i < pad_radius; ++i) pad[i] = src[0];
-    for (int x = 0; x < w; ++x) pad[pad_radius + x] = src[x];
-    for (int i = 0; i < pad_radius; ++i) pad[pad_radius + w + i] = src[w - 1];
-    if (k0 != nullptr) ConvolvePaddedRow(pad, pad_radius, w, *k0, out0.row(y));
-    if (k1 != nullptr) ConvolvePaddedRow(pad, pad_radius, w, *k1, out1.row(y));
-    if (k2 != nullptr) ConvolvePaddedRow(pad, pad_radius, w, *k2, out2.row(y));
+    float* const out[FilterScratch::kRings] = {k0 != nullptr ? out0.row(y) : nullptr,
+                                               k1 != nullptr ? out1.row(y) : nullptr,
+                                               k2 != nullptr ? out2.row(y) : nullptr};
+    FilterOneRow(image, y, pad_radius, pad, kernels, out);
+  }
+}
+
+RowBand::RowBand(const ConstGrayView& image, FilterScratch& scratch, const GaussianKernel* k0,
+                 const GaussianKernel* k1, const GaussianKernel* k2)
+    : image_(image),
+      kernels_{k0, k1, k2},
+      rings_{scratch.rings[0], scratch.rings[1], scratch.rings[2]},
+      width_(image.width),
+      pad_radius_(PadRadius(k0, k1, k2)) {}
+
+void RowBand::FillTo(int y) {
+  const int last = std::min(y, image_.height - 1);
+  for (; filled_ <= last; ++filled_) {
+    float* const out[FilterScratch::kRings] = {RingRow(0, filled_), RingRow(1, filled_),
+                                               RingRow(2, filled_)};
+    FilterOneRow(image_, filled_, pad_radius_, pad_, kernels_, out);
+  }
+}
+
+void RowBand::RowPointers(int ring, int y, int radius, const float** rows) const {
+  for (int k = -radius; k <= radius; ++k) {
+    rows[k + radius] = RingRow(ring, std::clamp(y + k, 0, image_.height - 1));
   }
 }
 
@@ -241,16 +283,20 @@ void ClampedRowPointers(const ImageView<const float>& in, int y, int radius, con
   }
 }
 
+void FilterColumnRowFrom(const float* const* rows, const GaussianKernel& kernel, int width,
+                         float* out_row) {
+  if (kernel.order == 1) {
+    AntisymmetricColumnRow(rows, kernel.radius, kernel, width, out_row);
+  } else {
+    SymmetricColumnRow(rows, kernel.radius, kernel, width, out_row);
+  }
+}
+
 void FilterColumnRow(const ImageView<const float>& in, const GaussianKernel& kernel, int y,
                      float* out_row) {
-  const int r = kernel.radius;
   const float* rows[2 * kMaxGaussianRadius + 1];
-  ClampedRowPointers(in, y, r, rows);
-  if (kernel.order == 1) {
-    AntisymmetricColumnRow(rows, r, kernel, in.width, out_row);
-  } else {
-    SymmetricColumnRow(rows, r, kernel, in.width, out_row);
-  }
+  ClampedRowPointers(in, y, kernel.radius, rows);
+  FilterColumnRowFrom(rows, kernel, in.width, out_row);
 }
 
 void FilterColumns(const ImageView<const float>& in, const GaussianKernel& kernel,

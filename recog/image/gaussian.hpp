@@ -82,12 +82,18 @@ class ImageBlock {
 // sizes, or that the workspace was never initialised.
 Status CheckFitsWorkspace(int width, int height, const ImageBlock& block, const char* what);
 
-// Float planes shared by the detectors of one frame (corners use up to all four, Canny two), and
-// the 2x reduced grey image of the large corner scales: 16 W H + W H / 4 bytes for images up to
-// W x H, taken at Init (one block, docs/memory.md). Keep one per concurrent frame.
+// Work memory of the detectors of one frame: rings of row-filtered rows (the filters run in row
+// bands: a column pass of radius r needs only rows y - r .. y + r of its input, so
+// kRingRows = 2 kMaxGaussianRadius + 1 rows of each row-filtered plane replace the whole plane),
+// the corner response over the whole image (its maximum sets the relative threshold before any
+// corner is taken), and the 2x reduced grey image of the large corner scales:
+// 4 W H + 3 x 196 W + W H / 4 bytes for images up to W x H, taken at Init (one block,
+// docs/memory.md). Keep one per concurrent frame.
 struct FilterScratch {
-  static constexpr int kPlanes = 4;
-  FloatPlane planes[kPlanes];
+  static constexpr int kRings = 3;
+  static constexpr int kRingRows = 2 * kMaxGaussianRadius + 1;
+  float* rings[kRings] = {};  // kRingRows rows of the image width each (RowBand)
+  FloatPlane response;        // corner response, one float per pixel
   uint8_t* reduced = nullptr;
 
   // Bytes Init takes for images up to width x height.
@@ -137,6 +143,40 @@ void ClampedRowPointers(const ImageView<const float>& in, int y, int radius, con
 // still in cache.
 void FilterColumnRow(const ImageView<const float>& in, const GaussianKernel& kernel, int y,
                      float* out_row);
+
+// Column pass of one output row from its input rows: rows[k + kernel.radius] is input row y + k
+// (k = -radius .. radius). FilterColumnRow and the row bands (RowBand) share it, so a band gives
+// the same floats as the whole plane.
+void FilterColumnRowFrom(const float* const* rows, const GaussianKernel& kernel, int width,
+                         float* out_row);
+
+// An image filtered along x with up to three kernels (as FilterRows), one row at a time into the
+// rings of a FilterScratch (ring i for kernel i): row y sits in slot y % kRingRows, so after
+// FillTo(y + r) the rows y - r .. y + r of every ring are at hand for a column pass of radius
+// r <= kMaxGaussianRadius. Output rows must be produced in increasing y. A ring whose kernel is
+// null is free for the caller's own rows (RingRow). The image must fit the scratch.
+class RowBand {
+ public:
+  RowBand(const ConstGrayView& image, FilterScratch& scratch, const GaussianKernel* k0,
+          const GaussianKernel* k1 = nullptr, const GaussianKernel* k2 = nullptr);
+  // Filters the rows up to min(y, height - 1) that are not filtered yet.
+  void FillTo(int y);
+  // rows[k + radius] = row clamp(y + k, 0, height - 1) of ring `ring` (FillTo(y + radius) first).
+  void RowPointers(int ring, int y, int radius, const float** rows) const;
+  // Slot of row y in ring `ring` (width floats).
+  float* RingRow(int ring, int y) const {
+    return rings_[ring] + static_cast<size_t>(y % FilterScratch::kRingRows) * width_;
+  }
+
+ private:
+  ConstGrayView image_;
+  const GaussianKernel* kernels_[FilterScratch::kRings];
+  float* rings_[FilterScratch::kRings];
+  int width_ = 0;
+  int pad_radius_ = 0;
+  int filled_ = 0;  // rows 0 .. filled_ - 1 have been filtered
+  float pad_[kMaxImageWidth + 2 * kMaxGaussianRadius];
+};
 
 // Column (y-direction) pass of one float plane with one kernel.
 void FilterColumns(const ImageView<const float>& in, const GaussianKernel& kernel,

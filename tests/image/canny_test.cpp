@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -185,6 +186,56 @@ TEST(Canny, DegenerateAndBadInput) {
   EXPECT_EQ(
       DetectEdges(ConstGrayView{px.data(), 8, 8, 8}, config, *b.scratch, *b.edges, edges).code(),
       StatusCode::kInvalidArgument);
+}
+
+// The edge map of the row bands equals the one from whole row-filtered planes (the gradient of
+// each row from FilterRows and FilterColumnRow, then the same tracer), byte for byte, on an image
+// of the board's size and at the scales in use up to the largest kernel.
+TEST(CannyBands, EdgeMapEqualsTheWholePlaneOneByteForByte) {
+  const int w = 1280, h = 800;
+  testing::SyntheticImage synth(w, h, 40.0);
+  for (const Polygon& p : testing::TestScene(w, h, 190.0)) synth.Fill(p);
+  synth.Blur(0.7);
+  synth.AddNoise(3.0, 5);
+  std::vector<uint8_t> px;
+  const ConstGrayView img = synth.ToGray(px);
+  Buffers b;
+  ZeroedPtr<EdgeBuffers> reference = MakeWorkspace<EdgeBuffers>(w, h);
+  std::vector<float> smooth_x(static_cast<size_t>(w) * h), deriv_x(smooth_x.size());
+  for (float sigma : {1.0f, 1.5f, 2.0f, kMaxGaussianSigmaPx}) {
+    CannyConfig config;
+    config.sigma_px = sigma;
+    config.low_threshold = 1.0f;
+    config.high_threshold = 2.5f;
+    EdgeMapView edges;
+    CannyStats stats;
+    ASSERT_TRUE(DetectEdges(img, config, *b.scratch, *b.edges, edges, &stats).ok());
+
+    GaussianKernel g0, g1;
+    ASSERT_TRUE(MakeGaussianKernel(sigma, 0, g0).ok());
+    ASSERT_TRUE(MakeGaussianKernel(sigma, 1, g1).ok());
+    const ImageView<float> sx{smooth_x.data(), w, h, w}, dx{deriv_x.data(), w, h, w};
+    FilterRows(img, &g0, sx, &g1, dx, nullptr, {});
+    EdgeTracer tracer(config, *reference, w, h);
+    std::vector<float> gx(w), gy(w);
+    for (int y = 0; y < h; ++y) {
+      FilterColumnRow(dx, g0, y, gx.data());
+      FilterColumnRow(sx, g1, y, gy.data());
+      tracer.AddRow(gx.data(), gy.data());
+    }
+    EdgeMapView expected;
+    CannyStats expected_stats;
+    tracer.Finish(expected, &expected_stats);
+    EXPECT_GT(stats.edge_pixels, 1000u) << sigma;
+    EXPECT_EQ(stats.edge_pixels, expected_stats.edge_pixels) << sigma;
+    EXPECT_EQ(stats.nms_candidates, expected_stats.nms_candidates) << sigma;
+    size_t differ = 0;
+    for (int y = 0; y < h; ++y) {
+      differ += std::memcmp(edges.edge.row(y), expected.edge.row(y), w) != 0;
+      differ += std::memcmp(edges.orientation.row(y), expected.orientation.row(y), w) != 0;
+    }
+    EXPECT_EQ(differ, 0u) << "sigma " << sigma;
+  }
 }
 
 }  // namespace

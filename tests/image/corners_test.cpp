@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -260,6 +261,79 @@ TEST(Corners, DegenerateImagesAndConfigs) {
   config = CornerConfig{};
   config.threshold = NAN;
   EXPECT_FALSE(DetectCorners(ConstGrayView{px.data(), 4, 4, 4}, config, *scratch, corners).ok());
+}
+
+// The response of the row bands against one computed here from whole planes (GaussianFilter2d,
+// derivatives in double precision) on an image of the board's size: the smoothed path (central
+// differences of the image smoothed at sqrt(sigma^2 - 1/4)) and the exact one (five
+// Gaussian-derivative filters). Float sums in another order: agreement to 1e-4 of the maximum.
+TEST(CornerBands, ResponseEqualsTheWholePlaneResponse) {
+  const int w = 1280, h = 800;
+  testing::SyntheticImage synth(w, h, 40.0);
+  for (const Polygon& p : testing::TestScene(w, h, 190.0)) synth.Fill(p);
+  synth.Blur(0.7);
+  synth.AddNoise(2.0, 9);
+  std::vector<uint8_t> px;
+  const ConstGrayView img = synth.ToGray(px);
+  auto scratch = MakeWorkspace<FilterScratch>(w, h);
+  ASSERT_NE(scratch, nullptr);
+  std::vector<float> tmp(static_cast<size_t>(w) * h);
+  std::vector<float> d[5];
+  for (std::vector<float>& v : d) v.assign(tmp.size(), 0.0f);
+  FloatPlane tmp_plane;
+  tmp_plane.data = tmp.data();
+  auto plane = [&](int i) { return ImageView<float>{d[i].data(), w, h, w}; };
+  for (const bool exact : {false, true}) {
+    for (const float sigma : {2.0f, 6.0f, kMaxGaussianSigmaPx}) {
+      CornerConfig config;
+      config.sigma_px = sigma;
+      config.exact_derivatives = exact;
+      config.reduce_large_scales = false;
+      Vector<Corner2D, kMaxCorners2d> corners;
+      ASSERT_TRUE(DetectCorners(img, config, *scratch, corners).ok());
+      EXPECT_GT(corners.size(), 10u);
+      // Derivative planes: ix, iy, ixx, ixy, iyy.
+      if (exact) {
+        const int orders[5][2] = {{1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+        for (int i = 0; i < 5; ++i) {
+          ASSERT_TRUE(
+              GaussianFilter2d(img, sigma, orders[i][0], orders[i][1], tmp_plane, plane(i)).ok());
+        }
+      } else {
+        ASSERT_TRUE(
+            GaussianFilter2d(img, DifferenceSmoothingSigma(sigma), 0, 0, tmp_plane, plane(0)).ok());
+      }
+      const double s2 = double{sigma} * sigma;
+      const double scale = s2 * s2 / (255.0 * 255.0 * 255.0 * kIdealCornerResponse);
+      const ImageView<const float> resp = scratch->response.view(w, h);
+      double max_resp = 0, max_err = 0;
+      for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+          double ix, iy, ixx, ixy, iyy;
+          if (exact) {
+            ix = plane(0).at(x, y), iy = plane(1).at(x, y), ixx = plane(2).at(x, y);
+            ixy = plane(3).at(x, y), iyy = plane(4).at(x, y);
+          } else {
+            const ImageView<float> sm = plane(0);
+            auto at = [&](int xx, int yy) {
+              return double{sm.at(std::clamp(xx, 0, w - 1), std::clamp(yy, 0, h - 1))};
+            };
+            ix = 0.5 * (at(x + 1, y) - at(x - 1, y));
+            iy = 0.5 * (at(x, y + 1) - at(x, y - 1));
+            ixx = at(x + 1, y) - 2 * at(x, y) + at(x - 1, y);
+            iyy = at(x, y + 1) - 2 * at(x, y) + at(x, y - 1);
+            ixy =
+                0.25 * (at(x + 1, y + 1) - at(x - 1, y + 1) - at(x + 1, y - 1) + at(x - 1, y - 1));
+          }
+          const double ref = std::fabs(iy * iy * ixx - 2 * ix * iy * ixy + ix * ix * iyy) * scale;
+          max_resp = std::max(max_resp, ref);
+          max_err = std::max(max_err, std::fabs(ref - resp.at(x, y)));
+        }
+      }
+      EXPECT_GT(max_resp, 0.1) << sigma;
+      EXPECT_LT(max_err, 1e-4 * max_resp) << (exact ? "exact" : "smoothed") << " sigma " << sigma;
+    }
+  }
 }
 
 }  // namespace

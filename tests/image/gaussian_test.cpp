@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -11,6 +12,18 @@
 
 namespace sh {
 namespace {
+
+// Whole float planes of the largest image, for the filters' plane interface.
+struct TestPlanes {
+  std::vector<float> store[3];
+  FloatPlane planes[3];
+  TestPlanes() {
+    for (int i = 0; i < 3; ++i) {
+      store[i].assign(kMaxImagePixels, 0.0f);
+      planes[i].data = store[i].data();
+    }
+  }
+};
 
 // Kernel built independently in double precision from the same definition.
 std::vector<double> ReferenceKernel(double sigma, int order, int r) {
@@ -90,7 +103,7 @@ TEST(GaussianFilter, MatchesDoublePrecisionReference) {
   synth.AddNoise(8.0, 7);
   std::vector<uint8_t> pixels;
   const ConstGrayView img = synth.ToGray(pixels);
-  auto scratch = MakeWorkspace<FilterScratch>();
+  auto scratch = std::make_unique<TestPlanes>();
   for (float sigma : {1.0f, 2.0f, 6.0f}) {
     for (auto [ox, oy] : {std::pair{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}}) {
       ImageView<float> out = scratch->planes[1].view(img.width, img.height);
@@ -123,7 +136,7 @@ TEST(GaussianFilter, DerivativesOfASinusoidFollowTheAnalyticResponse) {
     for (int x = 0; x < w; ++x) px[y * w + x] = uint8_t(std::lround(exact[x]));
   }
   const ConstGrayView img{px.data(), w, h, w};
-  auto scratch = MakeWorkspace<FilterScratch>();
+  auto scratch = std::make_unique<TestPlanes>();
   const float sigma = 2.0f;
   const double atten = std::exp(-0.5 * freq * freq * sigma * sigma);
   ImageView<float> dx = scratch->planes[1].view(w, h);
@@ -147,8 +160,53 @@ TEST(GaussianFilter, DerivativesOfASinusoidFollowTheAnalyticResponse) {
   }
 }
 
+// Noisy polygons at the board's image size: the row bands must reproduce the whole-plane filters.
+ConstGrayView BoardSizedImage(int w, int h, std::vector<uint8_t>& pixels) {
+  testing::SyntheticImage synth(w, h, 40.0);
+  for (const testing::Polygon& p : testing::TestScene(w, h, 210.0)) synth.Fill(p);
+  synth.AddNoise(6.0, 3);
+  return synth.ToGray(pixels);
+}
+
+TEST(RowBand, ColumnPassesEqualTheWholePlanesBitForBit) {
+  // 1280 x 800 (the board's size), and images lower than a kernel (rows clamped at both ends).
+  for (auto [w, h] : {std::pair{1280, 800}, {1280, 9}, {64, 1}}) {
+    std::vector<uint8_t> pixels;
+    const ConstGrayView img = BoardSizedImage(w, h, pixels);
+    ZeroedPtr<FilterScratch> scratch = MakeWorkspace<FilterScratch>(w, h);
+    ASSERT_NE(scratch, nullptr);
+    auto whole = std::make_unique<TestPlanes>();
+    // Up to the largest radius (sigma 8 px: 24 rows each side, the ring's whole height).
+    for (float sigma : {0.3f, 1.0f, 1.5f, 2.0f, 6.0f, kMaxGaussianSigmaPx}) {
+      GaussianKernel k[3];
+      for (int order = 0; order < 3; ++order) {
+        ASSERT_TRUE(MakeGaussianKernel(sigma, order, k[order]).ok());
+      }
+      ImageView<float> rows[3];
+      for (int i = 0; i < 3; ++i) rows[i] = whole->planes[i].view(w, h);
+      FilterRows(img, &k[0], rows[0], &k[1], rows[1], &k[2], rows[2]);
+      RowBand band(img, *scratch, &k[0], &k[1], &k[2]);
+      std::vector<float> expected(w), got(w);
+      const float* ptrs[2 * kMaxGaussianRadius + 1];
+      size_t mismatches = 0;
+      for (int y = 0; y < h; ++y) {
+        band.FillTo(y + k[0].radius);
+        for (int ring = 0; ring < 3; ++ring) {
+          for (int order = 0; order < 3; ++order) {
+            FilterColumnRow(rows[ring], k[order], y, expected.data());
+            band.RowPointers(ring, y, k[order].radius, ptrs);
+            FilterColumnRowFrom(ptrs, k[order], w, got.data());
+            mismatches += std::memcmp(expected.data(), got.data(), sizeof(float) * w) != 0;
+          }
+        }
+      }
+      EXPECT_EQ(mismatches, 0u) << w << "x" << h << " sigma " << sigma;
+    }
+  }
+}
+
 TEST(GaussianFilter, RefusesBadImages) {
-  auto scratch = MakeWorkspace<FilterScratch>();
+  auto scratch = std::make_unique<TestPlanes>();
   std::vector<uint8_t> px(16, 0);
   ImageView<float> out = scratch->planes[1].view(4, 4);
   EXPECT_EQ(
