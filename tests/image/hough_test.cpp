@@ -274,23 +274,28 @@ TEST(Hough, PathologicalEdgeMapsFillBuffersWithDefinedResults) {
   EXPECT_LE(lines.size(), kMaxLines2d);
   EXPECT_LE(stats.peaks_examined, size_t(config.max_peaks));
   for (const Line2D& l : lines) EXPECT_LE(l.segments.size(), kMaxSegmentsPerLine);
-  // A grid of more than kMaxLines2d strong lines (4 px apart, beyond the 2 px collection band)
-  // fills the line output exactly.
+  // More than kMaxLines2d strong lines (4 px apart, beyond the 2 px collection band), all within
+  // the transform's capacity, fill the line output exactly: 254 rows of 200 px on the left, 270
+  // columns of 400 px on the right.
   std::fill(edge.begin(), edge.end(), 0);
-  for (int y = 2; y < h - 2; y += 4) {
-    for (int x = 0; x < w; ++x) {
+  const int split_x = 200, column_length = 400;
+  size_t grid_pixels = 0, grid_lines = 0;
+  for (int y = 2; y < h - 2; y += 4, ++grid_lines) {
+    for (int x = 0; x < split_x; ++x, ++grid_pixels) {
       edge[size_t(y) * w + x] = kEdgePixel;
       orient[size_t(y) * w + x] = 128;
     }
   }
-  for (int x = 2; x < w - 2; x += 4) {
-    for (int y = 0; y < h; ++y) {
-      if (edge[size_t(y) * w + x]) continue;
+  for (int x = split_x + 2; x < w - 2; x += 4, ++grid_lines) {
+    for (int y = 0; y < column_length; ++y, ++grid_pixels) {
       edge[size_t(y) * w + x] = kEdgePixel;
       orient[size_t(y) * w + x] = 0;
     }
   }
+  ASSERT_GT(grid_lines, kMaxLines2d);
+  ASSERT_LE(grid_pixels, kMaxHoughEdgePixels);
   ASSERT_TRUE(DetectLines(em, HoughConfig{}, *hough, lines, &stats).ok());
+  EXPECT_EQ(stats.edge_pixels_dropped, 0u);
   EXPECT_EQ(lines.size(), kMaxLines2d);
   EXPECT_TRUE(stats.stopped_by_capacity);
 }
