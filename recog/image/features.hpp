@@ -45,8 +45,8 @@ struct FeatureConfig {
   static FeatureConfig LightBackground();
 };
 
-// Everything the extraction needs besides the image: about 30 W H bytes for images up to W x H
-// (33 MiB at 1280 x 800), taken at Init, plus 3.8 MiB of fixed tables. Keep one per concurrently
+// Everything the extraction needs besides the image: about 12.25 W H + 588 W bytes for images up
+// to W x H (12.7 MiB at 1280 x 800), taken at Init, plus 3.8 MiB of fixed tables. Keep one per concurrently
 // processed image. `edges` also holds the output edge map.
 struct FeatureWorkspace {
   FilterScratch filter;

@@ -269,7 +269,7 @@ class Pipeline {
   ClockFn now_ns_ = nullptr;
 
   // Per image: detector workspace (buffers sized by Init for the calibration's image size, about
-  // 33 MiB each at 1280 x 800; holds the edge map) and its features.
+  // 12.7 MiB each at 1280 x 800; holds the edge map) and its features.
   FeatureWorkspace workspace_[2];
   ImageFeatures features_[2];
   // Detector output in stereo's input form.
