@@ -193,12 +193,8 @@ TEST(Canny, DegenerateAndBadInput) {
 // of the board's size and at the scales in use up to the largest kernel.
 TEST(CannyBands, EdgeMapEqualsTheWholePlaneOneByteForByte) {
   const int w = 1280, h = 800;
-  testing::SyntheticImage synth(w, h, 40.0);
-  for (const Polygon& p : testing::TestScene(w, h, 190.0)) synth.Fill(p);
-  synth.Blur(0.7);
-  synth.AddNoise(3.0, 5);
   std::vector<uint8_t> px;
-  const ConstGrayView img = synth.ToGray(px);
+  const ConstGrayView img = testing::NoisyTestScene(w, h, 3.0, 5, px);
   Buffers b;
   ZeroedPtr<EdgeBuffers> reference = MakeWorkspace<EdgeBuffers>(w, h);
   std::vector<float> smooth_x(static_cast<size_t>(w) * h), deriv_x(smooth_x.size());

@@ -269,12 +269,8 @@ TEST(Corners, DegenerateImagesAndConfigs) {
 // Gaussian-derivative filters). Float sums in another order: agreement to 1e-4 of the maximum.
 TEST(CornerBands, ResponseEqualsTheWholePlaneResponse) {
   const int w = 1280, h = 800;
-  testing::SyntheticImage synth(w, h, 40.0);
-  for (const Polygon& p : testing::TestScene(w, h, 190.0)) synth.Fill(p);
-  synth.Blur(0.7);
-  synth.AddNoise(2.0, 9);
   std::vector<uint8_t> px;
-  const ConstGrayView img = synth.ToGray(px);
+  const ConstGrayView img = testing::NoisyTestScene(w, h, 2.0, 9, px);
   auto scratch = MakeWorkspace<FilterScratch>(w, h);
   ASSERT_NE(scratch, nullptr);
   std::vector<float> tmp(static_cast<size_t>(w) * h);

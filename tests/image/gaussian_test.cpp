@@ -160,19 +160,11 @@ TEST(GaussianFilter, DerivativesOfASinusoidFollowTheAnalyticResponse) {
   }
 }
 
-// Noisy polygons at the board's image size: the row bands must reproduce the whole-plane filters.
-ConstGrayView BoardSizedImage(int w, int h, std::vector<uint8_t>& pixels) {
-  testing::SyntheticImage synth(w, h, 40.0);
-  for (const testing::Polygon& p : testing::TestScene(w, h, 210.0)) synth.Fill(p);
-  synth.AddNoise(6.0, 3);
-  return synth.ToGray(pixels);
-}
-
 TEST(RowBand, ColumnPassesEqualTheWholePlanesBitForBit) {
   // 1280 x 800 (the board's size), and images lower than a kernel (rows clamped at both ends).
   for (auto [w, h] : {std::pair{1280, 800}, {1280, 9}, {64, 1}}) {
     std::vector<uint8_t> pixels;
-    const ConstGrayView img = BoardSizedImage(w, h, pixels);
+    const ConstGrayView img = testing::NoisyTestScene(w, h, 6.0, 3, pixels);
     ZeroedPtr<FilterScratch> scratch = MakeWorkspace<FilterScratch>(w, h);
     ASSERT_NE(scratch, nullptr);
     auto whole = std::make_unique<TestPlanes>();

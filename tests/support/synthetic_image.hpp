@@ -150,4 +150,15 @@ inline std::vector<Polygon> TestScene(int width, int height, double intensity) {
   return polys;
 }
 
+// TestScene (intensity 190 on 40) at width x height, blurred 0.7 px, with Gaussian noise of
+// noise_sigma grey levels: the detectors' test image at a camera's size, viewing `pixels`.
+inline ConstGrayView NoisyTestScene(int width, int height, double noise_sigma, uint32_t seed,
+                                    std::vector<uint8_t>& pixels) {
+  SyntheticImage synth(width, height, 40.0);
+  for (const Polygon& p : TestScene(width, height, 190.0)) synth.Fill(p);
+  synth.Blur(0.7);
+  synth.AddNoise(noise_sigma, seed);
+  return synth.ToGray(pixels);
+}
+
 }  // namespace sh::testing
