@@ -11,7 +11,7 @@
 #                                latest landings; "all": every source)
 #   STEREOHASH_TIDY_STRICT=0|1   clang-tidy findings fail the run (default 1 on the changed sources;
 #                                0, report only, when every source is checked)
-#   STEREOHASH_CI_BUDGET_S=S     time budget (default 4200): a sanitizer part starts only while
+#   STEREOHASH_CI_BUDGET_S=S     time budget (default 4500): a sanitizer part starts only while
 #                                the time it takes is left (ASan+UBSan 25 minutes, TSan 20)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -85,8 +85,8 @@ fi
 # firmware tests), TSan those that run threads (label ...-threads: the worker pool, the firmware's
 # loops, the simulated bus and cameras). Each builds only the test programs it runs (aggregate
 # targets in tests/CMakeLists.txt). They come last, each only while the run stays inside its time
-# budget (70 minutes; CI allows 90).
-budget_s=${STEREOHASH_CI_BUDGET_S:-4200}
+# budget (75 minutes; CI allows 90).
+budget_s=${STEREOHASH_CI_BUDGET_S:-4500}
 # sanitized PRESET NAME TARGET RESERVE_S: starts only while RESERVE_S (the part's time on a loaded
 # 2-core machine, build from cold and tests, with a margin) of the budget are left.
 sanitized() {
