@@ -46,8 +46,8 @@ struct FeatureConfig {
 };
 
 // Everything the extraction needs besides the image: about 12.25 W H + 588 W bytes for images up
-// to W x H (12.7 MiB at 1280 x 800), taken at Init, plus 3.8 MiB of fixed tables. Keep one per concurrently
-// processed image. `edges` also holds the output edge map.
+// to W x H (12.7 MiB at 1280 x 800), taken at Init, plus 3.8 MiB of fixed tables. Keep one per
+// concurrently processed image. `edges` also holds the output edge map.
 struct FeatureWorkspace {
   FilterScratch filter;
   EdgeBuffers edges;
