@@ -57,14 +57,14 @@ void PrintHelp() {
       "              in the first frames is confirmed and carried to the next (firmware\n"
       "              table_estimate = carry); needs no table file (--no-table)\n"
       "  --set NAME=VALUE  override one pipeline setting (as `bench scenes --set`); mono.NAME\n"
-      "              for the monocular recogniser\n"
+      "              for the monocular recogniser; the pipeline's settings:\n%s\n"
       "  --monocular left|right  the monocular mode on that camera's images instead\n"
       "  --compare   the stereo pipeline and the monocular mode (left images) side by side\n"
       "  --tolerance MM,DEG  scoring tolerances (default 5,5)\n"
       "  --cpu-time  time stages by this process's CPU time (a loaded machine stretches wall\n"
       "              time; threads add up)\n"
       "%s",
-      kRecognizeOptionsHelp);
+      PipelineSettingNames("                ", 94).c_str(), kRecognizeOptionsHelp);
 }
 
 // DIR/NAME/, the prefix of a scene's files.
@@ -340,8 +340,8 @@ int RunBenchRecorded(int argc, char** argv) {
   PipelineConfig config = MakePipelineConfig(options, table);
   config.table_carry.enabled = carry_table;
   for (const char* setting : settings) {
-    if (!ApplyPipelineSetting(setting, &config)) {
-      std::fprintf(stderr, "stereohash bench recorded: unknown setting %s\n", setting);
+    if (const Status applied = ApplyPipelineSetting(setting, &config); !applied.ok()) {
+      std::fprintf(stderr, "stereohash bench recorded: %s\n", applied.message());
       return 2;
     }
   }

@@ -253,8 +253,8 @@ int RunBenchScenes(int argc, char** argv) {
     if (fruitless > 0) config.recognizer.max_fruitless_bases = static_cast<uint32_t>(fruitless);
     for (const char* setting : settings) {
       if (std::strncmp(setting, "mono.", 5) == 0) continue;  // the monocular mode's
-      if (!ApplyPipelineSetting(setting, &config)) {
-        std::fprintf(stderr, "stereohash bench: unknown setting %s\n", setting);
+      if (const Status applied = ApplyPipelineSetting(setting, &config); !applied.ok()) {
+        std::fprintf(stderr, "stereohash bench: %s\n", applied.message());
         return 2;
       }
     }

@@ -75,9 +75,15 @@ struct TableChoice {
 // a table pose, the working volume over the table.
 PipelineConfig MakePipelineConfig(const RecognizeOptions& options, const TableChoice& table);
 
-// `--set name=value` of the bench commands: one of the settings worth exploring (verify.*,
-// recognizer.*, stereo.epipolar_tolerance_px, features.*). False for an unknown name.
-bool ApplyPipelineSetting(const char* setting, PipelineConfig* config);
+// `--set name=value` of the bench commands: one of the settings worth exploring (shape.*,
+// verify.*, recognizer.*, stereo.*, features.*, table_estimate.*, table_carry.*). An unknown
+// name, or a value that is not a number of the setting's kind (a finite number, a whole number,
+// 0 or 1), is an error naming it, and the configuration is left as it was.
+Status ApplyPipelineSetting(const char* setting, PipelineConfig* config);
+
+// The names ApplyPipelineSetting knows, for the commands' help: lines of at most `width`
+// characters, each starting with `indent`, separated by newlines.
+std::string PipelineSettingNames(const char* indent, size_t width);
 
 // The table pose of --table (present = false without a path).
 Result<TableChoice> LoadTableChoice(const char* path);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -541,6 +542,29 @@ TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
   EXPECT_NE(empty.output.find("no_such_dir"), std::string::npos) << empty.output;
   EXPECT_EQ(RunTool("bench recorded " + set + " --frobnicate 1").exit_code, 2);
   EXPECT_EQ(RunTool("bench recorded " + set + " --background purple").exit_code, 2);
+
+  // --set: a setting takes effect (no vote reaches the highest threshold); an unknown name or
+  // a value of the wrong kind is refused naming it, before any scene runs.
+  const ToolRun strict = RunTool(
+      "bench recorded " + set + " --set recognizer.vote_threshold=2 --json " + Path("strict.json"));
+  ASSERT_EQ(strict.exit_code, 0) << strict.output;
+  Json strict_bench;
+  ASSERT_TRUE(JsonReader(ReadText(Path("strict.json"))).Parse(&strict_bench));
+  EXPECT_EQ(strict_bench["summary"]["correct"].number, 0) << strict.output;
+  const ToolRun unknown = RunTool("bench recorded " + set + " --set verify.frobnicate=1");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.output.find("unknown setting verify.frobnicate"), std::string::npos)
+      << unknown.output;
+  for (const char* bad :
+       {"verify.min_fraction=abc", "verify.min_fraction=nan", "verify.min_samples=2.5",
+        "verify.min_samples=-3", "features.adaptive=2", "verify.min_fraction"}) {
+    const ToolRun r = RunTool("bench recorded " + set + " --set " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    const std::string name(bad, std::strcspn(bad, "="));
+    EXPECT_NE(r.output.find("setting " + name), std::string::npos) << bad << ": " << r.output;
+  }
+  const ToolRun help = RunTool("bench recorded --help");
+  EXPECT_NE(help.output.find("table_carry.tolerance_deg"), std::string::npos) << help.output;
 }
 
 TEST_F(RecognizeToolTest, ReadsARecordedPairWithTheSetsCalibrationAndTable) {
