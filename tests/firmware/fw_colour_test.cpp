@@ -26,6 +26,7 @@
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
 #include "tests/support/sim_scene_observer.hpp"
+#include "tests/support/sim_world_once.hpp"
 #include "tests/support/tool_run.hpp"
 
 namespace sh::testing {
@@ -141,8 +142,7 @@ TEST(FirmwareColour, PartsInResultSetsAtTheirTruthFromNv12FramesWithoutTouchingT
   wc.scenes = 3;
   wc.objects = 2;
   wc.seed = 11;
-  const Status built = world.Build(wc);
-  ASSERT_TRUE(built.ok()) << built.message();
+  ASSERT_TRUE(BuildOnce(world, wc));
   ASSERT_TRUE(world.colour());
 
   PlcBus can;

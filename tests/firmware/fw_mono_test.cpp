@@ -21,6 +21,7 @@
 #include "tables/model_set_writer.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
+#include "tests/support/sim_world_once.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tools/eval/synthetic_scene.hpp"
 
@@ -130,14 +131,11 @@ struct FallbackRig {
 
   static render::SimWorld& World() {
     static render::SimWorld world;
-    if (!world.built()) {
-      render::SimWorldConfig wc;
-      wc.models_dir = STEREOHASH_FW_SOURCE_MODELS_DIR;
-      wc.scenes = 1;
-      wc.objects = 3;
-      const Status built = world.Build(wc);
-      EXPECT_TRUE(built.ok()) << built.message();
-    }
+    render::SimWorldConfig wc;
+    wc.models_dir = STEREOHASH_FW_SOURCE_MODELS_DIR;
+    wc.scenes = 1;
+    wc.objects = 3;
+    EXPECT_TRUE(BuildOnce(world, wc));
     return world;
   }
 

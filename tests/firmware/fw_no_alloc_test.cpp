@@ -15,6 +15,7 @@
 #include "firmware/truth_recognition.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
+#include "tests/support/sim_world_once.hpp"
 #include "tests/support/temp_dir.hpp"
 #ifdef STEREOHASH_FW_HAVE_PIPELINE
 #include "firmware/pipeline_recognition.hpp"
@@ -29,8 +30,7 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
   wc.models_dir = STEREOHASH_FW_SOURCE_MODELS_DIR;
   wc.scenes = 3;
   wc.objects = 3;
-  const Status built = world.Build(wc);
-  ASSERT_TRUE(built.ok()) << built.message();
+  ASSERT_TRUE(BuildOnce(world, wc));
 
   PlcBus can;
   hal::SimCanEndpoint* fw = can.fw;

@@ -28,6 +28,7 @@
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
 #include "tests/support/sim_scene_observer.hpp"
+#include "tests/support/sim_world_once.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace sh::testing {
@@ -157,13 +158,14 @@ void ScoreSet(const render::SimWorld& world, const int* ids, int scene, const Re
 }
 
 // The cube and the four cartons, five objects in each of `scenes` scenes.
-Status BuildCartonWorld(const Files& files, int scenes, render::SimWorld* world) {
+::testing::AssertionResult BuildCartonWorld(const Files& files, int scenes,
+                                            render::SimWorld* world) {
   render::SimWorldConfig wc;
   wc.models_dir = files.plain_dir.c_str();
   wc.printed_dir = "models/textured";
   wc.scenes = scenes;
   wc.objects = 5;
-  return world->Build(wc);
+  return BuildOnce(*world, wc);
 }
 
 CoreConfig CartonCoreConfig() {
@@ -179,8 +181,7 @@ TEST(FirmwarePrinted, CartonsInResultSetsAtTheirTruthWithIdsAfterThePolyhedra) {
   const Files& files = TestFiles();
   ASSERT_FALSE(files.blob.empty());
   static render::SimWorld world;
-  const Status built = BuildCartonWorld(files, 3, &world);
-  ASSERT_TRUE(built.ok()) << built.message();
+  ASSERT_TRUE(BuildCartonWorld(files, 3, &world));
   ASSERT_EQ(world.model_count(), 5);
 
   PlcBus can;
@@ -336,8 +337,7 @@ TEST(FirmwarePrinted, OneModelSetAsTablesGivesTheSamePosesAsTheSeparateBlobs) {
   const Files& files = TestFiles();
   ASSERT_FALSE(files.set_blob.empty());
   static render::SimWorld world;
-  const Status built = BuildCartonWorld(files, 2, &world);
-  ASSERT_TRUE(built.ok()) << built.message();
+  ASSERT_TRUE(BuildCartonWorld(files, 2, &world));
   static Pipeline pipeline;
   static texture::TextureRecognizer texture;
   static texture::TextureResult texture_result;

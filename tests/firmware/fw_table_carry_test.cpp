@@ -18,6 +18,7 @@
 #include "set_score.hpp"
 #include "tables/table_file.hpp"
 #include "tests/support/counting_allocator.hpp"
+#include "tests/support/sim_world_once.hpp"
 
 namespace sh::testing {
 namespace {
@@ -31,15 +32,12 @@ constexpr uint32_t kMask = 0x3F;  // the six reference polyhedra
 
 render::SimWorld& World() {
   static render::SimWorld world;
-  if (!world.built()) {
-    render::SimWorldConfig wc;
-    wc.models_dir = STEREOHASH_FW_SOURCE_MODELS_DIR;
-    wc.scenes = 8;
-    wc.objects = 4;
-    wc.seed = 31;
-    const Status built = world.Build(wc);
-    EXPECT_TRUE(built.ok()) << built.message();
-  }
+  render::SimWorldConfig wc;
+  wc.models_dir = STEREOHASH_FW_SOURCE_MODELS_DIR;
+  wc.scenes = 8;
+  wc.objects = 4;
+  wc.seed = 31;
+  EXPECT_TRUE(BuildOnce(world, wc));
   return world;
 }
 
