@@ -248,8 +248,9 @@ PipelineRecognitionConfig PipelineSettings(const FwConfig& config, const TablePo
   pc.left_T_table = table.left_T_table;
   pc.left_T_table_at_init = table.at_init;
   // The table the objects stand on, for rejecting hypotheses that sink into it: a configured
-  // pose only. The simulator's scenes tilt the rig differently, so scene 0's table bounds the
-  // volume but is not every scene's support plane.
+  // pose only. A board's default pose (the simulated world's rendered table) bounds the volume
+  // and serves the one-camera fallback, but the stereo path treats the cell as one without a
+  // table file, so that the simulator runs the estimated or carried plane as such a cell does.
   pc.table_known = table.configured;
   // Without one, the plane the objects rest on: per frame, or confirmed and carried.
   pc.table_estimate = config.table_estimate != TableEstimateKey::kOff;
