@@ -136,10 +136,17 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
        "the simulator's default is its rendered rig's table")                                      \
   VEC3(table_origin_mm, 0, 0, 0, "mm",                                                             \
        "table frame in the left camera: origin; z up from the belt keeps reflections out")         \
-  CHOICE(table_estimate, TableEstimateKey, TableEstimateKey::kCarry, "off|per_frame|carry",       \
+  CHOICE(table_estimate, TableEstimateKey, TableEstimateKey::kCarry, "off|per_frame|carry",        \
          "without a table pose: off (no table), per_frame (the plane the objects found rest on, "  \
-         "estimated in each frame and searched again) or carry (estimated until 3 frames agree, "  \
-         "then carried: one search per frame, checked and re-estimated when it stops fitting)")    \
+         "estimated in each frame and searched again) or carry (estimated until "                  \
+         "table_confirm_frames estimates agree, then carried: one search per frame, checked and "  \
+         "re-estimated when it stops fitting)")                                                    \
+  INT(table_confirm_frames, uint16_t, 3, 1, 100, "frames",                                         \
+      "table_estimate = carry: agreeing estimates in a row (normals within 1 deg, origins within " \
+      "2 mm) before the plane is carried")                                                         \
+  INT(table_check_frames, uint16_t, 50, 0, 10000, "frames",                                        \
+      "table_estimate = carry: carried frames between two checks by a fresh estimate; 0 = only "   \
+      "after a frame whose objects do not rest on the plane")                                      \
   CHOICE(background, BackgroundKey, BackgroundKey::kAuto, "auto|dark|light",                       \
          "auto: detector thresholds measured from each image; dark or light force a preset "       \
          "(the simulator's rendered scenes: the preset of sim_background)")                                   \

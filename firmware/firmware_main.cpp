@@ -255,6 +255,8 @@ PipelineRecognitionConfig PipelineSettings(const FwConfig& config, const TablePo
   // Without one, the plane the objects rest on: per frame, or confirmed and carried.
   pc.table_estimate = config.table_estimate != TableEstimateKey::kOff;
   pc.table_carry = config.table_estimate == TableEstimateKey::kCarry;
+  pc.table_confirm_frames = config.table_confirm_frames;
+  pc.table_check_frames = config.table_check_frames;
   // One camera needs the table for millimetre poses: any known pose, the rendered rig's too.
   pc.mono_table_known = table.known;
   // A model set as tables may carry the fallback's aspect table too.

@@ -29,6 +29,8 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const ModelSet&
   }
   config.table_estimate.enabled = config_.table_estimate;
   config.table_carry.enabled = config_.table_estimate && config_.table_carry;
+  config.table_carry.confirm_frames = config_.table_confirm_frames;
+  config.table_carry.check_every_frames = config_.table_check_frames;
   if (config_.volume_set) {
     const Eigen::Vector3f min_mm(config_.volume_min_mm[0], config_.volume_min_mm[1],
                                  config_.volume_min_mm[2]);

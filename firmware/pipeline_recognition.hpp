@@ -23,6 +23,10 @@ struct PipelineRecognitionConfig {
   // carried between frames once confirmed (firmware key table_estimate; PipelineConfig).
   bool table_estimate = true;
   bool table_carry = true;
+  // With table_carry: agreeing estimates that confirm the plane, and carried frames between two
+  // checks by a fresh estimate (firmware keys table_confirm_frames, table_check_frames).
+  uint32_t table_confirm_frames = TableCarryConfig{}.confirm_frames;
+  uint32_t table_check_frames = TableCarryConfig{}.check_every_frames;
   bool volume_set = false;  // working volume box, in the left camera or the table frame
   float volume_min_mm[3] = {0, 0, 0};
   float volume_max_mm[3] = {0, 0, 0};

@@ -71,7 +71,8 @@ class Cell {
   }
 
   PipelineRecognition& recognition() { return recognition_; }
-  static const Pipeline& pipeline() { return pipeline_; }
+  ModelSet model_set() const { return ModelSet(&table_, nullptr); }
+  static Pipeline& pipeline() { return pipeline_; }
 
  private:
   static Pipeline pipeline_;  // tens of MiB: static storage, as on the board
@@ -154,6 +155,22 @@ TEST(FirmwareTableCarry, ThePlaneIsEstimatedConfirmedAndCarriedWithoutTheHeap) {
   int scene = -1;
   ASSERT_TRUE(cell.Next(&set, &scene));
   EXPECT_EQ(set.table, TablePlane::kCarried);
+}
+
+TEST(FirmwareTableCarry, TheCarryKeysReachThePipeline) {
+  PipelineRecognitionConfig keys;
+  keys.table_confirm_frames = 5;  // table_confirm_frames = 5
+  keys.table_check_frames = 0;    // table_check_frames = 0: only after a misfit
+  Cell cell(keys);
+  const TableCarryConfig& carry = Cell::pipeline().config().table_carry;
+  EXPECT_TRUE(carry.enabled);
+  EXPECT_EQ(carry.confirm_frames, 5u);
+  EXPECT_EQ(carry.check_every_frames, 0u);
+  // table_confirm_frames = 0 would never confirm: the pipeline refuses it at Init.
+  PipelineRecognitionConfig never;
+  never.table_confirm_frames = 0;
+  PipelineRecognition refused(&Cell::pipeline(), never);
+  EXPECT_FALSE(refused.Init(World().calibration(), cell.model_set(), kMask).ok());
 }
 
 TEST(FirmwareTableCarry, OffUsesNoTable) {
