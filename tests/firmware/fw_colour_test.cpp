@@ -158,13 +158,8 @@ TEST(FirmwareColour, PartsInResultSetsAtTheirTruthFromNv12FramesWithoutTouchingT
   config.heartbeat_ms = 50;
   config.capture_timeout_ms = 2000;
   config.budget_ms = 10000;  // these tests check poses, not time
-  CoreDevices devices;
-  devices.can = can.fw;
-  devices.gpio = &gpio;
-  devices.camera = &camera;
-  devices.recognition = &recognition;
-  devices.data = &data;
-  devices.observer = &observer;
+  const CoreDevices devices =
+      SimCoreDevices(can.fw, &gpio, &camera, &recognition, &data, &observer);
   static FirmwareCore core;
   ASSERT_TRUE(core.Start(config, devices).ok());
   ASSERT_EQ(core.state(), FirmwareState::kReady);
@@ -181,13 +176,9 @@ TEST(FirmwareColour, PartsInResultSetsAtTheirTruthFromNv12FramesWithoutTouchingT
   EXPECT_EQ(ids[1], 1);
 
   ResultAssembler assembler(1);
-  hal::CanFrame trigger;
-  trigger.id = kCobCommand + 1;
-  trigger.len = 3;
-  trigger.data[0] = 0x01;
   auto run_trigger = [&](uint8_t request, ResultSet* set, int* scene) {
-    trigger.data[1] = request;
-    if (!plc->Send(trigger).ok() || !WaitResultSet(plc, &assembler, set, 12000)) return false;
+    if (!plc->Send(TriggerFrame(1, request)).ok() || !WaitResultSet(plc, &assembler, set, 12000))
+      return false;
     *scene = observer.SceneOf(set->sequence);
     return *scene >= 0;
   };
@@ -207,12 +198,7 @@ TEST(FirmwareColour, PartsInResultSetsAtTheirTruthFromNv12FramesWithoutTouchingT
 
   // The can alone (id 1): only cans reported; allocation-free from here on.
   const uint64_t allocations_before = HeapAllocations();
-  hal::CanFrame select;
-  select.id = kCobCommand + 1;
-  select.len = 5;
-  select.data[0] = 0x02;
-  select.data[1] = 0x02;
-  ASSERT_TRUE(plc->Send(select).ok());
+  ASSERT_TRUE(plc->Send(SelectModelsFrame(1, 0x2u)).ok());
   for (int i = 0; i < 2000 && core.model_mask() != 0x2u; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }

@@ -156,11 +156,7 @@ struct FallbackRig {
     config.heartbeat_ms = 100;
     config.capture_timeout_ms = 500;
     config.budget_ms = 10000;  // these tests check poses and allocations, not time
-    CoreDevices devices;
-    devices.can = fw;
-    devices.camera = &camera;
-    devices.recognition = recognition.get();
-    devices.data = data.get();
+    const CoreDevices devices = SimCoreDevices(fw, nullptr, &camera, recognition.get(), data.get());
     ASSERT_TRUE(core.Start(config, devices).ok());
     ASSERT_EQ(core.state(), FirmwareState::kReady);
     ASSERT_TRUE(recognition->monocular());

@@ -61,12 +61,7 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
   RecorderConfig rc;
   rc.directory = record_dir;
   rc.max_pairs = 20;
-  CoreDevices devices;
-  devices.can = fw;
-  devices.gpio = &gpio;
-  devices.camera = &camera;
-  devices.recognition = &recognition;
-  devices.data = &data;
+  CoreDevices devices = SimCoreDevices(fw, &gpio, &camera, &recognition, &data);
   static FirmwareCore core;
   ASSERT_TRUE(recorder.Start(rc, world.calibration(), nullptr, &core).ok());
   devices.recorder = &recorder;
@@ -121,12 +116,7 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
     services_answered += ok;
   };
   static ResultSet set;
-  hal::CanFrame trigger;
-  trigger.id = kCobCommand + 1;
-  trigger.len = 3;
-  trigger.data[0] = 0x01;
-  trigger.data[1] = 1;
-  ASSERT_TRUE(plc->Send(trigger).ok());
+  ASSERT_TRUE(plc->Send(TriggerFrame(1, 1)).ok());
   ASSERT_TRUE(wait_set(&set));
   use_services(0);
 
@@ -137,8 +127,7 @@ TEST(FirmwareNoAlloc, HundredTriggersAfterBootAllocateNothing) {
     if (i % 4 == 3) {
       gpio.FireTrigger();
     } else {
-      trigger.data[1] = uint8_t(2 + i);
-      ASSERT_TRUE(plc->Send(trigger).ok());
+      ASSERT_TRUE(plc->Send(TriggerFrame(1, uint8_t(2 + i))).ok());
     }
     if (wait_set(&set)) {
       ++sets;

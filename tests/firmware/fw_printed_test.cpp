@@ -198,13 +198,7 @@ TEST(FirmwarePrinted, CartonsInResultSetsAtTheirTruthWithIdsAfterThePolyhedra) {
                                   &texture_result);
   SceneObserver observer(&world);
   const CoreConfig config = CartonCoreConfig();
-  CoreDevices devices;
-  devices.can = fw;
-  devices.gpio = &gpio;
-  devices.camera = &camera;
-  devices.recognition = &recognition;
-  devices.data = &data;
-  devices.observer = &observer;
+  const CoreDevices devices = SimCoreDevices(fw, &gpio, &camera, &recognition, &data, &observer);
   static FirmwareCore core;
   ASSERT_TRUE(core.Start(config, devices).ok());
   ASSERT_EQ(core.state(), FirmwareState::kReady);
@@ -229,23 +223,13 @@ TEST(FirmwarePrinted, CartonsInResultSetsAtTheirTruthWithIdsAfterThePolyhedra) {
   ResultAssembler assembler(1);
   // Up to 120 s per set (qemu).
   auto wait_set = [&](ResultSet* out) { return WaitResultSet(plc, &assembler, out, 12000); };
-  hal::CanFrame trigger;
-  trigger.id = kCobCommand + 1;
-  trigger.len = 3;
-  trigger.data[0] = 0x01;
   auto run_trigger = [&](uint8_t request, ResultSet* set, int* scene) {
-    trigger.data[1] = request;
-    if (!plc->Send(trigger).ok() || !wait_set(set)) return false;
+    if (!plc->Send(TriggerFrame(1, request)).ok() || !wait_set(set)) return false;
     *scene = observer.SceneOf(set->sequence);
     return *scene >= 0;
   };
   auto select_models = [&](uint32_t mask) {
-    hal::CanFrame select;
-    select.id = kCobCommand + 1;
-    select.len = 5;
-    select.data[0] = 0x02;
-    for (int k = 0; k < 4; ++k) select.data[1 + k] = static_cast<uint8_t>(mask >> (8 * k));
-    ASSERT_TRUE(plc->Send(select).ok());
+    ASSERT_TRUE(plc->Send(SelectModelsFrame(1, mask)).ok());
     for (int i = 0; i < 2000 && core.model_mask() != mask; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
@@ -351,13 +335,8 @@ TEST(FirmwarePrinted, OneModelSetAsTablesGivesTheSamePosesAsTheSeparateBlobs) {
     PipelineRecognition recognition(&pipeline, PipelineRecognitionConfig{}, &texture,
                                     &texture_result);
     SceneObserver observer(&world);
-    CoreDevices devices;
-    devices.can = can.fw;
-    devices.gpio = &gpio;
-    devices.camera = &camera;
-    devices.recognition = &recognition;
-    devices.data = &data;
-    devices.observer = &observer;
+    const CoreDevices devices =
+        SimCoreDevices(can.fw, &gpio, &camera, &recognition, &data, &observer);
     auto core = std::make_unique<FirmwareCore>();
     ASSERT_TRUE(core->Start(CartonCoreConfig(), devices).ok());
     ASSERT_EQ(core->state(), FirmwareState::kReady) << tables;
@@ -365,12 +344,7 @@ TEST(FirmwarePrinted, OneModelSetAsTablesGivesTheSamePosesAsTheSeparateBlobs) {
     ResultAssembler assembler(1);
     by_scene->assign(2, ResultSet());
     for (uint8_t i = 0; i < 2; ++i) {
-      hal::CanFrame trigger;
-      trigger.id = kCobCommand + 1;
-      trigger.len = 3;
-      trigger.data[0] = 0x01;
-      trigger.data[1] = uint8_t(1 + i);
-      ASSERT_TRUE(can.plc->Send(trigger).ok());
+      ASSERT_TRUE(can.plc->Send(TriggerFrame(1, uint8_t(1 + i))).ok());
       ResultSet set;
       ASSERT_TRUE(WaitResultSet(can.plc, &assembler, &set, 12000));
       const int scene = observer.SceneOf(set.sequence);

@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -80,6 +81,38 @@ struct PlcBus {
   hal::SimCanEndpoint* plc = nullptr;
 };
 
+// The devices a firmware test wires to its core: the firmware's bus endpoint, GPIO (may be null),
+// the cameras, the recognition, the data and an observer (may be null).
+inline CoreDevices SimCoreDevices(hal::CanBus* can, hal::Gpio* gpio, hal::StereoCamera* camera,
+                                  Recognition* recognition, DataSource* data,
+                                  CoreObserver* observer = nullptr) {
+  CoreDevices d;
+  d.can = can;
+  d.gpio = gpio;
+  d.camera = camera;
+  d.recognition = recognition;
+  d.data = data;
+  d.observer = observer;
+  return d;
+}
+
+// A command frame to node `node` carrying `bytes` (docs/can-protocol.md, Commands).
+inline hal::CanFrame CommandFrame(uint8_t node, std::initializer_list<uint8_t> bytes) {
+  hal::CanFrame f;
+  f.id = kCobCommand + node;
+  for (uint8_t b : bytes) f.data[f.len++] = b;
+  return f;
+}
+// Trigger (0x01) with a request id: its low byte, as the PLC of the tests counts.
+inline hal::CanFrame TriggerFrame(uint8_t node, uint8_t request_id) {
+  return CommandFrame(node, {0x01, request_id, 0});
+}
+// Select models (0x02): the mask, little-endian.
+inline hal::CanFrame SelectModelsFrame(uint8_t node, uint32_t mask) {
+  return CommandFrame(
+      node, {0x02, uint8_t(mask), uint8_t(mask >> 8), uint8_t(mask >> 16), uint8_t(mask >> 24)});
+}
+
 // Receives at `plc` (10 ms polls, at most `polls`) until `assembler` completes a verified result
 // set, copied to *out; false if none completed.
 inline bool WaitResultSet(hal::SimCanEndpoint* plc, ResultAssembler* assembler, ResultSet* out,
@@ -116,12 +149,7 @@ class Rig {
   ~Rig() { core.Stop(); }
 
   void Start() {
-    CoreDevices d;
-    d.can = fw;
-    d.gpio = &gpio;
-    d.camera = camera.get();
-    d.recognition = &recognition;
-    d.data = data.get();
+    CoreDevices d = SimCoreDevices(fw, &gpio, camera.get(), &recognition, data.get());
     d.lss_store = lss_store;
     d.recorder = recorder;
     const Status s = core.Start(config, d);
@@ -193,10 +221,7 @@ class Rig {
   }
 
   void Command(std::initializer_list<uint8_t> bytes) {
-    hal::CanFrame f;
-    f.id = kCobCommand + kNode;
-    for (uint8_t b : bytes) f.data[f.len++] = b;
-    ASSERT_TRUE(plc->Send(f).ok());
+    ASSERT_TRUE(plc->Send(CommandFrame(kNode, bytes)).ok());
   }
   void Trigger(uint16_t request_id) {
     Command({0x01, uint8_t(request_id), uint8_t(request_id >> 8), 0, 0, 0, 0, 0});
