@@ -100,13 +100,30 @@ Status PipelineRecognition::InitMono(int camera) {
                               : config_.light_background ? MonoPipelineConfig::LightBackground()
                                                          : MonoPipelineConfig::DarkBackground();
   const RigidTransform* left_T_table = nullptr;
+  const RigidTransform* carried = CarriedPlaneForMono();
+  mono_on_carried_plane_ = false;
   if (config_.mono_table_known) {
     left_T_table = config_.left_T_table_at_init != nullptr ? config_.left_T_table_at_init
                                                            : &config_.left_T_table;
+  } else if (carried != nullptr) {
+    mono_left_T_table_ = *carried;
+    left_T_table = &mono_left_T_table_;
+    mono_on_carried_plane_ = true;
   }
   const Status s = mono_->Init(calib_, camera, aspects_, left_T_table, config, &MonotonicNs);
   if (!s.ok()) return Status::Error(s.code(), "monocular fallback: %s", s.message());
+  if (mono_on_carried_plane_) {
+    std::fprintf(stderr,
+                 "stereohash-fw: one camera (%s): objects laid onto the carried table plane\n",
+                 camera == 0 ? "left" : "right");
+  }
   return Status::Ok();
+}
+
+const RigidTransform* PipelineRecognition::CarriedPlaneForMono() const {
+  if (config_.mono_table_known || !config_.table_estimate || !config_.table_carry) return nullptr;
+  const TableCarry& carry = pipeline_->table_carry();
+  return carry.trusted() ? &carry.left_T_table() : nullptr;
 }
 
 Status PipelineRecognition::ProcessMonocular(hal::StereoSide side, ConstGrayView image,
@@ -115,7 +132,15 @@ Status PipelineRecognition::ProcessMonocular(hal::StereoSide side, ConstGrayView
     return Status::Error(StatusCode::kFailedPrecondition, "no monocular pipeline");
   }
   const int camera = side == hal::StereoSide::kLeft ? 0 : 1;
-  if (!mono_->initialised() || mono_->camera() != camera) SH_RETURN_IF_ERROR(InitMono(camera));
+  // Set up again when the camera changed, or when the stereo frames confirmed (or moved) a
+  // carried plane since: once per fallback, not per frame (the stereo path is idle meanwhile).
+  const RigidTransform* carried = CarriedPlaneForMono();
+  const bool plane_changed =
+      carried != nullptr && (!mono_on_carried_plane_ || carried->R != mono_left_T_table_.R ||
+                             carried->t_mm != mono_left_T_table_.t_mm);
+  if (!mono_->initialised() || mono_->camera() != camera || plane_changed) {
+    SH_RETURN_IF_ERROR(InitMono(camera));
+  }
   // The stereo pipeline is idle while one camera is out: its workspace of that camera is free.
   SH_RETURN_IF_ERROR(mono_->Process(image, budget_ms, pipeline_->workspace(camera), mono_result_));
   size_t n = 0;
@@ -128,6 +153,9 @@ Status PipelineRecognition::ProcessMonocular(hal::StereoSide side, ConstGrayView
                                                  static_cast<uint8_t>(o.instance), score);
   }
   set->object_count = static_cast<uint8_t>(n);
+  set->table = mono_on_carried_plane_     ? protocol::TablePlane::kCarried
+               : config_.mono_table_known ? protocol::TablePlane::kFile
+                                          : protocol::TablePlane::kNone;
   return Status::Ok();
 }
 

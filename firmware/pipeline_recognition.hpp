@@ -39,8 +39,9 @@ struct PipelineRecognitionConfig {
   // known only once its world is built.
   const RigidTransform* left_T_table_at_init = nullptr;
   // The monocular fallback lays objects onto this table (left_T_table or left_T_table_at_init):
-  // a configured table pose, or the simulator's rendered one. Without it, free 6-D poses from one
-  // image (far less reliable: docs/monocular.md).
+  // a configured table pose, or the simulator's rendered one. Without it, onto the plane the
+  // stereo frames confirmed and carried before the camera failed (table_carry), else free 6-D
+  // poses from one image (far less reliable: docs/monocular.md).
   bool mono_table_known = false;
   // A model set (the `tables` file) whose ASPECTS_2D section, if it has one, replaces the
   // linked-in aspect table of the monocular fallback; nullptr: the linked-in one.
@@ -71,6 +72,9 @@ class PipelineRecognition final : public Recognition {
   Status SetModelMask(uint32_t model_mask) override;
   Status Process(const hal::StereoFrame& frame, float budget_ms, protocol::ResultSet* set) override;
   bool monocular() const override { return mono_ != nullptr && mono_->initialised(); }
+  // The monocular pipeline lays objects onto the stereo frames' carried plane (no table pose
+  // configured; the plane was confirmed before the fallback).
+  bool mono_on_carried_plane() const { return mono_on_carried_plane_; }
   Status ProcessMonocular(hal::StereoSide side, ConstGrayView image, float budget_ms,
                           protocol::ResultSet* set) override;
 
@@ -86,6 +90,9 @@ class PipelineRecognition final : public Recognition {
   Result<AspectTableView> OpenAspects();
   // Sets the monocular pipeline up for `camera` (0 left, 1 right): no allocation.
   Status InitMono(int camera);
+  // The plane the fallback lays objects onto when no table pose is configured: the stereo
+  // frames' carried plane, once confirmed (null: none, free 6-D poses).
+  const RigidTransform* CarriedPlaneForMono() const;
 
   Pipeline* pipeline_;
   PipelineRecognitionConfig config_;
@@ -104,6 +111,9 @@ class PipelineRecognition final : public Recognition {
   StereoCalibration calib_;
   // Stereo table model id of each aspect table model, by name (-1: not in the stereo tables).
   int table_id_of_aspect_model_[kMaxAspectModels] = {};
+  // The carried plane the monocular pipeline was set up with (mono_on_carried_plane_).
+  RigidTransform mono_left_T_table_;
+  bool mono_on_carried_plane_ = false;
 };
 
 }  // namespace sh::fw
