@@ -215,7 +215,7 @@ Status Pipeline::InitImageBuffers(const StereoCalibration& calib) {
   }
   size_t pixels[2];
   for (int i = 0; i < 2; ++i) {
-    pixels[i] = size_t{static_cast<size_t>(cams[i]->width)} * static_cast<size_t>(cams[i]->height);
+    pixels[i] = static_cast<size_t>(cams[i]->width) * static_cast<size_t>(cams[i]->height);
     grey_width_[i] = grey_height_[i] = 0;
   }
   const size_t bytes =
