@@ -147,6 +147,10 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
   INT(table_check_frames, uint16_t, 50, 0, 10000, "frames",                                        \
       "table_estimate = carry: carried frames between two checks by a fresh estimate; 0 = only "   \
       "after a frame whose objects do not rest on the plane")                                      \
+  BOOL(mono_fallback, true,                                                                        \
+       "pipeline recognition: a camera that fails leaves the other recognising alone (the "        \
+       "one-camera fallback, its 4.8 MiB allocated at boot); false: a silent camera is the "       \
+       "capture fault")                                                                            \
   CHOICE(background, BackgroundKey, BackgroundKey::kAuto, "auto|dark|light",                       \
          "auto: detector thresholds measured from each image; dark or light force a preset "       \
          "(the simulator's rendered scenes: the preset of sim_background)")                                   \

@@ -370,13 +370,24 @@ int FirmwareMain(int argc, char** argv, Board* board) {
                           sizeof(texture::TextureRecognizer)));
       }
     }
-    // The one-camera fallback when a camera fails (4.8 MiB, static as well).
-    static MonoPipeline mono;
-    static MonoResult mono_result;
+    // The one-camera fallback when a camera fails (4.8 MiB), only when configured: allocated
+    // here, once, zeroed; without it no page of it is mapped or locked.
+    static ZeroedPtr<MonoPipeline> mono;
+    static ZeroedPtr<MonoResult> mono_result;
+    if (config.mono_fallback) {
+      mono = MakeZeroed<MonoPipeline>();
+      mono_result = MakeZeroed<MonoResult>();
+      if (mono == nullptr || mono_result == nullptr) {
+        return Fail(*board, "memory",
+                    Status::Error(StatusCode::kUnavailable,
+                                  "cannot allocate the one-camera fallback's %zu bytes",
+                                  sizeof(MonoPipeline) + sizeof(MonoResult)));
+      }
+    }
     static std::unique_ptr<PipelineRecognition> pipeline_recognition;
     pipeline_recognition = std::make_unique<PipelineRecognition>(
-        &pipeline, PipelineSettings(config, *table), texture.get(), texture_result.get(), &mono,
-        &mono_result);
+        &pipeline, PipelineSettings(config, *table), texture.get(), texture_result.get(),
+        mono.get(), mono_result.get());
     recognition = pipeline_recognition.get();
   } else {
     recognition = board->OtherRecognition(config);

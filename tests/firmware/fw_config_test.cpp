@@ -142,8 +142,10 @@ TEST(FwConfig, BooleansAreExactlyTrueOrFalse) {
     EXPECT_NE(std::strstr(s.message(), "expected true or false"), nullptr) << s.message();
   }
   FwConfig c;
-  ASSERT_TRUE(Parse("mlock = false\nsim_print_truth = true\n", &c).ok());
+  EXPECT_TRUE(c.mono_fallback) << "the one-camera fallback is on unless configured off";
+  ASSERT_TRUE(Parse("mlock = false\nsim_print_truth = true\nmono_fallback = false\n", &c).ok());
   EXPECT_FALSE(c.mlock);
+  EXPECT_FALSE(c.mono_fallback);
   EXPECT_TRUE(c.sim_print_truth);
 }
 

@@ -138,7 +138,8 @@ struct FallbackRig {
 
   // table_configured: the rendered table as the cell's table pose; without it the stereo frames
   // estimate the plane, confirm it in `confirm_frames` and carry it (table_estimate = carry).
-  void Start(bool table_configured = true, uint32_t confirm_frames = 3) {
+  // `fallback` false: no monocular pipeline, as the firmware without mono_fallback.
+  void Start(bool table_configured = true, uint32_t confirm_frames = 3, bool fallback = true) {
     static Pipeline pipeline;
     static MonoPipeline mono;
     static MonoResult mono_result;
@@ -146,8 +147,9 @@ struct FallbackRig {
     pc.mono_table_known = table_configured;
     pc.left_T_table_at_init = table_configured ? &World().left_T_table() : nullptr;
     pc.table_confirm_frames = confirm_frames;
-    recognition =
-        std::make_unique<PipelineRecognition>(&pipeline, pc, nullptr, nullptr, &mono, &mono_result);
+    recognition = std::make_unique<PipelineRecognition>(&pipeline, pc, nullptr, nullptr,
+                                                        fallback ? &mono : nullptr,
+                                                        fallback ? &mono_result : nullptr);
     const Result<TableView> table = data->LoadTable();
     ASSERT_TRUE(table.ok());
     MapWorldModelsToIds(World(), ModelSet(&*table, nullptr), table_ids);
@@ -159,7 +161,7 @@ struct FallbackRig {
     const CoreDevices devices = SimCoreDevices(fw, nullptr, &camera, recognition.get(), data.get());
     ASSERT_TRUE(core.Start(config, devices).ok());
     ASSERT_EQ(core.state(), FirmwareState::kReady);
-    ASSERT_TRUE(recognition->monocular());
+    ASSERT_EQ(recognition->monocular(), fallback);
   }
 
   static hal::SimCanEndpointConfig PlcConfig() {
@@ -354,6 +356,24 @@ TEST(FirmwareMonocular, ClearFaultWhileTheCameraIsStillSilentStaysMonocular) {
   EXPECT_EQ(s->status, ResultStatus::kMonocular);
   const SetScore c = ScoreSet(FallbackRig::World(), rig.data->table(), rig.table_ids, *s);
   EXPECT_EQ(c.false_alarms, 0);
+}
+
+// Without the fallback (mono_fallback = false: no monocular pipeline allocated) a silent camera
+// is the capture fault, and the cameras stay in stereo.
+TEST(FirmwareMonocular, WithoutTheFallbackASilentCameraIsTheCaptureFault) {
+  hal::SimCameraConfig cc;
+  cc.right_stop_after = 0;  // the right camera never delivers
+  FallbackRig rig(cc);
+  rig.Start(/*table_configured=*/true, /*confirm_frames=*/3, /*fallback=*/false);
+  rig.plc.Trigger(1);
+  const std::optional<ResultSet> s = rig.plc.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->status, ResultStatus::kImageError);
+  const std::optional<Emcy> e = rig.plc.WaitEmcy(uint16_t(EmcyCode::kSensor));
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->detail >> 24, kSensorCaptureFailed >> 24);
+  EXPECT_EQ(e->state, FirmwareState::kFault);
+  EXPECT_EQ(rig.core.capture_mode(), hal::CaptureMode::kStereo);
 }
 
 // A board that boots with one camera not connected starts on the other one: the one-camera
