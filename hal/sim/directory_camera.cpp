@@ -208,7 +208,7 @@ Status DirectoryFrameSource::Scan() {
   return Status::Ok();
 }
 
-Status DirectoryFrameSource::AllocateBuffers() {
+Status DirectoryFrameSource::AllocateFileBuffer() {
   size_t largest = 1;
   for (const PathPair& p : pairs_) {
     for (const std::string* path : {&p.left, &p.right}) {
@@ -227,16 +227,48 @@ Status DirectoryFrameSource::AllocateBuffers() {
   }
   file_buffer_.reset(new (std::nothrow) uint8_t[largest]);
   file_capacity_ = largest;
-  for (auto& d : decode_) d.reset(new (std::nothrow) uint8_t[kMaxImagePixels]);
-  if (!file_buffer_ || !decode_[0] || !decode_[1]) {
+  if (!file_buffer_) {
     return Status::Error(StatusCode::kResourceExhausted,
-                         "recording: cannot allocate %zu bytes of playback buffers",
-                         largest + 2 * kMaxImagePixels);
+                         "recording: cannot allocate %zu bytes of file buffer", largest);
   }
   return Status::Ok();
 }
 
-Status DirectoryFrameSource::Decode(int side, const std::string& path, Decoded* out) {
+Status DirectoryFrameSource::AllocateDecodeBuffers(int width, int height) {
+  const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+  if (pixels == decode_capacity_ && decode_[0] && decode_[1]) return Status::Ok();
+  decode_capacity_ = 0;
+  for (auto& d : decode_) d.reset(new (std::nothrow) uint8_t[pixels]);
+  if (!decode_[0] || !decode_[1]) {
+    return Status::Error(StatusCode::kResourceExhausted,
+                         "recording: cannot allocate %zu bytes of decode buffers", 2 * pixels);
+  }
+  decode_capacity_ = pixels;
+  return Status::Ok();
+}
+
+Status DirectoryFrameSource::AllocateDecodeBuffersFor(const PathPair& pair) {
+  // Both headers: a right image larger than the left one is then decoded and refused as a
+  // left/right mismatch, not as a frame larger than the buffers.
+  ImageInfo sizes[2];
+  for (int side = 0; side < 2; ++side) {
+    const std::string& path = side == 0 ? pair.left : pair.right;
+    size_t size = 0;
+    SH_RETURN_IF_ERROR(ReadFile(side, path, &size));
+    const Result<ImageInfo> header = ImageFileSize(file_buffer_.get(), size);
+    if (!header.ok()) return header.status().WithContext("%s %s", SideName(side), BaseName(path));
+    sizes[side] = *header;
+  }
+  const ImageInfo& larger = static_cast<size_t>(sizes[0].width) * sizes[0].height >=
+                                    static_cast<size_t>(sizes[1].width) * sizes[1].height
+                                ? sizes[0]
+                                : sizes[1];
+  width_ = larger.width;  // until the pair decodes: named by a refusal of a larger frame
+  height_ = larger.height;
+  return AllocateDecodeBuffers(larger.width, larger.height);
+}
+
+Status DirectoryFrameSource::ReadFile(int side, const std::string& path, size_t* size_out) {
   const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
     return Status::Error(errno == ENOENT ? StatusCode::kNotFound : StatusCode::kUnavailable,
@@ -265,8 +297,25 @@ Status DirectoryFrameSource::Decode(int side, const std::string& path, Decoded* 
     size += static_cast<size_t>(n);
   }
   close(fd);
+  *size_out = size;
+  return Status::Ok();
+}
+
+Status DirectoryFrameSource::Decode(int side, const std::string& path, Decoded* out) {
+  size_t size = 0;
+  SH_RETURN_IF_ERROR(ReadFile(side, path, &size));
+  // The decode buffers hold the recording's first pair: a larger frame is refused by name.
+  const Result<ImageInfo> header = ImageFileSize(file_buffer_.get(), size);
+  if (header.ok() &&
+      static_cast<size_t>(header->width) * static_cast<size_t>(header->height) > decode_capacity_) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "%s %s is %dx%d, larger than the recording's first pair (%dx%d), for "
+                         "which the playback buffers are sized",
+                         SideName(side), BaseName(path), header->width, header->height, width_,
+                         height_);
+  }
   const Result<ImageInfo> info = DecodeImage(file_buffer_.get(), size, PixelFormat::kGray8,
-                                             decode_[side].get(), kMaxImagePixels);
+                                             decode_[side].get(), decode_capacity_);
   if (!info.ok()) return info.status().WithContext("%s %s", SideName(side), BaseName(path));
   out->width = info->width;
   out->height = info->height;
@@ -275,14 +324,17 @@ Status DirectoryFrameSource::Decode(int side, const std::string& path, Decoded* 
 
 Status DirectoryFrameSource::Open(int* width, int* height) {
   SH_RETURN_IF_ERROR(Scan());
-  SH_RETURN_IF_ERROR(AllocateBuffers());
-  // The first pair that decodes sets the size; a broken first file then shows up as a per-frame
-  // error at playback instead of refusing the whole recording.
+  SH_RETURN_IF_ERROR(AllocateFileBuffer());
+  // The first pair that decodes sets the size, and the decode buffers are sized for it (read
+  // from its left file's header); a broken first file then shows up as a per-frame error at
+  // playback instead of refusing the whole recording.
   Status first_error;
   for (const PathPair& p : pairs_) {
     Decoded l;
     Decoded r;
-    Status s = Decode(0, p.left, &l);
+    Status s = AllocateDecodeBuffersFor(p);
+    if (s.code() == StatusCode::kResourceExhausted) return s;
+    if (s.ok()) s = Decode(0, p.left, &l);
     if (s.ok()) s = Decode(1, p.right, &r);
     if (s.ok() && (l.width != r.width || l.height != r.height)) {
       return Status::Error(StatusCode::kInvalidArgument,

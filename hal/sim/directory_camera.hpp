@@ -11,7 +11,8 @@
 // without its right partner (or the reverse) makes Start() fail naming it.
 //
 // Memory: Start() allocates one file buffer (the largest file's size) and one decode buffer per
-// side; playback reads and decodes into them without further allocation.
+// side of the first readable pair's size (not kMaxImagePixels); playback reads and decodes into
+// them without further allocation, and a later frame larger than that pair is refused by name.
 //
 // Timestamps are synthetic (first_timestamp_ns + n * frame_period_ns on both sides) and go
 // through the same pairing as live cameras. Per-frame problems (truncated or corrupt file,
@@ -64,8 +65,17 @@ class DirectoryFrameSource final : public FrameSource {
     int height = 0;
   };
   Status Scan();
-  Status AllocateBuffers();
-  // Reads `path` into the file buffer and decodes it as grey into decode_[side].
+  // One file buffer of the largest file's size.
+  Status AllocateFileBuffer();
+  // One decode buffer per side of width x height pixels (the recording's first pair).
+  Status AllocateDecodeBuffers(int width, int height);
+  // Decode buffers for the larger of the pair's two images (read from the files' headers).
+  Status AllocateDecodeBuffersFor(const PathPair& pair);
+  // Reads `path` into the file buffer; *size is the file's size.
+  Status ReadFile(int side, const std::string& path, size_t* size);
+  // Reads `path` into the file buffer and decodes it as grey into decode_[side]; a frame larger
+  // than the decode buffers is kInvalidArgument (as a frame of another size), naming both
+  // sizes; kOutOfRange stays the end of the recording.
   Status Decode(int side, const std::string& path, Decoded* out);
 
   std::string directory_;
@@ -73,7 +83,8 @@ class DirectoryFrameSource final : public FrameSource {
   std::vector<PathPair> pairs_;
   std::unique_ptr<uint8_t[]> file_buffer_;
   size_t file_capacity_ = 0;
-  std::unique_ptr<uint8_t[]> decode_[2];  // kMaxImagePixels each
+  std::unique_ptr<uint8_t[]> decode_[2];  // decode_capacity_ pixels each
+  size_t decode_capacity_ = 0;
   int width_ = 0;
   int height_ = 0;
 };

@@ -262,6 +262,39 @@ Result<ImageInfo> DecodeImage(const uint8_t* data, size_t size, PixelFormat form
   return Status::Error(StatusCode::kInvalidArgument, "image is neither PNG nor PGM");
 }
 
+Result<ImageInfo> ImageFileSize(const uint8_t* data, size_t size) {
+  ImageInfo info;
+  if (data != nullptr && size >= 8 && std::memcmp(data, kPngSignature, 8) == 0) {
+    if (size < 24 || std::memcmp(data + 12, "IHDR", 4) != 0) {
+      return Status::Error(StatusCode::kDataLoss, "PNG: no IHDR chunk after the signature");
+    }
+    const uint32_t w = ReadBe32(data + 16);
+    const uint32_t h = ReadBe32(data + 20);
+    if (w > uint32_t(kMaxImageWidth) || h > uint32_t(kMaxImageHeight)) {
+      return Status::Error(StatusCode::kOutOfRange, "PNG: image %u x %u exceeds the %d x %d limit",
+                           w, h, kMaxImageWidth, kMaxImageHeight);
+    }
+    info.width = static_cast<int>(w);
+    info.height = static_cast<int>(h);
+    return info;
+  }
+  if (data == nullptr || size < 3 || data[0] != 'P' || data[1] != '5' || !IsPnmSpace(data[2])) {
+    return Status::Error(StatusCode::kInvalidArgument, "image is neither PNG nor binary PGM");
+  }
+  size_t pos = 2;
+  long width = 0;
+  long height = 0;
+  SH_RETURN_IF_ERROR(PgmHeaderNumber(data, size, &pos, "width", &width));
+  SH_RETURN_IF_ERROR(PgmHeaderNumber(data, size, &pos, "height", &height));
+  if (width > kMaxImageWidth || height > kMaxImageHeight) {
+    return Status::Error(StatusCode::kOutOfRange, "PGM: image %ld x %ld exceeds the %d x %d limit",
+                         width, height, kMaxImageWidth, kMaxImageHeight);
+  }
+  info.width = static_cast<int>(width);
+  info.height = static_cast<int>(height);
+  return info;
+}
+
 Result<ImageInfo> ReadImageFile(const char* path, PixelFormat format, uint8_t* pixels,
                                 size_t capacity) {
   std::FILE* f = std::fopen(path, "rb");

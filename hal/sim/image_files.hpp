@@ -38,6 +38,9 @@ Result<ImageInfo> DecodePng(const uint8_t* data, size_t size, PixelFormat format
 // PNG or PGM, chosen by the file's signature.
 Result<ImageInfo> DecodeImage(const uint8_t* data, size_t size, PixelFormat format, uint8_t* pixels,
                               size_t capacity);
+// The width and height a PNG (its IHDR chunk) or binary PGM (its header) declares, without
+// decoding (file_channels 0); kInvalidArgument or kDataLoss when the header is not one.
+Result<ImageInfo> ImageFileSize(const uint8_t* data, size_t size);
 Result<ImageInfo> ReadImageFile(const char* path, PixelFormat format, uint8_t* pixels,
                                 size_t capacity);
 

@@ -243,18 +243,33 @@ TEST(CameraDirectory, BadFramesMidRecordingAreReportedCountedAndSkipped) {
   EXPECT_EQ(cam.Capture(&f, 100).code(), StatusCode::kOutOfRange);
 }
 
+// A frame of another size than the first pair is refused by name and counted, and playback goes
+// on. The decode buffers hold the first pair's pixels (not the 1280 x 1024 maximum): a larger
+// frame is refused before decoding, naming both sizes.
 TEST(CameraDirectory, FrameWithDifferentSizeThanRecordingIsAnError) {
   TempDir dir("camera_dir");
-  WriteFlatRecording(dir, {1});
+  WriteFlatRecording(dir, {1, 4});
   WritePgm(dir.path() + "/left_2.pgm", 8, 8, 20);
   WritePgm(dir.path() + "/right_2.pgm", 8, 8, 21);
+  WritePgm(dir.path() + "/left_3.pgm", 16, 9, 30);
+  WritePgm(dir.path() + "/right_3.pgm", 16, 9, 31);
   DirectoryCamera cam(Config(dir));
   ASSERT_TRUE(cam.Start().ok());
   StereoFrame f;
   ASSERT_TRUE(cam.Capture(&f, 100).ok());
-  const Status s = cam.Capture(&f, 100);
+  Status s = cam.Capture(&f, 100);
   EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
   EXPECT_NE(std::strstr(s.message(), "expected 12x7"), nullptr) << s.message();
+  s = cam.Capture(&f, 100);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::strstr(s.message(),
+                        "left left_3.pgm is 16x9, larger than the recording's first pair (12x7)"),
+            nullptr)
+      << s.message();
+  s = cam.Capture(&f, 100);
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(ValueShown(f.left), 40);
+  EXPECT_EQ(cam.stats().errors, 2u);
 }
 
 }  // namespace

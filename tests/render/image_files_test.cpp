@@ -377,5 +377,27 @@ TEST(Pgm, RejectsBadFilesWithClearErrors) {
   ExpectPgmError("P5\n10 10 255\n", StatusCode::kResourceExhausted, "buffer holds 64");
 }
 
+// The size a file declares, read from its header alone: the replay camera sizes its decode
+// buffers with it before decoding.
+TEST(ImageFileSize, ReadsPngAndPgmHeadersWithoutDecoding) {
+  const std::vector<uint8_t> png = Encode(TestImage(37, 21, 3, 5), 37, 21, 3);
+  const Result<ImageInfo> p = ImageFileSize(png.data(), png.size());
+  ASSERT_TRUE(p.ok()) << p.status().message();
+  EXPECT_EQ(p->width, 37);
+  EXPECT_EQ(p->height, 21);
+  // A PGM cut after its header: no pixel is read.
+  const std::vector<uint8_t> pgm = Bytes("P5\n# comment\n640 480\n255\n");
+  const Result<ImageInfo> g = ImageFileSize(pgm.data(), pgm.size());
+  ASSERT_TRUE(g.ok()) << g.status().message();
+  EXPECT_EQ(g->width, 640);
+  EXPECT_EQ(g->height, 480);
+  const std::vector<uint8_t> large = Bytes("P5\n1281 800\n255\n");
+  EXPECT_EQ(ImageFileSize(large.data(), large.size()).status().code(), StatusCode::kOutOfRange);
+  const std::vector<uint8_t> junk = Bytes("JUNK");
+  EXPECT_EQ(ImageFileSize(junk.data(), junk.size()).status().code(), StatusCode::kInvalidArgument);
+  const std::vector<uint8_t> cut(png.begin(), png.begin() + 16);
+  EXPECT_EQ(ImageFileSize(cut.data(), cut.size()).status().code(), StatusCode::kDataLoss);
+}
+
 }  // namespace
 }  // namespace sh::hal
