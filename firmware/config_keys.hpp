@@ -169,7 +169,9 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
   INT(gpio_strobe_line, int, -1, -1, 1023, "", "strobe output line, -1 = not wired")               \
   BOOL(gpio_outputs_active_low, false, "wiring polarity of the outputs")                           \
   BOOL(gpio_trigger_active_low, false, "wiring polarity of the trigger")                           \
-  BOOL(mlock, true, "mlockall(MCL_CURRENT | MCL_FUTURE); refused = a warning")                     \
+  BOOL(mlock, true,                                                                                \
+       "lock every page mapped once the firmware has started, and again after a data reload or "   \
+       "a camera restart (mlockall(MCL_CURRENT), docs/memory.md); refused = a warning")            \
   INT(sched_fifo_priority, int, 0, 0, 99, "",                                                      \
       "SCHED_FIFO priority of the worker thread, 0 = normal scheduling")                           \
   INT(sim_port, int, 0, 0, 65535, "",                                                              \

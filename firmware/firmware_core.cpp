@@ -105,6 +105,9 @@ Status FirmwareCore::Start(const CoreConfig& config, const CoreDevices& devices)
   gpio_ = std::thread([this] { GpioLoop(); });
   heartbeat_ = std::thread([this] { HeartbeatLoop(); });
   threads_started_ = true;
+  // Every buffer of the per-frame path exists now: locking them is what keeps page faults out of
+  // it (docs/memory.md, "Locked memory").
+  LockCurrentMemory();
   if (config_.sched_fifo_priority > 0) {
     const Status fifo = SetFifoPriority(worker_, config_.sched_fifo_priority);
     if (!fifo.ok()) Log("%s; running with normal scheduling", fifo.message());
@@ -554,7 +557,15 @@ bool FirmwareCore::RestartCamera(hal::CaptureMode mode) {
   }
   camera_started_ = true;
   capture_mode_ = mode;
+  if (threads_started_) LockCurrentMemory();  // the buffers of this start
   return true;
+}
+
+void FirmwareCore::LockCurrentMemory() {
+  if (!config_.lock_memory) return;
+  const Status s = LockMemory();
+  if (!s.ok() && !lock_refusal_logged_) Log("%s; continuing unlocked", s.message());
+  lock_refusal_logged_ = lock_refusal_logged_ || !s.ok();
 }
 
 bool FirmwareCore::FallBackToOneCamera(const Status& failure) {
@@ -649,6 +660,9 @@ void FirmwareCore::ClearFault(const CanFrame& frame) {
     faults_ &= ~kFaultCanBusOff;
   }
   faults_ &= ~kFaultCanTxDropped;
+  // A reload may have taken new blocks (another image size, the colour path), a camera start
+  // new buffers: locked before the next trigger.
+  LockCurrentMemory();
   UpdateState();
   uint32_t cleared = before & ~faults_.load();
   if (one_camera && !still_one_camera) cleared |= kWarningOneCamera;

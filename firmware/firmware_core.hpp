@@ -113,6 +113,10 @@ struct CoreConfig {
   RigidTransform out_T_camera;
   uint32_t serial_number = 0;         // 0x1018 sub 4 and the LSS identity
   const char* hardware_version = "";  // 0x1009
+  // Lock the memory mapped at the end of Start (every thread started, recognition initialised,
+  // the camera's buffers allocated) and again after a data reload or a camera restart
+  // (LockMemory: mlockall(MCL_CURRENT)); refused = logged once, the firmware runs unlocked.
+  bool lock_memory = false;
 };
 
 struct CoreDevices {
@@ -221,6 +225,8 @@ class FirmwareCore final : public RecorderObserver {
   bool StartOnOneCamera(const Status& failure);
   // Restarts the camera in `mode`; false (logged) when it does not start.
   bool RestartCamera(hal::CaptureMode mode);
+  // With config_.lock_memory: LockMemory(), the first refusal logged.
+  void LockCurrentMemory();
   // Clear-fault while on one camera: back to stereo when a stereo pair arrives, else back to the
   // one camera. True when stereo again.
   bool TryStereoAgain();
@@ -292,6 +298,7 @@ class FirmwareCore final : public RecorderObserver {
 
   std::thread worker_, can_rx_, gpio_, heartbeat_;
   bool threads_started_ = false;
+  bool lock_refusal_logged_ = false;
 };
 
 // CLOCK_MONOTONIC in nanoseconds (the time base of triggers and the pipeline's budget).

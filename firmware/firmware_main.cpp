@@ -354,7 +354,7 @@ int FirmwareMain(int argc, char** argv, Board* board) {
 
   Recognition* recognition = nullptr;
   if (config.recognition == RecognitionKind::kPipeline) {
-    static Pipeline pipeline;  // tens of MiB: static storage, locked and pre-faulted below
+    static Pipeline pipeline;  // tens of MiB: static storage, locked once the core has started
     // The texture path's buffers (about 63 MiB) only when printed models are configured (the
     // features key, or a tables model set holding them);
     // unlocked, only the pages a frame uses become resident (docs/memory.md).
@@ -398,12 +398,6 @@ int FirmwareMain(int argc, char** argv, Board* board) {
     }
   }
 
-  if (config.mlock) {
-    const Status s = LockMemory();
-    if (!s.ok()) {
-      std::fprintf(stderr, "%s: %s; continuing unlocked\n", board->program(), s.message());
-    }
-  }
   PrefaultStack();
 
   static MainObserver observer(&notifier, board->Observer(config, output->frame));
@@ -424,6 +418,8 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   cc.out_T_camera = output->out_T_camera;
   cc.serial_number = serial_number;
   cc.hardware_version = board->hardware_version();
+  // Locked by the core once it has started (docs/memory.md, "Locked memory").
+  cc.lock_memory = config.mlock;
   CoreDevices core_devices;
   core_devices.can = devices.can;
   core_devices.gpio = devices.gpio;

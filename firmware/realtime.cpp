@@ -10,7 +10,7 @@
 namespace sh::fw {
 
 Status LockMemory() {
-  if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
+  if (mlockall(MCL_CURRENT) != 0) {
     return Status::Error(StatusCode::kUnavailable,
                          "mlockall failed: %s (raise LimitMEMLOCK or grant CAP_IPC_LOCK)",
                          std::strerror(errno));

@@ -24,7 +24,11 @@ inline constexpr size_t kThreadStackBytes = size_t{1} << 20;
 // whole process. kUnavailable with the reason when the C library refuses.
 Status LimitThreadStacks(size_t bytes = kThreadStackBytes);
 
-// mlockall(MCL_CURRENT | MCL_FUTURE). kUnavailable with the reason when not permitted
+// mlockall(MCL_CURRENT): faults in and locks every page mapped now (static storage, the heap,
+// the blocks taken at Init, every thread's whole stack, the program and its libraries); pages
+// mapped later are not locked (no MCL_FUTURE), so the caller locks after start-up, once every
+// buffer of the per-frame path exists, and again after anything that maps new ones (a reload of
+// the model data, a camera restart). kUnavailable with the reason when not permitted
 // (RLIMIT_MEMLOCK, no CAP_IPC_LOCK); the caller logs it and runs on.
 Status LockMemory();
 

@@ -1,9 +1,13 @@
-// The firmware's thread stacks: bounded (mlock locks each one in full) and still deep enough.
+// The firmware's thread stacks: bounded (mlock locks each one in full) and still deep enough;
+// what LockMemory locks.
 #include "firmware/realtime.hpp"
 
 #include <gtest/gtest.h>
 #include <pthread.h>
+#include <sys/mman.h>
 
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <thread>
 
@@ -29,6 +33,54 @@ size_t StackOfNewThread() {
   });
   t.join();
   return bytes;
+}
+
+// The "Locked:" KiB of the mapping that holds `address`, from /proc/self/smaps; -1 if none.
+long LockedKibAt(const void* address) {
+  std::FILE* f = std::fopen("/proc/self/smaps", "r");
+  if (f == nullptr) return -1;
+  const auto at = reinterpret_cast<uintptr_t>(address);
+  bool inside = false;
+  long locked = -1;
+  char line[512];
+  while (std::fgets(line, sizeof(line), f) != nullptr) {
+    unsigned long lo = 0;
+    unsigned long hi = 0;
+    if (std::sscanf(line, "%lx-%lx ", &lo, &hi) == 2 && std::strchr(line, ':') != nullptr &&
+        std::strncmp(line, "Locked:", 7) != 0) {
+      inside = at >= lo && at < hi;
+    } else if (inside && std::sscanf(line, "Locked: %ld kB", &locked) == 1) {
+      break;
+    }
+  }
+  std::fclose(f);
+  return inside ? locked : -1;
+}
+
+// LockMemory locks what is mapped when it is called, every page of it, and nothing mapped later
+// (no MCL_FUTURE): the firmware calls it once its per-frame buffers exist.
+TEST(LockMemory, LocksTheCurrentMappingsOnly) {
+  constexpr size_t kBytes = size_t{4} << 20;
+  auto* map_anonymous = +[](size_t bytes) {
+    return mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  };
+  void* before = map_anonymous(kBytes);  // never touched
+  ASSERT_NE(before, MAP_FAILED);
+  const Status s = LockMemory();
+  if (!s.ok()) {
+    (void)munmap(before, kBytes);
+    GTEST_SKIP() << s.message() << " (no permission to lock here)";
+  }
+  void* after = map_anonymous(kBytes);
+  ASSERT_NE(after, MAP_FAILED);
+  static_cast<volatile char*>(after)[0] = 1;
+  const long locked_before = LockedKibAt(before);
+  const long locked_after = LockedKibAt(after);
+  (void)munlockall();
+  (void)munmap(before, kBytes);
+  (void)munmap(after, kBytes);
+  EXPECT_GE(locked_before, static_cast<long>(kBytes / 1024)) << "faulted in and locked in full";
+  EXPECT_EQ(locked_after, 0) << "a mapping made after the call is not locked";
 }
 
 TEST(ThreadStacks, LaterThreadsGetTheGivenSize) {
