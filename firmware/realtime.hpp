@@ -32,8 +32,8 @@ Status LimitThreadStacks(size_t bytes = kThreadStackBytes);
 // (RLIMIT_MEMLOCK, no CAP_IPC_LOCK); the caller logs it and runs on.
 Status LockMemory();
 
-// Touches `bytes` of the calling thread's stack so that the pages are mapped (and, after
-// LockMemory, locked) before the first trigger.
+// Touches `bytes` of the calling thread's stack so that the pages are mapped before the first
+// trigger (LockMemory, once the threads run, locks each stack in full whether touched or not).
 void PrefaultStack(size_t bytes = kPrefaultStackBytes);
 
 // SCHED_FIFO at `priority` (1..99) for `thread`; kUnavailable when not permitted.
