@@ -4,8 +4,8 @@
 
 #include "recog/camera/calibration_check.hpp"
 #include "recog/camera/image_check.hpp"
-#include "recog/pipeline/inside_object.hpp"
 #include "recog/stereo/image_adapters.hpp"
+#include "recog/verify/inside_object.hpp"
 
 namespace sh {
 namespace {

@@ -2,8 +2,8 @@
 // (view database): a red cube is a cube to the polyhedral path's corners and edges too. The
 // shape path runs first and the colour parts it finds are hidden from the polyhedral path, which
 // reports nothing inside them: one object, one report, by the path whose model it is. Also the
-// rule itself (CentreInside) by its geometry, and no heap in the mixed path (this binary counts
-// operator new).
+// rule itself (CentreInside, Interpenetrate) by its geometry, and no heap in the mixed path (this
+// binary counts operator new).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -13,8 +13,8 @@
 
 #include "hal/sim/world/sim_world.hpp"
 #include "recog/geometry/rigid_transform.hpp"
-#include "recog/pipeline/inside_object.hpp"
 #include "recog/pipeline/pipeline.hpp"
+#include "recog/verify/inside_object.hpp"
 #include "tables/model_files.hpp"
 #include "tables/shape_view_builder.hpp"
 #include "tables/table_file.hpp"
@@ -83,6 +83,24 @@ TEST(CentreInside, AnyNamesTheFirstContainerAndEmptyModelsContainNothing) {
   EXPECT_EQ(CentreInsideAny(cube, p, others, 2), -1);
   EXPECT_EQ(CentreInsideAny(empty, p, others, 3), -1);
   EXPECT_FALSE(CentreInside(cube, p, {nullptr, p}));
+}
+
+TEST(CentreInside, InterpenetrateHoldsWhenEitherCentreIsInTheOther) {
+  const Model cube = Box(40, 40, 40);
+  const Model small = Box(10, 10, 10);
+  const RigidTransform p = Pose(Eigen::Vector3f::UnitY(), 0.4f, Eigen::Vector3f(10, 0, 450));
+  // The small box's centre inside the cube; the cube's centre (20, 20, 20) outside the small box.
+  RigidTransform at = p;
+  at.t_mm = p * Eigen::Vector3f(2, 2, 2);
+  ASSERT_TRUE(CentreInside(small, at, {&cube, p}));
+  ASSERT_FALSE(CentreInside(cube, p, {&small, at}));
+  EXPECT_TRUE(Interpenetrate({&cube, p}, {&small, at}));
+  EXPECT_TRUE(Interpenetrate({&small, at}, {&cube, p}));
+  // Side by side: neither holds the other's centre.
+  at.t_mm = p * Eigen::Vector3f(45, 0, 0);
+  EXPECT_FALSE(Interpenetrate({&cube, p}, {&small, at}));
+  EXPECT_FALSE(Interpenetrate({&small, at}, {&cube, p}));
+  EXPECT_FALSE(Interpenetrate({nullptr, p}, {&cube, p}));
 }
 
 int64_t FakeClock() {

@@ -1,4 +1,4 @@
-#include "recog/pipeline/inside_object.hpp"
+#include "recog/verify/inside_object.hpp"
 
 namespace sh {
 
@@ -18,6 +18,11 @@ bool CentreInside(const Model& model, const RigidTransform& cam_T_model, const P
     hi = hi.cwiseMax(o.corner(i));
   }
   return (p_mm.array() >= lo.array()).all() && (p_mm.array() <= hi.array()).all();
+}
+
+bool Interpenetrate(const PosedModel& a, const PosedModel& b) {
+  if (a.model == nullptr || b.model == nullptr) return false;
+  return CentreInside(*a.model, a.cam_T_model, b) || CentreInside(*b.model, b.cam_T_model, a);
 }
 
 int CentreInsideAny(const Model& model, const RigidTransform& cam_T_model, const PosedModel* others,
