@@ -61,6 +61,7 @@ bool ApplyMonoSetting(const char* setting, MonoPipelineConfig* c) {
       {"mono.max_depth_error", &m.max_depth_error},
       {"mono.max_tilt_deg", &m.max_tilt_deg},
       {"mono.missing_edge_penalty", &m.missing_edge_penalty},
+      {"mono.competing_overlap", &m.competing_overlap},
       {"mono.verify.min_fraction", &m.verify.min_fraction},
       {"mono.verify.max_distance_px", &m.verify.max_distance_px},
       {"mono.features.canny_sigma_px", &c->features.canny.sigma_px},
@@ -76,8 +77,8 @@ bool ApplyMonoSetting(const char* setting, MonoPipelineConfig* c) {
     m.hypotheses_per_basis = static_cast<int>(v);
   } else if (name == "mono.max_fruitless_bases") {
     m.max_fruitless_bases = static_cast<uint32_t>(v);
-  } else if (name == "mono.consensus_bases") {
-    m.consensus_bases = static_cast<int>(v);
+  } else if (name == "mono.competing_bases") {
+    m.competing_bases = static_cast<int>(v);
   } else if (name == "mono.junction_corners") {
     m.junction_corners = v != 0.0f;
   } else if (name == "mono.features.adaptive") {

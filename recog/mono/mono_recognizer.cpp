@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "recog/verify/inside_object.hpp"
+
 namespace sh {
 namespace {
 
@@ -503,6 +505,14 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
   }
   // Final matches at the refined pose, for the counts and the features the object takes.
   const PosedModel posed{&model, c.cam_T_model};
+  // Solids do not interpenetrate: a pose whose centre lies inside an object found before, or
+  // that holds such an object's centre, claims that object's place.
+  for (size_t i = 0; i < n_occluders_; ++i) {
+    if (Interpenetrate(posed, occluders_[i])) {
+      ++stats->rejected_overlap;
+      return false;
+    }
+  }
   MatchFeatures(cam, model, c.cam_T_model, visible, scene, match, &c.matches);
   if (c.matches.n_points + c.matches.n_lines < config_.min_matched_features) {
     ++stats->rejected_matches;
@@ -621,6 +631,68 @@ bool MonoRecognizer::NearLaterObject(uint32_t k, size_t n_objects) const {
   return false;
 }
 
+int MonoRecognizer::SharedFeatures(const Candidate& a, const Candidate& b) {
+  int shared = 0;
+  for (int i = 0; i < b.matches.n_points; ++i) {
+    for (int j = 0; j < a.matches.n_points; ++j) {
+      if (a.matches.points[j].scene == b.matches.points[i].scene) {
+        ++shared;
+        break;
+      }
+    }
+  }
+  for (int i = 0; i < b.matches.n_lines; ++i) {
+    for (int j = 0; j < a.matches.n_lines; ++j) {
+      if (a.matches.lines[j].scene == b.matches.lines[i].scene) {
+        ++shared;
+        break;
+      }
+    }
+  }
+  return shared;
+}
+
+// The verified candidate best_ (from scene basis k) competes with what the untried scene bases
+// on its image corners find: a wrong model fitted to part of an object takes some of the
+// object's corners and lines, and the right model, found from another pair of its corners,
+// claims the same features and explains more of the image. Candidates that claim mostly the
+// same image features are one object: the one with more evidence wins. A base that finds a
+// different object is left untried, for its turn in the search.
+void MonoRecognizer::ChooseAmongCompetitors(uint32_t k, const Vector<RecognizedObject>& objects,
+                                            MonoStats* stats) {
+  uint8_t on_object[kMaxCorners2d / 8] = {};
+  for (int i = 0; i < best_.matches.n_points; ++i) {
+    const int c = best_.matches.points[i].scene;
+    on_object[c / 8] = static_cast<uint8_t>(on_object[c / 8] | (1u << (c % 8)));
+  }
+  const int nc = BasisCornerCount(table_.basis_kind());
+  int extra = 0;
+  for (uint32_t q = k + 1; q < n_candidates_ && extra < config_.competing_bases; ++q) {
+    if (tried_[q] || !BasisActive(candidates_[q])) continue;
+    bool touches = false;
+    for (int c = 0; c < nc; ++c) {
+      const int corner = candidates_[q].corners[c];
+      touches = touches || (on_object[corner / 8] & (1u << (corner % 8))) != 0;
+    }
+    if (!touches) continue;
+    ++extra;
+    tried_at_[q] = static_cast<uint8_t>(objects.size());
+    if (!TryBasis(q, objects, stats, &other_)) continue;
+    const int shared = SharedFeatures(best_, other_);
+    const int smaller = std::min(best_.matches.n_points + best_.matches.n_lines,
+                                 other_.matches.n_points + other_.matches.n_lines);
+    const bool same_place =
+        static_cast<float>(shared) >= config_.competing_overlap * static_cast<float>(smaller) ||
+        Interpenetrate({&table_.model(best_.model), best_.cam_T_model},
+                       {&table_.model(other_.model), other_.cam_T_model});
+    if (!same_place) {
+      tried_[q] = 0;  // another object: its turn comes
+      continue;
+    }
+    if (other_.evidence > best_.evidence) best_ = other_;
+  }
+}
+
 Status MonoRecognizer::Recognize(const ImageFeatures& features, const Budget& budget,
                                  Vector<RecognizedObject>& objects, MonoStats* stats_out) {
   objects.clear();
@@ -660,32 +732,7 @@ Status MonoRecognizer::Recognize(const ImageFeatures& features, const Budget& bu
         continue;
       }
       fruitless = 0;
-      // A second opinion from more scene bases on the same image corners: a wrong model that
-      // fits part of an object from one basis loses to the model that explains more of it
-      // from another.
-      uint8_t on_object[kMaxCorners2d / 8] = {};
-      for (int i = 0; i < best_.matches.n_points; ++i) {
-        const int c = best_.matches.points[i].scene;
-        on_object[c / 8] = static_cast<uint8_t>(on_object[c / 8] | (1u << (c % 8)));
-      }
-      const int nc = BasisCornerCount(table_.basis_kind());
-      int extra = 0;
-      for (uint32_t q = k + 1; q < n_candidates_ && extra < config_.consensus_bases; ++q) {
-        if (tried_[q] || !BasisActive(candidates_[q])) continue;
-        bool on = true;
-        for (int c = 0; c < nc; ++c) {
-          const int corner = candidates_[q].corners[c];
-          on = on && (on_object[corner / 8] & (1u << (corner % 8)));
-        }
-        if (!on) continue;
-        ++extra;
-        tried_at_[q] = static_cast<uint8_t>(objects.size());
-        if (!TryBasis(q, objects, &stats, &other_)) continue;
-        const float apart = (other_.cam_T_model.t_mm - best_.cam_T_model.t_mm).norm();
-        if (apart < config_.min_object_separation_mm && other_.evidence > best_.evidence) {
-          best_ = other_;
-        }
-      }
+      ChooseAmongCompetitors(k, objects, &stats);
       Accept(best_, objects);
       ++stats.accepted;
     }

@@ -85,9 +85,12 @@ struct MonoConfig {
   float aspect_view_margin_deg = 25.0f;
   VerifyConfig verify = MonoVerifyConfig();
   float min_object_separation_mm = 15.0f;  // two objects cannot have centres this close
-  // Scene bases on the corners of a verified candidate tried before it is accepted (the best
-  // of them by evidence wins).
-  int consensus_bases = 2;
+  // Untried scene bases with a corner among a verified candidate's matched corners, tried
+  // before it is accepted; a candidate they find that shares at least this share of the
+  // smaller one's matched image features is the same object, and the one with more evidence
+  // wins.
+  int competing_bases = 2;
+  float competing_overlap = 0.5f;
   // Evidence = confirmed edge samples - this x unconfirmed ones.
   float missing_edge_penalty = 0.5f;
   float hidden_line_step_px = 2.0f;  // sampling of the hidden lines for the matching
@@ -176,6 +179,12 @@ class MonoRecognizer {
   // Votes for candidate k and evaluates its hypotheses; the best verified one goes to *best.
   bool TryBasis(uint32_t k, const Vector<RecognizedObject>& objects, MonoStats* stats,
                 Candidate* best);
+  // Image features (matched corners and lines) both candidates claim.
+  static int SharedFeatures(const Candidate& a, const Candidate& b);
+  // Replaces best_ (found from candidate k) by a competitor for the same image features that
+  // has more evidence.
+  void ChooseAmongCompetitors(uint32_t k, const Vector<RecognizedObject>& objects,
+                              MonoStats* stats);
   void AddJunctionCorners();
   void GenerateBases();
   bool RestingStart(const AspectBasis& basis, const AspectRecord& aspect, const Frame2d& frame,

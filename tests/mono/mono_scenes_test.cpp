@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "recog/mono/mono_pipeline.hpp"
+#include "recog/verify/inside_object.hpp"
 #include "tests/mono/mono_render.hpp"
 #include "tools/eval/synthetic_scene.hpp"
 
@@ -63,6 +64,16 @@ TEST(MonoPipeline, FindsRestingObjectsFromOneImageWithTheTable) {
     for (const RecognizedObject& o : result->objects) {
       EXPECT_GE(o.verify_score[0], pipeline->config().mono.verify.min_fraction);
       EXPECT_GE(o.verify_score[1], pipeline->config().mono.min_match_fraction);
+    }
+    // One place, one object: no two reported objects hold each other's centre.
+    for (size_t a = 0; a < result->objects.size(); ++a) {
+      for (size_t b = a + 1; b < result->objects.size(); ++b) {
+        const RecognizedObject& oa = result->objects[a];
+        const RecognizedObject& ob = result->objects[b];
+        EXPECT_FALSE(Interpenetrate({&f.table.model(oa.model), oa.cam_T_model},
+                                    {&f.table.model(ob.model), ob.cam_T_model}))
+            << "scene " << i << ": objects " << a << " and " << b;
+      }
     }
   }
   EXPECT_GE(score.correct * 4, score.objects * 3) << score.correct << " of " << score.objects;
