@@ -506,12 +506,18 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
   // Final matches at the refined pose, for the counts and the features the object takes.
   const PosedModel posed{&model, c.cam_T_model};
   // Solids do not interpenetrate: a pose whose centre lies inside an object found before, or
-  // that holds such an object's centre, claims that object's place.
-  for (size_t i = 0; i < n_occluders_; ++i) {
-    if (Interpenetrate(posed, occluders_[i])) {
+  // that holds such an object's centre, claims that object's place; it may take it from one
+  // such object if it explains more of the image (below), never from two.
+  c.displaces = -1;
+  for (size_t i = 0; i < accepted.size(); ++i) {
+    const PosedModel other{&table_.model(accepted[i].model),
+                           camera_.cam_T_left * accepted[i].cam_T_model};
+    if (!Interpenetrate(posed, other)) continue;
+    if (c.displaces >= 0 || !config_.displace_weaker) {
       ++stats->rejected_overlap;
       return false;
     }
+    c.displaces = static_cast<int>(i);
   }
   MatchFeatures(cam, model, c.cam_T_model, visible, scene, match, &c.matches);
   if (c.matches.n_points + c.matches.n_lines < config_.min_matched_features) {
@@ -549,10 +555,40 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
   // predicts edges that are not there.
   c.evidence = static_cast<float>(score->confirmed) -
                config_.missing_edge_penalty * static_cast<float>(score->samples - score->confirmed);
+  if (c.displaces >= 0 &&
+      !(c.evidence > accepted[static_cast<size_t>(c.displaces)].verify_evidence)) {
+    ++stats->rejected_overlap;
+    return false;
+  }
   return true;
 }
 
+void MonoRecognizer::Remove(size_t index, Vector<RecognizedObject>& objects) {
+  for (int i = 0; i < n_claimed_points_[index]; ++i) corner_active_[claimed_points_[index][i]] = 1;
+  for (int i = 0; i < n_claimed_lines_[index]; ++i) line_active_[claimed_lines_[index][i]] = 1;
+  for (size_t o = index; o + 1 < objects.size(); ++o) {
+    objects[o] = objects[o + 1];
+    object_circle_[o] = object_circle_[o + 1];
+    n_claimed_points_[o] = n_claimed_points_[o + 1];
+    n_claimed_lines_[o] = n_claimed_lines_[o + 1];
+    std::copy_n(claimed_points_[o + 1], n_claimed_points_[o], claimed_points_[o]);
+    std::copy_n(claimed_lines_[o + 1], n_claimed_lines_[o], claimed_lines_[o]);
+  }
+  objects.pop_back();
+  // Occluders and instance numbers follow the objects that remain.
+  n_occluders_ = 0;
+  for (size_t o = 0; o < objects.size(); ++o) {
+    objects[o].instance = 0;
+    for (size_t q = 0; q < o; ++q) objects[o].instance += objects[q].model == objects[o].model;
+    if (n_occluders_ < kMaxOccluders) {
+      occluders_[n_occluders_++] = {&table_.model(objects[o].model),
+                                    camera_.cam_T_left * objects[o].cam_T_model};
+    }
+  }
+}
+
 void MonoRecognizer::Accept(const Candidate& c, Vector<RecognizedObject>& objects) {
+  if (c.displaces >= 0) Remove(static_cast<size_t>(c.displaces), objects);
   RecognizedObject o;
   o.model = c.model;
   for (const RecognizedObject& prev : objects) o.instance += prev.model == c.model;
@@ -566,8 +602,17 @@ void MonoRecognizer::Accept(const Candidate& c, Vector<RecognizedObject>& object
   o.verify_score[1] = c.match_fraction;
   o.verify_evidence = c.evidence;
   (void)objects.push_back(o);  // capacity checked by the caller
-  for (int i = 0; i < c.matches.n_points; ++i) corner_active_[c.matches.points[i].scene] = 0;
-  for (int i = 0; i < c.matches.n_lines; ++i) line_active_[c.matches.lines[i].scene] = 0;
+  const size_t index = objects.size() - 1;
+  n_claimed_points_[index] = static_cast<uint8_t>(c.matches.n_points);
+  n_claimed_lines_[index] = static_cast<uint8_t>(c.matches.n_lines);
+  for (int i = 0; i < c.matches.n_points; ++i) {
+    corner_active_[c.matches.points[i].scene] = 0;
+    claimed_points_[index][i] = c.matches.points[i].scene;
+  }
+  for (int i = 0; i < c.matches.n_lines; ++i) {
+    line_active_[c.matches.lines[i].scene] = 0;
+    claimed_lines_[index][i] = c.matches.lines[i].scene;
+  }
   if (n_occluders_ < kMaxOccluders) {
     occluders_[n_occluders_++] = {&table_.model(c.model), c.cam_T_model};
   }

@@ -91,6 +91,9 @@ struct MonoConfig {
   // wins.
   int competing_bases = 2;
   float competing_overlap = 0.5f;
+  // A verified candidate that interpenetrates one object found before takes its place when it
+  // has more evidence (else, and when it interpenetrates two, it is rejected).
+  bool displace_weaker = true;
   // Evidence = confirmed edge samples - this x unconfirmed ones.
   float missing_edge_penalty = 0.5f;
   float hidden_line_step_px = 2.0f;  // sampling of the hidden lines for the matching
@@ -169,6 +172,7 @@ class MonoRecognizer {
     float score = 0;
     float evidence = 0;
     float match_fraction = 0;
+    int displaces = -1;  // the object found before whose place it takes, or -1
   };
   Status PrepareScene(const ImageFeatures& features);
   struct SceneBasis2d;
@@ -192,6 +196,8 @@ class MonoRecognizer {
   bool Evaluate(const AspectHypothesis& h, const Frame2d& scene_frame,
                 const Vector<RecognizedObject>& accepted, MonoStats* stats, Candidate* out);
   void Accept(const Candidate& c, Vector<RecognizedObject>& objects);
+  // Takes object `index` out of the result: its image features are free again.
+  void Remove(size_t index, Vector<RecognizedObject>& objects);
   void ComputeBasisKeys();
   void KeyRange(const Frame2d& frame, VoteRequest* request) const;
 
@@ -239,6 +245,11 @@ class MonoRecognizer {
   static constexpr int kMaxLineCorners = 16;
   uint16_t line_corners_[kMaxLines2d][kMaxLineCorners];
   uint8_t n_line_corners_[kMaxLines2d];
+  // Image features each accepted object took (scene corner and line indices).
+  int16_t claimed_points_[kMaxObjects][kMaxMatchedCorners];
+  int16_t claimed_lines_[kMaxObjects][kMaxMatchedPieces];
+  uint8_t n_claimed_points_[kMaxObjects];
+  uint8_t n_claimed_lines_[kMaxObjects];
   // Accepted objects as occluders (this camera's frame).
   PosedModel occluders_[kMaxOccluders];
   size_t n_occluders_ = 0;
