@@ -79,6 +79,8 @@ bool ApplyMonoSetting(const char* setting, MonoPipelineConfig* c) {
     m.max_fruitless_bases = static_cast<uint32_t>(v);
   } else if (name == "mono.competing_bases") {
     m.competing_bases = static_cast<int>(v);
+  } else if (name == "mono.exclude_interpenetrating") {
+    m.exclude_interpenetrating = v != 0.0f;
   } else if (name == "mono.displace_weaker") {
     m.displace_weaker = v != 0.0f;
   } else if (name == "mono.junction_corners") {

@@ -509,7 +509,7 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
   // that holds such an object's centre, claims that object's place; it may take it from one
   // such object if it explains more of the image (below), never from two.
   c.displaces = -1;
-  for (size_t i = 0; i < accepted.size(); ++i) {
+  for (size_t i = 0; i < accepted.size() && config_.exclude_interpenetrating; ++i) {
     const PosedModel other{&table_.model(accepted[i].model),
                            camera_.cam_T_left * accepted[i].cam_T_model};
     if (!Interpenetrate(posed, other)) continue;
@@ -728,8 +728,9 @@ void MonoRecognizer::ChooseAmongCompetitors(uint32_t k, const Vector<RecognizedO
                                  other_.matches.n_points + other_.matches.n_lines);
     const bool same_place =
         static_cast<float>(shared) >= config_.competing_overlap * static_cast<float>(smaller) ||
-        Interpenetrate({&table_.model(best_.model), best_.cam_T_model},
-                       {&table_.model(other_.model), other_.cam_T_model});
+        (config_.exclude_interpenetrating &&
+         Interpenetrate({&table_.model(best_.model), best_.cam_T_model},
+                        {&table_.model(other_.model), other_.cam_T_model}));
     if (!same_place) {
       tried_[q] = 0;  // another object: its turn comes
       continue;

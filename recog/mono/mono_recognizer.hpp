@@ -91,8 +91,10 @@ struct MonoConfig {
   // wins.
   int competing_bases = 2;
   float competing_overlap = 0.5f;
-  // A verified candidate that interpenetrates one object found before takes its place when it
-  // has more evidence (else, and when it interpenetrates two, it is rejected).
+  // Solids do not interpenetrate: a candidate whose corner centroid lies inside an object found
+  // before, or that holds its centroid, is rejected, unless (displace_weaker) it interpenetrates
+  // only that one and has more evidence: then it takes its place.
+  bool exclude_interpenetrating = true;
   bool displace_weaker = true;
   // Evidence = confirmed edge samples - this x unconfirmed ones.
   float missing_edge_penalty = 0.5f;
