@@ -215,11 +215,19 @@ void TextureRecognizer::LocateFace(size_t index) {
         ApplyHomography(d.fit.image_H_face, face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]);
     contour[k] = DistortIdeal(cam, px).cast<float>();
   }
-  // Provisional plane: its depth at the face centre from the image scale there (stable), its
-  // tilt from the homography's pose when that pose agrees with this depth; otherwise facing the
-  // camera (the correlation window then follows only the rotation between the cameras).
-  const float ca = 0.5f * (face.min_ab_mm[0] + face.max_ab_mm[0]);
-  const float cb = 0.5f * (face.min_ab_mm[1] + face.max_ab_mm[1]);
+  // Provisional plane: its depth at the matches' centroid from the image scale there (stable),
+  // its tilt from the homography's pose when that pose agrees with this depth; otherwise facing
+  // the camera (the correlation window then follows only the rotation between the cameras).
+  // The centroid, not the face's centre: few matches on part of a small face fix the
+  // homography's perspective terms poorly, and the scale extrapolated to the centre can be off by
+  // more than the depth search's interval.
+  float ca = 0.0f, cb = 0.0f;
+  for (uint16_t k = 0; k < d.n_matches; ++k) {
+    ca += planar_[d.first_match + k].a_mm;
+    cb += planar_[d.first_match + k].b_mm;
+  }
+  ca /= static_cast<float>(std::max<uint16_t>(1, d.n_matches));
+  cb /= static_cast<float>(std::max<uint16_t>(1, d.n_matches));
   const double scale = MaxImageScale(d.fit.image_H_face, ca, cb);
   if (!(scale > 0)) return;
   const Eigen::Vector2d centre_px = ApplyHomography(d.fit.image_H_face, ca, cb);
