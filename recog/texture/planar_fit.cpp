@@ -117,6 +117,71 @@ Eigen::Vector2d ApplyHomography(const Eigen::Matrix3d& H, double a, double b) {
   return p.head<2>() / p.z();
 }
 
+bool KeepAffineConsensus(Vector<PlanarMatch>& matches, const PlanarFitConfig& config) {
+  const size_t n = matches.size();
+  if (n < 3 || config.consensus_samples < 1) return false;
+  const double tolerance2 = static_cast<double>(config.consensus_px) * config.consensus_px;
+  const auto triples =
+      static_cast<double>(n) * static_cast<double>(n - 1) * static_cast<double>(n - 2) / 6.0;
+  const bool every = triples <= config.consensus_samples;
+  const int samples = every ? static_cast<int>(triples) : config.consensus_samples;
+  uint32_t state = 0x9e3779b9u;  // fixed seed: the same matches give the same set
+  auto next = [&state](size_t bound) {
+    state = state * 1664525u + 1013904223u;
+    return static_cast<size_t>((static_cast<uint64_t>(state) * bound) >> 32);
+  };
+  size_t i = 0, j = 1, k = 2;  // the current triple when every triple is tried
+  Eigen::Matrix<double, 2, 3> best_A;
+  size_t best_count = 0;
+  for (int s = 0; s < samples; ++s) {
+    if (every) {
+      if (s > 0 && ++k == n) {
+        if (++j == n - 1) j = ++i + 1;
+        k = j + 1;
+      }
+    } else {
+      i = next(n);
+      j = next(n - 1);
+      j += j >= i ? 1 : 0;
+      k = next(n - 2);
+      k += k >= std::min(i, j) ? 1 : 0;
+      k += k >= std::max(i, j) ? 1 : 0;
+    }
+    const PlanarMatch& p0 = matches[i];
+    const PlanarMatch& p1 = matches[j];
+    const PlanarMatch& p2 = matches[k];
+    // Collinear or coincident on the face (under 1 mm^2 spanned): no map.
+    const double spanned = (static_cast<double>(p1.a_mm) - p0.a_mm) * (p2.b_mm - p0.b_mm) -
+                           (static_cast<double>(p2.a_mm) - p0.a_mm) * (p1.b_mm - p0.b_mm);
+    if (std::fabs(spanned) < 1.0) continue;
+    // The affine map through the three: rows (a, b, 1) -> (x, y).
+    Eigen::Matrix3d M;
+    Eigen::Matrix<double, 3, 2> X;
+    M << p0.a_mm, p0.b_mm, 1.0, p1.a_mm, p1.b_mm, 1.0, p2.a_mm, p2.b_mm, 1.0;
+    X << p0.x_px, p0.y_px, p1.x_px, p1.y_px, p2.x_px, p2.y_px;
+    const Eigen::PartialPivLU<Eigen::Matrix3d> lu(M);
+    const Eigen::Matrix<double, 2, 3> A = lu.solve(X).transpose();
+    size_t count = 0;
+    for (const PlanarMatch& p : matches) {
+      const Eigen::Vector2d e =
+          A * Eigen::Vector3d(p.a_mm, p.b_mm, 1.0) - Eigen::Vector2d(p.x_px, p.y_px);
+      count += e.squaredNorm() <= tolerance2 ? 1 : 0;
+    }
+    if (count > best_count) {
+      best_count = count;
+      best_A = A;
+    }
+  }
+  if (best_count == 0) return false;
+  for (size_t m = matches.size(); m-- > 0;) {
+    const PlanarMatch& p = matches[m];
+    const Eigen::Vector2d e =
+        best_A * Eigen::Vector3d(p.a_mm, p.b_mm, 1.0) - Eigen::Vector2d(p.x_px, p.y_px);
+    if (e.squaredNorm() > tolerance2) matches.swap_remove(m);
+  }
+  return true;
+}
+
 PlanarFit FitFacePlane(Vector<PlanarMatch>& matches, const PlanarFitConfig& config) {
   PlanarFit fit;
   for (int it = 0; it < config.affine_iterations; ++it) {

@@ -26,6 +26,11 @@ struct PlanarFitConfig {
   float outlier_factor = 3.0f;  // drop errors above this times the mean error
   int min_matches = 5;
   float max_mean_error_px = 2.0f;
+  // When the rounds above fail, the matches are fitted again from the largest set an affine
+  // map through three of them explains within consensus_px (KeepAffineConsensus); 0 samples:
+  // no second attempt.
+  int consensus_samples = 256;
+  float consensus_px = 3.0f;
 };
 
 struct PlanarFit {
@@ -38,6 +43,14 @@ struct PlanarFit {
 // Fits and filters in place: `matches` keeps the correspondences that survive (order not
 // kept). Returns the fit; accepted tells whether the face counts as found.
 PlanarFit FitFacePlane(Vector<PlanarMatch>& matches, const PlanarFitConfig& config);
+
+// Keeps the largest set of matches that an affine map through three of them explains within
+// config.consensus_px (every triple when there are at most consensus_samples of them, else that
+// many from a fixed pseudo-random sequence: deterministic). For clusters with more gross
+// outliers than the mean-based rounds of FitFacePlane remove: a print element repeated on a
+// face, matched at several places, pulls the least-squares fit towards it. False (matches
+// unchanged) when no triple spans a map.
+bool KeepAffineConsensus(Vector<PlanarMatch>& matches, const PlanarFitConfig& config);
 
 // Least-squares affine map (x, y) = A (a, b, 1) of the matches (2 x 3); false when degenerate
 // (fewer than three non-collinear points).

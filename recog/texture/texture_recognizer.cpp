@@ -167,22 +167,34 @@ void TextureRecognizer::FindFaces() {
     if (detections_.full()) break;
     hough_.ClusterMatches(c, cluster_matches_);
     const FaceFrame frame(db_.face(c.face));
-    cluster_planar_.clear();
-    for (uint16_t mi : cluster_matches_) {
-      const Match& m = matches_[mi];
-      if (keypoint_used_[m.keypoint]) continue;
-      const Eigen::Vector2f ab = frame.Coordinates(Vec3(db_.feature(m.feature).model_mm));
-      PlanarMatch pm;
-      pm.a_mm = ab.x();
-      pm.b_mm = ab.y();
-      pm.x_px = ideal_px_[m.keypoint].x();
-      pm.y_px = ideal_px_[m.keypoint].y();
-      pm.keypoint = m.keypoint;
-      pm.feature = m.feature;
-      (void)cluster_planar_.push_back(pm);
-    }
+    auto collect = [&] {
+      cluster_planar_.clear();
+      for (uint16_t mi : cluster_matches_) {
+        const Match& m = matches_[mi];
+        if (keypoint_used_[m.keypoint]) continue;
+        const Eigen::Vector2f ab = frame.Coordinates(Vec3(db_.feature(m.feature).model_mm));
+        PlanarMatch pm;
+        pm.a_mm = ab.x();
+        pm.b_mm = ab.y();
+        pm.x_px = ideal_px_[m.keypoint].x();
+        pm.y_px = ideal_px_[m.keypoint].y();
+        pm.keypoint = m.keypoint;
+        pm.feature = m.feature;
+        (void)cluster_planar_.push_back(pm);
+      }
+    };
+    collect();
     if (cluster_planar_.size() < static_cast<size_t>(config_.planar.min_matches)) continue;
-    const PlanarFit fit = FitFacePlane(cluster_planar_, config_.planar);
+    PlanarFit fit = FitFacePlane(cluster_planar_, config_.planar);
+    if (!fit.accepted) {
+      // More gross outliers than the mean-based rounds remove (a repeated print element
+      // matched at several places): again from the largest consensus of an affine map.
+      collect();
+      if (KeepAffineConsensus(cluster_planar_, config_.planar) &&
+          cluster_planar_.size() >= static_cast<size_t>(config_.planar.min_matches)) {
+        fit = FitFacePlane(cluster_planar_, config_.planar);
+      }
+    }
     if (!fit.accepted) continue;
     // The print seen from the front: a mirrored mapping is no view of the face.
     const Eigen::Matrix3d& H = fit.image_H_face;

@@ -40,6 +40,18 @@ Eigen::Matrix3d HomographyOf(const RigidTransform& cam_T_face, double f, double 
   return H / H(2, 2);
 }
 
+// The match of face point (a, b) where H puts it, displaced by (dx, dy) pixels.
+PlanarMatch MatchOf(const Eigen::Matrix3d& H, float a, float b, float dx, float dy, int id) {
+  const Eigen::Vector2d x = ApplyHomography(H, a, b);
+  PlanarMatch p;
+  p.a_mm = a;
+  p.b_mm = b;
+  p.x_px = static_cast<float>(x.x()) + dx;
+  p.y_px = static_cast<float>(x.y()) + dy;
+  p.keypoint = static_cast<uint16_t>(id);
+  return p;
+}
+
 TEST(PlanarFit, RecoversTheHomographyAndDropsOutliers) {
   std::mt19937 rng(1);
   const RigidTransform pose = RandomPose(rng, 0.6f, {10, -20, 450});
@@ -48,14 +60,9 @@ TEST(PlanarFit, RecoversTheHomographyAndDropsOutliers) {
   std::normal_distribution<float> noise(0.0f, 0.3f);
   auto m = std::make_unique<Vector<PlanarMatch, 256>>();
   for (int i = 0; i < 60; ++i) {
-    PlanarMatch p;
-    p.a_mm = ab(rng);
-    p.b_mm = ab(rng);
-    const Eigen::Vector2d x = ApplyHomography(H, p.a_mm, p.b_mm);
-    p.x_px = static_cast<float>(x.x()) + noise(rng);
-    p.y_px = static_cast<float>(x.y()) + noise(rng);
-    p.keypoint = static_cast<uint16_t>(i);
-    ASSERT_TRUE(m->push_back(p));
+    const float a = ab(rng), b = ab(rng);
+    const float dx = noise(rng), dy = noise(rng);
+    ASSERT_TRUE(m->push_back(MatchOf(H, a, b, dx, dy, i)));
   }
   for (int i = 0; i < 8; ++i) {  // gross outliers
     PlanarMatch p = (*m)[static_cast<size_t>(i)];
@@ -74,6 +81,71 @@ TEST(PlanarFit, RecoversTheHomographyAndDropsOutliers) {
       EXPECT_LT((ApplyHomography(fit.image_H_face, a, b) - ApplyHomography(H, a, b)).norm(), 0.5);
     }
   }
+}
+
+// A small face far away (1.7 px/mm) with few matches, and as many wrong ones: one print point
+// matched at four places around its own (a repeated element) and two more off by 5 and 8 px.
+// The largest affine consensus keeps the right ones; the homography from them maps them.
+TEST(PlanarFit, AffineConsensusDropsRepeatedElementMatches) {
+  RigidTransform pose;
+  pose.R =
+      Eigen::AngleAxisf(0.5f, Eigen::Vector3f(0.3f, 1.0f, 0.2f).normalized()).toRotationMatrix();
+  pose.t_mm = {20, -30, 440};
+  const Eigen::Matrix3d H = HomographyOf(pose, 760, 512, 384);
+  auto m = std::make_unique<Vector<PlanarMatch, 64>>();
+  std::mt19937 rng(5);
+  std::normal_distribution<float> noise(0.0f, 0.3f);
+  auto add = [&](float a, float b, float dx, float dy, int id) {
+    const float nx = noise(rng), ny = noise(rng);
+    ASSERT_TRUE(m->push_back(MatchOf(H, a, b, dx + nx, dy + ny, id)));
+  };
+  const float right[9][2] = {{17, 5},  {12, 5},  {10, 5},  {5, 5},  {26, 6},
+                             {13, 11}, {30, 13}, {21, 13}, {13, 12}};
+  for (int i = 0; i < 9; ++i) add(right[i][0], right[i][1], 0, 0, i);
+  add(18, 5, -12, 9, 100);  // the repeated element
+  add(18, 5, 11, -10, 101);
+  add(18, 5, 5, -5, 102);
+  add(18, 5, 9, -12, 103);
+  add(14, 13, -4, 3, 104);
+  add(17, 13, 6, 5, 105);
+
+  ASSERT_TRUE(KeepAffineConsensus(*m, PlanarFitConfig{}));
+  for (const PlanarMatch& p : *m) EXPECT_LT(p.keypoint, 100) << "wrong match kept";
+  EXPECT_GE(m->size(), 8u);
+  const PlanarFit fit = FitFacePlane(*m, PlanarFitConfig{});
+  ASSERT_TRUE(fit.accepted);
+  // Where the matches are (few matches on part of the face fix its perspective terms poorly:
+  // the recogniser takes the depth there, and the stereo plane the rest).
+  for (const auto& ab : right) {
+    EXPECT_LT(
+        (ApplyHomography(fit.image_H_face, ab[0], ab[1]) - ApplyHomography(H, ab[0], ab[1])).norm(),
+        1.0)
+        << ab[0] << " " << ab[1];
+  }
+}
+
+// Past consensus_samples triples the samples are drawn, from a fixed sequence: the same set
+// for the same matches, and gross outliers among many matches still go.
+TEST(PlanarFit, AffineConsensusSampledIsDeterministic) {
+  std::mt19937 rng(6);
+  const RigidTransform pose = RandomPose(rng, 0.5f, {0, 10, 500});
+  const Eigen::Matrix3d H = HomographyOf(pose, 1000, 400, 300);
+  std::uniform_real_distribution<float> ab(-30.0f, 30.0f);
+  std::uniform_real_distribution<float> off(20.0f, 60.0f);
+  auto m = std::make_unique<Vector<PlanarMatch, 128>>();
+  for (int i = 0; i < 90; ++i) {
+    const float a = ab(rng), b = ab(rng);
+    const bool wrong = i % 3 == 0;
+    const float dx = wrong ? off(rng) : 0.0f, dy = wrong ? -off(rng) : 0.0f;
+    ASSERT_TRUE(m->push_back(MatchOf(H, a, b, dx, dy, wrong ? 1000 + i : i)));
+  }
+  auto again = std::make_unique<Vector<PlanarMatch, 128>>(*m);
+  ASSERT_TRUE(KeepAffineConsensus(*m, PlanarFitConfig{}));
+  ASSERT_TRUE(KeepAffineConsensus(*again, PlanarFitConfig{}));
+  ASSERT_EQ(m->size(), again->size());
+  for (size_t i = 0; i < m->size(); ++i) EXPECT_EQ((*m)[i].keypoint, (*again)[i].keypoint);
+  for (const PlanarMatch& p : *m) EXPECT_LT(p.keypoint, 1000) << "gross outlier kept";
+  EXPECT_GE(m->size(), 30u);  // a region of the face at least, under its perspective
 }
 
 TEST(PlanarFit, RefusesTooFewOrScatteredMatches) {
