@@ -259,24 +259,36 @@ void TextureRecognizer::LocateFace(size_t index) {
   prior.d_mm = prior.normal.dot(centre);
   SelectContourPoints(extractor_.min_eigenvalue(), contour, face.n_corners, config_.stereo,
                       contour_points);
-  face_stereo.clear();
-  for (const Eigen::Vector2f& p : contour_points) {
-    StereoPoint sp;
-    if (stereo_matcher_.Match(p, prior, config_.stereo, &sp)) (void)face_stereo.push_back(sp);
-  }
+  auto correlate = [&](const Plane3& along) {
+    face_stereo.clear();
+    for (const Eigen::Vector2f& p : contour_points) {
+      StereoPoint sp;
+      if (stereo_matcher_.Match(p, along, config_.stereo, &sp)) (void)face_stereo.push_back(sp);
+    }
+  };
+  correlate(prior);
   // A tilt from the homography that warps the window wrongly: retry facing the camera.
   if (face_stereo.size() < static_cast<size_t>(config_.stereo.min_plane_points) &&
       prior.normal.dot(centre.normalized()) > -0.999) {
     prior.normal = -centre.normalized();
     prior.d_mm = prior.normal.dot(centre);
-    face_stereo.clear();
-    for (const Eigen::Vector2f& p : contour_points) {
-      StereoPoint sp;
-      if (stereo_matcher_.Match(p, prior, config_.stereo, &sp)) (void)face_stereo.push_back(sp);
-    }
+    correlate(prior);
   }
   Plane3 plane;
   if (!FitPlaneRansac(face_stereo, config_.stereo, &plane, &d.plane)) return;
+  // Fewer than half the points correlated: the provisional tilt shaped the window poorly (a
+  // small face seen obliquely, facing the camera assumed). Once more with the measured plane;
+  // its result is kept when the plane then has more inliers.
+  if (d.plane.inliers * 2 < static_cast<int>(contour_points.size())) {
+    const int first_inliers = d.plane.inliers;
+    const Plane3 measured_plane = plane;
+    correlate(measured_plane);
+    if (!FitPlaneRansac(face_stereo, config_.stereo, &plane, &d.plane) ||
+        d.plane.inliers <= first_inliers) {
+      correlate(prior);
+      if (!FitPlaneRansac(face_stereo, config_.stereo, &plane, &d.plane)) return;
+    }
+  }
   // Corner rays (from the homography, ideal pixels) cut with the measured plane; Horn against
   // the model's corners.
   Eigen::Vector3d measured[kMaxTexturedFaceCorners], model_corners[kMaxTexturedFaceCorners];
