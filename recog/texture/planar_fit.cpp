@@ -7,16 +7,25 @@
 namespace sh::texture {
 namespace {
 
+// A range of matches for range-for.
+struct Span {
+  const PlanarMatch* first;
+  size_t size;
+  Span(const PlanarMatch* m, size_t n) : first(m), size(n) {}
+  const PlanarMatch* begin() const { return first; }
+  const PlanarMatch* end() const { return first + size; }
+};
+
 // Centring and scaling of both point sets (Hartley): mean at 0, mean distance sqrt(2).
 struct Normaliser {
   double fa = 1, ca = 0, cb = 0;  // face: (a - ca) * fa
   double fx = 1, cx = 0, cy = 0;  // image: (x - cx) * fx
 };
 
-Normaliser MakeNormaliser(const Vector<PlanarMatch>& m) {
+Normaliser MakeNormaliser(const PlanarMatch* m, size_t size) {
   Normaliser n;
-  const double count = static_cast<double>(m.size());
-  for (const PlanarMatch& p : m) {
+  const double count = static_cast<double>(size);
+  for (const PlanarMatch& p : Span(m, size)) {
     n.ca += p.a_mm;
     n.cb += p.b_mm;
     n.cx += p.x_px;
@@ -27,7 +36,7 @@ Normaliser MakeNormaliser(const Vector<PlanarMatch>& m) {
   n.cx /= count;
   n.cy /= count;
   double da = 0, dx = 0;
-  for (const PlanarMatch& p : m) {
+  for (const PlanarMatch& p : Span(m, size)) {
     da += std::hypot(p.a_mm - n.ca, p.b_mm - n.cb);
     dx += std::hypot(p.x_px - n.cx, p.y_px - n.cy);
   }
@@ -58,12 +67,16 @@ double DropAffineOutliers(Vector<PlanarMatch>& m, const Eigen::Matrix<double, 2,
 }  // namespace
 
 bool FitAffine(const Vector<PlanarMatch>& matches, Eigen::Matrix<double, 2, 3>* affine) {
-  if (matches.size() < 3) return false;
-  const Normaliser n = MakeNormaliser(matches);
+  return FitAffine(matches.data(), matches.size(), affine);
+}
+
+bool FitAffine(const PlanarMatch* matches, size_t count, Eigen::Matrix<double, 2, 3>* affine) {
+  if (count < 3) return false;
+  const Normaliser n = MakeNormaliser(matches, count);
   // Both rows share the normal matrix of (a, b, 1).
   Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
   Eigen::Matrix<double, 3, 2> atb = Eigen::Matrix<double, 3, 2>::Zero();
-  for (const PlanarMatch& p : matches) {
+  for (const PlanarMatch& p : Span(matches, count)) {
     const Eigen::Vector3d a((p.a_mm - n.ca) * n.fa, (p.b_mm - n.cb) * n.fa, 1.0);
     ata += a * a.transpose();
     atb += a * Eigen::RowVector2d((p.x_px - n.cx) * n.fx, (p.y_px - n.cy) * n.fx);
@@ -85,7 +98,7 @@ bool FitAffine(const Vector<PlanarMatch>& matches, Eigen::Matrix<double, 2, 3>* 
 
 bool FitHomography(const Vector<PlanarMatch>& matches, Eigen::Matrix3d* image_H_face) {
   if (matches.size() < 4) return false;
-  const Normaliser n = MakeNormaliser(matches);
+  const Normaliser n = MakeNormaliser(matches.data(), matches.size());
   Eigen::Matrix<double, 8, 8> ata = Eigen::Matrix<double, 8, 8>::Zero();
   Eigen::Matrix<double, 8, 1> atb = Eigen::Matrix<double, 8, 1>::Zero();
   for (const PlanarMatch& p : matches) {

@@ -55,6 +55,7 @@ bool KeepAffineConsensus(Vector<PlanarMatch>& matches, const PlanarFitConfig& co
 // Least-squares affine map (x, y) = A (a, b, 1) of the matches (2 x 3); false when degenerate
 // (fewer than three non-collinear points).
 bool FitAffine(const Vector<PlanarMatch>& matches, Eigen::Matrix<double, 2, 3>* affine);
+bool FitAffine(const PlanarMatch* matches, size_t count, Eigen::Matrix<double, 2, 3>* affine);
 
 // Least-squares homography with h9 = 1 (the paper's linear system, on coordinates centred and
 // scaled for conditioning); false when degenerate (fewer than four points in general position).

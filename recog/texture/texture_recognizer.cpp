@@ -227,12 +227,13 @@ void TextureRecognizer::LocateFace(size_t index) {
         ApplyHomography(d.fit.image_H_face, face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]);
     contour[k] = DistortIdeal(cam, px).cast<float>();
   }
-  // Provisional plane: its depth at the matches' centroid from the image scale there (stable),
-  // its tilt from the homography's pose when that pose agrees with this depth; otherwise facing
-  // the camera (the correlation window then follows only the rotation between the cameras).
-  // The centroid, not the face's centre: few matches on part of a small face fix the
-  // homography's perspective terms poorly, and the scale extrapolated to the centre can be off by
-  // more than the depth search's interval.
+  // Provisional plane: its depth at the matches' centroid from the image scale there of the
+  // matches' least-squares affine map, its tilt from the homography's pose when that pose agrees
+  // with this depth; otherwise facing the camera (the correlation window then follows only the
+  // rotation between the cameras). The affine map at the centroid, not the homography at the
+  // face's centre: few matches (5 to 10 on a small face far away) fix the homography's
+  // perspective terms poorly, and its scale, extrapolated or not, was off by up to 17 %, more
+  // than the depth search's interval; the affine map's six parameters are fixed well by them.
   float ca = 0.0f, cb = 0.0f;
   for (uint16_t k = 0; k < d.n_matches; ++k) {
     ca += planar_[d.first_match + k].a_mm;
@@ -240,7 +241,11 @@ void TextureRecognizer::LocateFace(size_t index) {
   }
   ca /= static_cast<float>(std::max<uint16_t>(1, d.n_matches));
   cb /= static_cast<float>(std::max<uint16_t>(1, d.n_matches));
-  const double scale = MaxImageScale(d.fit.image_H_face, ca, cb);
+  Eigen::Matrix<double, 2, 3> affine;
+  if (!FitAffine(planar_.data() + d.first_match, d.n_matches, &affine)) return;
+  Eigen::Matrix3d image_A_face = Eigen::Matrix3d::Identity();
+  image_A_face.topRows<2>() = affine;
+  const double scale = MaxImageScale(image_A_face, ca, cb);
   if (!(scale > 0)) return;
   const Eigen::Vector2d centre_px = ApplyHomography(d.fit.image_H_face, ca, cb);
   const Eigen::Vector3d centre_ray((centre_px.x() - cam.cx) / cam.fx,
