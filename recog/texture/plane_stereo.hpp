@@ -38,6 +38,11 @@ struct PlaneStereoConfig {
   int ransac_iterations = 100;
   float plane_tolerance_mm = 1.5f;
   int min_plane_points = 8;
+  // A second correlation pass with the measured plane as prior when the first found fewer than
+  // half the points, or a plane more than prior_retry_deg from the prior; its prior may come
+  // from as few as min_prior_points (texture_recognizer.cpp, LocateFace).
+  int min_prior_points = 5;
+  float prior_retry_deg = 10.0f;
 };
 
 struct StereoPoint {

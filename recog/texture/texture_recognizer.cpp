@@ -280,20 +280,34 @@ void TextureRecognizer::LocateFace(size_t index) {
     correlate(prior);
   }
   Plane3 plane;
-  if (!FitPlaneRansac(face_stereo, config_.stereo, &plane, &d.plane)) return;
-  // Fewer than half the points correlated: the provisional tilt shaped the window poorly (a
-  // small face seen obliquely, facing the camera assumed). Once more with the measured plane;
-  // its result is kept when the plane then has more inliers.
-  if (d.plane.inliers * 2 < static_cast<int>(contour_points.size())) {
-    const int first_inliers = d.plane.inliers;
-    const Plane3 measured_plane = plane;
-    correlate(measured_plane);
-    if (!FitPlaneRansac(face_stereo, config_.stereo, &plane, &d.plane) ||
-        d.plane.inliers <= first_inliers) {
+  bool fitted = FitPlaneRansac(face_stereo, config_.stereo, &plane, &d.plane);
+  // The window shaped by a poor provisional tilt (a small face seen obliquely, its homography's
+  // tilt not trusted, facing the camera assumed): few points correlate, and the plane through
+  // them is rough. Once more with the measured plane as the prior (from as few as
+  // min_prior_points when no plane had enough), kept when it has at least as many inliers.
+  Plane3 rough = plane;
+  PlaneFitStats rough_stats = d.plane;
+  PlaneStereoConfig relaxed = config_.stereo;
+  relaxed.min_plane_points = config_.stereo.min_prior_points;
+  const bool have_rough = fitted || FitPlaneRansac(face_stereo, relaxed, &rough, &rough_stats);
+  const double cos_limit = std::cos(config_.stereo.prior_retry_deg * 3.14159265358979 / 180.0);
+  if (have_rough && (!fitted || d.plane.inliers * 2 < static_cast<int>(contour_points.size()) ||
+                     rough.normal.dot(prior.normal) < cos_limit)) {
+    const int first_inliers = fitted ? d.plane.inliers : 0;
+    correlate(rough);
+    PlaneFitStats second_stats;
+    Plane3 second;
+    if (FitPlaneRansac(face_stereo, config_.stereo, &second, &second_stats) &&
+        second_stats.inliers >= first_inliers) {
+      plane = second;
+      d.plane = second_stats;
+      fitted = true;
+    } else if (fitted) {
       correlate(prior);
-      if (!FitPlaneRansac(face_stereo, config_.stereo, &plane, &d.plane)) return;
+      fitted = FitPlaneRansac(face_stereo, config_.stereo, &plane, &d.plane);
     }
   }
+  if (!fitted) return;
   // Corner rays (from the homography, ideal pixels) cut with the measured plane; Horn against
   // the model's corners.
   Eigen::Vector3d measured[kMaxTexturedFaceCorners], model_corners[kMaxTexturedFaceCorners];
