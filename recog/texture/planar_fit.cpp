@@ -195,6 +195,32 @@ bool KeepAffineConsensus(Vector<PlanarMatch>& matches, const PlanarFitConfig& co
   return true;
 }
 
+bool LimitPerspective(const float (*corners_ab_mm)[2], int n_corners,
+                      const Vector<PlanarMatch>& matches, double min_depth_mm, PlanarFit* fit) {
+  if (matches.empty() || !(min_depth_mm > 0)) return false;
+  const Eigen::Matrix3d& H = fit->image_H_face;
+  double ca = 0, cb = 0;
+  for (const PlanarMatch& m : matches) {
+    ca += m.a_mm;
+    cb += m.b_mm;
+  }
+  ca /= static_cast<double>(matches.size());
+  cb /= static_cast<double>(matches.size());
+  const double w0 = H(2, 0) * ca + H(2, 1) * cb + H(2, 2);
+  bool plausible = w0 > 0;
+  for (int k = 0; k < n_corners && plausible; ++k) {
+    const double a = corners_ab_mm[k][0], b = corners_ab_mm[k][1];
+    const double w = H(2, 0) * a + H(2, 1) * b + H(2, 2);
+    plausible = std::fabs(w / w0 - 1.0) <= std::hypot(a - ca, b - cb) / min_depth_mm;
+  }
+  if (plausible) return false;
+  Eigen::Matrix<double, 2, 3> affine;
+  if (!FitAffine(matches, &affine)) return false;
+  fit->image_H_face.setIdentity();
+  fit->image_H_face.topRows<2>() = affine;
+  return true;
+}
+
 PlanarFit FitFacePlane(Vector<PlanarMatch>& matches, const PlanarFitConfig& config) {
   PlanarFit fit;
   for (int it = 0; it < config.affine_iterations; ++it) {

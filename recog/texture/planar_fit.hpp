@@ -52,6 +52,15 @@ PlanarFit FitFacePlane(Vector<PlanarMatch>& matches, const PlanarFitConfig& conf
 // unchanged) when no triple spans a map.
 bool KeepAffineConsensus(Vector<PlanarMatch>& matches, const PlanarFitConfig& config);
 
+// A face no nearer than min_depth_mm: between a corner and the matches' centroid the
+// homography's w (depth up to a factor) changes by at most their distance over that depth.
+// When the fit's homography exceeds that at a corner (corners_ab_mm, face millimetres), its
+// perspective is that of noise (a few matches on part of a small face fix it poorly, and the
+// face's contour extrapolated from it goes astray): it is replaced by the matches' affine map.
+// True when replaced.
+bool LimitPerspective(const float (*corners_ab_mm)[2], int n_corners,
+                      const Vector<PlanarMatch>& matches, double min_depth_mm, PlanarFit* fit);
+
 // Least-squares affine map (x, y) = A (a, b, 1) of the matches (2 x 3); false when degenerate
 // (fewer than three non-collinear points).
 bool FitAffine(const Vector<PlanarMatch>& matches, Eigen::Matrix<double, 2, 3>* affine);

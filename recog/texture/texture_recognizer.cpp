@@ -196,6 +196,9 @@ void TextureRecognizer::FindFaces() {
       }
     }
     if (!fit.accepted) continue;
+    const TexturedFace& face = db_.face(c.face);
+    (void)LimitPerspective(face.corners_ab_mm, face.n_corners, cluster_planar_,
+                           config_.min_depth_mm, &fit);
     // The print seen from the front: a mirrored mapping is no view of the face.
     const Eigen::Matrix3d& H = fit.image_H_face;
     if ((H(0, 0) * H(1, 1) - H(0, 1) * H(1, 0)) * H(2, 2) >= 0.0) continue;  // b up, y down

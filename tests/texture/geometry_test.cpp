@@ -222,6 +222,33 @@ TEST(PlanarFit, AffineScaleAtTheCentroidIsStableWithFewMatches) {
   EXPECT_GT(mean_homography, 2 * mean_affine);
 }
 
+// The perspective a face shows at 400 mm, tilted by 60 degrees, stays; a homography whose w
+// changes by 30 % over a 40 x 25 mm face (a face 130 mm away at most) is replaced by the
+// matches' affine map.
+TEST(PlanarFit, PerspectiveBeyondTheNearestDepthFallsBackToTheAffineMap) {
+  RigidTransform pose;
+  pose.R = Eigen::AngleAxisf(1.047f, Eigen::Vector3f::UnitY()).toRotationMatrix();
+  pose.t_mm = {-10, 5, 400};
+  const Eigen::Matrix3d H = HomographyOf(pose, 760, 512, 384);
+  const float corners[4][2] = {{0, 0}, {40, 0}, {40, 25}, {0, 25}};
+  auto m = std::make_unique<Vector<PlanarMatch, 16>>();
+  const float ab[6][2] = {{5, 5}, {20, 6}, {12, 12}, {25, 10}, {8, 14}, {18, 13}};
+  for (int i = 0; i < 6; ++i) ASSERT_TRUE(m->push_back(MatchOf(H, ab[i][0], ab[i][1], 0, 0, i)));
+  PlanarFit fit;
+  fit.image_H_face = H;
+  EXPECT_FALSE(LimitPerspective(corners, 4, *m, 300.0, &fit));
+  EXPECT_TRUE(fit.image_H_face.isApprox(H));
+
+  Eigen::Matrix3d wild = H;
+  wild.row(2) << 0.3 / 40.0, 0.0, 1.0;  // w from 1 to 1.3 across the face
+  fit.image_H_face = wild;
+  EXPECT_TRUE(LimitPerspective(corners, 4, *m, 300.0, &fit));
+  Eigen::Matrix<double, 2, 3> affine;
+  ASSERT_TRUE(FitAffine(*m, &affine));
+  EXPECT_TRUE(fit.image_H_face.topRows<2>().isApprox(affine));
+  EXPECT_EQ(fit.image_H_face.row(2), Eigen::RowVector3d(0, 0, 1));
+}
+
 TEST(AbsoluteOrientation, EqualsUmeyamaAndRecoversTheTransform) {
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> u(-50.0, 50.0);
