@@ -132,12 +132,12 @@ Status PipelineRecognition::ProcessMonocular(hal::StereoSide side, ConstGrayView
     return Status::Error(StatusCode::kFailedPrecondition, "no monocular pipeline");
   }
   const int camera = side == hal::StereoSide::kLeft ? 0 : 1;
-  // Set up again when the camera changed, or when the stereo frames confirmed (or moved) a
-  // carried plane since: once per fallback, not per frame (the stereo path is idle meanwhile).
+  // Set up again when the camera changed, or when the stereo frames confirmed, moved or dropped
+  // the carried plane since: once per fallback, not per frame (the stereo path is idle meanwhile).
   const RigidTransform* carried = CarriedPlaneForMono();
-  const bool plane_changed =
-      carried != nullptr && (!mono_on_carried_plane_ || carried->R != mono_left_T_table_.R ||
-                             carried->t_mm != mono_left_T_table_.t_mm);
+  const bool plane_changed = (carried != nullptr) != mono_on_carried_plane_ ||
+                             (carried != nullptr && (carried->R != mono_left_T_table_.R ||
+                                                     carried->t_mm != mono_left_T_table_.t_mm));
   if (!mono_->initialised() || mono_->camera() != camera || plane_changed) {
     SH_RETURN_IF_ERROR(InitMono(camera));
   }
@@ -153,9 +153,11 @@ Status PipelineRecognition::ProcessMonocular(hal::StereoSide side, ConstGrayView
                                                  static_cast<uint8_t>(o.instance), score);
   }
   set->object_count = static_cast<uint8_t>(n);
-  set->table = mono_on_carried_plane_     ? protocol::TablePlane::kCarried
-               : config_.mono_table_known ? protocol::TablePlane::kFile
-                                          : protocol::TablePlane::kNone;
+  // As the stereo sets say it: a configured pose is the file's; the simulator's rendered table
+  // (known to the fallback, not configured) is none.
+  set->table = mono_on_carried_plane_                            ? protocol::TablePlane::kCarried
+               : config_.mono_table_known && config_.table_known ? protocol::TablePlane::kFile
+                                                                 : protocol::TablePlane::kNone;
   return Status::Ok();
 }
 
