@@ -564,8 +564,8 @@ bool FirmwareCore::RestartCamera(hal::CaptureMode mode) {
 void FirmwareCore::LockCurrentMemory() {
   if (!config_.lock_memory) return;
   const Status s = LockMemory();
-  if (!s.ok() && !lock_refusal_logged_) Log("%s; continuing unlocked", s.message());
-  lock_refusal_logged_ = lock_refusal_logged_ || !s.ok();
+  // The refusal is logged once, whichever thread meets it first.
+  if (!s.ok() && !lock_refusal_logged_.exchange(true)) Log("%s; continuing unlocked", s.message());
 }
 
 bool FirmwareCore::FallBackToOneCamera(const Status& failure) {

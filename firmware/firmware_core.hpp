@@ -298,7 +298,8 @@ class FirmwareCore final : public RecorderObserver {
 
   std::thread worker_, can_rx_, gpio_, heartbeat_;
   bool threads_started_ = false;
-  bool lock_refusal_logged_ = false;
+  // Start (the calling thread) and the worker (camera restarts, clear-fault) both lock memory.
+  std::atomic<bool> lock_refusal_logged_{false};
 };
 
 // CLOCK_MONOTONIC in nanoseconds (the time base of triggers and the pipeline's budget).
