@@ -575,6 +575,11 @@ void MonoRecognizer::Remove(size_t index, Vector<RecognizedObject>& objects) {
     std::copy_n(claimed_lines_[o + 1], n_claimed_lines_[o], claimed_lines_[o]);
   }
   objects.pop_back();
+  // A base tried after the removed object was found saw one object fewer of the list that
+  // remains: its "objects found later" start one place earlier.
+  for (uint32_t q = 0; q < n_candidates_; ++q) {
+    if (tried_at_[q] > index) --tried_at_[q];
+  }
   // Occluders and instance numbers follow the objects that remain.
   n_occluders_ = 0;
   for (size_t o = 0; o < objects.size(); ++o) {
@@ -747,6 +752,12 @@ Status MonoRecognizer::Recognize(const ImageFeatures& features, const Budget& bu
   stats = MonoStats{};
   if (!initialised_) {
     return Status::Error(StatusCode::kFailedPrecondition, "mono: Init() has not succeeded");
+  }
+  // The per-object state (circles, claimed features) holds kMaxObjects objects.
+  if (objects.capacity() > kMaxObjects) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "mono: the result holds %zu objects, at most %zu are tracked",
+                         objects.capacity(), size_t{kMaxObjects});
   }
   SH_RETURN_IF_ERROR(PrepareScene(features));
   GenerateBases();
