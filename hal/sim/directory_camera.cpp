@@ -326,8 +326,8 @@ Status DirectoryFrameSource::Open(int* width, int* height) {
   SH_RETURN_IF_ERROR(Scan());
   SH_RETURN_IF_ERROR(AllocateFileBuffer());
   // The first pair that decodes sets the size, and the decode buffers are sized for it (read
-  // from its left file's header); a broken first file then shows up as a per-frame error at
-  // playback instead of refusing the whole recording.
+  // from both files' headers, the larger); a broken first file then shows up as a per-frame error
+  // at playback instead of refusing the whole recording.
   Status first_error;
   for (const PathPair& p : pairs_) {
     Decoded l;

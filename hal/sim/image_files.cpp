@@ -73,6 +73,12 @@ uint32_t ReadBe32(const uint8_t* p) {
 // ---------------------------------------------------------------------------------------------
 // PGM
 
+// The decoder and the size probe refuse plain PGM alike.
+Status PlainPgmRefused() {
+  return Status::Error(StatusCode::kUnimplemented,
+                       "PGM: plain (ASCII, P2) files not supported; use binary P5");
+}
+
 bool IsPnmSpace(uint8_t c) {
   return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
 }
@@ -141,10 +147,7 @@ Result<ImageInfo> DecodePgm(const uint8_t* data, size_t size, PixelFormat format
   if (data == nullptr || size < 2 || data[0] != 'P') {
     return Status::Error(StatusCode::kInvalidArgument, "PGM: missing 'P5' signature");
   }
-  if (data[1] == '2') {
-    return Status::Error(StatusCode::kUnimplemented,
-                         "PGM: plain (ASCII, P2) files not supported; use binary P5");
-  }
+  if (data[1] == '2') return PlainPgmRefused();
   if (data[1] != '5') {
     return Status::Error(StatusCode::kInvalidArgument,
                          "PGM: signature P%c is not a binary grey map (P5)", data[1]);
@@ -278,6 +281,7 @@ Result<ImageInfo> ImageFileSize(const uint8_t* data, size_t size) {
     info.height = static_cast<int>(h);
     return info;
   }
+  if (data != nullptr && size >= 2 && data[0] == 'P' && data[1] == '2') return PlainPgmRefused();
   if (data == nullptr || size < 3 || data[0] != 'P' || data[1] != '5' || !IsPnmSpace(data[2])) {
     return Status::Error(StatusCode::kInvalidArgument, "image is neither PNG nor binary PGM");
   }
