@@ -58,13 +58,15 @@ void PrintHelp() {
       "              table_estimate = carry); needs no table file (--no-table)\n"
       "  --set NAME=VALUE  override one pipeline setting (as `bench scenes --set`); mono.NAME\n"
       "              for the monocular recogniser; the pipeline's settings:\n%s\n"
+      "              the monocular recogniser's:\n%s\n"
       "  --monocular left|right  the monocular mode on that camera's images instead\n"
       "  --compare   the stereo pipeline and the monocular mode (left images) side by side\n"
       "  --tolerance MM,DEG  scoring tolerances (default 5,5)\n"
       "  --cpu-time  time stages by this process's CPU time (a loaded machine stretches wall\n"
       "              time; threads add up)\n"
       "%s",
-      PipelineSettingNames("                ", 94).c_str(), kRecognizeOptionsHelp);
+      PipelineSettingNames("                ", 94).c_str(),
+      MonoSettingNames("                ", 94).c_str(), kRecognizeOptionsHelp);
 }
 
 // DIR/NAME/, the prefix of a scene's files.
@@ -378,8 +380,8 @@ int RunBenchRecorded(int argc, char** argv) {
     if (!same) return Fail("the aspect table's models differ from the hash tables'");
     MonoPipelineConfig mono_config = MakeMonoConfig(options);
     for (const char* setting : mono_settings) {
-      if (!ApplyMonoSetting(setting, &mono_config)) {
-        std::fprintf(stderr, "stereohash bench recorded: unknown setting %s\n", setting);
+      if (const Status applied = ApplyMonoSetting(setting, &mono_config); !applied.ok()) {
+        std::fprintf(stderr, "stereohash bench recorded: %s\n", applied.message());
         return 2;
       }
     }

@@ -223,8 +223,9 @@ int RunBenchScenes(int argc, char** argv) {
     mono = std::make_unique<MonoPipeline>();
     workspace = MakeWorkspace<FeatureWorkspace>();  // any image size up to the maximum
     for (const char* setting : settings) {
-      if (std::strncmp(setting, "mono.", 5) == 0 && !ApplyMonoSetting(setting, &mono_config)) {
-        std::fprintf(stderr, "stereohash bench: unknown setting %s\n", setting);
+      if (std::strncmp(setting, "mono.", 5) != 0) continue;
+      if (const Status applied = ApplyMonoSetting(setting, &mono_config); !applied.ok()) {
+        std::fprintf(stderr, "stereohash bench: %s\n", applied.message());
         return 2;
       }
     }

@@ -2,6 +2,7 @@
 
 #include "recog/verify/draw_edges.hpp"
 #include "tools/overlay.hpp"
+#include "tools/setting_table.hpp"
 
 #include <Eigen/Geometry>
 #include <cstdio>
@@ -40,57 +41,64 @@ MonoPipelineConfig MakeMonoConfig(const RecognizeOptions& options) {
                                       : MonoPipelineConfig::DarkBackground();
 }
 
-bool ApplyMonoSetting(const char* setting, MonoPipelineConfig* c) {
-  const char* eq = std::strchr(setting, '=');
-  if (eq == nullptr) return false;
-  const std::string name(setting, eq);
-  const float v = static_cast<float>(std::atof(eq + 1));
-  MonoConfig& m = c->mono;
-  struct FloatSetting {
-    const char* name;
-    float* value;
-  };
-  const FloatSetting floats[] = {
-      {"mono.vote_threshold", &m.vote_threshold},
-      {"mono.sigma_point_px", &m.voter.sigma_point_px},
-      {"mono.sigma_line_px", &m.voter.sigma_line_px},
-      {"mono.line_angle_window_deg", &m.voter.line_angle_window_deg},
-      {"mono.min_match_fraction", &m.min_match_fraction},
-      {"mono.early_match_fraction", &m.early_match_fraction},
-      {"mono.max_scale_error", &m.max_scale_error},
-      {"mono.max_depth_error", &m.max_depth_error},
-      {"mono.max_tilt_deg", &m.max_tilt_deg},
-      {"mono.missing_edge_penalty", &m.missing_edge_penalty},
-      {"mono.competing_overlap", &m.competing_overlap},
-      {"mono.verify.min_fraction", &m.verify.min_fraction},
-      {"mono.verify.max_distance_px", &m.verify.max_distance_px},
-      {"mono.features.canny_sigma_px", &c->features.canny.sigma_px},
-      {"mono.features.corner_threshold", &c->features.corners.threshold},
-  };
-  for (const FloatSetting& f : floats) {
-    if (name == f.name) {
-      *f.value = v;
-      return true;
-    }
-  }
-  if (name == "mono.hypotheses_per_basis") {
-    m.hypotheses_per_basis = static_cast<int>(v);
-  } else if (name == "mono.max_fruitless_bases") {
-    m.max_fruitless_bases = static_cast<uint32_t>(v);
-  } else if (name == "mono.competing_bases") {
-    m.competing_bases = static_cast<int>(v);
-  } else if (name == "mono.exclude_interpenetrating") {
-    m.exclude_interpenetrating = v != 0.0f;
-  } else if (name == "mono.displace_weaker") {
-    m.displace_weaker = v != 0.0f;
-  } else if (name == "mono.junction_corners") {
-    m.junction_corners = v != 0.0f;
-  } else if (name == "mono.features.adaptive") {
-    c->features.adaptive = v != 0.0f;
-  } else {
-    return false;
-  }
-  return true;
+namespace {
+
+// The monocular recogniser's settings worth exploring from the bench commands (`--set mono.*`).
+constexpr Setting<MonoPipelineConfig> kMonoSettings[] = {
+    {"mono.vote_threshold", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.vote_threshold = v; }},
+    {"mono.sigma_point_px", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.voter.sigma_point_px = v; }},
+    {"mono.sigma_line_px", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.voter.sigma_line_px = v; }},
+    {"mono.line_angle_window_deg", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.voter.line_angle_window_deg = v; }},
+    {"mono.min_match_fraction", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.min_match_fraction = v; }},
+    {"mono.early_match_fraction", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.early_match_fraction = v; }},
+    {"mono.max_scale_error", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.max_scale_error = v; }},
+    {"mono.max_depth_error", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.max_depth_error = v; }},
+    {"mono.max_tilt_deg", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.max_tilt_deg = v; }},
+    {"mono.missing_edge_penalty", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.missing_edge_penalty = v; }},
+    {"mono.competing_overlap", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.competing_overlap = v; }},
+    {"mono.verify.min_fraction", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.verify.min_fraction = v; }},
+    {"mono.verify.max_distance_px", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.verify.max_distance_px = v; }},
+    {"mono.features.canny_sigma_px", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.features.canny.sigma_px = v; }},
+    {"mono.features.corner_threshold", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.features.corners.threshold = v; }},
+    {"mono.hypotheses_per_basis", SettingKind::kCount,
+     [](float v, MonoPipelineConfig& c) { c.mono.hypotheses_per_basis = static_cast<int>(v); }},
+    {"mono.max_fruitless_bases", SettingKind::kCount,
+     [](float v, MonoPipelineConfig& c) { c.mono.max_fruitless_bases = static_cast<uint32_t>(v); }},
+    {"mono.competing_bases", SettingKind::kCount,
+     [](float v, MonoPipelineConfig& c) { c.mono.competing_bases = static_cast<int>(v); }},
+    {"mono.exclude_interpenetrating", SettingKind::kFlag,
+     [](float v, MonoPipelineConfig& c) { c.mono.exclude_interpenetrating = v != 0.0f; }},
+    {"mono.displace_weaker", SettingKind::kFlag,
+     [](float v, MonoPipelineConfig& c) { c.mono.displace_weaker = v != 0.0f; }},
+    {"mono.junction_corners", SettingKind::kFlag,
+     [](float v, MonoPipelineConfig& c) { c.mono.junction_corners = v != 0.0f; }},
+    {"mono.features.adaptive", SettingKind::kFlag,
+     [](float v, MonoPipelineConfig& c) { c.features.adaptive = v != 0.0f; }},
+};
+
+}  // namespace
+
+Status ApplyMonoSetting(const char* setting, MonoPipelineConfig* config) {
+  return ApplySetting(setting, kMonoSettings, config);
+}
+
+std::string MonoSettingNames(const char* indent, size_t width) {
+  return SettingNames(kMonoSettings, indent, width);
 }
 
 void PrintMonoResult(const AspectTableView& aspects, const MonoResult& r, int camera) {

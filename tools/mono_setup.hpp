@@ -25,8 +25,12 @@ Status LoadAspects(const RecognizeOptions& options, LoadedAspects* out);
 MonoPipelineConfig MakeMonoConfig(const RecognizeOptions& options);
 
 // `--set mono.NAME=VALUE` of the bench commands: vote, search and acceptance settings of the
-// monocular recogniser. False for an unknown name.
-bool ApplyMonoSetting(const char* setting, MonoPipelineConfig* config);
+// monocular recogniser. An unknown name, or a value that is not of the setting's kind, is an
+// error naming it, and the configuration is left as it was.
+Status ApplyMonoSetting(const char* setting, MonoPipelineConfig* config);
+
+// The names ApplyMonoSetting knows, for the commands' help (as PipelineSettingNames).
+std::string MonoSettingNames(const char* indent, size_t width);
 
 // One line per object, the feature and search counts, the stage times.
 void PrintMonoResult(const AspectTableView& aspects, const MonoResult& result, int camera);

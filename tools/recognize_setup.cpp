@@ -14,6 +14,7 @@
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "recog/stereo/working_volume.hpp"
+#include "tools/setting_table.hpp"
 
 namespace sh::tools {
 
@@ -209,149 +210,100 @@ PipelineConfig MakePipelineConfig(const RecognizeOptions& options, const TableCh
 
 namespace {
 
-// What a setting's value may be: any finite number, a whole number >= 0, or 0 / 1.
-enum class SettingKind { kReal, kCount, kFlag };
-constexpr SettingKind kReal = SettingKind::kReal;
-constexpr SettingKind kCount = SettingKind::kCount;
-constexpr SettingKind kFlag = SettingKind::kFlag;
-
-// One `--set` setting: its name, what its value may be, and the fields it sets.
-struct PipelineSetting {
-  const char* name;
-  SettingKind kind;
-  void (*apply)(float value, PipelineConfig& config);
-};
-
 // The settings worth exploring from the bench commands, one entry each.
-constexpr PipelineSetting kPipelineSettings[] = {
-    {"shape.neck_ratio", kReal, [](float v, PipelineConfig& c) { c.shape.neck_ratio = v; }},
-    {"shape.min_edge_score", kReal, [](float v, PipelineConfig& c) { c.shape.min_edge_score = v; }},
-    {"shape.max_background_share", kReal,
+constexpr Setting<PipelineConfig> kPipelineSettings[] = {
+    {"shape.neck_ratio", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.shape.neck_ratio = v; }},
+    {"shape.min_edge_score", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.shape.min_edge_score = v; }},
+    {"shape.max_background_share", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.shape.max_background_share = v; }},
-    {"shape.views_per_image", kCount,
+    {"shape.views_per_image", SettingKind::kCount,
      [](float v, PipelineConfig& c) { c.shape.views_per_image = static_cast<int>(v); }},
-    {"shape.fine_hypotheses", kCount,
+    {"shape.fine_hypotheses", SettingKind::kCount,
      [](float v, PipelineConfig& c) { c.shape.fine_hypotheses = static_cast<int>(v); }},
-    {"shape.max_extent_ratio", kReal,
+    {"shape.max_extent_ratio", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.shape.max_extent_ratio = v; }},
-    {"shape.rounds", kCount,
+    {"shape.rounds", SettingKind::kCount,
      [](float v, PipelineConfig& c) { c.shape.rounds = static_cast<int>(v); }},
-    {"shape.explained_share", kReal,
+    {"shape.explained_share", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.shape.explained_share = v; }},
-    {"verify.min_fraction", kReal, [](float v, PipelineConfig& c) { c.verify.min_fraction = v; }},
-    {"verify.max_distance_px", kReal,
+    {"verify.min_fraction", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.verify.min_fraction = v; }},
+    {"verify.max_distance_px", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.verify.max_distance_px = v; }},
-    {"verify.max_angle_deg", kReal, [](float v, PipelineConfig& c) { c.verify.max_angle_deg = v; }},
-    {"verify.min_samples", kCount,
+    {"verify.max_angle_deg", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.verify.max_angle_deg = v; }},
+    {"verify.min_samples", SettingKind::kCount,
      [](float v, PipelineConfig& c) { c.verify.min_samples = static_cast<int>(v); }},
-    {"recognizer.vote_threshold", kReal,
+    {"recognizer.vote_threshold", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.recognizer.vote_threshold = v; }},
-    {"recognizer.max_fruitless_bases", kCount,
+    {"recognizer.max_fruitless_bases", SettingKind::kCount,
      [](float v, PipelineConfig& c) {
        c.recognizer.max_fruitless_bases = static_cast<uint32_t>(v);
      }},
-    {"recognizer.sigma_mm", kReal,
+    {"recognizer.sigma_mm", SettingKind::kReal,
      [](float v, PipelineConfig& c) {
        c.recognizer.sigma_point_mm = c.recognizer.sigma_line_mm = v;
      }},
-    {"recognizer.hypotheses_per_basis", kCount,
+    {"recognizer.hypotheses_per_basis", SettingKind::kCount,
      [](float v, PipelineConfig& c) { c.recognizer.hypotheses_per_basis = static_cast<int>(v); }},
-    {"stereo.epipolar_tolerance_px", kReal,
+    {"stereo.epipolar_tolerance_px", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.stereo.epipolar_tolerance_px = v; }},
-    {"stereo.min_plane_angle_deg", kReal,
+    {"stereo.min_plane_angle_deg", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.stereo.min_plane_angle_deg = v; }},
-    {"features.corner_sigma_px", kReal,
+    {"features.corner_sigma_px", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.features.corners.sigma_px = v; }},
-    {"features.corner_threshold", kReal,
+    {"features.corner_threshold", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.features.corners.threshold = v; }},
-    {"features.canny_sigma_px", kReal,
+    {"features.canny_sigma_px", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.features.canny.sigma_px = v; }},
-    {"features.canny_low", kReal,
+    {"features.canny_low", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.features.canny.low_threshold = v; }},
-    {"features.canny_high", kReal,
+    {"features.canny_high", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.features.canny.high_threshold = v; }},
-    {"features.adaptive", kFlag,
+    {"features.adaptive", SettingKind::kFlag,
      [](float v, PipelineConfig& c) { c.features.adaptive = v != 0.0f; }},
-    {"features.edge_snr", kReal, [](float v, PipelineConfig& c) { c.features.edge_snr = v; }},
-    {"features.corner_snr", kReal,
+    {"features.edge_snr", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.features.edge_snr = v; }},
+    {"features.corner_snr", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.features.corner_contrast_snr = v; }},
-    {"features.corner_min_contrast", kReal,
+    {"features.corner_min_contrast", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.features.corner_min_contrast = v; }},
-    {"table_estimate.enabled", kFlag,
+    {"table_estimate.enabled", SettingKind::kFlag,
      [](float v, PipelineConfig& c) { c.table_estimate.enabled = v != 0.0f; }},
-    {"table_estimate.search_again", kFlag,
+    {"table_estimate.search_again", SettingKind::kFlag,
      [](float v, PipelineConfig& c) { c.table_estimate.search_again = v != 0.0f; }},
-    {"table_estimate.first_search_objects", kCount,
+    {"table_estimate.first_search_objects", SettingKind::kCount,
      [](float v, PipelineConfig& c) {
        c.table_estimate.first_search_objects = static_cast<uint32_t>(v);
      }},
-    {"table_estimate.min_objects", kCount,
+    {"table_estimate.min_objects", SettingKind::kCount,
      [](float v, PipelineConfig& c) { c.table_estimate.min_objects = static_cast<uint32_t>(v); }},
-    {"table_estimate.tolerance_mm", kReal,
+    {"table_estimate.tolerance_mm", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.table_estimate.tolerance_mm = v; }},
-    {"table_carry.enabled", kFlag,
+    {"table_carry.enabled", SettingKind::kFlag,
      [](float v, PipelineConfig& c) { c.table_carry.enabled = v != 0.0f; }},
-    {"table_carry.confirm_frames", kCount,
+    {"table_carry.confirm_frames", SettingKind::kCount,
      [](float v, PipelineConfig& c) { c.table_carry.confirm_frames = static_cast<uint32_t>(v); }},
-    {"table_carry.check_every_frames", kCount,
+    {"table_carry.check_every_frames", SettingKind::kCount,
      [](float v, PipelineConfig& c) {
        c.table_carry.check_every_frames = static_cast<uint32_t>(v);
      }},
-    {"table_carry.tolerance_mm", kReal,
+    {"table_carry.tolerance_mm", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.table_carry.tolerance_mm = v; }},
-    {"table_carry.tolerance_deg", kReal,
+    {"table_carry.tolerance_deg", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.table_carry.tolerance_deg = v; }},
 };
 
 }  // namespace
 
 Status ApplyPipelineSetting(const char* setting, PipelineConfig* config) {
-  const char* eq = std::strchr(setting, '=');
-  if (eq == nullptr)
-    return Status::Error(StatusCode::kInvalidArgument, "setting %s: expected NAME=VALUE", setting);
-  const std::string name(setting, eq);
-  const PipelineSetting* found = nullptr;
-  for (const PipelineSetting& s : kPipelineSettings) {
-    if (name == s.name) found = &s;
-  }
-  if (found == nullptr) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "unknown setting %s (`stereohash bench recorded --help` lists them)",
-                         name.c_str());
-  }
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(eq + 1, &end);
-  const bool number = end != eq + 1 && *end == '\0' && errno == 0 && std::isfinite(v);
-  const bool whole = number && v >= 0.0 && v <= 1e9 && v == std::floor(v);
-  const bool valid = found->kind == SettingKind::kReal    ? number
-                     : found->kind == SettingKind::kCount ? whole
-                                                          : whole && v <= 1.0;
-  if (!valid) {
-    return Status::Error(StatusCode::kInvalidArgument, "setting %s: value '%s' is not %s",
-                         found->name, eq + 1,
-                         found->kind == SettingKind::kReal    ? "a finite number"
-                         : found->kind == SettingKind::kCount ? "a whole number >= 0"
-                                                              : "0 or 1");
-  }
-  found->apply(static_cast<float>(v), *config);
-  return Status::Ok();
+  return ApplySetting(setting, kPipelineSettings, config);
 }
 
 std::string PipelineSettingNames(const char* indent, size_t width) {
-  std::string names;
-  size_t line_start = 0;
-  for (const PipelineSetting& s : kPipelineSettings) {
-    if (names.empty() || names.size() - line_start + 1 + std::strlen(s.name) > width) {
-      if (!names.empty()) names += '\n';
-      line_start = names.size();
-      names += indent;
-    } else {
-      names += ' ';
-    }
-    names += s.name;
-  }
-  return names;
+  return SettingNames(kPipelineSettings, indent, width);
 }
 
 Result<TableChoice> LoadTableChoice(const char* path) {

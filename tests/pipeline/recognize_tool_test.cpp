@@ -563,8 +563,15 @@ TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
     const std::string name(bad, std::strcspn(bad, "="));
     EXPECT_NE(r.output.find("setting " + name), std::string::npos) << bad << ": " << r.output;
   }
+  // The monocular recogniser's settings are checked alike.
+  const ToolRun mono_bad =
+      RunTool("bench recorded " + set + " --monocular left --set mono.competing_bases=abc");
+  EXPECT_EQ(mono_bad.exit_code, 2);
+  EXPECT_NE(mono_bad.output.find("setting mono.competing_bases"), std::string::npos)
+      << mono_bad.output;
   const ToolRun help = RunTool("bench recorded --help");
   EXPECT_NE(help.output.find("table_carry.tolerance_deg"), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find("mono.displace_weaker"), std::string::npos) << help.output;
 }
 
 TEST_F(RecognizeToolTest, ReadsARecordedPairWithTheSetsCalibrationAndTable) {
