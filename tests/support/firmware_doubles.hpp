@@ -100,7 +100,10 @@ inline CoreDevices SimCoreDevices(hal::CanBus* can, hal::Gpio* gpio, hal::Stereo
 inline hal::CanFrame CommandFrame(uint8_t node, std::initializer_list<uint8_t> bytes) {
   hal::CanFrame f;
   f.id = kCobCommand + node;
-  for (uint8_t b : bytes) f.data[f.len++] = b;
+  for (uint8_t b : bytes) {
+    if (f.len == sizeof(f.data)) break;  // a CAN frame holds 8 bytes: the rest is not sent
+    f.data[f.len++] = b;
+  }
   return f;
 }
 // Trigger (0x01) with a request id: its low byte, as the PLC of the tests counts.
