@@ -354,7 +354,7 @@ int FirmwareMain(int argc, char** argv, Board* board) {
 
   Recognition* recognition = nullptr;
   if (config.recognition == RecognitionKind::kPipeline) {
-    static Pipeline pipeline;  // tens of MiB: static storage, locked once the core has started
+    static Pipeline pipeline;  // 11 MiB of static storage (its image blocks are taken at Init)
     // The texture path's buffers (about 63 MiB) only when printed models are configured (the
     // features key, or a tables model set holding them);
     // unlocked, only the pages a frame uses become resident (docs/memory.md).
