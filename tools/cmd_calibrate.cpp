@@ -250,15 +250,6 @@ int Calibrate(const char* left_glob, const char* right_glob, const char* out_pat
   return 0;
 }
 
-// A number in [min, max] from the whole of `text`.
-bool ParseNumber(const char* text, double min, double max, double* out) {
-  char* end = nullptr;
-  const double v = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(v) || v < min || v > max) return false;
-  *out = v;
-  return true;
-}
-
 int RunCalibrate(int argc, char** argv) {
   const char* left = nullptr;
   const char* right = nullptr;

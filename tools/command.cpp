@@ -1,5 +1,8 @@
 // The command registry and option parsing shared by stereohash and stereohash-cv.
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "tools/command.hpp"
@@ -64,6 +67,17 @@ void ListCommands(void (*print)(const Command&)) {
     printed[best] = true;
     print(g_commands[best]);
   }
+}
+
+bool ParseNumber(const char* text, double min, double max, double* out) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text, &end);
+  if (end == text || *end != '\0' || errno != 0 || !std::isfinite(v) || v < min || v > max) {
+    return false;
+  }
+  *out = v;
+  return true;
 }
 
 }  // namespace sh::tools

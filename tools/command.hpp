@@ -20,6 +20,10 @@ void ListCommands(void (*print)(const Command&));
 bool NextOption(const char* command, int argc, char** argv, void (*print_help)(), int* i,
                 const char** option, const char** value, int* exit_code);
 
+// A finite number in [min, max] from the whole of `text` (no trailing characters); false
+// otherwise, *out untouched.
+bool ParseNumber(const char* text, double min, double max, double* out);
+
 struct CommandRegistrar {
   explicit CommandRegistrar(const Command& command) { RegisterCommand(command); }
 };

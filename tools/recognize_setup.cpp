@@ -14,6 +14,7 @@
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "recog/stereo/working_volume.hpp"
+#include "tools/command.hpp"
 #include "tools/setting_table.hpp"
 
 namespace sh::tools {
@@ -56,9 +57,8 @@ OptionResult ParseRecognizeOption(const char* command, const char* option, const
   } else if (std::strcmp(option, "--table") == 0) {
     options->table_path = value;
   } else if (std::strcmp(option, "--budget-ms") == 0) {
-    char* end = nullptr;
-    const double v = std::strtod(value, &end);
-    if (end == value || *end != '\0' || !std::isfinite(v) || v < 0 || v > 1e6) {
+    double v = 0.0;
+    if (!ParseNumber(value, 0.0, 1e6, &v)) {
       std::fprintf(stderr, "stereohash %s: --budget-ms needs a number 0..1e6, got %s\n", command,
                    value);
       return OptionResult::kBadValue;

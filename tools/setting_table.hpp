@@ -2,7 +2,6 @@
 // table of {name, kind, setter}, which drives the parsing, its errors and the help's list.
 #pragma once
 
-#include <cerrno>
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
@@ -10,6 +9,7 @@
 #include <string>
 
 #include "recog/base/status.hpp"
+#include "tools/command.hpp"
 
 namespace sh::tools {
 
@@ -27,10 +27,8 @@ struct Setting {
 // The value of `text` for a setting of this kind; an error naming the setting and the value.
 inline Status ParseSettingValue(const char* name, SettingKind kind, const char* text,
                                 float* value) {
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(text, &end);
-  const bool number = end != text && *end == '\0' && errno == 0 && std::isfinite(v);
+  double v = 0.0;
+  const bool number = ParseNumber(text, -HUGE_VAL, HUGE_VAL, &v);
   const bool whole = number && v >= 0.0 && v <= 16777216.0 && v == std::floor(v);
   const bool valid = kind == SettingKind::kReal    ? number
                      : kind == SettingKind::kCount ? whole
