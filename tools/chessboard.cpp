@@ -7,6 +7,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "tools/command.hpp"
+
 namespace sh::tools {
 
 bool FindBoard(const cv::Mat& gray, cv::Size board, std::vector<cv::Point2f>* corners) {
@@ -34,13 +36,7 @@ bool ParseBoardSize(const char* text, cv::Size* board) {
 }
 
 bool ParseSquareMm(const char* text, double* square_mm) {
-  char* end = nullptr;
-  const double v = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(v) || v < kMinSquareMm || v > kMaxSquareMm) {
-    return false;
-  }
-  *square_mm = v;
-  return true;
+  return ParseNumber(text, kMinSquareMm, kMaxSquareMm, square_mm);
 }
 
 }  // namespace sh::tools

@@ -151,7 +151,10 @@ int RunCalibrateTable(int argc, char** argv) {
       }
     } else if (std::strcmp(arg, "--square-mm") == 0) {
       if (!ParseSquareMm(value, &square_mm)) {
-        std::fprintf(stderr, "stereohash calibrate-table: --square-mm wants a positive size\n");
+        std::fprintf(stderr,
+                     "stereohash calibrate-table: --square-mm wants a size in millimetres, "
+                     "%g..%g, not '%s'\n",
+                     kMinSquareMm, kMaxSquareMm, value);
         return 2;
       }
     } else {

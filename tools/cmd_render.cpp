@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -40,13 +41,6 @@ void PrintHelp() {
       "Defaults: --seed 1 --objects 4 --background dark --occlusion some --distance-mm 400\n"
       "          --baseline-mm 120 --noise 1.5 --models %s\n",
       STEREOHASH_DEFAULT_MODELS_DIR);
-}
-
-bool ParseNumber(const char* text, double* value) {
-  char* end = nullptr;
-  errno = 0;
-  *value = std::strtod(text, &end);
-  return errno == 0 && end != text && *end == '\0';
 }
 
 Status WriteText(const std::string& path, const std::string& text) {
@@ -104,7 +98,9 @@ int RunRender(int argc, char** argv) {
       return exit_code;
     }
     double number = 0;
-    const bool numeric = ParseNumber(value, &number);
+    // Each option checks its own range below; any finite number is a number here.
+    const bool numeric = ParseNumber(value, -std::numeric_limits<double>::max(),
+                                     std::numeric_limits<double>::max(), &number);
     if (std::strcmp(arg, "--out") == 0) {
       out_dir = value;
     } else if (std::strcmp(arg, "--models") == 0) {
