@@ -557,7 +557,8 @@ bool FirmwareCore::RestartCamera(hal::CaptureMode mode) {
   }
   camera_started_ = true;
   capture_mode_ = mode;
-  if (threads_started_) LockCurrentMemory();  // the buffers of this start
+  // Not locked here: a clear-fault or a fallback may restart twice, so each locks once when it
+  // is done (LockCurrentMemory), and boot locks after its threads start.
   return true;
 }
 
@@ -582,8 +583,10 @@ bool FirmwareCore::FallBackToOneCamera(const Status& failure) {
   if (!RestartCamera(working)) {
     // The other camera does not start alone either: stereo as before, and the capture fault.
     (void)RestartCamera(hal::CaptureMode::kStereo);
+    LockCurrentMemory();  // the buffers of this start
     return false;
   }
+  LockCurrentMemory();  // the buffers of this start
   Log("%s; continuing with the %s camera alone (monocular results)", failure.message(),
       left_failed ? "right" : "left");
   // A warning, not a fault: triggers are answered, each set with the monocular status.

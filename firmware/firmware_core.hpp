@@ -223,7 +223,8 @@ class FirmwareCore final : public RecorderObserver {
   // when recognition can work from one image, starts the left camera alone, else the right one,
   // raises the one-camera warning naming the other side and returns true.
   bool StartOnOneCamera(const Status& failure);
-  // Restarts the camera in `mode`; false (logged) when it does not start.
+  // Restarts the camera in `mode`; false (logged) when it does not start. The caller locks the
+  // new buffers (LockCurrentMemory) once it has restarted what it needs.
   bool RestartCamera(hal::CaptureMode mode);
   // With config_.lock_memory: LockMemory(), the first refusal logged.
   void LockCurrentMemory();
