@@ -93,11 +93,31 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
   line_reach_mm_ = line_reach + 2.0f * config.sigma_line_mm;
   inv_sigma2_point_ = 1.0f / (config.sigma_point_mm * config.sigma_point_mm);
   inv_sigma2_line_ = 1.0f / (config.sigma_line_mm * config.sigma_line_mm);
-  std::memset(point_vote_, 0, sizeof(point_vote_));
-  std::memset(line_vote_, 0, sizeof(line_vote_));
-  std::memset(basis_point_sum_, 0, sizeof(basis_point_sum_));
-  std::memset(basis_line_sum_, 0, sizeof(basis_line_sum_));
-  std::memset(basis_touched_, 0, sizeof(basis_touched_));
+  for (VoteScratch* v : {&scratch_, second_scratch_.get()}) {
+    if (v == nullptr) continue;
+    std::memset(v->point_vote, 0, sizeof(v->point_vote));
+    std::memset(v->line_vote, 0, sizeof(v->line_vote));
+    std::memset(v->basis_point_sum, 0, sizeof(v->basis_point_sum));
+    std::memset(v->basis_line_sum, 0, sizeof(v->basis_line_sum));
+    std::memset(v->basis_touched, 0, sizeof(v->basis_touched));
+  }
+  ahead_count_ = ahead_next_ = 0;
+  return Status::Ok();
+}
+
+Status Recognizer::SetParallel(const ParallelFor& parallel) {
+  if (parallel.concurrent() && second_scratch_ == nullptr) {
+    // Zero-filled: the vote arrays' invariant (all zero between rounds) holds from the start.
+    second_scratch_ = MakeZeroed<VoteScratch>();
+    if (second_scratch_ == nullptr) {
+      parallel_ = {};
+      return Status::Error(StatusCode::kUnavailable,
+                           "no memory for the second voting thread's arrays (%zu bytes)",
+                           sizeof(VoteScratch));
+    }
+  }
+  parallel_ = parallel.concurrent() ? parallel : ParallelFor{};
+  ahead_count_ = ahead_next_ = 0;
   return Status::Ok();
 }
 
@@ -148,7 +168,7 @@ bool Recognizer::SceneBasisFrame(const SceneBasis& b, RigidTransform* basis_T_ca
                         limits, basis_T_cam);
 }
 
-void Recognizer::VotePoint(const Eigen::Vector3f& q) {
+void Recognizer::VotePoint(const Eigen::Vector3f& q, VoteScratch& scratch) const {
   const GridGeometry& g = table_.point_grid();
   const float r = 2.0f * config_.sigma_point_mm;  // votes beyond 2 sigma are cut (vote_lut.hpp)
   int lo[3], hi[3];
@@ -170,16 +190,17 @@ void Recognizer::VotePoint(const Eigen::Vector3f& q) {
         const float dy = float(p.y) * kMmPerRaw - q.y();
         const float dz = float(p.z) * kMmPerRaw - q.z();
         const uint16_t v = votes_lut_.Vote(dx * dx + dy * dy + dz * dz, inv_sigma2_point_);
-        if (v > point_vote_[e]) {
-          if (point_vote_[e] == 0) touched_points_[n_touched_points_++] = e;
-          point_vote_[e] = v;
+        if (v > scratch.point_vote[e]) {
+          if (scratch.point_vote[e] == 0) scratch.touched_points[scratch.n_touched_points++] = e;
+          scratch.point_vote[e] = v;
         }
       }
     }
   }
 }
 
-void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v) {
+void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v,
+                          VoteScratch& scratch) const {
   const GridGeometry& g = table_.line_grid();
   const float r = config_.line_neighbourhood_factor * 2.0f * config_.sigma_line_mm;
   int lo[3], hi[3];
@@ -208,9 +229,9 @@ void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v) {
                                 float(l.cz) * kMmPerRaw);
         const uint16_t vote =
             votes_lut_.Vote(SegmentLineDistance2(c, u, length, s, v), inv_sigma2_line_);
-        if (vote > line_vote_[e]) {
-          if (line_vote_[e] == 0) touched_lines_[n_touched_lines_++] = e;
-          line_vote_[e] = vote;
+        if (vote > scratch.line_vote[e]) {
+          if (scratch.line_vote[e] == 0) scratch.touched_lines[scratch.n_touched_lines++] = e;
+          scratch.line_vote[e] = vote;
         }
       }
     }
@@ -218,6 +239,40 @@ void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v) {
 }
 
 int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out, float* best_per_model) {
+  return Vote(b, scratch_, out, best_per_model);
+}
+
+int Recognizer::VoteInTurn(uint32_t index, const SceneBasis& b, Vector<Hypothesis>& out) {
+  while (ahead_next_ < ahead_count_ && ahead_[ahead_next_].index < index) ++ahead_next_;
+  if (ahead_next_ < ahead_count_ && ahead_[ahead_next_].index == index) {
+    out = ahead_[ahead_next_].hypotheses;
+    return int(out.size());
+  }
+  ahead_count_ = ahead_next_ = 0;
+  if (!parallel_.concurrent()) return Vote(b, scratch_, out, nullptr);
+  // This basis and the next active ones of the pass, voted on the scene as it is now; the
+  // search only removes features, so the bases skipped here stay inactive until they come.
+  ahead_[ahead_count_++].index = index;
+  for (uint32_t j = index + 1; j < candidates_.count() && ahead_count_ < kVoteAheadBases; ++j) {
+    if (BasisActive(candidates_[j])) ahead_[ahead_count_++].index = j;
+  }
+  parallel_(
+      2,
+      [](void* self, int thread) {
+        auto* r = static_cast<Recognizer*>(self);
+        VoteScratch& scratch = thread == 0 ? r->scratch_ : *r->second_scratch_;
+        for (uint32_t k = uint32_t(thread); k < r->ahead_count_; k += 2) {
+          AheadVote& a = r->ahead_[k];
+          (void)r->Vote(r->candidates_[a.index], scratch, a.hypotheses, nullptr);
+        }
+      },
+      this);
+  out = ahead_[0].hypotheses;
+  return int(out.size());
+}
+
+int Recognizer::Vote(const SceneBasis& b, VoteScratch& v, Vector<Hypothesis>& out,
+                     float* best_per_model) const {
   out.clear();
   if (best_per_model != nullptr) std::fill(best_per_model, best_per_model + kMaxTableModels, 0.0f);
   RigidTransform basis_T_cam;
@@ -227,7 +282,7 @@ int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out, float
   const HashFunction hf = table_.hash_function();
   const bool three_points = UsesThreePoints(hf), line_point = UsesLinePoint(hf);
 
-  n_touched_points_ = n_touched_lines_ = 0;
+  v.n_touched_points = v.n_touched_lines = 0;
   // Only features near the basis origin can match a model feature: every model entry lies
   // within reach_mm of its basis origin. Scene lines vote only if their supported segment
   // comes that close; their infinite extension elsewhere is not evidence for this object.
@@ -236,9 +291,9 @@ int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out, float
     if (!point_active_[j]) return;
     if (three_points && (j == b.f[0] || j == b.f[1] || j == b.f[2])) return;
     if (line_point && j == b.f[1]) return;
-    VotePoint(basis_T_cam * s.points[j].p_mm);
+    VotePoint(basis_T_cam * s.points[j].p_mm, v);
   });
-  if (three_points) VotePoint(shape_point);
+  if (three_points) VotePoint(shape_point, v);
   const float line_reach2 = line_reach_mm_ * line_reach_mm_;
   for (size_t j = 0; j < s.lines.size(); ++j) {
     if (!line_active_[j]) continue;
@@ -248,31 +303,31 @@ int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out, float
     const float t = std::clamp(ao.dot(line_dir_[j]), 0.0f, l.length_mm());
     if ((ao - t * line_dir_[j]).squaredNorm() > line_reach2) continue;
     const Eigen::Vector3f a = basis_T_cam * l.a_mm;
-    const Eigen::Vector3f v = basis_T_cam.Rotate(line_dir_[j]);
-    VoteLine(SupportVector(a, v), v);
+    const Eigen::Vector3f dir = basis_T_cam.Rotate(line_dir_[j]);
+    VoteLine(SupportVector(a, dir), dir, v);
   }
 
   // Sum the best vote of every touched entry into its model basis, resetting as we go.
-  n_touched_bases_ = 0;
+  v.n_touched_bases = 0;
   const PointEntry* points = table_.point_entries();
   const LineEntry* lines = table_.line_entries();
-  auto touch = [this](uint16_t basis) {
-    if (!basis_touched_[basis]) {
-      basis_touched_[basis] = 1;
-      touched_bases_[n_touched_bases_++] = basis;
+  auto touch = [&v](uint16_t basis) {
+    if (!v.basis_touched[basis]) {
+      v.basis_touched[basis] = 1;
+      v.touched_bases[v.n_touched_bases++] = basis;
     }
   };
-  for (uint32_t i = 0; i < n_touched_points_; ++i) {
-    const uint32_t e = touched_points_[i];
-    basis_point_sum_[points[e].basis] += point_vote_[e];
+  for (uint32_t i = 0; i < v.n_touched_points; ++i) {
+    const uint32_t e = v.touched_points[i];
+    v.basis_point_sum[points[e].basis] += v.point_vote[e];
     touch(points[e].basis);
-    point_vote_[e] = 0;
+    v.point_vote[e] = 0;
   }
-  for (uint32_t i = 0; i < n_touched_lines_; ++i) {
-    const uint32_t e = touched_lines_[i];
-    basis_line_sum_[lines[e].basis] += line_vote_[e];
+  for (uint32_t i = 0; i < v.n_touched_lines; ++i) {
+    const uint32_t e = v.touched_lines[i];
+    v.basis_line_sum[lines[e].basis] += v.line_vote[e];
     touch(lines[e].basis);
-    line_vote_[e] = 0;
+    v.line_vote[e] = 0;
   }
 
   // Keep the best hypotheses_per_basis model bases at or above the threshold.
@@ -280,15 +335,15 @@ int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out, float
   float best_vote[kMaxHypothesesPerBasis];
   uint16_t best_basis[kMaxHypothesesPerBasis];
   int n_best = 0;
-  for (uint32_t i = 0; i < n_touched_bases_; ++i) {
-    const uint16_t bi = touched_bases_[i];
+  for (uint32_t i = 0; i < v.n_touched_bases; ++i) {
+    const uint16_t bi = v.touched_bases[i];
     const BasisRecord& r = table_.basis(bi);
     // Sums are UQ0.16 votes: divide by 65535 for the vote value, by the entry counts to normalise.
     const float vote =
-        (r.n_point_entries ? float(basis_point_sum_[bi]) / (65535.0f * r.n_point_entries) : 0.0f) +
-        (r.n_line_entries ? float(basis_line_sum_[bi]) / (65535.0f * r.n_line_entries) : 0.0f);
-    basis_point_sum_[bi] = basis_line_sum_[bi] = 0;
-    basis_touched_[bi] = 0;
+        (r.n_point_entries ? float(v.basis_point_sum[bi]) / (65535.0f * r.n_point_entries) : 0.0f) +
+        (r.n_line_entries ? float(v.basis_line_sum[bi]) / (65535.0f * r.n_line_entries) : 0.0f);
+    v.basis_point_sum[bi] = v.basis_line_sum[bi] = 0;
+    v.basis_touched[bi] = 0;
     if (best_per_model != nullptr)
       best_per_model[r.model] = std::max(best_per_model[r.model], vote);
     if (vote < config_.vote_threshold || !((config_.model_mask >> r.model) & 1u)) continue;
@@ -381,6 +436,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
   RecognitionStats stats;
   objects.clear();
   PrepareScene(scene);
+  ahead_count_ = ahead_next_ = 0;
   uint32_t cursor = 0;
   uint32_t fruitless = 0;
   uint32_t generated = candidates_.count();
@@ -402,6 +458,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     if (cursor == candidates_.count()) {
       if (!candidates_.NextPass()) break;
       cursor = 0;
+      ahead_count_ = ahead_next_ = 0;  // indices of the pass before
       generated += candidates_.count();
       if (candidates_.count() == 0) break;
     }
@@ -412,7 +469,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     if (budget.max_objects != 0 && objects.size() >= budget.max_objects) break;
 
     const uint32_t basis_number = stats.scene_bases_tried++;
-    stats.hypotheses += VoteForBasis(basis, hypotheses);
+    stats.hypotheses += VoteInTurn(cursor - 1, basis, hypotheses);
     ++fruitless;
     // Every hypothesis of this basis is refined and verified; the best supported one wins
     // (a partial view can fit a wrong model or a wrong orientation as well as the right one).
@@ -463,6 +520,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
       if (observer_) observer_->OnAccepted(basis_number, best);
       fruitless = 0;
       RemoveObjectFeatures(table_.model(best.model), best_matches);
+      ahead_count_ = ahead_next_ = 0;  // voted on the scene before this object left it
     }
     if (stats.objects_full) break;
   }

@@ -18,8 +18,10 @@
 
 #include <cstdint>
 
+#include "recog/base/parallel_for.hpp"
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
+#include "recog/base/zeroed.hpp"
 #include "recog/geometry/rigid_transform.hpp"
 #include "recog/hashing/basis.hpp"
 #include "recog/hashing/basis_candidates.hpp"
@@ -36,6 +38,8 @@ namespace sh {
 // Capacities (compile-time; see docs/architecture.md).
 inline constexpr size_t kMaxObjects = 32;            // recognised objects per scene
 inline constexpr size_t kMaxHypothesesPerBasis = 8;  // model bases tried per scene basis
+// With two threads: scene bases voted ahead at once, half on each (Recognizer::SetParallel).
+inline constexpr uint32_t kVoteAheadBases = 16;
 
 struct RecognizerConfig {
   float sigma_point_mm = 2.0f;             // vote width for points
@@ -146,6 +150,14 @@ struct RecognitionStats {
 class Recognizer {
  public:
   Status Init(const TableView& table, const RecognizerConfig& config);
+  // Voting spread over two threads (`parallel` concurrent: the pipeline's worker pool) or on
+  // the caller alone (a ParallelFor without a pool). With two, Recognize votes the next
+  // kVoteAheadBases active scene bases at once, half on each thread, then takes them in order;
+  // an accepted object changes the scene, and the bases voted ahead of it are voted again when
+  // their turn comes. Each vote is thus made on the scene the sequential search would see, and
+  // the results are the same for any thread count. Allocates the second thread's vote arrays
+  // (about 0.9 MB) on the first concurrent call: at start-up, never per frame. Errors: memory.
+  Status SetParallel(const ParallelFor& parallel);
   const RecognizerConfig& config() const { return config_; }
   // Diagnosis only: `observer` (may be null) sees every hypothesis of later searches.
   void SetObserver(SearchObserver* observer) { observer_ = observer; }
@@ -169,8 +181,33 @@ class Recognizer {
  private:
   bool SceneBasisFrame(const SceneBasis& b, RigidTransform* basis_T_cam,
                        Eigen::Vector3f* shape_point) const;
-  void VotePoint(const Eigen::Vector3f& q);
-  void VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v);
+  // The arrays of one voting round (one scene basis), one set per voting thread.
+  struct VoteScratch {
+    uint16_t point_vote[kMaxTablePointEntries];
+    uint16_t line_vote[kMaxTableLineEntries];
+    uint32_t touched_points[kMaxTablePointEntries];
+    uint32_t touched_lines[kMaxTableLineEntries];
+    uint32_t n_touched_points = 0, n_touched_lines = 0;
+    uint32_t basis_point_sum[kMaxTableBases];
+    uint32_t basis_line_sum[kMaxTableBases];
+    uint16_t touched_bases[kMaxTableBases];
+    uint8_t basis_touched[kMaxTableBases];
+    uint32_t n_touched_bases = 0;
+  };
+  // A scene basis voted ahead: its index in the current pass and its hypotheses.
+  struct AheadVote {
+    uint32_t index = 0;
+    Vector<Hypothesis, kMaxHypothesesPerBasis> hypotheses;
+  };
+
+  int Vote(const SceneBasis& b, VoteScratch& scratch, Vector<Hypothesis>& out,
+           float* best_per_model) const;
+  void VotePoint(const Eigen::Vector3f& q, VoteScratch& scratch) const;
+  void VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v, VoteScratch& scratch) const;
+  // The hypotheses of candidate `index` (basis `b`) of the current pass: from the bases voted
+  // ahead when it is among them, else voted now (with two threads: together with the next
+  // active bases).
+  int VoteInTurn(uint32_t index, const SceneBasis& b, Vector<Hypothesis>& out);
   void RemoveObjectFeatures(const Model& model, const Correspondences& c);
   int ActiveFeatureCount() const;
   bool BasisActive(const SceneBasis& b) const;
@@ -197,17 +234,15 @@ class Recognizer {
   uint8_t used_left_point_[8192], used_right_point_[8192];  // 2-D feature ids, bit per id
   uint8_t used_left_line_[8192], used_right_line_[8192];
 
-  // Per scene basis.
-  uint16_t point_vote_[kMaxTablePointEntries];
-  uint16_t line_vote_[kMaxTableLineEntries];
-  uint32_t touched_points_[kMaxTablePointEntries];
-  uint32_t touched_lines_[kMaxTableLineEntries];
-  uint32_t n_touched_points_ = 0, n_touched_lines_ = 0;
-  uint32_t basis_point_sum_[kMaxTableBases];
-  uint32_t basis_line_sum_[kMaxTableBases];
-  uint16_t touched_bases_[kMaxTableBases];
-  uint8_t basis_touched_[kMaxTableBases];
-  uint32_t n_touched_bases_ = 0;
+  // Per scene basis: the calling thread's arrays, and the second thread's when voting is
+  // spread (SetParallel).
+  VoteScratch scratch_;
+  ZeroedPtr<VoteScratch> second_scratch_;
+  ParallelFor parallel_;
+  // Bases voted ahead (valid while the scene and the pass are unchanged): ahead_[ahead_next_ ..
+  // ahead_count_).
+  AheadVote ahead_[kVoteAheadBases];
+  uint32_t ahead_count_ = 0, ahead_next_ = 0;
 };
 
 }  // namespace sh

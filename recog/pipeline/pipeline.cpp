@@ -195,6 +195,11 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
     shape_.reset();
   }
   SH_RETURN_IF_ERROR(pool_.Start(config.threads));
+  if (models_.hash_count() > 0) {
+    // The search votes on two threads when the pool has them (Recognizer::SetParallel).
+    SH_RETURN_IF_ERROR(
+        recognizer_.SetParallel(pool_.threads() > 1 ? ParallelOn(&pool_) : ParallelFor{}));
+  }
   calib_ = calib;
   config_ = config;
   now_ns_ = now_ns;

@@ -40,7 +40,10 @@ TEST(PipelineAllocations, NoneWhileProcessing) {
   long during = 0;
   for (const auto& pair : pairs) {
     // Init (start-up, not per frame) with each scene's own calibration, outside the count.
-    ASSERT_TRUE(pipeline->Init(pair->generated.calib, *table, PipelineConfig{}, FakeClock).ok());
+    // Two threads: the second image's features and the search's votes ahead run on the pool.
+    PipelineConfig config;
+    config.threads = 2;
+    ASSERT_TRUE(pipeline->Init(pair->generated.calib, *table, config, FakeClock).ok());
     const long before = testing::HeapAllocations();
     for (int repeat = 0; repeat < 2; ++repeat) {
       const Status s = pipeline->Process(pair->left_view(), pair->right_view(), 1000.0f, &result);
