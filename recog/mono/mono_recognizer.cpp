@@ -535,7 +535,18 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
 
   // Verification against the edge map, hidden lines and the objects found so far removed.
   ++stats->verifications;
-  if (!ComputeVisibleEdges(own, posed, occluders_, n_occluders_, config_.verify.sample_step_px,
+  // The object it would displace leaves the occluders: it would not be there to hide anything.
+  const PosedModel* occluders = occluders_;
+  size_t n_occluders = n_occluders_;
+  PosedModel others[kMaxOccluders];
+  if (c.displaces >= 0 && static_cast<size_t>(c.displaces) < n_occluders_) {
+    n_occluders = 0;
+    for (size_t o = 0; o < n_occluders_; ++o) {
+      if (o != static_cast<size_t>(c.displaces)) others[n_occluders++] = occluders_[o];
+    }
+    occluders = others;
+  }
+  if (!ComputeVisibleEdges(own, posed, occluders, n_occluders, config_.verify.sample_step_px,
                            config_.verify.min_depth_mm, &visible)
            .ok()) {
     ++stats->rejected_verify;
