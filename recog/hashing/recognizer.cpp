@@ -93,7 +93,8 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
   line_reach_mm_ = line_reach + 2.0f * config.sigma_line_mm;
   inv_sigma2_point_ = 1.0f / (config.sigma_point_mm * config.sigma_point_mm);
   inv_sigma2_line_ = 1.0f / (config.sigma_line_mm * config.sigma_line_mm);
-  for (VoteScratch* v : {&scratch_, second_scratch_.get()}) {
+  for (int t = 0; t < kMaxVoteThreads; ++t) {
+    VoteScratch* v = t == 0 ? &scratch_ : other_scratch_[t - 1].get();
     if (v == nullptr) continue;
     std::memset(v->point_vote, 0, sizeof(v->point_vote));
     std::memset(v->line_vote, 0, sizeof(v->line_vote));
@@ -105,19 +106,24 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
   return Status::Ok();
 }
 
-Status Recognizer::SetParallel(const ParallelFor& parallel) {
-  if (parallel.concurrent() && second_scratch_ == nullptr) {
+Status Recognizer::SetParallel(const ParallelFor& parallel, int threads) {
+  parallel_ = {};
+  vote_threads_ = 1;
+  ahead_count_ = ahead_next_ = 0;
+  if (!parallel.concurrent() || threads < 2) return Status::Ok();
+  threads = std::min(threads, kMaxVoteThreads);
+  for (int t = 1; t < threads; ++t) {
+    if (other_scratch_[t - 1] != nullptr) continue;
     // Zero-filled: the vote arrays' invariant (all zero between rounds) holds from the start.
-    second_scratch_ = MakeZeroed<VoteScratch>();
-    if (second_scratch_ == nullptr) {
-      parallel_ = {};
+    other_scratch_[t - 1] = MakeZeroed<VoteScratch>();
+    if (other_scratch_[t - 1] == nullptr) {
       return Status::Error(StatusCode::kUnavailable,
-                           "no memory for the second voting thread's arrays (%zu bytes)",
+                           "no memory for the vote arrays of %d threads (%zu bytes each)", threads,
                            sizeof(VoteScratch));
     }
   }
-  parallel_ = parallel.concurrent() ? parallel : ParallelFor{};
-  ahead_count_ = ahead_next_ = 0;
+  parallel_ = parallel;
+  vote_threads_ = threads;
   return Status::Ok();
 }
 
@@ -257,11 +263,11 @@ int Recognizer::VoteInTurn(uint32_t index, const SceneBasis& b, Vector<Hypothesi
     if (BasisActive(candidates_[j])) ahead_[ahead_count_++].index = j;
   }
   parallel_(
-      2,
+      vote_threads_,
       [](void* self, int thread) {
         auto* r = static_cast<Recognizer*>(self);
-        VoteScratch& scratch = thread == 0 ? r->scratch_ : *r->second_scratch_;
-        for (uint32_t k = uint32_t(thread); k < r->ahead_count_; k += 2) {
+        VoteScratch& scratch = r->ScratchOf(thread);
+        for (uint32_t k = uint32_t(thread); k < r->ahead_count_; k += uint32_t(r->vote_threads_)) {
           AheadVote& a = r->ahead_[k];
           (void)r->Vote(r->candidates_[a.index], scratch, a.hypotheses, nullptr);
         }

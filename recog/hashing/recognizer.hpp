@@ -38,8 +38,10 @@ namespace sh {
 // Capacities (compile-time; see docs/architecture.md).
 inline constexpr size_t kMaxObjects = 32;            // recognised objects per scene
 inline constexpr size_t kMaxHypothesesPerBasis = 8;  // model bases tried per scene basis
-// With two threads: scene bases voted ahead at once, half on each (Recognizer::SetParallel).
+// With two threads or more: scene bases voted ahead at once, spread over the threads
+// (Recognizer::SetParallel), and the most threads that vote.
 inline constexpr uint32_t kVoteAheadBases = 16;
+inline constexpr int kMaxVoteThreads = 8;
 
 struct RecognizerConfig {
   float sigma_point_mm = 2.0f;             // vote width for points
@@ -150,14 +152,15 @@ struct RecognitionStats {
 class Recognizer {
  public:
   Status Init(const TableView& table, const RecognizerConfig& config);
-  // Voting spread over two threads (`parallel` concurrent: the pipeline's worker pool) or on
-  // the caller alone (a ParallelFor without a pool). With two, Recognize votes the next
-  // kVoteAheadBases active scene bases at once, half on each thread, then takes them in order;
-  // an accepted object changes the scene, and the bases voted ahead of it are voted again when
-  // their turn comes. Each vote is thus made on the scene the sequential search would see, and
-  // the results are the same for any thread count. Allocates the second thread's vote arrays
-  // (about 0.9 MB) on the first concurrent call: at start-up, never per frame. Errors: memory.
-  Status SetParallel(const ParallelFor& parallel);
+  // Voting spread over `threads` threads (`parallel` concurrent: the pipeline's worker pool;
+  // at most kMaxVoteThreads are used) or on the caller alone (threads 1, or a ParallelFor
+  // without a pool). With two or more, Recognize votes the next kVoteAheadBases active scene
+  // bases at once, spread over the threads, then takes them in order; an accepted object
+  // changes the scene, and the bases voted ahead of it are voted again when their turn comes.
+  // Each vote is thus made on the scene the sequential search would see, and the results are
+  // the same for any thread count. Allocates the vote arrays of the threads beyond the caller
+  // (about 0.9 MB each) when first asked for them: at start-up, never per frame. Errors: memory.
+  Status SetParallel(const ParallelFor& parallel, int threads);
   const RecognizerConfig& config() const { return config_; }
   // Diagnosis only: `observer` (may be null) sees every hypothesis of later searches.
   void SetObserver(SearchObserver* observer) { observer_ = observer; }
@@ -234,11 +237,15 @@ class Recognizer {
   uint8_t used_left_point_[8192], used_right_point_[8192];  // 2-D feature ids, bit per id
   uint8_t used_left_line_[8192], used_right_line_[8192];
 
-  // Per scene basis: the calling thread's arrays, and the second thread's when voting is
-  // spread (SetParallel).
+  // Per scene basis: the calling thread's arrays, and those of the other voting threads when
+  // voting is spread (SetParallel).
+  VoteScratch& ScratchOf(int thread) {
+    return thread == 0 ? scratch_ : *other_scratch_[thread - 1];
+  }
   VoteScratch scratch_;
-  ZeroedPtr<VoteScratch> second_scratch_;
+  ZeroedPtr<VoteScratch> other_scratch_[kMaxVoteThreads - 1];
   ParallelFor parallel_;
+  int vote_threads_ = 1;
   // Bases voted ahead (valid while the scene and the pass are unchanged): ahead_[ahead_next_ ..
   // ahead_count_).
   AheadVote ahead_[kVoteAheadBases];

@@ -196,9 +196,8 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
   }
   SH_RETURN_IF_ERROR(pool_.Start(config.threads));
   if (models_.hash_count() > 0) {
-    // The search votes on two threads when the pool has them (Recognizer::SetParallel).
-    SH_RETURN_IF_ERROR(
-        recognizer_.SetParallel(pool_.threads() > 1 ? ParallelOn(&pool_) : ParallelFor{}));
+    // The search votes on the pool's threads when it has more than one (Recognizer::SetParallel).
+    SH_RETURN_IF_ERROR(recognizer_.SetParallel(ParallelOn(&pool_), pool_.threads()));
   }
   calib_ = calib;
   config_ = config;

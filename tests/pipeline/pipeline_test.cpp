@@ -196,19 +196,19 @@ class HypothesisLog : public SearchObserver {
   int accepted = 0;
 };
 
-// The search votes scene bases ahead on a second thread (Recognizer::SetParallel); each vote is
-// made on the scene the one-thread search sees, so both try the same hypotheses with the same
-// votes in the same order and give exactly the same objects, also without a table (two
-// searches) and on a light table.
-TEST_F(PipelineTest, SearchOnTwoThreadsGivesWhatOneGives) {
+// The search votes scene bases ahead on the pool's threads (Recognizer::SetParallel); each vote
+// is made on the scene the one-thread search sees, so two and three threads try the same
+// hypotheses with the same votes in the same order as one and give exactly the same objects,
+// also without a table (two searches) and on a light table.
+TEST_F(PipelineTest, SearchOnMoreThreadsGivesWhatOneGives) {
   int compared = 0, accepted = 0;
   for (const render::Background bg : {render::Background::kDark, render::Background::kLight}) {
     for (const uint64_t seed : {41u, 42u}) {
       auto pair = std::make_unique<RenderedPair>();
       ASSERT_TRUE(RenderPair(seed, Scenario(bg), *models_, pair.get()).ok());
-      PipelineResult result[2];
-      HypothesisLog log[2];
-      for (int threads = 1; threads <= 2; ++threads) {
+      PipelineResult result[3];
+      HypothesisLog log[3];
+      for (int threads = 1; threads <= 3; ++threads) {
         PipelineConfig config = PipelineConfig::Automatic();
         config.threads = threads;
         ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, config).ok());
@@ -219,6 +219,8 @@ TEST_F(PipelineTest, SearchOnTwoThreadsGivesWhatOneGives) {
         ASSERT_TRUE(s.ok()) << s.message();
       }
       EXPECT_TRUE(log[0].entries == log[1].entries) << "seed " << seed;
+      EXPECT_TRUE(log[0].entries == log[2].entries) << "seed " << seed;
+      EXPECT_EQ(result[0].objects.size(), result[2].objects.size());
       accepted += log[0].accepted;
       const PipelineResult &one = result[0], &two = result[1];
       EXPECT_EQ(one.recognition.scene_bases_tried, two.recognition.scene_bases_tried);
