@@ -26,6 +26,7 @@ ShapeRefineConfig CoarseRefine() {
   c.search_start_px = 12.0f;
   c.search_end_px = 6.0f;
   c.visibility_every = 4;
+  c.final_fit = false;
   return c;
 }
 

@@ -342,6 +342,7 @@ Status ShapeRefiner::Refine(const StereoCalibration& calib, const ShapeImages& i
       break;
     }
   }
+  if (!config.final_fit) return Status::Ok();
   // Final fit at the pose reached, with fresh visibility and the narrowest search.
   SH_RETURN_IF_ERROR(collect());
   pass(static_cast<int>(std::lround(config.search_end_px)), &H, &g, out->fit);

@@ -52,6 +52,10 @@ struct ShapeRefineConfig {
   float converged_mm = 0.01f;
   // Visible edges are recomputed every this many iterations.
   int visibility_every = 3;
+  // The result's fit: at the pose reached, with fresh visibility and the narrowest search (true),
+  // or that of the last iteration's pass, one update earlier (false: enough to rank hypotheses,
+  // and a visibility computation and a pass cheaper).
+  bool final_fit = true;
 };
 
 Status CheckShapeRefineConfig(const ShapeRefineConfig& config);
