@@ -35,6 +35,7 @@ ShapeRefineConfig FineRefine() {
   c.iterations = 8;
   c.search_start_px = 6.0f;
   c.search_end_px = 3.0f;
+  c.min_start_share = 0.25f;
   return c;
 }
 
@@ -485,8 +486,11 @@ Status ShapeRecognizer::Assess(PosedModel* object, const PosedModel* occluders, 
   }
   const uint8_t colour = colour_of_model_[m];
   ShapeRefineResult fit;
-  const Status s = refiner_.Refine(calib_, images_, colour, object, occluders, n_occluders,
-                                   config_.refine, &fit);
+  // From the truth the refinement runs to its end, however few edges it finds at the start.
+  ShapeRefineConfig refine = config_.refine;
+  refine.min_start_share = 0.0f;
+  const Status s =
+      refiner_.Refine(calib_, images_, colour, object, occluders, n_occluders, refine, &fit);
   if (!s.ok()) return Status::Ok();
   out->refined = true;
   const Verdict v = Evaluate(*object, colour, fit);

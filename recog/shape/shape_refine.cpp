@@ -141,12 +141,13 @@ Eigen::Matrix3f Skew(const Eigen::Vector3f& v) {
 }  // namespace
 
 Status CheckShapeRefineConfig(const ShapeRefineConfig& c) {
-  const bool ok =
-      c.sample_step_px >= 0.5f && c.sample_step_px <= 50.0f && c.min_crease_angle_deg >= 0.0f &&
-      c.min_crease_angle_deg <= 180.0f && c.iterations >= 1 && c.iterations <= 100 &&
-      c.search_start_px >= 1.0f && c.search_start_px <= kMaxSearchPx && c.search_end_px >= 1.0f &&
-      c.search_end_px <= c.search_start_px && c.min_edge_contrast >= 0.0f && c.huber_px > 0.0f &&
-      c.confirm_px > 0.0f && c.converged_mm >= 0.0f && c.visibility_every >= 1;
+  const bool ok = c.sample_step_px >= 0.5f && c.sample_step_px <= 50.0f &&
+                  c.min_crease_angle_deg >= 0.0f && c.min_crease_angle_deg <= 180.0f &&
+                  c.iterations >= 1 && c.iterations <= 100 && c.search_start_px >= 1.0f &&
+                  c.search_start_px <= kMaxSearchPx && c.search_end_px >= 1.0f &&
+                  c.search_end_px <= c.search_start_px && c.min_edge_contrast >= 0.0f &&
+                  c.huber_px > 0.0f && c.confirm_px > 0.0f && c.converged_mm >= 0.0f &&
+                  c.visibility_every >= 1 && c.min_start_share >= 0.0f && c.min_start_share <= 1.0f;
   if (!ok) {
     return Status::Error(StatusCode::kOutOfRange,
                          "shape refinement: settings out of range (step 0.5..50 px, iterations "
@@ -322,6 +323,15 @@ Status ShapeRefiner::Refine(const StereoCalibration& calib, const ShapeImages& i
     const int range = static_cast<int>(
         std::lround(config.search_start_px + f * (config.search_end_px - config.search_start_px)));
     pass(range, &H, &g, out->fit);
+    for (int cam = 0; cam < 2 && it == 0; ++cam) {
+      const EdgeFit& f = out->fit[cam];
+      if (static_cast<float>(f.found) < config.min_start_share * static_cast<float>(f.samples) ||
+          (f.samples == 0 && config.min_start_share > 0.0f)) {
+        return Status::Error(StatusCode::kNotFound,
+                             "shape refinement: %s image shows %d of %d edge samples at the start",
+                             cam == 0 ? "left" : "right", f.found, f.samples);
+      }
+    }
     const int used = out->fit[0].found + out->fit[1].found;
     if (used < kMinSolveSamples) {
       return Status::Error(StatusCode::kFailedPrecondition,
