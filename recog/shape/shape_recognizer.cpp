@@ -12,9 +12,24 @@ namespace sh {
 namespace {
 
 constexpr size_t kNearestPerImage = 32;  // raw nearest views before size check and diversity
+// Two coarse results this close (modulo the model's symmetries) are one start for the fine stage.
+constexpr float kSameStartMm = 1.0f, kSameStartDeg = 1.0f;
 
 ViewCamera Camera(const StereoCalibration& calib, int i) {
   return i == 0 ? LeftView(calib) : RightView(calib);
+}
+
+bool SameStart(const PosedModel& a, const PosedModel& b) {
+  if (a.model != b.model || (a.cam_T_model.t_mm - b.cam_T_model.t_mm).norm() > kSameStartMm) {
+    return false;
+  }
+  const Eigen::Matrix3f a_R_b = a.cam_T_model.R.transpose() * b.cam_T_model.R;
+  for (int k = 0; k < std::max<int>(1, a.model->n_symmetries); ++k) {
+    const Eigen::Matrix3f s =
+        a.model->n_symmetries ? a.model->symmetry(k) : Eigen::Matrix3f::Identity();
+    if (RotationAngleDeg(a_R_b * s) <= kSameStartDeg) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -382,6 +397,11 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
   PosedModel best{nullptr, {}};
   Verdict best_verdict;
   for (size_t i = 0; i < n_coarse && i < static_cast<size_t>(config_.fine_hypotheses); ++i) {
+    // Two views that the coarse stage took to one pose: the fine stage would repeat itself.
+    bool repeat = false;
+    for (size_t j = 0; j < i && !repeat; ++j)
+      repeat = SameStart(coarse[j].object, coarse[i].object);
+    if (repeat) continue;
     PosedModel object = coarse[i].object;
     Verdict v;
     if (!RefineAndEvaluate(colour, &object, &v) || !v.accepted) continue;
