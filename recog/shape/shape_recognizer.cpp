@@ -47,7 +47,7 @@ ShapeRefineConfig CoarseRefine() {
 
 ShapeRefineConfig FineRefine() {
   ShapeRefineConfig c;
-  c.iterations = 6;
+  c.iterations = 8;
   c.search_start_px = 6.0f;
   c.search_end_px = 3.0f;
   c.min_start_share = 0.25f;
