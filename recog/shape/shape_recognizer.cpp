@@ -12,9 +12,24 @@ namespace sh {
 namespace {
 
 constexpr size_t kNearestPerImage = 32;  // raw nearest views before size check and diversity
+// Two coarse results this close (modulo the model's symmetries) are one start for the fine stage.
+constexpr float kSameStartMm = 1.0f, kSameStartDeg = 1.0f;
 
 ViewCamera Camera(const StereoCalibration& calib, int i) {
   return i == 0 ? LeftView(calib) : RightView(calib);
+}
+
+bool SameStart(const PosedModel& a, const PosedModel& b) {
+  if (a.model != b.model || (a.cam_T_model.t_mm - b.cam_T_model.t_mm).norm() > kSameStartMm) {
+    return false;
+  }
+  const Eigen::Matrix3f a_R_b = a.cam_T_model.R.transpose() * b.cam_T_model.R;
+  for (int k = 0; k < std::max<int>(1, a.model->n_symmetries); ++k) {
+    const Eigen::Matrix3f s =
+        a.model->n_symmetries ? a.model->symmetry(k) : Eigen::Matrix3f::Identity();
+    if (RotationAngleDeg(a_R_b * s) <= kSameStartDeg) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -26,6 +41,7 @@ ShapeRefineConfig CoarseRefine() {
   c.search_start_px = 12.0f;
   c.search_end_px = 6.0f;
   c.visibility_every = 4;
+  c.final_fit = false;
   return c;
 }
 
@@ -34,6 +50,7 @@ ShapeRefineConfig FineRefine() {
   c.iterations = 8;
   c.search_start_px = 6.0f;
   c.search_end_px = 3.0f;
+  c.min_start_share = 0.25f;
   return c;
 }
 
@@ -249,6 +266,14 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
   const int w = segmentation_[camera].width();
   const ImageView<const Rgb8> src = images_.rgb[camera], dst = images_.rgb[other];
   const ConstGrayView dst_classes = images_.classes[other];
+  // The blob's sampled pixels: no shift maps more of them, so a sum of differences that already
+  // reaches best_cost times their count cannot give a lower mean; the depth is dropped there.
+  uint32_t n_blob = 0;
+  for (int y = blob.y0; y <= blob.y1; y += kSampleStride) {
+    const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(y) * w;
+    for (int x = blob.x0; x <= blob.x1; x += kSampleStride) n_blob += ids[x] == id;
+  }
+  if (n_blob == 0) return 0.0f;
   float best_cost = 1e30f, best_depth = 0.0f;
   for (int k = 0; k < steps; ++k) {
     const float inv = (1.0f / kMaxDepthMm) + (1.0f / kMinDepthMm - 1.0f / kMaxDepthMm) *
@@ -261,7 +286,8 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
     const int dy = static_cast<int>(std::lround(centre_other.y() - blob.cy));
     uint32_t n = 0, same = 0;
     uint32_t sad = 0;
-    for (int y = blob.y0; y <= blob.y1; y += kSampleStride) {
+    bool beaten = false;
+    for (int y = blob.y0; y <= blob.y1 && !beaten; y += kSampleStride) {
       const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(y) * w;
       const int yo = y + dy;
       if (yo < 0 || yo >= co.height) continue;
@@ -277,9 +303,10 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
                                      std::abs(s_row[x].g - d_row[xo].g) +
                                      std::abs(s_row[x].b - d_row[xo].b));
       }
+      beaten = static_cast<float>(sad) / static_cast<float>(n_blob) >= best_cost;
     }
     // Most of the blob must land on its colour in the other image.
-    if (n == 0 || same * 10 < n * 7) continue;
+    if (beaten || n == 0 || same * 10 < n * 7) continue;
     const float cost = static_cast<float>(sad) / n;
     if (cost < best_cost) {
       best_cost = cost;
@@ -380,6 +407,11 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
   PosedModel best{nullptr, {}};
   Verdict best_verdict;
   for (size_t i = 0; i < n_coarse && i < static_cast<size_t>(config_.fine_hypotheses); ++i) {
+    // Two views that the coarse stage took to one pose: the fine stage would repeat itself.
+    bool repeat = false;
+    for (size_t j = 0; j < i && !repeat; ++j)
+      repeat = SameStart(coarse[j].object, coarse[i].object);
+    if (repeat) continue;
     PosedModel object = coarse[i].object;
     Verdict v;
     if (!RefineAndEvaluate(colour, &object, &v) || !v.accepted) continue;
@@ -484,8 +516,11 @@ Status ShapeRecognizer::Assess(PosedModel* object, const PosedModel* occluders, 
   }
   const uint8_t colour = colour_of_model_[m];
   ShapeRefineResult fit;
-  const Status s = refiner_.Refine(calib_, images_, colour, object, occluders, n_occluders,
-                                   config_.refine, &fit);
+  // From the truth the refinement runs to its end, however few edges it finds at the start.
+  ShapeRefineConfig refine = config_.refine;
+  refine.min_start_share = 0.0f;
+  const Status s =
+      refiner_.Refine(calib_, images_, colour, object, occluders, n_occluders, refine, &fit);
   if (!s.ok()) return Status::Ok();
   out->refined = true;
   const Verdict v = Evaluate(*object, colour, fit);

@@ -34,44 +34,59 @@ float ParabolaPeak(float a, float b, float c) {
 // crease. Classes come from the segmentation's class image at the nearest pixel; colours are
 // interpolated only where a gradient is needed (around the transitions for silhouettes).
 // Returns false when there is none.
+//
+// Transitions are examined from s = 0 outwards and the search stops once no farther one can come
+// nearer than the edge found (the peak lies within a sample and a half of its transition), so a
+// pose near the image's edges reads a few pixels per sample, not the whole range. Of edges at the
+// same distance the one at the smaller s is kept, as a scan from -range would keep it.
 bool SearchEdge(ImageView<const Rgb8> image, ConstGrayView classes, uint8_t colour, bool silhouette,
                 const Eigen::Vector2f& p, const Eigen::Vector2f& n, int range, float min_contrast,
                 float* s_out) {
   constexpr int kMax = 2 * kMaxSearchPx + 3;
+  constexpr uint8_t kRead = 1, kValid = 2, kInside = 4, kSampled = 8;
   float c[kMax][3];
-  bool valid[kMax], inside[kMax], sampled[kMax] = {};
+  uint8_t state[kMax] = {};         // per sample: which of kRead, kValid, kInside, kSampled hold
   const int count = 2 * range + 3;  // s = -range - 1 .. range + 1
-  for (int i = 0; i < count; ++i) {
-    const float s = static_cast<float>(i - range - 1);
-    const float x = p.x() + s * n.x(), y = p.y() + s * n.y();
-    valid[i] = x >= 0.0f && y >= 0.0f && x <= image.width - 1.0f && y <= image.height - 1.0f;
-    inside[i] =
-        valid[i] && classes.at(static_cast<int>(x + 0.5f), static_cast<int>(y + 0.5f)) == colour;
-  }
-  auto rgb = [&](int i) -> const float* {
-    if (!sampled[i]) {
+  auto read = [&](int i) -> uint8_t {
+    if (!(state[i] & kRead)) {
       const float s = static_cast<float>(i - range - 1);
-      valid[i] = SampleRgb(image, p.x() + s * n.x(), p.y() + s * n.y(), c[i]);
-      sampled[i] = true;
+      const float x = p.x() + s * n.x(), y = p.y() + s * n.y();
+      const bool valid =
+          x >= 0.0f && y >= 0.0f && x <= image.width - 1.0f && y <= image.height - 1.0f;
+      // x, y >= 0 where read: adding a half and truncating is rounding to the nearest pixel.
+      const bool inside =
+          valid && classes.at(static_cast<int>(x + 0.5f),  // NOLINT(bugprone-incorrect-roundings)
+                              static_cast<int>(y + 0.5f))  // NOLINT(bugprone-incorrect-roundings)
+                       == colour;
+      state[i] = static_cast<uint8_t>(kRead | (valid ? kValid : 0) | (inside ? kInside : 0));
+    }
+    return state[i];
+  };
+  auto valid = [&](int i) { return (read(i) & kValid) != 0; };
+  auto inside = [&](int i) { return (read(i) & kInside) != 0; };
+  auto rgb = [&](int i) -> const float* {
+    if (!(state[i] & kSampled)) {
+      const float s = static_cast<float>(i - range - 1);
+      const bool ok = SampleRgb(image, p.x() + s * n.x(), p.y() + s * n.y(), c[i]);
+      state[i] = static_cast<uint8_t>((read(i) & ~kValid) | kSampled | (ok ? kValid : 0));
     }
     return c[i];
   };
   // Colour gradient between samples i and i + 1 (at s = i - range - 0.5); 0 where undefined.
   auto g = [&](int i) -> float {
-    if (i < 0 || i + 1 >= count || !valid[i] || !valid[i + 1]) return 0.0f;
+    if (i < 0 || i + 1 >= count || !valid(i) || !valid(i + 1)) return 0.0f;
     const float* a = rgb(i);
     const float* b = rgb(i + 1);
-    return valid[i] && valid[i + 1] ? ColourDistance(a, b) : 0.0f;
+    return valid(i) && valid(i + 1) ? ColourDistance(a, b) : 0.0f;
   };
-  float best = 1e30f;
-  bool found = false;
-  for (int i = 1; i + 2 < count; ++i) {
+  // The edge of the transition between samples i and i + 1, if there is one there.
+  auto edge_at = [&](int i, float* s) -> bool {
     int peak = i;
     float g_peak;
     if (silhouette) {
       // Part colour before, something else after; two samples on each side where they exist.
-      if (!valid[i] || !valid[i + 1] || !inside[i] || inside[i + 1]) continue;
-      if ((valid[i - 1] && !inside[i - 1]) || (valid[i + 2] && inside[i + 2])) continue;
+      if (!valid(i) || !valid(i + 1) || !inside(i) || inside(i + 1)) return false;
+      if ((valid(i - 1) && !inside(i - 1)) || (valid(i + 2) && inside(i + 2))) return false;
       // The classes switch where a blended pixel stops looking like the part, which for a dark
       // background is well past the middle of the blend: the edge is the gradient's peak next
       // to that switch.
@@ -79,22 +94,35 @@ bool SearchEdge(ImageView<const Rgb8> image, ConstGrayView classes, uint8_t colo
       const float before = g(i - 1), after = g(i + 1);
       if (before > g_peak) peak = i - 1, g_peak = before;
       if (after > g_peak) peak = i + 1, g_peak = after;
-      if (peak == 0 || peak + 1 >= count) continue;
+      if (peak == 0 || peak + 1 >= count) return false;
     } else {
-      if (!inside[i] || !inside[i + 1]) continue;
+      if (!inside(i) || !inside(i + 1)) return false;
       g_peak = g(i);
-      if (g_peak < g(i - 1) || g_peak < g(i + 1)) continue;
+      if (g_peak < g(i - 1) || g_peak < g(i + 1)) return false;
     }
-    if (g_peak < min_contrast) continue;
-    const float s =
-        static_cast<float>(peak - range) - 0.5f + ParabolaPeak(g(peak - 1), g_peak, g(peak + 1));
-    if (std::fabs(s) < std::fabs(best)) {
-      best = s;
-      found = true;
+    if (g_peak < min_contrast) return false;
+    *s = static_cast<float>(peak - range) - 0.5f + ParabolaPeak(g(peak - 1), g_peak, g(peak + 1));
+    return true;
+  };
+  float best = 1e30f;
+  int best_i = count;
+  // Transitions i = 1 .. 2 range lie at s = i - range - 0.5: the pair d is at |s| = d + 0.5, and
+  // an edge found there lies within 1.5 of it (peak one sample away, parabola half a sample).
+  for (int d = 0; d < range; ++d) {
+    if (best_i<count&& static_cast<float>(d) - 1.0f> std::fabs(best)) break;
+    const int pair[2] = {range + 1 + d, range - d};
+    for (const int i : pair) {
+      float s;
+      if (!edge_at(i, &s)) continue;
+      const float a = std::fabs(s), b = std::fabs(best);
+      if (a < b || (a == b && i < best_i)) {
+        best = s;
+        best_i = i;
+      }
     }
   }
   *s_out = best;
-  return found;
+  return best_i < count;
 }
 
 // Rotation of a small rotation vector (exact, Rodrigues).
@@ -113,12 +141,13 @@ Eigen::Matrix3f Skew(const Eigen::Vector3f& v) {
 }  // namespace
 
 Status CheckShapeRefineConfig(const ShapeRefineConfig& c) {
-  const bool ok =
-      c.sample_step_px >= 0.5f && c.sample_step_px <= 50.0f && c.min_crease_angle_deg >= 0.0f &&
-      c.min_crease_angle_deg <= 180.0f && c.iterations >= 1 && c.iterations <= 100 &&
-      c.search_start_px >= 1.0f && c.search_start_px <= kMaxSearchPx && c.search_end_px >= 1.0f &&
-      c.search_end_px <= c.search_start_px && c.min_edge_contrast >= 0.0f && c.huber_px > 0.0f &&
-      c.confirm_px > 0.0f && c.converged_mm >= 0.0f && c.visibility_every >= 1;
+  const bool ok = c.sample_step_px >= 0.5f && c.sample_step_px <= 50.0f &&
+                  c.min_crease_angle_deg >= 0.0f && c.min_crease_angle_deg <= 180.0f &&
+                  c.iterations >= 1 && c.iterations <= 100 && c.search_start_px >= 1.0f &&
+                  c.search_start_px <= kMaxSearchPx && c.search_end_px >= 1.0f &&
+                  c.search_end_px <= c.search_start_px && c.min_edge_contrast >= 0.0f &&
+                  c.huber_px > 0.0f && c.confirm_px > 0.0f && c.converged_mm >= 0.0f &&
+                  c.visibility_every >= 1 && c.min_start_share >= 0.0f && c.min_start_share <= 1.0f;
   if (!ok) {
     return Status::Error(StatusCode::kOutOfRange,
                          "shape refinement: settings out of range (step 0.5..50 px, iterations "
@@ -294,6 +323,15 @@ Status ShapeRefiner::Refine(const StereoCalibration& calib, const ShapeImages& i
     const int range = static_cast<int>(
         std::lround(config.search_start_px + f * (config.search_end_px - config.search_start_px)));
     pass(range, &H, &g, out->fit);
+    for (int cam = 0; cam < 2 && it == 0; ++cam) {
+      const EdgeFit& f = out->fit[cam];
+      if (static_cast<float>(f.found) < config.min_start_share * static_cast<float>(f.samples) ||
+          (f.samples == 0 && config.min_start_share > 0.0f)) {
+        return Status::Error(StatusCode::kNotFound,
+                             "shape refinement: %s image shows %d of %d edge samples at the start",
+                             cam == 0 ? "left" : "right", f.found, f.samples);
+      }
+    }
     const int used = out->fit[0].found + out->fit[1].found;
     if (used < kMinSolveSamples) {
       return Status::Error(StatusCode::kFailedPrecondition,
@@ -314,6 +352,7 @@ Status ShapeRefiner::Refine(const StereoCalibration& calib, const ShapeImages& i
       break;
     }
   }
+  if (!config.final_fit) return Status::Ok();
   // Final fit at the pose reached, with fresh visibility and the narrowest search.
   SH_RETURN_IF_ERROR(collect());
   pass(static_cast<int>(std::lround(config.search_end_px)), &H, &g, out->fit);

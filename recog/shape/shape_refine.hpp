@@ -52,6 +52,13 @@ struct ShapeRefineConfig {
   float converged_mm = 0.01f;
   // Visible edges are recomputed every this many iterations.
   int visibility_every = 3;
+  // The result's fit: at the pose reached, with fresh visibility and the narrowest search (true),
+  // or that of the last iteration's pass, one update earlier (false: enough to rank hypotheses,
+  // and a visibility computation and a pass cheaper).
+  bool final_fit = true;
+  // Give up (kNotFound) when the first pass finds an edge for less than this share of an image's
+  // samples: a start that far from what the images show does not verify (0: never).
+  float min_start_share = 0.0f;
 };
 
 Status CheckShapeRefineConfig(const ShapeRefineConfig& config);

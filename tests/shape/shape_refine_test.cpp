@@ -39,31 +39,49 @@ float SymmetricAngleDeg(const Model& m, const Eigen::Matrix3f& a, const Eigen::M
   return best;
 }
 
-class ShapeRefineTest : public ::testing::TestWithParam<const char*> {};
+// One part at `truth` rendered flat by the thesis rig, segmented: the images refinement reads.
+struct Scene {
+  StereoCalibration calib = testing::ThesisRig();
+  testing::FlatImage left, right;
+  std::unique_ptr<ColourSegmentation[]> seg = std::make_unique<ColourSegmentation[]>(2);
+  ShapeImages images;
+  uint8_t colour = 0;
+};
 
-TEST_P(ShapeRefineTest, ConvergesFromAFewMillimetresAndDegreesOff) {
-  const Part part = Load(GetParam());
-  const StereoCalibration calib = testing::ThesisRig();
+void Render(const Part& part, const RigidTransform& truth, Scene* scene) {
+  testing::RenderFlatPair(scene->calib,
+                          {{{&part.model, truth}, {part.kd[0], part.kd[1], part.kd[2]}}}, 35, 2.0f,
+                          &scene->left, &scene->right);
+  ColourClassSet set;
+  ASSERT_TRUE(DeriveColourClasses(&part.kd, 1, &set, &scene->colour).ok());
+  ColourClassifier classifier;
+  ASSERT_TRUE(classifier.Init(set).ok());
+  ASSERT_TRUE(scene->seg[0].Segment(scene->left.frame(), classifier, SegmentConfig{}).ok());
+  ASSERT_TRUE(scene->seg[1].Segment(scene->right.frame(), classifier, SegmentConfig{}).ok());
+  for (int cam = 0; cam < 2; ++cam) {
+    scene->images.rgb[cam] = scene->seg[cam].rgb();
+    scene->images.classes[cam] = scene->seg[cam].classes();
+  }
+}
+
+RigidTransform Truth() {
   RigidTransform truth;
   truth.R =
       Eigen::AngleAxisf(2.1f, Eigen::Vector3f(0.4f, -0.7f, 0.3f).normalized()).toRotationMatrix();
   truth.t_mm = {-15, 10, 460};
-  testing::FlatImage left, right;
-  testing::RenderFlatPair(calib, {{{&part.model, truth}, {part.kd[0], part.kd[1], part.kd[2]}}}, 35,
-                          2.0f, &left, &right);
-  ColourClassSet set;
-  uint8_t colour;
-  ASSERT_TRUE(DeriveColourClasses(&part.kd, 1, &set, &colour).ok());
-  ColourClassifier classifier;
-  ASSERT_TRUE(classifier.Init(set).ok());
-  auto seg = std::make_unique<ColourSegmentation[]>(2);
-  ASSERT_TRUE(seg[0].Segment(left.frame(), classifier, SegmentConfig{}).ok());
-  ASSERT_TRUE(seg[1].Segment(right.frame(), classifier, SegmentConfig{}).ok());
-  ShapeImages images;
-  images.rgb[0] = seg[0].rgb();
-  images.rgb[1] = seg[1].rgb();
-  images.classes[0] = seg[0].classes();
-  images.classes[1] = seg[1].classes();
+  return truth;
+}
+
+class ShapeRefineTest : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ShapeRefineTest, ConvergesFromAFewMillimetresAndDegreesOff) {
+  const Part part = Load(GetParam());
+  const RigidTransform truth = Truth();
+  Scene scene;
+  Render(part, truth, &scene);
+  const StereoCalibration& calib = scene.calib;
+  const ShapeImages& images = scene.images;
+  const uint8_t colour = scene.colour;
 
   PosedModel object{&part.model, truth};
   object.cam_T_model.R =
@@ -91,6 +109,37 @@ TEST_P(ShapeRefineTest, ConvergesFromAFewMillimetresAndDegreesOff) {
 
 INSTANTIATE_TEST_SUITE_P(Models, ShapeRefineTest,
                          ::testing::Values("cube", "can", "bracket", "star", "wedge"));
+
+// With min_start_share, a start beside the part (its edges beyond the search) is given up after
+// the first pass, and a start near it is refined as without.
+TEST(ShapeRefine, GivesUpAStartThatFindsFewEdges) {
+  const Part part = Load("wedge");
+  const RigidTransform truth = Truth();
+  Scene scene;
+  Render(part, truth, &scene);
+  ShapeRefineConfig config;
+  config.min_start_share = 0.25f;
+  auto refiner = std::make_unique<ShapeRefiner>();
+  ShapeRefineResult result;
+  PosedModel beside{&part.model, truth};
+  beside.cam_T_model.t_mm += Eigen::Vector3f(60.0f, 0.0f, 0.0f);
+  EXPECT_EQ(
+      refiner->Refine(scene.calib, scene.images, scene.colour, &beside, nullptr, 0, config, &result)
+          .code(),
+      StatusCode::kNotFound);
+  config.min_start_share = 0.0f;
+  const Status without = refiner->Refine(scene.calib, scene.images, scene.colour, &beside, nullptr,
+                                         0, config, &result);
+  EXPECT_NE(without.code(), StatusCode::kNotFound) << without.message();
+
+  PosedModel near{&part.model, truth};
+  near.cam_T_model.t_mm += Eigen::Vector3f(2.5f, -2.0f, 3.0f);
+  config.min_start_share = 0.25f;
+  const Status s =
+      refiner->Refine(scene.calib, scene.images, scene.colour, &near, nullptr, 0, config, &result);
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_LT((near.cam_T_model.t_mm - truth.t_mm).norm(), 0.15f);
+}
 
 TEST(ShapeRefine, RefusesBadSettingsAndMismatchedImages) {
   ShapeRefineConfig c;
