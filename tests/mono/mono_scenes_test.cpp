@@ -44,7 +44,11 @@ float Median(std::vector<float> v) {
   return v[v.size() / 2];
 }
 
-TEST(MonoPipeline, FindsRestingObjectsFromOneImageWithTheTable) {
+// Runs the one-camera pipeline over the test scenes from `camera` (0 left, 1 right), with each
+// scene's table pose or (with_table false) without, scoring within max_mm; `check` sees every
+// scene's result.
+template <typename Check>
+Score RunScenes(int camera, bool with_table, float max_mm, Check&& check) {
   const MonoSceneSet& f = MonoScenes();
   auto pipeline = std::make_unique<MonoPipeline>();
   auto workspace = MakeWorkspace<FeatureWorkspace>();
@@ -53,29 +57,42 @@ TEST(MonoPipeline, FindsRestingObjectsFromOneImageWithTheTable) {
   for (int i = 0; i < testing::kMonoScenes; ++i) {
     const RenderedPair* pair = &MonoScene(i);
     const RigidTransform left_T_table = pair->generated.scene.left_T_table;
-    ASSERT_TRUE(pipeline
-                    ->Init(pair->generated.calib, 0, f.table, &left_T_table,
-                           MonoPipelineConfig::Automatic(), FakeClock)
-                    .ok());
-    ASSERT_TRUE(pipeline->Process(pair->left_view(), 0, *workspace, result.get()).ok());
-    Add(f, *pair, *result, 5.0f, &score);
-    EXPECT_GT(result->time.total_ms, 0.0f);
-    EXPECT_GE(result->time.total_ms, result->time.features_ms);
-    for (const RecognizedObject& o : result->objects) {
-      EXPECT_GE(o.verify_score[0], pipeline->config().mono.verify.min_fraction);
-      EXPECT_GE(o.verify_score[1], pipeline->config().mono.min_match_fraction);
-    }
-    // One place, one object: no two reported objects hold each other's centre.
-    for (size_t a = 0; a < result->objects.size(); ++a) {
-      for (size_t b = a + 1; b < result->objects.size(); ++b) {
-        const RecognizedObject& oa = result->objects[a];
-        const RecognizedObject& ob = result->objects[b];
-        EXPECT_FALSE(Interpenetrate({&f.table.model(oa.model), oa.cam_T_model},
-                                    {&f.table.model(ob.model), ob.cam_T_model}))
-            << "scene " << i << ": objects " << a << " and " << b;
-      }
-    }
+    const Status init =
+        pipeline->Init(pair->generated.calib, camera, f.table, with_table ? &left_T_table : nullptr,
+                       MonoPipelineConfig::Automatic(), FakeClock);
+    EXPECT_TRUE(init.ok()) << init.message();
+    if (!init.ok()) return score;
+    const Status s = pipeline->Process(camera == 0 ? pair->left_view() : pair->right_view(), 0,
+                                       *workspace, result.get());
+    EXPECT_TRUE(s.ok()) << s.message();
+    if (!s.ok()) return score;
+    Add(f, *pair, *result, max_mm, &score);
+    check(i, *pipeline, *result);
   }
+  return score;
+}
+
+TEST(MonoPipeline, FindsRestingObjectsFromOneImageWithTheTable) {
+  const MonoSceneSet& f = MonoScenes();
+  const Score score =
+      RunScenes(0, true, 5.0f, [&](int i, const MonoPipeline& pipeline, const MonoResult& result) {
+        EXPECT_GT(result.time.total_ms, 0.0f);
+        EXPECT_GE(result.time.total_ms, result.time.features_ms);
+        for (const RecognizedObject& o : result.objects) {
+          EXPECT_GE(o.verify_score[0], pipeline.config().mono.verify.min_fraction);
+          EXPECT_GE(o.verify_score[1], pipeline.config().mono.min_match_fraction);
+        }
+        // One place, one object: no two reported objects hold each other's centre.
+        for (size_t a = 0; a < result.objects.size(); ++a) {
+          for (size_t b = a + 1; b < result.objects.size(); ++b) {
+            const RecognizedObject& oa = result.objects[a];
+            const RecognizedObject& ob = result.objects[b];
+            EXPECT_FALSE(Interpenetrate({&f.table.model(oa.model), oa.cam_T_model},
+                                        {&f.table.model(ob.model), ob.cam_T_model}))
+                << "scene " << i << ": objects " << a << " and " << b;
+          }
+        }
+      });
   EXPECT_GE(score.correct * 4, score.objects * 3) << score.correct << " of " << score.objects;
   EXPECT_LE((score.reported - score.correct) * 5, score.reported);
   // The table fixes depth and tilt: millimetre poses from one image.
@@ -84,38 +101,13 @@ TEST(MonoPipeline, FindsRestingObjectsFromOneImageWithTheTable) {
 }
 
 TEST(MonoPipeline, RightCameraReportsPosesInTheLeftFrame) {
-  const MonoSceneSet& f = MonoScenes();
-  auto pipeline = std::make_unique<MonoPipeline>();
-  auto workspace = MakeWorkspace<FeatureWorkspace>();
-  auto result = std::make_unique<MonoResult>();
-  Score score;
-  for (int i = 0; i < testing::kMonoScenes; ++i) {
-    const RenderedPair* pair = &MonoScene(i);
-    const RigidTransform left_T_table = pair->generated.scene.left_T_table;
-    ASSERT_TRUE(pipeline
-                    ->Init(pair->generated.calib, 1, f.table, &left_T_table,
-                           MonoPipelineConfig::Automatic())
-                    .ok());
-    ASSERT_TRUE(pipeline->Process(pair->right_view(), 0, *workspace, result.get()).ok());
-    Add(f, *pair, *result, 5.0f, &score);
-  }
+  const Score score = RunScenes(1, true, 5.0f, [](int, const MonoPipeline&, const MonoResult&) {});
   EXPECT_GE(score.correct * 4, score.objects * 3) << score.correct << " of " << score.objects;
 }
 
 TEST(MonoPipeline, WithoutTableThePosesAreFreeButCoarser) {
-  const MonoSceneSet& f = MonoScenes();
-  auto pipeline = std::make_unique<MonoPipeline>();
-  auto workspace = MakeWorkspace<FeatureWorkspace>();
-  auto result = std::make_unique<MonoResult>();
-  Score score;
-  for (int i = 0; i < testing::kMonoScenes; ++i) {
-    const RenderedPair* pair = &MonoScene(i);
-    ASSERT_TRUE(
-        pipeline->Init(pair->generated.calib, 0, f.table, nullptr, MonoPipelineConfig::Automatic())
-            .ok());
-    ASSERT_TRUE(pipeline->Process(pair->left_view(), 0, *workspace, result.get()).ok());
-    Add(f, *pair, *result, 15.0f, &score);
-  }
+  const Score score =
+      RunScenes(0, false, 15.0f, [](int, const MonoPipeline&, const MonoResult&) {});
   // Depth from one image without the table is the weak direction: within 15 mm for some.
   EXPECT_GT(score.correct, 0);
 }
