@@ -9,16 +9,28 @@
 
 namespace sh::fw {
 
-// Stack bytes each firmware thread touches when it starts (the pipeline's deepest call chain
-// stays far below this; see docs/firmware.md).
-inline constexpr size_t kPrefaultStackBytes = size_t{256} * 1024;
+// Deepest stack any firmware thread reached (84 KiB, with the one-camera fallback; 76 to 80 KiB
+// in the other runs, the other threads 12 to 52 KiB): the resident part of each thread's stack
+// in /proc/PID/smaps of the simulator replaying 1280 x 800 pairs, with the rendered world, with
+// the carton database (texture features) and with the right camera silent, the pre-fault cut to
+// one 16 KiB chunk so that it does not hide the depth; the pages the C library keeps at the top
+// of each stack (the thread's control block, its TLS) are included (docs/memory.md, "Thread
+// stacks").
+inline constexpr size_t kMeasuredStackHighWaterBytes = size_t{84} * 1024;
+
+// Stack bytes each firmware thread touches when it starts, so that an unlocked run takes its
+// stack page faults at start rather than in the first trigger: above the measured depth.
+inline constexpr size_t kPrefaultStackBytes = size_t{128} * 1024;
 
 // Stack of every thread the firmware starts. The default (the stack rlimit, 8 MiB on Debian) is
-// locked in full by LockMemory: seven threads locked 56 MiB. The deepest thread touches at most
-// 264 KiB including the kPrefaultStackBytes pre-fault (measured per thread from
-// /proc/PID/smaps, docs/memory.md); 1 MiB leaves four times that, and the guard page below each
-// stack turns an overflow into a crash rather than corruption.
-inline constexpr size_t kThreadStackBytes = size_t{1} << 20;
+// locked in full by LockMemory: seven threads locked 56 MiB, at 1 MiB each 7 MiB. 512 KiB is 6.1
+// times the measured depth (libcamera's threads on the board, which get it too, were not measured
+// here), and the guard page below each stack turns an overflow into a crash rather than
+// corruption.
+inline constexpr size_t kThreadStackBytes = size_t{512} * 1024;
+static_assert(kPrefaultStackBytes >= kMeasuredStackHighWaterBytes, "pre-fault the used depth");
+static_assert(kThreadStackBytes >= 4 * kMeasuredStackHighWaterBytes, "4 x margin over the depth");
+static_assert(kThreadStackBytes >= 2 * kPrefaultStackBytes, "room above the pre-fault");
 
 // Makes `bytes` the stack size of the threads created afterwards (std::thread included), for the
 // whole process. kUnavailable with the reason when the C library refuses.

@@ -64,6 +64,7 @@ struct CameraStats {
   uint64_t right_overflow_drops = 0;  // right frames dropped because the right queue was full
   uint64_t pair_overflow_drops = 0;   // pairs dropped because the consumer fell behind
   uint64_t timeouts = 0;              // Capture() calls that ran out of time
+  uint64_t no_buffer_drops = 0;       // frames not captured: every buffer of a side was in use
   uint64_t errors = 0;  // failed or corrupt frames, out-of-order timestamps, backend faults
 };
 

@@ -84,6 +84,7 @@ Status SimCamera::Start() {
   pairer_.SetMode(mode_);
   pairer_.Reset(recycled);  // nothing queued yet: buffers were just handed to the pools
   next_frame_ = 0;
+  no_buffer_drops_ = 0;
   jitter_state_ = config_.jitter_seed == 0 ? 1u : config_.jitter_seed;
   end_of_stream_ = Status::Ok();
   holding_ = false;
@@ -172,9 +173,11 @@ Status SimCamera::ProduceFrame() {
   SidePool& lpool = pools_[0];
   SidePool& rpool = pools_[1];
   if (lpool.free_count == 0 || rpool.free_count == 0) {
-    pairer_.ReportError(StereoSide::kLeft);
-    return Status::Error(StatusCode::kInternal, "sim camera ran out of buffers at frame %llu",
-                         static_cast<unsigned long long>(n));
+    // Timestamps drawn as for a captured frame, so the jitter sequence of the others stays.
+    Timestamp(StereoSide::kLeft, n);
+    Timestamp(StereoSide::kRight, n);
+    ++no_buffer_drops_;
+    return Status::Ok();
   }
   const uint32_t ids[2] = {lpool.free_ids[--lpool.free_count], rpool.free_ids[--rpool.free_count]};
   // Timestamps are drawn for both sides of every frame, so dropping frames does not change the
@@ -260,6 +263,10 @@ void SimCamera::Release() {
   holding_ = false;
 }
 
-CameraStats SimCamera::stats() const { return pairer_.stats(); }
+CameraStats SimCamera::stats() const {
+  CameraStats stats = pairer_.stats();
+  stats.no_buffer_drops = no_buffer_drops_;
+  return stats;
+}
 
 }  // namespace sh::hal

@@ -15,9 +15,14 @@
 
 namespace sh::hal {
 
-// Buffers per side: a full side queue, the queued pairs, the pair held by the consumer and the
-// frame being rendered.
-inline constexpr size_t kSimBuffersPerSide = kStereoQueueDepth + kStereoPairDepth + 2;
+// Buffers per side: a full side queue and the frame being rendered. A frame is rendered only
+// inside Capture(), after it has released the consumer's pair and found the pair queue empty
+// (TryTakePair), so at that moment the side queue (at most kStereoQueueDepth frames) holds every
+// other buffer of the side; the queued pairs and the held pair never coexist with a rendering.
+// Should a side's pool be empty all the same, the frame is not captured on either side and is
+// counted (CameraStats::no_buffer_drops), as a camera without a free buffer drops a frame. The
+// board's libcamera backend keeps its own count (kLibcameraBufferCount).
+inline constexpr size_t kSimBuffersPerSide = kStereoQueueDepth + 1;
 // Frames produced by one Capture() before it gives up and waits; bounds the work per call when a
 // fault keeps one side from pairing.
 inline constexpr int kSimFramesPerCapture = 8;
@@ -101,6 +106,7 @@ class SimCamera final : public StereoCamera {
   uint32_t jitter_state_ = 1;
   bool holding_ = false;
   FramePair held_;
+  uint64_t no_buffer_drops_ = 0;
 };
 
 }  // namespace sh::hal

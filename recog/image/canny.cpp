@@ -76,7 +76,9 @@ void EdgeTracer::Suppress(int yc) {
   // store of each per pixel.
   const float low2 = low2_, high2 = high2_;
   uint32_t* const stack = b_.stack;
+  const size_t capacity = b_.stack_capacity;
   size_t candidates = candidates_, top = top_;
+  bool list_was_full = list_was_full_;
   // tan(22.5 deg): splits gradient directions into horizontal, vertical and the two diagonals.
   constexpr float kTan22 = 0.41421356f;
   for (int x = 1; x < w - 1; ++x) {
@@ -103,28 +105,37 @@ void EdgeTracer::Suppress(int yc) {
     // Orientation now, while the gradient is at hand; Finish clears it where no edge remains.
     o[x] = QuantizeOrientation(std::atan2(ay[x], ax[x]));
     if (v >= high2) {
+      // Marked first: when the list is full the mark alone keeps it for Finish's sweeps.
       f[x] = kStrongPending;
-      stack[top++] = static_cast<uint32_t>(yc) * w + x;
+      if (top < capacity) {
+        stack[top++] = static_cast<uint32_t>(yc) * w + x;
+      } else {
+        list_was_full = true;
+      }
     } else {
       f[x] = kWeak;
     }
   }
   candidates_ = candidates;
   top_ = top;
+  list_was_full_ = list_was_full;
 }
 
-void EdgeTracer::Finish(EdgeMapView& edges, CannyStats* stats) {
+void EdgeTracer::Push(uint32_t index) {
+  if (top_ < b_.stack_capacity) {
+    b_.stack[top_++] = index;
+  } else {
+    list_was_full_ = true;
+  }
+}
+
+void EdgeTracer::Drain() {
   const int w = width_, h = height_;
   uint8_t* const flag = b_.edge;
-  std::fill(flag, flag + w, kNotEdge);
-  std::fill(flag + static_cast<size_t>(h - 1) * w, flag + static_cast<size_t>(h) * w, kNotEdge);
-  // Hysteresis: grow from strong pixels through 8-connected weak ones. A pixel is marked before
-  // it is pushed, so the stack never holds more than the image's pixel count.
-  size_t edge_count = 0;
   while (top_ > 0) {
     const uint32_t idx = b_.stack[--top_];
     flag[idx] = kEdgePixel;
-    ++edge_count;
+    ++edge_count_;
     const int x = static_cast<int>(idx % w), y = static_cast<int>(idx / w);
     for (int dy = -1; dy <= 1; ++dy) {
       const int yy = y + dy;
@@ -135,11 +146,48 @@ void EdgeTracer::Finish(EdgeMapView& edges, CannyStats* stats) {
         const uint32_t n = static_cast<uint32_t>(yy) * w + xx;
         if (flag[n] == kWeak) {
           flag[n] = kStrongPending;
-          b_.stack[top_++] = n;
+          Push(n);
         }
       }
     }
   }
+}
+
+size_t EdgeTracer::Sweep() {
+  const int w = width_, h = height_;
+  const uint8_t* const flag = b_.edge;
+  size_t sweeps = 0;
+  bool forward = true;
+  // A sweep during which the list never fills expands every pixel marked before it and marks no
+  // new one without expanding it, so none is left.
+  while (list_was_full_) {
+    list_was_full_ = false;
+    ++sweeps;
+    for (int i = 1; i < h - 1; ++i) {
+      const int y = forward ? i : h - 1 - i;
+      for (int j = 1; j < w - 1; ++j) {
+        const uint32_t idx = static_cast<uint32_t>(y) * w + (forward ? j : w - 1 - j);
+        if (flag[idx] != kStrongPending) continue;
+        Push(idx);  // the list is empty here and holds at least one entry
+        Drain();
+      }
+    }
+    forward = !forward;
+  }
+  return sweeps;
+}
+
+void EdgeTracer::Finish(EdgeMapView& edges, CannyStats* stats) {
+  const int w = width_, h = height_;
+  uint8_t* const flag = b_.edge;
+  std::fill(flag, flag + w, kNotEdge);
+  std::fill(flag + static_cast<size_t>(h - 1) * w, flag + static_cast<size_t>(h) * w, kNotEdge);
+  // Hysteresis: grow from strong pixels through 8-connected weak ones. A pixel is marked before
+  // it is pushed, so each is expanded once; what did not fit in the list is left to the sweeps.
+  // The edge pixels are the weak and strong ones connected to a strong one, whatever the order
+  // of expansion, so the map is the same with or without sweeps.
+  Drain();
+  const size_t sweeps = list_was_full_ ? Sweep() : 0;
   // Drop unconnected weak pixels, and the orientation wherever no edge remains. A mask instead of
   // a branch or a select, so that the loop vectorises (kEdgePixel is all ones).
   static_assert(kEdgePixel == 0xff && kNotEdge == 0, "edge flags double as masks");
@@ -153,23 +201,36 @@ void EdgeTracer::Finish(EdgeMapView& edges, CannyStats* stats) {
   }
   edges = b_.view(w, h);
   if (stats != nullptr) {
-    stats->edge_pixels = edge_count;
+    stats->edge_pixels = edge_count_;
     stats->nms_candidates = candidates_;
+    stats->hysteresis_sweeps = sweeps;
   }
 }
 
-size_t EdgeBuffers::BytesFor(int width, int height) {
-  const size_t pixels = size_t{static_cast<size_t>(width)} * static_cast<size_t>(height);
-  return 2 * InitBlock::PieceBytes<uint8_t>(pixels) + InitBlock::PieceBytes<uint32_t>(pixels);
+namespace {
+
+size_t WorkListEntries(size_t pixels, size_t work_list_capacity) {
+  return std::max<size_t>(1, std::min(pixels, work_list_capacity));
 }
 
-Status EdgeBuffers::Init(int width, int height) {
-  if (block_.Holds(width, height)) return Status::Ok();
-  SH_RETURN_IF_ERROR(block_.Allocate(width, height, BytesFor(width, height), "edge buffers"));
+}  // namespace
+
+size_t EdgeBuffers::BytesFor(int width, int height, size_t work_list_capacity) {
   const size_t pixels = size_t{static_cast<size_t>(width)} * static_cast<size_t>(height);
+  return 2 * InitBlock::PieceBytes<uint8_t>(pixels) +
+         InitBlock::PieceBytes<uint32_t>(WorkListEntries(pixels, work_list_capacity));
+}
+
+Status EdgeBuffers::Init(int width, int height, size_t work_list_capacity) {
+  const size_t pixels = size_t{static_cast<size_t>(width)} * static_cast<size_t>(height);
+  const size_t entries = WorkListEntries(pixels, work_list_capacity);
+  if (block_.Holds(width, height) && stack_capacity == entries) return Status::Ok();
+  SH_RETURN_IF_ERROR(
+      block_.Allocate(width, height, BytesFor(width, height, work_list_capacity), "edge buffers"));
   edge = block_.Take<uint8_t>(pixels);
   orientation = block_.Take<uint8_t>(pixels);
-  stack = block_.Take<uint32_t>(pixels);
+  stack = block_.Take<uint32_t>(entries);
+  stack_capacity = entries;
   return Status::Ok();
 }
 

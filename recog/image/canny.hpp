@@ -23,13 +23,21 @@ struct CannyConfig {
   float high_threshold = 10.0f;
 };
 
-// Output and work memory of one edge map: 2 bytes of output and 4 bytes of hysteresis stack per
-// pixel for images up to W x H, taken at Init (one block, docs/memory.md), and three rows of
-// gradient for the widest image.
+// Entries of the hysteresis work list (256 KiB): strong pixels waiting to be expanded. The
+// busiest recorded frame has about 47,000 edge pixels at 1280 x 800 (4.6 % of its pixels,
+// docs/memory.md), and the list holds only those not yet expanded. When it is full, a pixel stays
+// marked "strong, not yet expanded" in the flag plane and raster sweeps finish the hysteresis
+// (EdgeTracer::Finish): the same edge map, at the cost of the sweeps.
+inline constexpr size_t kCannyWorkListCapacity = size_t{64} * 1024;
+
+// Output and work memory of one edge map: 2 bytes of output per pixel for images up to W x H and
+// the hysteresis work list (at most kCannyWorkListCapacity entries, no more than W x H), taken at
+// Init (one block, docs/memory.md), and three rows of gradient for the widest image.
 struct EdgeBuffers {
   uint8_t* edge = nullptr;
   uint8_t* orientation = nullptr;
-  uint32_t* stack = nullptr;  // hysteresis work list; each pixel is pushed at most once
+  uint32_t* stack = nullptr;  // hysteresis work list of stack_capacity entries
+  size_t stack_capacity = 0;
   // Ring of the last three gradient rows (x, y, squared magnitude) for non-maximum suppression
   // (45 KiB, zeroed at construction).
   float ring_gx[3][kMaxImageWidth] = {};
@@ -39,9 +47,10 @@ struct EdgeBuffers {
     return {{edge, width, height, width}, {orientation, width, height, width}};
   }
 
-  // Sized as FilterScratch is (BytesFor, Init).
-  static size_t BytesFor(int width, int height);
-  Status Init(int width, int height);
+  // Sized as FilterScratch is (BytesFor, Init). A work list smaller than the default (tests of
+  // the full list) takes `work_list_capacity`, at least 1.
+  static size_t BytesFor(int width, int height, size_t work_list_capacity = kCannyWorkListCapacity);
+  Status Init(int width, int height, size_t work_list_capacity = kCannyWorkListCapacity);
   const ImageBlock& block() const { return block_; }
 
  private:
@@ -52,7 +61,8 @@ inline constexpr uint8_t kEdgePixel = 255;
 
 struct CannyStats {
   size_t edge_pixels = 0;
-  size_t nms_candidates = 0;  // pixels left by non-maximum suppression above the low threshold
+  size_t nms_candidates = 0;     // pixels left by non-maximum suppression above the low threshold
+  size_t hysteresis_sweeps = 0;  // raster sweeps taken because the work list was full (0 if never)
 };
 
 Status ValidateCannyConfig(const CannyConfig& config);
@@ -77,12 +87,20 @@ class EdgeTracer {
 
  private:
   void Suppress(int y);
+  // Pushes a pixel marked strong-pending; when the list is full it stays marked, for the sweeps.
+  void Push(uint32_t index);
+  // Expands the listed pixels: each becomes an edge pixel and its weak 8-neighbours are pushed.
+  void Drain();
+  // Raster sweeps, alternately forward and backward, expanding every pixel left marked
+  // strong-pending, until a sweep finds the list never full.
+  size_t Sweep();
 
   EdgeBuffers& b_;
   int width_, height_;
   float low2_, high2_;
   int rows_ = 0;
-  size_t candidates_ = 0, top_ = 0;
+  size_t candidates_ = 0, top_ = 0, edge_count_ = 0;
+  bool list_was_full_ = false;
 };
 
 // Gradient direction (atan2(gy, gx), any range) to the 256-step orientation of edge_map.hpp.

@@ -107,7 +107,20 @@ bool AnyAbove(const float* __restrict v, float t) {
   return m > t;
 }
 
-bool IsLocalMax(const ImageView<const float>& resp, int x, int y, int radius) {
+// The response rows of an image of width x height in FilterScratch::response: row y in slot
+// y % kResponseRows, valid for the last kResponseRows rows written.
+struct ResponseRing {
+  float* data = nullptr;
+  int width = 0, height = 0;
+  float* row(int y) const {
+    return data +
+           static_cast<size_t>(y % FilterScratch::kResponseRows) * static_cast<size_t>(width);
+  }
+};
+static_assert(FilterScratch::kResponseRows >= 2 * kMaxCornerNmsRadiusPx + 1,
+              "the ring holds a row's whole neighbourhood");
+
+bool IsLocalMax(const ResponseRing& resp, int x, int y, int radius) {
   const float v = resp.row(y)[x];
   const int y0 = std::max(0, y - radius), y1 = std::min(resp.height - 1, y + radius);
   const int x0 = std::max(0, x - radius), x1 = std::min(resp.width - 1, x + radius);
@@ -124,7 +137,7 @@ bool IsLocalMax(const ImageView<const float>& resp, int x, int y, int radius) {
 }
 
 // Sub-pixel offset of the maximum from a quadratic fit to the 3x3 neighbourhood.
-void QuadraticPeak(const ImageView<const float>& resp, int x, int y, float& dx_out, float& dy_out) {
+void QuadraticPeak(const ResponseRing& resp, int x, int y, float& dx_out, float& dy_out) {
   dx_out = dy_out = 0.0f;
   if (x < 1 || y < 1 || x >= resp.width - 1 || y >= resp.height - 1) return;
   auto at = [&](int dx, int dy) { return resp.row(y + dy)[x + dx]; };
@@ -327,59 +340,81 @@ float CornerResponseRow(const float* __restrict up, const float* __restrict mid,
   return RowMax(out, width, 0.0f);
 }
 
-// Corners of a response plane computed on the image reduced by `factor` (1 or 2): positions are
-// scaled back to the full image, whose pixels the vertex refinement uses.
-void ExtractCorners(const ConstGrayView& image, const CornerConfig& config,
-                    const ImageView<const float>& resp, float max_strength, int nms_radius,
-                    int factor, Vector<Corner2D>& corners, CornerStats* stats) {
-  corners.clear();
-  const float threshold = std::max(config.threshold, config.relative_threshold * max_strength);
-  bool heap_built = false;
-  size_t found = 0, dropped = 0;
-  for (int y = 0; y < resp.height; ++y) {
+// Corners of a response computed on the image reduced by `factor` (1 or 2), a row at a time in
+// raster order once the rows within the NMS radius exist: positions are scaled back to the full
+// image, whose pixels the vertex refinement uses.
+class CornerCollector {
+ public:
+  CornerCollector(const ConstGrayView& image, const CornerConfig& config, float max_strength,
+                  int nms_radius, int factor, Vector<Corner2D>& corners)
+      : image_(image),
+        config_(config),
+        max_strength_(max_strength),
+        threshold_(std::max(config.threshold, config.relative_threshold * max_strength)),
+        nms_radius_(nms_radius),
+        factor_(factor),
+        corners_(corners) {
+    corners_.clear();
+  }
+
+  // Row y of `resp`; rows y - nms_radius .. y + nms_radius (within the image) are in the ring.
+  void Row(const ResponseRing& resp, int y) {
     const float* row = resp.row(y);
     for (int x0 = 0; x0 < resp.width; x0 += kScanBlock) {
       const int x1 = std::min(resp.width, x0 + kScanBlock);
       // Most of the plane is below the threshold: skip whole blocks at once.
-      if (x1 - x0 == kScanBlock && !AnyAbove(row + x0, threshold)) continue;
+      if (x1 - x0 == kScanBlock && !AnyAbove(row + x0, threshold_)) continue;
       for (int x = x0; x < x1; ++x) {
         // Strictly above: a zero threshold must not turn flat regions into corners.
-        if (!(row[x] > threshold)) continue;
-        if (!IsLocalMax(resp, x, y, nms_radius)) continue;
+        if (!(row[x] > threshold_)) continue;
+        if (!IsLocalMax(resp, x, y, nms_radius_)) continue;
         float dx, dy;
         QuadraticPeak(resp, x, y, dx, dy);
-        ++found;
-        const float fx = std::min(static_cast<float>(factor) * (x + dx), image.width - 1.0f);
-        const float fy = std::min(static_cast<float>(factor) * (y + dy), image.height - 1.0f);
-        KeepStrongest(corners, Corner2D{fx, fy, row[x]}, heap_built, dropped);
+        ++found_;
+        const float fx = std::min(static_cast<float>(factor_) * (x + dx), image_.width - 1.0f);
+        const float fy = std::min(static_cast<float>(factor_) * (y + dy), image_.height - 1.0f);
+        KeepStrongest(corners_, Corner2D{fx, fy, row[x]}, heap_built_, dropped_);
       }
     }
   }
-  // std::sort (not stable_sort, which may allocate) with a total order: strength, then raster.
-  std::sort(corners.begin(), corners.end(), [](const Corner2D& a, const Corner2D& b) {
-    if (a.strength != b.strength) return a.strength > b.strength;
-    if (a.y_px != b.y_px) return a.y_px < b.y_px;
-    return a.x_px < b.x_px;
-  });
-  size_t refined = 0;
-  if (config.refine_to_vertex) {
-    for (Corner2D& c : corners) refined += RefineToVertex(image, config, c) ? 1 : 0;
-  }
-  if (stats != nullptr) {
-    stats->max_strength = max_strength;
-    stats->threshold_used = threshold;
-    stats->maxima_found = found;
-    stats->maxima_dropped = dropped;
-    stats->vertex_refined = refined;
-  }
-}
 
-// Smooths `image` at smooth_sigma and fills `resp` (same size) with the difference response;
-// returns its maximum. Runs in row bands (RowBand): the row pass fills ring 0 as the column pass
-// needs it, the column pass writes the smoothed rows to ring 1, and each response row follows as
-// soon as its lower neighbour exists.
+  void Finish(CornerStats* stats) {
+    // std::sort (not stable_sort, which may allocate) with a total order: strength, then raster.
+    std::sort(corners_.begin(), corners_.end(), [](const Corner2D& a, const Corner2D& b) {
+      if (a.strength != b.strength) return a.strength > b.strength;
+      if (a.y_px != b.y_px) return a.y_px < b.y_px;
+      return a.x_px < b.x_px;
+    });
+    size_t refined = 0;
+    if (config_.refine_to_vertex) {
+      for (Corner2D& c : corners_) refined += RefineToVertex(image_, config_, c) ? 1 : 0;
+    }
+    if (stats != nullptr) {
+      stats->max_strength = max_strength_;
+      stats->threshold_used = threshold_;
+      stats->maxima_found = found_;
+      stats->maxima_dropped = dropped_;
+      stats->vertex_refined = refined;
+    }
+  }
+
+ private:
+  const ConstGrayView& image_;
+  const CornerConfig& config_;
+  float max_strength_, threshold_;
+  int nms_radius_, factor_;
+  Vector<Corner2D>& corners_;
+  bool heap_built_ = false;
+  size_t found_ = 0, dropped_ = 0;
+};
+
+// Smooths `image` at smooth_sigma and writes the difference response row by row into `resp`,
+// calling on_row(y) after row y; returns the maximum. Runs in row bands (RowBand): the row pass
+// fills ring 0 as the column pass needs it, the column pass writes the smoothed rows to ring 1,
+// and each response row follows as soon as its lower neighbour exists.
+template <typename OnRow>
 float SmoothedResponse(const ConstGrayView& image, const GaussianKernel& g0, float scale,
-                       FilterScratch& scratch, ImageView<float> resp) {
+                       FilterScratch& scratch, const ResponseRing& resp, OnRow&& on_row) {
   const int w = image.width, h = image.height;
   const int r = g0.radius;
   RowBand band(image, scratch, &g0);
@@ -390,6 +425,7 @@ float SmoothedResponse(const ConstGrayView& image, const GaussianKernel& g0, flo
         std::max(max_strength,
                  CornerResponseRow(band.RingRow(1, std::max(0, y - 1)), band.RingRow(1, y),
                                    band.RingRow(1, std::min(h - 1, y + 1)), w, scale, resp.row(y)));
+    on_row(y);
   };
   for (int y = 0; y < h; ++y) {
     band.FillTo(y + r);
@@ -402,10 +438,11 @@ float SmoothedResponse(const ConstGrayView& image, const GaussianKernel& g0, flo
 }
 
 // The five Gaussian-derivative convolutions at sigma_c (exact_derivatives), in row bands: the
-// three row-filtered planes are rings 0-2 of a RowBand.
+// three row-filtered planes are rings 0-2 of a RowBand. Rows go to `resp` as SmoothedResponse's.
+template <typename OnRow>
 float ExactResponse(const ConstGrayView& image, const GaussianKernel& g0, const GaussianKernel& g1,
                     const GaussianKernel& g2, float scale, FilterScratch& scratch,
-                    ImageView<float> resp) {
+                    const ResponseRing& resp, OnRow&& on_row) {
   const int w = image.width, h = image.height;
   const int r = g0.radius;
   RowBand band(image, scratch, &g0, &g1, &g2);
@@ -423,8 +460,54 @@ float ExactResponse(const ConstGrayView& image, const GaussianKernel& g0, const 
     float* out = resp.row(y);
     ResponseRow(rows0, rows1, rows2, r, g0, g1, g2, w, scale, out, ix, iy, ixx, ixy, iyy);
     max_strength = RowMax(out, w, max_strength);
+    on_row(y);
   }
   return max_strength;
+}
+
+// The response of the full-size image (not the reduced path) for `config`, rows to `resp` and
+// on_row(y) after each; returns the maximum.
+template <typename OnRow>
+Status FullSizeResponse(const ConstGrayView& image, const CornerConfig& config,
+                        FilterScratch& scratch, const ResponseRing& resp, float& max_strength,
+                        OnRow&& on_row) {
+  const float scale = CornerResponseScale(config.sigma_px);
+  if (CornersUseSmoothedImage(config)) {
+    GaussianKernel g0;
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(DifferenceSmoothingSigma(config.sigma_px), 0, g0));
+    max_strength = SmoothedResponse(image, g0, scale, scratch, resp, on_row);
+  } else {
+    GaussianKernel g0, g1, g2;
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 0, g0));
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 1, g1));
+    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 2, g2));
+    max_strength = ExactResponse(image, g0, g1, g2, scale, scratch, resp, on_row);
+  }
+  return Status::Ok();
+}
+
+// Two passes over the response rows: the first for the maximum (the relative threshold needs
+// it before any corner is taken), the second computes the same rows again (the same floats) and
+// takes the corners of row y once row y + nms_radius exists. `produce(on_row)` writes the rows
+// to `resp` in order and returns the maximum.
+template <typename Produce>
+Status CornersInTwoPasses(const ConstGrayView& image, const CornerConfig& config,
+                          const ResponseRing& resp, int nms_radius, int factor,
+                          Vector<Corner2D>& corners, CornerStats* stats, Produce&& produce) {
+  float max_strength = 0.0f;
+  SH_RETURN_IF_ERROR(produce([](int) {}, max_strength));
+  CornerCollector collector(image, config, max_strength, nms_radius, factor, corners);
+  float again = 0.0f;
+  SH_RETURN_IF_ERROR(produce(
+      [&](int y) {
+        if (y >= nms_radius) collector.Row(resp, y - nms_radius);
+      },
+      again));
+  for (int y = std::max(0, resp.height - nms_radius); y < resp.height; ++y) {
+    collector.Row(resp, y);
+  }
+  collector.Finish(stats);
+  return Status::Ok();
 }
 
 // 2x reduction: the binomial (1 4 6 4 1) / 16 (variance 1 px^2, zero response at the Nyquist
@@ -485,29 +568,44 @@ Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, Fil
     const float sigma_r = 0.5f * config.sigma_px;
     GaussianKernel g0;
     SH_RETURN_IF_ERROR(MakeGaussianKernel(std::sqrt(sigma_r * sigma_r - 0.5f), 0, g0));
-    ImageView<float> resp = scratch.response.view(reduced.width, reduced.height);
-    const float max_strength =
-        SmoothedResponse(reduced, g0, CornerResponseScale(sigma_r), scratch, resp);
+    const ResponseRing resp{scratch.response, reduced.width, reduced.height};
+    const float scale = CornerResponseScale(sigma_r);
     // The neighbourhood halves with the pixels (at least the 8 neighbours).
     const int nms_radius = std::max(1, (config.nms_radius_px + 1) / 2);
-    ExtractCorners(image, config, resp, max_strength, nms_radius, 2, corners, stats);
-    return Status::Ok();
+    return CornersInTwoPasses(image, config, resp, nms_radius, 2, corners, stats,
+                              [&](auto&& on_row, float& max_strength) {
+                                max_strength =
+                                    SmoothedResponse(reduced, g0, scale, scratch, resp, on_row);
+                                return Status::Ok();
+                              });
   }
-  ImageView<float> resp = scratch.response.view(w, h);
-  const float scale = CornerResponseScale(config.sigma_px);
-  float max_strength = 0.0f;
-  if (CornersUseSmoothedImage(config)) {
-    GaussianKernel g0;
-    SH_RETURN_IF_ERROR(MakeGaussianKernel(DifferenceSmoothingSigma(config.sigma_px), 0, g0));
-    max_strength = SmoothedResponse(image, g0, scale, scratch, resp);
-  } else {
-    GaussianKernel g0, g1, g2;
-    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 0, g0));
-    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 1, g1));
-    SH_RETURN_IF_ERROR(MakeGaussianKernel(config.sigma_px, 2, g2));
-    max_strength = ExactResponse(image, g0, g1, g2, scale, scratch, resp);
+  const ResponseRing resp{scratch.response, w, h};
+  const Status s = CornersInTwoPasses(image, config, resp, config.nms_radius_px, 1, corners, stats,
+                                      [&](auto&& on_row, float& max_strength) {
+                                        return FullSizeResponse(image, config, scratch, resp,
+                                                                max_strength, on_row);
+                                      });
+  if (!s.ok()) corners.clear();
+  return s;
+}
+
+Status CornerResponse(const ConstGrayView& image, const CornerConfig& config,
+                      FilterScratch& scratch, ImageView<float> response, float* max_strength) {
+  SH_RETURN_IF_ERROR(ValidateGrayImage(image, "CornerResponse"));
+  SH_RETURN_IF_ERROR(ValidateCornerConfig(config));
+  SH_RETURN_IF_ERROR(CheckFitsWorkspace(image.width, image.height, scratch.block(),
+                                        "CornerResponse (filter scratch)"));
+  if (response.width != image.width || response.height != image.height) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "CornerResponse: plane %dx%d for an image of %dx%d", response.width,
+                         response.height, image.width, image.height);
   }
-  ExtractCorners(image, config, resp, max_strength, config.nms_radius_px, 1, corners, stats);
+  const ResponseRing resp{scratch.response, image.width, image.height};
+  float max = 0.0f;
+  SH_RETURN_IF_ERROR(FullSizeResponse(image, config, scratch, resp, max, [&](int y) {
+    std::copy(resp.row(y), resp.row(y) + image.width, response.row(y));
+  }));
+  if (max_strength != nullptr) *max_strength = max;
   return Status::Ok();
 }
 

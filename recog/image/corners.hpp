@@ -72,11 +72,19 @@ inline constexpr int kMaxCornerNmsRadiusPx = 16;
 Status ValidateCornerConfig(const CornerConfig& config);
 
 // Detects corners; `corners` is cleared first and holds them sorted by decreasing strength.
-// Uses the rings (row bands), the response plane and the reduced image of `scratch`; the response
-// plane holds the last image's response afterwards. Fails (and leaves `corners` empty) on an
-// invalid image or config.
+// Uses the rings (row bands), the response rows and the reduced image of `scratch`: the response
+// is computed twice, a row at a time, first for its maximum (the relative threshold), then for
+// the corners of each row once the rows within the NMS radius exist. Fails (and leaves `corners`
+// empty) on an invalid image or config.
 Status DetectCorners(const ConstGrayView& image, const CornerConfig& config, FilterScratch& scratch,
                      Vector<Corner2D>& corners, CornerStats* stats = nullptr);
+
+// The response DetectCorners computes for `config` on the full-size image (the reduced path of
+// the large scales aside), written whole to `response` (the image's size) with its maximum; for
+// tests and tools.
+Status CornerResponse(const ConstGrayView& image, const CornerConfig& config,
+                      FilterScratch& scratch, ImageView<float> response,
+                      float* max_strength = nullptr);
 
 // Strength of an ideal right-angle corner of unit contrast at unit sigma: the maximum over the
 // plane of |N| for I = Phi(x) Phi(y), evaluated numerically; it scales Corner2D::strength.

@@ -102,18 +102,17 @@ Status CheckFitsWorkspace(int width, int height, const ImageBlock& block, const 
 }
 
 size_t FilterScratch::BytesFor(int width, int height) {
-  const size_t pixels = size_t{static_cast<size_t>(width)} * static_cast<size_t>(height);
   const size_t ring = size_t{kRingRows} * static_cast<size_t>(width);
-  return kRings * InitBlock::PieceBytes<float>(ring) + InitBlock::PieceBytes<float>(pixels) +
+  return kRings * InitBlock::PieceBytes<float>(ring) +
+         InitBlock::PieceBytes<float>(size_t{kResponseRows} * static_cast<size_t>(width)) +
          InitBlock::PieceBytes<uint8_t>(ReducedPixels(width, height));
 }
 
 Status FilterScratch::Init(int width, int height) {
   if (block_.Holds(width, height)) return Status::Ok();
   SH_RETURN_IF_ERROR(block_.Allocate(width, height, BytesFor(width, height), "filter scratch"));
-  const size_t pixels = size_t{static_cast<size_t>(width)} * static_cast<size_t>(height);
   for (float*& ring : rings) ring = block_.Take<float>(size_t{kRingRows} * width);
-  response.data = block_.Take<float>(pixels);
+  response = block_.Take<float>(size_t{kResponseRows} * width);
   reduced = block_.Take<uint8_t>(ReducedPixels(width, height));
   return Status::Ok();
 }

@@ -85,15 +85,16 @@ Status CheckFitsWorkspace(int width, int height, const ImageBlock& block, const 
 // Work memory of the detectors of one frame: rings of row-filtered rows (the filters run in row
 // bands: a column pass of radius r needs only rows y - r .. y + r of its input, so
 // kRingRows = 2 kMaxGaussianRadius + 1 rows of each row-filtered plane replace the whole plane),
-// the corner response over the whole image (its maximum sets the relative threshold before any
-// corner is taken), and the 2x reduced grey image of the large corner scales:
-// 4 W H + 3 x 196 W + W H / 4 bytes for images up to W x H, taken at Init (one block,
+// a ring of corner response rows (kResponseRows: a row's corners are taken once the rows within
+// the largest NMS radius, 16 px, exist), and the 2x reduced grey image of the large corner
+// scales: 3 x 196 W + 33 x 4 W + W H / 4 bytes for images up to W x H, taken at Init (one block,
 // docs/memory.md). Keep one per concurrent frame.
 struct FilterScratch {
   static constexpr int kRings = 3;
   static constexpr int kRingRows = 2 * kMaxGaussianRadius + 1;
+  static constexpr int kResponseRows = 33;
   float* rings[kRings] = {};  // kRingRows rows of the image width each (RowBand)
-  FloatPlane response;        // corner response, one float per pixel
+  float* response = nullptr;  // corner response, kResponseRows rows of the image width
   uint8_t* reduced = nullptr;
 
   // Bytes Init takes for images up to width x height.

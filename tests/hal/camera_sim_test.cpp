@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <vector>
 
 namespace sh::hal {
 namespace {
@@ -252,6 +253,36 @@ TEST(CameraSim, DroppedLeftFramesLeaveRightFramesUnpaired) {
   const uint64_t dropped = static_cast<uint64_t>(last + 1) / 3;
   EXPECT_EQ(s.right_unpaired_drops, dropped);
   EXPECT_EQ(s.left_unpaired_drops, 0u);
+}
+
+// The pool holds a full side queue and the frame being rendered (kSimBuffersPerSide): with a
+// silent side filling the other side's queue, drift, skew beyond the tolerance and drops, every
+// frame finds a buffer (no frame dropped for want of one, no error), and the queues do fill.
+TEST(CameraSim, PoolOfAFullQueueAndOneFrameNeverRunsDry) {
+  std::vector<SimCameraConfig> configs(5);
+  configs[0].right_stop_after = 3;
+  configs[1].left_stop_after = 2;
+  configs[2].right_drift_ppb = 1'000'000;
+  configs[3].right_offset_ns = 10 * kMs;
+  configs[4].jitter_ns = 1'500'000;
+  configs[4].drop_left_every = 3;
+  configs[4].drop_right_every = 5;
+  uint64_t overflows = 0;
+  for (size_t c = 0; c < configs.size(); ++c) {
+    PatternSource source(8, 6);
+    SimCamera cam(&source, configs[c]);
+    ASSERT_TRUE(cam.Start().ok());
+    for (int i = 0; i < 60; ++i) {
+      StereoFrame f;
+      const Status s = cam.Capture(&f, 1);
+      EXPECT_TRUE(s.ok() || s.code() == StatusCode::kDeadlineExceeded) << c << ": " << s.message();
+    }
+    const CameraStats st = cam.stats();
+    EXPECT_EQ(st.no_buffer_drops, 0u) << c;
+    EXPECT_EQ(st.errors, 0u) << c;
+    overflows += st.left_overflow_drops + st.right_overflow_drops;
+  }
+  EXPECT_GT(overflows, 0u) << "no side queue filled: the pool was never at its limit";
 }
 
 TEST(CameraSim, SkewWithinTolerancePairsAndBeyondToleranceTimesOut) {

@@ -234,5 +234,81 @@ TEST(CannyBands, EdgeMapEqualsTheWholePlaneOneByteForByte) {
   }
 }
 
+// A work list too small for the strong pixels (16 entries, against about 1,000 strong pixels of a
+// chain) leaves pixels to the raster sweeps; the edge map, the orientations and the counts equal
+// those of a list with room for every pixel. One image of the board's size with noise (long
+// chains in both directions), one with a spiral that must be followed back against the sweep.
+TEST(CannyWorkList, FullListGivesTheSameEdgeMapAsAnUnboundedOne) {
+  struct Case {
+    int w = 0, h = 0;
+    std::vector<uint8_t> px;
+    ConstGrayView img;
+  };
+  std::vector<Case> cases(2);
+  cases[0].w = 1280;
+  cases[0].h = 800;
+  cases[0].img = testing::NoisyTestScene(1280, 800, 3.0, 5, cases[0].px);
+  // A square spiral of one bright ring: its inner turns are reached only through the outer ones.
+  Case& spiral = cases[1];
+  spiral.w = spiral.h = 200;
+  spiral.px.assign(size_t{200} * 200, 40);
+  int x0 = 10, y0 = 10, x1 = 189, y1 = 189;
+  for (int turn = 0; x1 - x0 > 8; ++turn) {
+    for (int x = x0; x <= x1; ++x) spiral.px[y0 * 200 + x] = spiral.px[(y0 + 1) * 200 + x] = 200;
+    for (int y = y0; y <= y1; ++y) spiral.px[y * 200 + x1] = spiral.px[y * 200 + x1 - 1] = 200;
+    for (int x = x0; x <= x1; ++x) spiral.px[y1 * 200 + x] = spiral.px[(y1 - 1) * 200 + x] = 200;
+    for (int y = y0 + 6; y <= y1; ++y) spiral.px[y * 200 + x0] = spiral.px[y * 200 + x0 + 1] = 200;
+    x0 += 6;
+    y0 += 6;
+    x1 -= 6;
+    y1 -= 6;
+  }
+  spiral.img = ConstGrayView{spiral.px.data(), 200, 200, 200};
+
+  for (const Case& c : cases) {
+    const size_t pixels = static_cast<size_t>(c.w) * c.h;
+    ZeroedPtr<FilterScratch> scratch = MakeWorkspace<FilterScratch>(c.w, c.h);
+    ZeroedPtr<EdgeBuffers> unbounded = MakeZeroed<EdgeBuffers>();
+    ZeroedPtr<EdgeBuffers> small = MakeZeroed<EdgeBuffers>();
+    ASSERT_TRUE(unbounded->Init(c.w, c.h, pixels).ok());
+    ASSERT_TRUE(small->Init(c.w, c.h, 16).ok());
+    EXPECT_EQ(unbounded->stack_capacity, pixels);
+    EXPECT_EQ(small->stack_capacity, 16u);
+    CannyConfig config;
+    config.low_threshold = 1.0f;
+    config.high_threshold = 2.5f;
+    EdgeMapView expected, edges;
+    CannyStats expected_stats, stats;
+    ASSERT_TRUE(DetectEdges(c.img, config, *scratch, *unbounded, expected, &expected_stats).ok());
+    ASSERT_TRUE(DetectEdges(c.img, config, *scratch, *small, edges, &stats).ok());
+    EXPECT_EQ(expected_stats.hysteresis_sweeps, 0u) << c.w;
+    EXPECT_GE(stats.hysteresis_sweeps, 1u) << c.w;
+    EXPECT_GT(expected_stats.edge_pixels, 500u) << c.w;
+    EXPECT_EQ(stats.edge_pixels, expected_stats.edge_pixels) << c.w;
+    EXPECT_EQ(stats.nms_candidates, expected_stats.nms_candidates) << c.w;
+    size_t differ = 0, counted = 0;
+    for (int y = 0; y < c.h; ++y) {
+      differ += std::memcmp(edges.edge.row(y), expected.edge.row(y), c.w) != 0;
+      differ += std::memcmp(edges.orientation.row(y), expected.orientation.row(y), c.w) != 0;
+      for (int x = 0; x < c.w; ++x) counted += edges.edge.at(x, y) == kEdgePixel;
+    }
+    EXPECT_EQ(differ, 0u) << c.w;
+    EXPECT_EQ(counted, stats.edge_pixels) << c.w;
+  }
+}
+
+// The default list is kCannyWorkListCapacity entries, never more than the image's pixels.
+TEST(CannyWorkList, CapacityIsTheConstantOrThePixelCount) {
+  ZeroedPtr<EdgeBuffers> board = MakeWorkspace<EdgeBuffers>(1280, 800);
+  ZeroedPtr<EdgeBuffers> tiny = MakeWorkspace<EdgeBuffers>(40, 30);
+  ASSERT_NE(board, nullptr);
+  ASSERT_NE(tiny, nullptr);
+  EXPECT_EQ(board->stack_capacity, kCannyWorkListCapacity);
+  EXPECT_EQ(tiny->stack_capacity, 40u * 30u);
+  EXPECT_EQ(EdgeBuffers::BytesFor(1280, 800) - EdgeBuffers::BytesFor(1280, 800, 16),
+            InitBlock::PieceBytes<uint32_t>(kCannyWorkListCapacity) -
+                InitBlock::PieceBytes<uint32_t>(16));
+}
+
 }  // namespace
 }  // namespace sh

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -273,7 +274,7 @@ TEST(CornerBands, ResponseEqualsTheWholePlaneResponse) {
   const ConstGrayView img = testing::NoisyTestScene(w, h, 2.0, 9, px);
   auto scratch = MakeWorkspace<FilterScratch>(w, h);
   ASSERT_NE(scratch, nullptr);
-  std::vector<float> tmp(static_cast<size_t>(w) * h);
+  std::vector<float> tmp(static_cast<size_t>(w) * h), whole(tmp.size());
   std::vector<float> d[5];
   for (std::vector<float>& v : d) v.assign(tmp.size(), 0.0f);
   FloatPlane tmp_plane;
@@ -286,8 +287,14 @@ TEST(CornerBands, ResponseEqualsTheWholePlaneResponse) {
       config.exact_derivatives = exact;
       config.reduce_large_scales = false;
       Vector<Corner2D, kMaxCorners2d> corners;
-      ASSERT_TRUE(DetectCorners(img, config, *scratch, corners).ok());
+      CornerStats stats;
+      ASSERT_TRUE(DetectCorners(img, config, *scratch, corners, &stats).ok());
       EXPECT_GT(corners.size(), 10u);
+      float max_strength = 0.0f;
+      ASSERT_TRUE(CornerResponse(img, config, *scratch, ImageView<float>{whole.data(), w, h, w},
+                                 &max_strength)
+                      .ok());
+      EXPECT_EQ(max_strength, stats.max_strength) << "the same rows in both passes";
       // Derivative planes: ix, iy, ixx, ixy, iyy.
       if (exact) {
         const int orders[5][2] = {{1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
@@ -301,7 +308,7 @@ TEST(CornerBands, ResponseEqualsTheWholePlaneResponse) {
       }
       const double s2 = double{sigma} * sigma;
       const double scale = s2 * s2 / (255.0 * 255.0 * 255.0 * kIdealCornerResponse);
-      const ImageView<const float> resp = scratch->response.view(w, h);
+      const ImageView<const float> resp{whole.data(), w, h, w};
       double max_resp = 0, max_err = 0;
       for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
@@ -328,6 +335,75 @@ TEST(CornerBands, ResponseEqualsTheWholePlaneResponse) {
       }
       EXPECT_GT(max_resp, 0.1) << sigma;
       EXPECT_LT(max_err, 1e-4 * max_resp) << (exact ? "exact" : "smoothed") << " sigma " << sigma;
+    }
+  }
+}
+
+// The corners taken from the response rows as they are computed (a ring of rows, the corners of
+// a row once the rows within the NMS radius exist) are the local maxima of the whole response
+// plane above the threshold: the same count and the same strengths, at every NMS radius up to
+// the largest (the ring's depth) and near the image's top and bottom rows.
+TEST(CornerBands, CornersOfTheRowRingAreTheMaximaOfTheWholePlane) {
+  const int w = 1280, h = 800;
+  std::vector<uint8_t> px;
+  const ConstGrayView img = testing::NoisyTestScene(w, h, 2.0, 9, px);
+  // Bright blocks with corners 3 rows from the top and from the bottom: the bottom ones are in the
+  // rows taken after the last response row (the last `radius` rows) for radii from 3 up.
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if ((y >= h - 3 && x >= 300 && x < 340) || (y < 3 && x >= 700 && x < 740)) {
+        px[static_cast<size_t>(y) * w + x] = 250;
+      }
+    }
+  }
+  auto scratch = MakeWorkspace<FilterScratch>(w, h);
+  ASSERT_NE(scratch, nullptr);
+  std::vector<float> whole(static_cast<size_t>(w) * h);
+  for (const bool exact : {false, true}) {
+    for (const int radius : {1, 3, kMaxCornerNmsRadiusPx}) {
+      CornerConfig config;
+      config.sigma_px = 2.0f;
+      config.exact_derivatives = exact;
+      config.reduce_large_scales = false;
+      config.refine_to_vertex = false;
+      config.nms_radius_px = radius;
+      config.relative_threshold = 0.01f;
+      Vector<Corner2D, kMaxCorners2d> corners;
+      CornerStats stats;
+      ASSERT_TRUE(DetectCorners(img, config, *scratch, corners, &stats).ok());
+      float max_strength = 0.0f;
+      ASSERT_TRUE(CornerResponse(img, config, *scratch, ImageView<float>{whole.data(), w, h, w},
+                                 &max_strength)
+                      .ok());
+      const float threshold = std::max(config.threshold, config.relative_threshold * max_strength);
+      std::vector<float> expected;
+      for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+          const float v = whole[static_cast<size_t>(y) * w + x];
+          if (!(v > threshold)) continue;
+          bool is_max = true;
+          for (int yy = std::max(0, y - radius); yy <= std::min(h - 1, y + radius); ++yy) {
+            for (int xx = std::max(0, x - radius); xx <= std::min(w - 1, x + radius); ++xx) {
+              const float q = whole[static_cast<size_t>(yy) * w + xx];
+              const bool before = yy < y || (yy == y && xx < x);
+              if (q > v || (before && q == v)) is_max = false;
+            }
+          }
+          if (is_max) expected.push_back(v);
+        }
+      }
+      std::sort(expected.begin(), expected.end(), std::greater<float>());
+      size_t in_last_rows = 0;
+      for (const Corner2D& c : corners) in_last_rows += c.y_px > h - 0.5f - radius;
+      if (radius >= 3) EXPECT_GT(in_last_rows, 0u) << "no corner in the last rows, r " << radius;
+      EXPECT_EQ(stats.threshold_used, threshold);
+      EXPECT_EQ(stats.maxima_found, expected.size()) << exact << " r " << radius;
+      ASSERT_GT(expected.size(), 10u);
+      if (expected.size() > corners.size()) expected.resize(corners.size());
+      ASSERT_EQ(corners.size(), expected.size()) << exact << " r " << radius;
+      size_t differ = 0;
+      for (size_t i = 0; i < corners.size(); ++i) differ += corners[i].strength != expected[i];
+      EXPECT_EQ(differ, 0u) << exact << " r " << radius;
     }
   }
 }
