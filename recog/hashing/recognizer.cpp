@@ -10,9 +10,8 @@ namespace {
 inline bool TestBit(const uint8_t* bits, uint16_t i) { return (bits[i >> 3] >> (i & 7)) & 1u; }
 inline void SetBit(uint8_t* bits, uint16_t i) { bits[i >> 3] |= uint8_t(1u << (i & 7)); }
 
-// Decoding of table values (table_format.hpp): Q10.6 mm and Q2.14 unit components.
+// Decoding of table values (table_format.hpp): Q10.6 mm.
 constexpr float kMmPerRaw = 1.0f / 64.0f;
-constexpr float kUnitPerRaw = 1.0f / 16384.0f;
 
 RigidTransform BasisTransform(const BasisRecord& r) {
   RigidTransform T;
@@ -93,6 +92,12 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
   line_reach_mm_ = line_reach + 2.0f * config.sigma_line_mm;
   inv_sigma2_point_ = 1.0f / (config.sigma_point_mm * config.sigma_point_mm);
   inv_sigma2_line_ = 1.0f / (config.sigma_line_mm * config.sigma_line_mm);
+  // Unbuilt (too large a table, or off), the look-ups visit every entry of the neighbourhood.
+  if (config.line_direction_index) {
+    line_index_.Build(table, 12.0f * float(kVoteCutoff) / inv_sigma2_line_);
+  } else {
+    line_index_.Clear();
+  }
   std::memset(point_vote_, 0, sizeof(point_vote_));
   std::memset(line_vote_, 0, sizeof(line_vote_));
   std::memset(basis_point_sum_, 0, sizeof(basis_point_sum_));
@@ -179,6 +184,24 @@ void Recognizer::VotePoint(const Eigen::Vector3f& q) {
   }
 }
 
+// One line entry's vote for the scene line (s, v), kept if it beats the entry's best so far.
+inline void Recognizer::VoteLineEntry(const LineDirectionIndex::Entry& l, const Eigen::Vector3f& s,
+                                      const Eigen::Vector3f& v, float angle_cut_mm2) {
+  const Eigen::Vector3f u(l.ux, l.uy, l.uz);
+  const float length = l.length_mm;
+  // The angle term of eq. 4.4 alone, L^2/12 (1 - cos^2), rules most entries out: a
+  // vote needs it below the cut-off d^2 < kVoteCutoff sigma^2.
+  const float cos_angle = v.dot(u);
+  if (length * length * (1.0f - cos_angle * cos_angle) >= angle_cut_mm2) return;
+  const Eigen::Vector3f c(l.cx, l.cy, l.cz);
+  const uint16_t vote = votes_lut_.Vote(SegmentLineDistance2(c, u, length, s, v), inv_sigma2_line_);
+  const uint32_t e = l.table_index;
+  if (vote > line_vote_[e]) {
+    if (line_vote_[e] == 0) touched_lines_[n_touched_lines_++] = e;
+    line_vote_[e] = vote;
+  }
+}
+
 void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v) {
   const GridGeometry& g = table_.line_grid();
   const float r = config_.line_neighbourhood_factor * 2.0f * config_.sigma_line_mm;
@@ -189,32 +212,33 @@ void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v) {
   const LineEntry* base = table_.line_entries();
   const uint32_t* offsets = table_.line_bin_offsets();
   const float angle_cut = 12.0f * float(kVoteCutoff) / inv_sigma2_line_;
+  const bool indexed = line_index_.built();
+  const uint32_t live = indexed ? line_index_.LiveClasses(v) : 0u;
+  const uint32_t first_new = n_touched_lines_;
   for (int z = lo[2]; z <= hi[2]; ++z) {
     for (int y = lo[1]; y <= hi[1]; ++y) {
       int x_lo = 0, x_hi = 0;
       if (!RowRangeInBall(g, s, r, y, z, &x_lo, &x_hi)) continue;
       const uint32_t row = (uint32_t(z) * g.dims[1] + uint32_t(y)) * g.dims[0];
-      const uint32_t begin = offsets[row + x_lo], end = offsets[row + x_hi + 1];
-      for (uint32_t e = begin; e < end; ++e) {
-        const LineEntry& l = base[e];
-        const Eigen::Vector3f u(float(l.vx) * kUnitPerRaw, float(l.vy) * kUnitPerRaw,
-                                float(l.vz) * kUnitPerRaw);
-        const float length = float(l.length) * kMmPerRaw;
-        // The angle term of eq. 4.4 alone, L^2/12 (1 - cos^2), rules most entries out: a
-        // vote needs it below the cut-off d^2 < kVoteCutoff sigma^2.
-        const float cos_angle = v.dot(u);
-        if (length * length * (1.0f - cos_angle * cos_angle) >= angle_cut) continue;
-        const Eigen::Vector3f c(float(l.cx) * kMmPerRaw, float(l.cy) * kMmPerRaw,
-                                float(l.cz) * kMmPerRaw);
-        const uint16_t vote =
-            votes_lut_.Vote(SegmentLineDistance2(c, u, length, s, v), inv_sigma2_line_);
-        if (vote > line_vote_[e]) {
-          if (line_vote_[e] == 0) touched_lines_[n_touched_lines_++] = e;
-          line_vote_[e] = vote;
+      if (!indexed) {
+        const uint32_t begin = offsets[row + x_lo], end = offsets[row + x_hi + 1];
+        for (uint32_t e = begin; e < end; ++e) {
+          VoteLineEntry(DecodeLineEntry(base[e], e), s, v, angle_cut);
         }
+        continue;
+      }
+      // The classes that can pass the angle test, each one contiguous range for the row.
+      for (uint32_t m = live; m != 0; m &= m - 1) {
+        const int c = __builtin_ctz(m);
+        const uint32_t begin = line_index_.begin(c, row + uint32_t(x_lo));
+        const uint32_t end = line_index_.end(c, row + uint32_t(x_hi));
+        for (uint32_t i = begin; i < end; ++i) VoteLineEntry(line_index_.entry(i), s, v, angle_cut);
       }
     }
   }
+  // Without the index the entries are visited in table order, so first touched in ascending
+  // order; restore that order, on which the order of the model bases (and ties) depends.
+  if (indexed) std::sort(touched_lines_ + first_new, touched_lines_ + n_touched_lines_);
 }
 
 int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out, float* best_per_model) {

@@ -23,6 +23,7 @@
 #include "recog/geometry/rigid_transform.hpp"
 #include "recog/hashing/basis.hpp"
 #include "recog/hashing/basis_candidates.hpp"
+#include "recog/hashing/line_direction_index.hpp"
 #include "recog/hashing/pose_refine.hpp"
 #include "recog/hashing/scene_grid.hpp"
 #include "recog/hashing/scene_state.hpp"
@@ -54,6 +55,9 @@ struct RecognizerConfig {
   float connect_tolerance_mm = 2.5f;       // a line this close to a point or line meets it
   float junction_reach_mm = 12.0f;         // an edge's detected end lies this close to its corner
   float support_gate_sigmas = 1.0f;        // gate for the matched counts handed to the verifier
+  // Look line entries up by direction class (line_direction_index.hpp): the same votes with
+  // fewer entries visited. Off: every entry of the neighbourhood, for comparison.
+  bool line_direction_index = true;
   RefineConfig refine;
 };
 
@@ -171,6 +175,8 @@ class Recognizer {
                        Eigen::Vector3f* shape_point) const;
   void VotePoint(const Eigen::Vector3f& q);
   void VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v);
+  void VoteLineEntry(const LineDirectionIndex::Entry& l, const Eigen::Vector3f& s,
+                     const Eigen::Vector3f& v, float angle_cut_mm2);
   void RemoveObjectFeatures(const Model& model, const Correspondences& c);
   int ActiveFeatureCount() const;
   bool BasisActive(const SceneBasis& b) const;
@@ -180,6 +186,7 @@ class Recognizer {
   TableView table_;
   RecognizerConfig config_;
   VoteTable votes_lut_;
+  LineDirectionIndex line_index_;
   float inv_sigma2_point_ = 0, inv_sigma2_line_ = 0;
   float point_reach_mm_ = 0, line_reach_mm_ = 0;
   const Scene* scene_ = nullptr;
