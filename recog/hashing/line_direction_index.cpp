@@ -52,8 +52,8 @@ bool LineDirectionIndex::Build(const TableView& table, float angle_cut_mm2) {
   }
   uint32_t start = 0;
   for (int c = 0; c < kClasses; ++c) {
-    offsets_[c][0] = start;
-    for (uint32_t b = 1; b <= bins; ++b) offsets_[c][b] += offsets_[c][b - 1];
+    offsets_[c][0] = uint16_t(start);
+    for (uint32_t b = 1; b <= bins; ++b) offsets_[c][b] = uint16_t(offsets_[c][b] + offsets_[c][b - 1]);
     start = offsets_[c][bins];
   }
   uint32_t fill[kClasses];
@@ -72,7 +72,7 @@ bool LineDirectionIndex::Build(const TableView& table, float angle_cut_mm2) {
     const uint32_t begin = offsets_[c][0], end = offsets_[c][bins];
     min_abs_cos_[c] = 2.0f;  // empty: never live
     if (begin == end) continue;
-    non_empty_ |= 1u << c;
+    non_empty_ |= uint64_t{1} << c;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     double min_length = 1e30;
     for (uint32_t i = begin; i < end; ++i) {
@@ -97,12 +97,12 @@ bool LineDirectionIndex::Build(const TableView& table, float angle_cut_mm2) {
   return true;
 }
 
-uint32_t LineDirectionIndex::LiveClasses(const Eigen::Vector3f& v) const {
-  uint32_t live = 0;
-  for (uint32_t m = non_empty_; m != 0; m &= m - 1) {
-    const int c = __builtin_ctz(m);
+uint64_t LineDirectionIndex::LiveClasses(const Eigen::Vector3f& v) const {
+  uint64_t live = 0;
+  for (uint64_t m = non_empty_; m != 0; m &= m - 1) {
+    const int c = __builtin_ctzll(m);
     const float cos_axis = v.x() * axis_[c][0] + v.y() * axis_[c][1] + v.z() * axis_[c][2];
-    if (std::fabs(cos_axis) >= min_abs_cos_[c]) live |= 1u << c;
+    if (std::fabs(cos_axis) >= min_abs_cos_[c]) live |= uint64_t{1} << c;
   }
   return live;
 }

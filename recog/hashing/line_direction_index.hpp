@@ -27,7 +27,8 @@ class LineDirectionIndex {
   static constexpr uint32_t kMaxBins = 4096;      // line grid bins indexed at most
   static constexpr uint32_t kMaxEntries = 16384;  // line entries indexed at most
   static constexpr double kClassSlackRad = 0.02;  // margin of the class test
-  static_assert(kClasses <= 32, "classes are a 32-bit mask");
+  static_assert(kClasses <= 64, "classes are a 64-bit mask");
+  static_assert(kMaxEntries <= 65535, "offsets are 16-bit");
 
   // Decoded line entry: unit direction (Q2.14 decoded), length and segment centre in mm, and
   // the entry's index in the table.
@@ -46,7 +47,7 @@ class LineDirectionIndex {
 
   // Bit c set: class c may hold entries that pass the angle test against the unit scene
   // direction v (in the basis frame).
-  uint32_t LiveClasses(const Eigen::Vector3f& v) const;
+  uint64_t LiveClasses(const Eigen::Vector3f& v) const;
 
   // Entries of class c in bins [bin_lo, bin_hi] (bins of the table's line grid).
   uint32_t begin(int c, uint32_t bin_lo) const { return offsets_[c][bin_lo]; }
@@ -58,10 +59,10 @@ class LineDirectionIndex {
 
  private:
   bool built_ = false;
-  uint32_t non_empty_ = 0;                    // classes with entries
+  uint64_t non_empty_ = 0;                    // classes with entries
   float axis_[kClasses][3] = {};              // unit axis of each class
   float min_abs_cos_[kClasses] = {};          // live while |v . axis| >= this
-  uint32_t offsets_[kClasses][kMaxBins + 1];  // per class: bin -> first entry
+  uint16_t offsets_[kClasses][kMaxBins + 1];  // per class: bin -> first entry
   Entry entries_[kMaxEntries];
 };
 

@@ -175,8 +175,8 @@ class Recognizer {
                        Eigen::Vector3f* shape_point) const;
   void VotePoint(const Eigen::Vector3f& q);
   void VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v);
-  void VoteLineEntry(const LineDirectionIndex::Entry& l, const Eigen::Vector3f& s,
-                     const Eigen::Vector3f& v, float angle_cut_mm2);
+  struct LineLookUp;
+  void VoteLineEntry(const LineDirectionIndex::Entry& l, const LineLookUp& q);
   void RemoveObjectFeatures(const Model& model, const Correspondences& c);
   int ActiveFeatureCount() const;
   bool BasisActive(const SceneBasis& b) const;

@@ -81,7 +81,7 @@ TEST(LineDirectionIndex, SkipsOnlyClassesWhoseEntriesFailTheAngleTest) {
       const LineDirectionIndex::Entry& d = index->entry(rng() % view->line_entry_count());
       v = (Eigen::Vector3f(d.ux, d.uy, d.uz) + 0.1f * RandomUnit(rng)).normalized();
     }
-    const uint32_t live = index->LiveClasses(v);
+    const uint64_t live = index->LiveClasses(v);
     for (int c = 0; c < LineDirectionIndex::kClasses; ++c) {
       if ((live >> c) & 1u) continue;
       for (uint32_t i = index->begin(c, 0); i < index->end(c, bins - 1); ++i) {
