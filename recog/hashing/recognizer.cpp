@@ -294,7 +294,7 @@ int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out, float
   // within reach_mm of its basis origin. Scene lines vote only if their supported segment
   // comes that close; their infinite extension elsewhere is not evidence for this object.
   const Eigen::Vector3f origin = basis_T_cam.Inverse().t_mm;
-  point_grid_.ForEachNear(origin, point_reach_mm_, [&](int j) {
+  point_grid_.ForEachNearByScan(origin, point_reach_mm_, [&](int j) {
     if (!point_active_[j]) return;
     if (three_points && (j == b.f[0] || j == b.f[1] || j == b.f[2])) return;
     if (line_point && j == b.f[1]) return;
