@@ -53,7 +53,8 @@ bool LineDirectionIndex::Build(const TableView& table, float angle_cut_mm2) {
   uint32_t start = 0;
   for (int c = 0; c < kClasses; ++c) {
     offsets_[c][0] = uint16_t(start);
-    for (uint32_t b = 1; b <= bins; ++b) offsets_[c][b] = uint16_t(offsets_[c][b] + offsets_[c][b - 1]);
+    for (uint32_t b = 1; b <= bins; ++b)
+      offsets_[c][b] = uint16_t(offsets_[c][b] + offsets_[c][b - 1]);
     start = offsets_[c][bins];
   }
   uint32_t fill[kClasses];

@@ -52,13 +52,10 @@ TEST(LineDirectionIndex, HoldsEveryEntryOnceInBinOrderWithinItsClass) {
         EXPECT_EQ(LineDirectionIndex::ClassOf({d.ux, d.uy, d.uz}), c);
         const LineDirectionIndex::Entry decoded =
             DecodeLineEntry(view->line_entries()[d.table_index], d.table_index);
-        EXPECT_EQ(decoded.ux, d.ux);
-        EXPECT_EQ(decoded.uy, d.uy);
-        EXPECT_EQ(decoded.uz, d.uz);
-        EXPECT_EQ(decoded.length_mm, d.length_mm);
-        EXPECT_EQ(decoded.cx, d.cx);
-        EXPECT_EQ(decoded.cy, d.cy);
-        EXPECT_EQ(decoded.cz, d.cz);
+        const float want[] = {decoded.ux, decoded.uy, decoded.uz, decoded.length_mm,
+                              decoded.cx, decoded.cy, decoded.cz};
+        const float got[] = {d.ux, d.uy, d.uz, d.length_mm, d.cx, d.cy, d.cz};
+        for (int k = 0; k < 7; ++k) EXPECT_EQ(got[k], want[k]) << "entry " << d.table_index;
         ++seen[d.table_index];
       }
     }
