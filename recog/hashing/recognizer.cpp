@@ -10,9 +10,8 @@ namespace {
 inline bool TestBit(const uint8_t* bits, uint16_t i) { return (bits[i >> 3] >> (i & 7)) & 1u; }
 inline void SetBit(uint8_t* bits, uint16_t i) { bits[i >> 3] |= uint8_t(1u << (i & 7)); }
 
-// Decoding of table values (table_format.hpp): Q10.6 mm and Q2.14 unit components.
+// Decoding of table values (table_format.hpp): Q10.6 mm.
 constexpr float kMmPerRaw = 1.0f / 64.0f;
-constexpr float kUnitPerRaw = 1.0f / 16384.0f;
 
 RigidTransform BasisTransform(const BasisRecord& r) {
   RigidTransform T;
@@ -93,6 +92,12 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
   line_reach_mm_ = line_reach + 2.0f * config.sigma_line_mm;
   inv_sigma2_point_ = 1.0f / (config.sigma_point_mm * config.sigma_point_mm);
   inv_sigma2_line_ = 1.0f / (config.sigma_line_mm * config.sigma_line_mm);
+  // Unbuilt (too large a table, or off), the look-ups visit every entry of the neighbourhood.
+  if (config.line_direction_index) {
+    line_index_.Build(table, 12.0f * float(kVoteCutoff) / inv_sigma2_line_);
+  } else {
+    line_index_.Clear();
+  }
   for (int t = 0; t < kMaxVoteThreads; ++t) {
     VoteScratch* v = t == 0 ? &scratch_ : other_scratch_[t - 1].get();
     if (v == nullptr) continue;
@@ -205,6 +210,39 @@ void Recognizer::VotePoint(const Eigen::Vector3f& q, VoteScratch& scratch) const
   }
 }
 
+// A scene line's look-up: the line (s, v) in the basis frame and the cut-offs of the tests
+// that rule entries out before their vote is computed.
+struct Recognizer::LineLookUp {
+  Eigen::Vector3f s, v;
+  Eigen::Vector3f n;  // a unit vector perpendicular to v
+  float n_dot_s = 0.0f;
+  float angle_cut_mm2 = 0.0f;   // L^2 (1 - cos^2 angle) at or above: no vote
+  float offset_cut_mm2 = 0.0f;  // (n . (centre - s))^2 at or above: no vote
+};
+
+// One line entry's vote for the scene line, kept if it beats the entry's best so far.
+inline void Recognizer::VoteLineEntry(const LineDirectionIndex::Entry& l, const LineLookUp& q,
+                                      VoteScratch& scratch) const {
+  const Eigen::Vector3f c(l.cx, l.cy, l.cz);
+  // The segment centre's offset from the scene line along n is one component of the centre's
+  // distance from the line, a term of eq. 4.4: too large, and there is no vote.
+  const float offset = q.n.dot(c) - q.n_dot_s;
+  if (offset * offset >= q.offset_cut_mm2) return;
+  const Eigen::Vector3f u(l.ux, l.uy, l.uz);
+  const float length = l.length_mm;
+  // The angle term of eq. 4.4 alone, L^2/12 (1 - cos^2), rules most entries out: a
+  // vote needs it below the cut-off d^2 < kVoteCutoff sigma^2.
+  const float cos_angle = q.v.dot(u);
+  if (length * length * (1.0f - cos_angle * cos_angle) >= q.angle_cut_mm2) return;
+  const uint16_t vote =
+      votes_lut_.Vote(SegmentLineDistance2(c, u, length, q.s, q.v), inv_sigma2_line_);
+  const uint32_t e = l.table_index;
+  if (vote > scratch.line_vote[e]) {
+    if (scratch.line_vote[e] == 0) scratch.touched_lines[scratch.n_touched_lines++] = e;
+    scratch.line_vote[e] = vote;
+  }
+}
+
 void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v,
                           VoteScratch& scratch) const {
   const GridGeometry& g = table_.line_grid();
@@ -213,34 +251,59 @@ void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v,
   for (int a = 0; a < 3; ++a) {
     if (!BinRange(g, a, s[a], r, &lo[a], &hi[a])) return;
   }
+  LineLookUp q;
+  q.s = s;
+  q.v = v;
+  // n: across v, from the coordinate axis least aligned with it.
+  const Eigen::Vector3f va = v.cwiseAbs();
+  const int least = va.x() <= va.y() ? (va.x() <= va.z() ? 0 : 2) : (va.y() <= va.z() ? 1 : 2);
+  q.n = v.cross(Eigen::Vector3f::Unit(least)).normalized();
+  q.n_dot_s = q.n.dot(s);
+  q.angle_cut_mm2 = 12.0f * float(kVoteCutoff) / inv_sigma2_line_;
+  // The vote's cut-off distance^2, with a margin for rounding: the test only saves work.
+  q.offset_cut_mm2 = float(kVoteCutoff) / inv_sigma2_line_ * 1.01f + 0.25f;
+
   const LineEntry* base = table_.line_entries();
   const uint32_t* offsets = table_.line_bin_offsets();
-  const float angle_cut = 12.0f * float(kVoteCutoff) / inv_sigma2_line_;
+  const bool indexed = line_index_.built();
+  const uint64_t live = indexed ? line_index_.LiveClasses(v) : 0u;
+  const uint32_t first_new = scratch.n_touched_lines;
+  // Rows of bins (first and last bin) in the ball, gathered to be run once per live class.
+  constexpr int kRowBatch = 64;
+  uint32_t row_first[kRowBatch], row_last[kRowBatch];
+  int n_rows = 0;
+  auto run_rows = [&]() {
+    for (uint64_t m = live; m != 0; m &= m - 1) {
+      const int c = __builtin_ctzll(m);
+      for (int k = 0; k < n_rows; ++k) {
+        const uint32_t end = line_index_.end(c, row_last[k]);
+        for (uint32_t i = line_index_.begin(c, row_first[k]); i < end; ++i) {
+          VoteLineEntry(line_index_.entry(i), q, scratch);
+        }
+      }
+    }
+    n_rows = 0;
+  };
   for (int z = lo[2]; z <= hi[2]; ++z) {
     for (int y = lo[1]; y <= hi[1]; ++y) {
       int x_lo = 0, x_hi = 0;
       if (!RowRangeInBall(g, s, r, y, z, &x_lo, &x_hi)) continue;
       const uint32_t row = (uint32_t(z) * g.dims[1] + uint32_t(y)) * g.dims[0];
-      const uint32_t begin = offsets[row + x_lo], end = offsets[row + x_hi + 1];
-      for (uint32_t e = begin; e < end; ++e) {
-        const LineEntry& l = base[e];
-        const Eigen::Vector3f u(float(l.vx) * kUnitPerRaw, float(l.vy) * kUnitPerRaw,
-                                float(l.vz) * kUnitPerRaw);
-        const float length = float(l.length) * kMmPerRaw;
-        // The angle term of eq. 4.4 alone, L^2/12 (1 - cos^2), rules most entries out: a
-        // vote needs it below the cut-off d^2 < kVoteCutoff sigma^2.
-        const float cos_angle = v.dot(u);
-        if (length * length * (1.0f - cos_angle * cos_angle) >= angle_cut) continue;
-        const Eigen::Vector3f c(float(l.cx) * kMmPerRaw, float(l.cy) * kMmPerRaw,
-                                float(l.cz) * kMmPerRaw);
-        const uint16_t vote =
-            votes_lut_.Vote(SegmentLineDistance2(c, u, length, s, v), inv_sigma2_line_);
-        if (vote > scratch.line_vote[e]) {
-          if (scratch.line_vote[e] == 0) scratch.touched_lines[scratch.n_touched_lines++] = e;
-          scratch.line_vote[e] = vote;
-        }
+      if (indexed) {
+        row_first[n_rows] = row + uint32_t(x_lo);
+        row_last[n_rows] = row + uint32_t(x_hi);
+        if (++n_rows == kRowBatch) run_rows();
+        continue;
       }
+      const uint32_t begin = offsets[row + x_lo], end = offsets[row + x_hi + 1];
+      for (uint32_t e = begin; e < end; ++e) VoteLineEntry(DecodeLineEntry(base[e], e), q, scratch);
     }
+  }
+  if (indexed) {
+    run_rows();
+    // Without the index the entries are visited in table order, so first touched in ascending
+    // order; restore that order, on which the order of the model bases (and ties) depends.
+    std::sort(scratch.touched_lines + first_new, scratch.touched_lines + scratch.n_touched_lines);
   }
 }
 
@@ -293,7 +356,7 @@ int Recognizer::Vote(const SceneBasis& b, VoteScratch& v, Vector<Hypothesis>& ou
   // within reach_mm of its basis origin. Scene lines vote only if their supported segment
   // comes that close; their infinite extension elsewhere is not evidence for this object.
   const Eigen::Vector3f origin = basis_T_cam.Inverse().t_mm;
-  point_grid_.ForEachNear(origin, point_reach_mm_, [&](int j) {
+  point_grid_.ForEachNearByScan(origin, point_reach_mm_, [&](int j) {
     if (!point_active_[j]) return;
     if (three_points && (j == b.f[0] || j == b.f[1] || j == b.f[2])) return;
     if (line_point && j == b.f[1]) return;

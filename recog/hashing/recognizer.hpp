@@ -25,6 +25,7 @@
 #include "recog/geometry/rigid_transform.hpp"
 #include "recog/hashing/basis.hpp"
 #include "recog/hashing/basis_candidates.hpp"
+#include "recog/hashing/line_direction_index.hpp"
 #include "recog/hashing/pose_refine.hpp"
 #include "recog/hashing/scene_grid.hpp"
 #include "recog/hashing/scene_state.hpp"
@@ -60,6 +61,9 @@ struct RecognizerConfig {
   float connect_tolerance_mm = 2.5f;       // a line this close to a point or line meets it
   float junction_reach_mm = 12.0f;         // an edge's detected end lies this close to its corner
   float support_gate_sigmas = 1.0f;        // gate for the matched counts handed to the verifier
+  // Look line entries up by direction class (line_direction_index.hpp): the same votes with
+  // fewer entries visited. Off: every entry of the neighbourhood, for comparison.
+  bool line_direction_index = true;
   RefineConfig refine;
 };
 
@@ -207,6 +211,9 @@ class Recognizer {
            float* best_per_model) const;
   void VotePoint(const Eigen::Vector3f& q, VoteScratch& scratch) const;
   void VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v, VoteScratch& scratch) const;
+  struct LineLookUp;
+  void VoteLineEntry(const LineDirectionIndex::Entry& l, const LineLookUp& q,
+                     VoteScratch& scratch) const;
   // The hypotheses of candidate `index` (basis `b`) of the current pass: from the bases voted
   // ahead when it is among them, else voted now (with two threads: together with the next
   // active bases).
@@ -220,6 +227,7 @@ class Recognizer {
   TableView table_;
   RecognizerConfig config_;
   VoteTable votes_lut_;
+  LineDirectionIndex line_index_;
   float inv_sigma2_point_ = 0, inv_sigma2_line_ = 0;
   float point_reach_mm_ = 0, line_reach_mm_ = 0;
   const Scene* scene_ = nullptr;

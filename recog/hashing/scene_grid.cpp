@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace sh {
 
@@ -22,7 +23,7 @@ void SceneGrid::Build(const Eigen::Vector3f* positions, int n, float cell_mm) {
   }
   for (int i = 0; i < 3; ++i) min_[i] = lo[i];
   inv_cell_ = 1.0f / cell;
-  std::fill(head_, head_ + dims_[0] * dims_[1] * dims_[2], int16_t{-1});
+  std::fill(head_, head_ + ptrdiff_t{dims_[0]} * dims_[1] * dims_[2], int16_t{-1});
   for (int i = 0; i < count_; ++i) {
     positions_[i] = positions[i];
     const int c =
@@ -30,6 +31,16 @@ void SceneGrid::Build(const Eigen::Vector3f* positions, int n, float cell_mm) {
         CellCoord(positions[i].x(), 0);
     next_[i] = head_[c];
     head_[c] = int16_t(i);
+  }
+  int k = 0;
+  for (int z = 0; z < dims_[2]; ++z) {
+    for (int y = 0; y < dims_[1]; ++y) {
+      for (int x = 0; x < dims_[0]; ++x) {
+        for (int16_t it = head_[(z * dims_[1] + y) * dims_[0] + x]; it >= 0; it = next_[it]) {
+          order_[k++] = {it, uint16_t(x), uint16_t(y), uint16_t(z)};
+        }
+      }
+    }
   }
 }
 

@@ -23,10 +23,7 @@ class SceneGrid {
   void ForEachNear(const Eigen::Vector3f& p, float radius_mm, Fn&& fn) const {
     if (count_ == 0) return;
     int lo[3], hi[3];
-    for (int i = 0; i < 3; ++i) {
-      lo[i] = CellCoord(p[i] - radius_mm, i);
-      hi[i] = CellCoord(p[i] + radius_mm, i);
-    }
+    QueryBox(p, radius_mm, lo, hi);
     const float r2 = radius_mm * radius_mm;
     for (int z = lo[2]; z <= hi[2]; ++z) {
       for (int y = lo[1]; y <= hi[1]; ++y) {
@@ -38,15 +35,44 @@ class SceneGrid {
       }
     }
   }
+  // The same calls as ForEachNear, in the same order, by one pass over the items in cell order
+  // instead of over the cells of the query's box: cheaper when the box holds many cells (the
+  // neighbourhood of a scene basis covers most of the scene).
+  template <typename Fn>
+  void ForEachNearByScan(const Eigen::Vector3f& p, float radius_mm, Fn&& fn) const {
+    if (count_ == 0) return;
+    int lo[3], hi[3];
+    QueryBox(p, radius_mm, lo, hi);
+    const float r2 = radius_mm * radius_mm;
+    for (int k = 0; k < count_; ++k) {
+      const ItemCell& c = order_[k];
+      if (c.x < lo[0] || c.x > hi[0] || c.y < lo[1] || c.y > hi[1] || c.z < lo[2] || c.z > hi[2])
+        continue;
+      if ((positions_[c.item] - p).squaredNorm() <= r2) fn(int(c.item));
+    }
+  }
   int count() const { return count_; }
 
  private:
+  // Cells [lo, hi] per axis that hold every point within radius_mm of p.
+  void QueryBox(const Eigen::Vector3f& p, float radius_mm, int* lo, int* hi) const {
+    for (int i = 0; i < 3; ++i) {
+      lo[i] = CellCoord(p[i] - radius_mm, i);
+      hi[i] = CellCoord(p[i] + radius_mm, i);
+    }
+  }
   int CellCoord(float v, int axis) const {
     const int c = int((v - min_[axis]) * inv_cell_);
     return c < 0 ? 0 : (c >= dims_[axis] ? dims_[axis] - 1 : c);
   }
 
+  struct ItemCell {
+    int16_t item;
+    uint16_t x, y, z;  // cell coordinates
+  };
+
   Eigen::Vector3f positions_[kMaxItems];
+  ItemCell order_[kMaxItems];  // items in the order ForEachNear visits them: by cell, then list
   int16_t next_[kMaxItems];
   int16_t head_[kMaxGridCells];
   float min_[3] = {0, 0, 0};
