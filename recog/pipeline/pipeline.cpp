@@ -539,29 +539,43 @@ void Pipeline::RefineOnEdges(const PosedModel* hidden, size_t n_hidden, Pipeline
     o.edge_refined = false;
   }
   if (!config_.edge_refine) return;
+  // Each object is fitted with the others at their feature poses as occluders, so the fits are
+  // independent of each other and of their order: the pool runs them in parallel, each into its
+  // own slot, and the results do not depend on the thread count.
+  refine_hidden_ = hidden;
+  refine_n_hidden_ = n_hidden;
+  refine_out_ = out;
+  pool_.ParallelFor(static_cast<int>(out->objects.size()), &Pipeline::RefineOne, this);
   for (size_t i = 0; i < out->objects.size(); ++i) {
-    RecognizedObject& o = out->objects[i];
-    PosedModel occluders[kMaxOccluders];
-    size_t n_occluders = 0;
-    for (size_t j = 0; j < n_hidden && n_occluders < kMaxOccluders; ++j) {
-      occluders[n_occluders++] = hidden[j];
-    }
-    for (size_t j = 0; j < out->objects.size() && n_occluders < kMaxOccluders; ++j) {
-      if (j == i) continue;
-      occluders[n_occluders++] = {&table_.model(out->objects[j].model),
-                                  out->objects[j].cam_T_model};
-    }
-    EdgeRefineResult r;
-    RigidTransform pose = o.cam_T_model;
-    const Status s = RefinePoseOnEdges(
-        calib_, AsConst(features_[0].edges), AsConst(features_[1].edges), table_.model(o.model),
-        occluders, n_occluders, config_.edge_refine_config, &pose, &r);
     // An error (never seen: the model and maps were checked) keeps the feature pose.
-    if (s.ok() && r.refined) {
-      o.cam_T_model = pose;
-      o.edge_refined = true;
-    }
+    if (!refine_ok_[i]) continue;
+    out->objects[i].cam_T_model = refine_pose_[i];
+    out->objects[i].edge_refined = true;
   }
+}
+
+void Pipeline::RefineOne(void* self, int index) {
+  Pipeline& p = *static_cast<Pipeline*>(self);
+  const PipelineResult& out = *p.refine_out_;
+  const auto i = static_cast<size_t>(index);
+  PosedModel occluders[kMaxOccluders];
+  size_t n_occluders = 0;
+  for (size_t j = 0; j < p.refine_n_hidden_ && n_occluders < kMaxOccluders; ++j) {
+    occluders[n_occluders++] = p.refine_hidden_[j];
+  }
+  for (size_t j = 0; j < out.objects.size() && n_occluders < kMaxOccluders; ++j) {
+    if (j == i) continue;
+    occluders[n_occluders++] = {&p.table_.model(out.objects[j].model),
+                                out.objects[j].cam_T_model_features};
+  }
+  const RecognizedObject& o = out.objects[i];
+  EdgeRefineResult r;
+  RigidTransform pose = o.cam_T_model_features;
+  const Status s = RefinePoseOnEdges(
+      p.calib_, AsConst(p.features_[0].edges), AsConst(p.features_[1].edges),
+      p.table_.model(o.model), occluders, n_occluders, p.config_.edge_refine_config, &pose, &r);
+  p.refine_ok_[i] = s.ok() && r.refined;
+  p.refine_pose_[i] = pose;
 }
 
 ConstEdgeMapView Pipeline::left_edges() const { return AsConst(features_[0].edges); }

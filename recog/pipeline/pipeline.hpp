@@ -230,6 +230,7 @@ class Pipeline {
  private:
   float MsSince(int64_t start_ns) const;
   void RefineOnEdges(const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
+  static void RefineOne(void* self, int index);  // object `index` of refine_out_, on the pool
   // One search of the scene with frame_table_ (objects, stats and verifier counts into out).
   Status Search(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
                 PipelineResult* out, int64_t* verify_ns);
@@ -286,6 +287,12 @@ class Pipeline {
   // Per-frame state of the parallel feature extraction (one slot per image).
   ConstGrayView frame_images_[2];
   Status frame_status_[2];
+  // Per-frame state of the parallel final edge fit (one slot per object).
+  const PosedModel* refine_hidden_ = nullptr;
+  size_t refine_n_hidden_ = 0;
+  const PipelineResult* refine_out_ = nullptr;
+  RigidTransform refine_pose_[kMaxObjects];
+  bool refine_ok_[kMaxObjects] = {};
   // Silhouettes of the frame's hidden objects, per image (empty: nothing hidden).
   HiddenMask masks_[2];
   // The shape path (26 MiB) is allocated by Init only when the model set holds colour parts, so
