@@ -311,7 +311,8 @@ int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out, float
   return Vote(b, scratch_, out, best_per_model);
 }
 
-int Recognizer::VoteInTurn(uint32_t index, const SceneBasis& b, Vector<Hypothesis>& out) {
+int Recognizer::VoteInTurn(uint32_t index, const SceneBasis& b, uint32_t most,
+                           Vector<Hypothesis>& out) {
   while (ahead_next_ < ahead_count_ && ahead_[ahead_next_].index < index) ++ahead_next_;
   if (ahead_next_ < ahead_count_ && ahead_[ahead_next_].index == index) {
     out = ahead_[ahead_next_].hypotheses;
@@ -320,17 +321,22 @@ int Recognizer::VoteInTurn(uint32_t index, const SceneBasis& b, Vector<Hypothesi
   ahead_count_ = ahead_next_ = 0;
   if (!parallel_.concurrent()) return Vote(b, scratch_, out, nullptr);
   // This basis and the next active ones of the pass, voted on the scene as it is now; the
-  // search only removes features, so the bases skipped here stay inactive until they come.
+  // search only removes features, so the bases skipped here stay inactive until they come. No
+  // more than the search may still try (its budget and fruitless limit), so that it stops where
+  // the one-thread search stops, without votes thrown away.
+  const uint32_t batch = std::min(kVoteAheadBases, std::max(most, 1u));
   ahead_[ahead_count_++].index = index;
-  for (uint32_t j = index + 1; j < candidates_.count() && ahead_count_ < kVoteAheadBases; ++j) {
+  for (uint32_t j = index + 1; j < candidates_.count() && ahead_count_ < batch; ++j) {
     if (BasisActive(candidates_[j])) ahead_[ahead_count_++].index = j;
   }
+  if (ahead_count_ == 1) return Vote(b, scratch_, out, nullptr);
   parallel_(
-      vote_threads_,
+      std::min(vote_threads_, int(ahead_count_)),
       [](void* self, int thread) {
         auto* r = static_cast<Recognizer*>(self);
         VoteScratch& scratch = r->ScratchOf(thread);
-        for (uint32_t k = uint32_t(thread); k < r->ahead_count_; k += uint32_t(r->vote_threads_)) {
+        const uint32_t stride = std::min(uint32_t(r->vote_threads_), r->ahead_count_);
+        for (uint32_t k = uint32_t(thread); k < r->ahead_count_; k += stride) {
           AheadVote& a = r->ahead_[k];
           (void)r->Vote(r->candidates_[a.index], scratch, a.hypotheses, nullptr);
         }
@@ -538,7 +544,10 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     if (budget.max_objects != 0 && objects.size() >= budget.max_objects) break;
 
     const uint32_t basis_number = stats.scene_bases_tried++;
-    stats.hypotheses += VoteInTurn(cursor - 1, basis, hypotheses);
+    // The bases this search may still try, this one included (both limits were checked above).
+    const uint32_t most =
+        std::min(budget.max_scene_bases - basis_number, config_.max_fruitless_bases - fruitless);
+    stats.hypotheses += VoteInTurn(cursor - 1, basis, most, hypotheses);
     ++fruitless;
     // Every hypothesis of this basis is refined and verified; the best supported one wins
     // (a partial view can fit a wrong model or a wrong orientation as well as the right one).

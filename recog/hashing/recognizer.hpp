@@ -1,4 +1,5 @@
-// Recognition by 3-D geometric hashing (thesis ch. 2, 4, 5), statically allocated.
+// Recognition by 3-D geometric hashing (thesis ch. 2, 4, 5), statically allocated (the vote
+// arrays of extra voting threads are allocated once, at start-up: SetParallel).
 //
 // For a scene basis, every other scene feature is expressed in the basis frame and looked up in
 // the hash arrays; each model entry near it receives a Gaussian vote (at most one, the best, per
@@ -215,9 +216,9 @@ class Recognizer {
   void VoteLineEntry(const LineDirectionIndex::Entry& l, const LineLookUp& q,
                      VoteScratch& scratch) const;
   // The hypotheses of candidate `index` (basis `b`) of the current pass: from the bases voted
-  // ahead when it is among them, else voted now (with two threads: together with the next
-  // active bases).
-  int VoteInTurn(uint32_t index, const SceneBasis& b, Vector<Hypothesis>& out);
+  // ahead when it is among them, else voted now (with two threads or more: together with the
+  // next active bases, `most` bases in all at the most, this one included).
+  int VoteInTurn(uint32_t index, const SceneBasis& b, uint32_t most, Vector<Hypothesis>& out);
   void RemoveObjectFeatures(const Model& model, const Correspondences& c);
   int ActiveFeatureCount() const;
   bool BasisActive(const SceneBasis& b) const;
