@@ -519,6 +519,24 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
     }
     c.displaces = static_cast<int>(i);
   }
+  // The object it would displace leaves the occluders: it would not be there to hide anything,
+  // neither for the final matches nor for the verification.
+  const PosedModel* occluders = occluders_;
+  size_t n_occluders = n_occluders_;
+  PosedModel others[kMaxOccluders];
+  if (c.displaces >= 0 && static_cast<size_t>(c.displaces) < n_occluders_) {
+    n_occluders = 0;
+    for (size_t o = 0; o < n_occluders_; ++o) {
+      if (o != static_cast<size_t>(c.displaces)) others[n_occluders++] = occluders_[o];
+    }
+    occluders = others;
+    if (!ComputeVisibleEdges(own, posed, occluders, n_occluders, config_.hidden_line_step_px,
+                             config_.verify.min_depth_mm, &visible)
+             .ok()) {
+      ++stats->rejected_matches;
+      return false;
+    }
+  }
   MatchFeatures(cam, model, c.cam_T_model, visible, scene, match, &c.matches);
   if (c.matches.n_points + c.matches.n_lines < config_.min_matched_features) {
     ++stats->rejected_matches;
@@ -535,17 +553,6 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
 
   // Verification against the edge map, hidden lines and the objects found so far removed.
   ++stats->verifications;
-  // The object it would displace leaves the occluders: it would not be there to hide anything.
-  const PosedModel* occluders = occluders_;
-  size_t n_occluders = n_occluders_;
-  PosedModel others[kMaxOccluders];
-  if (c.displaces >= 0 && static_cast<size_t>(c.displaces) < n_occluders_) {
-    n_occluders = 0;
-    for (size_t o = 0; o < n_occluders_; ++o) {
-      if (o != static_cast<size_t>(c.displaces)) others[n_occluders++] = occluders_[o];
-    }
-    occluders = others;
-  }
   if (!ComputeVisibleEdges(own, posed, occluders, n_occluders, config_.verify.sample_step_px,
                            config_.verify.min_depth_mm, &visible)
            .ok()) {
