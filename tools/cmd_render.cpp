@@ -3,10 +3,10 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -98,20 +98,21 @@ int RunRender(int argc, char** argv) {
       return exit_code;
     }
     double number = 0;
-    // Each option checks its own range below; any finite number is a number here.
-    const bool numeric = ParseNumber(value, -std::numeric_limits<double>::max(),
-                                     std::numeric_limits<double>::max(), &number);
+    // Within float's range here (the floats' own ranges are checked by GenerateScene); counts
+    // and the seed must be whole numbers in their ranges below.
+    const bool numeric = ParseNumber(value, -1e30, 1e30, &number);
+    const bool whole = numeric && number == std::floor(number);
     if (std::strcmp(arg, "--out") == 0) {
       out_dir = value;
     } else if (std::strcmp(arg, "--models") == 0) {
       models_dir = value;
-    } else if (std::strcmp(arg, "--seed") == 0 && numeric && number >= 0 && number < 1.8e19) {
+    } else if (std::strcmp(arg, "--seed") == 0 && whole && number >= 0 && number < 1.8e19) {
       seed = static_cast<uint64_t>(number);
-    } else if (std::strcmp(arg, "--objects") == 0 && numeric) {
+    } else if (std::strcmp(arg, "--objects") == 0 && whole && number >= 1 &&
+               number <= render::kMaxRenderObjects) {
       params.n_objects = static_cast<int>(number);
       set_objects = params.n_objects;
-    } else if (std::strcmp(arg, "--scenes-per-row") == 0 && numeric && number >= 1 &&
-               number <= 100) {
+    } else if (std::strcmp(arg, "--scenes-per-row") == 0 && whole && number >= 1 && number <= 100) {
       per_row = static_cast<int>(number);
     } else if (std::strcmp(arg, "--distance-mm") == 0 && numeric) {
       params.camera_distance_mm = static_cast<float>(number);
