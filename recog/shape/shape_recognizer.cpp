@@ -406,12 +406,15 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
   // Fine stage and verification of the best.
   PosedModel best{nullptr, {}};
   Verdict best_verdict;
+  bool refined[kMaxShapeCandidates] = {};
   for (size_t i = 0; i < n_coarse && i < static_cast<size_t>(config_.fine_hypotheses); ++i) {
-    // Two views that the coarse stage took to one pose: the fine stage would repeat itself.
+    // Two views that the coarse stage took to one pose: the fine stage would repeat itself
+    // (compared with the starts it did refine, not with those it skipped).
     bool repeat = false;
     for (size_t j = 0; j < i && !repeat; ++j)
-      repeat = SameStart(coarse[j].object, coarse[i].object);
+      repeat = refined[j] && SameStart(coarse[j].object, coarse[i].object);
     if (repeat) continue;
+    refined[i] = true;
     PosedModel object = coarse[i].object;
     Verdict v;
     if (!RefineAndEvaluate(colour, &object, &v) || !v.accepted) continue;

@@ -109,7 +109,7 @@ bool SearchEdge(ImageView<const Rgb8> image, ConstGrayView classes, uint8_t colo
   // Transitions i = 1 .. 2 range lie at s = i - range - 0.5: the pair d is at |s| = d + 0.5, and
   // an edge found there lies within 1.5 of it (peak one sample away, parabola half a sample).
   for (int d = 0; d < range; ++d) {
-    if (best_i<count&& static_cast<float>(d) - 1.0f> std::fabs(best)) break;
+    if ((best_i < count) && (static_cast<float>(d) - 1.0f > std::fabs(best))) break;
     const int pair[2] = {range + 1 + d, range - d};
     for (const int i : pair) {
       float s;

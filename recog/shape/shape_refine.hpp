@@ -57,7 +57,8 @@ struct ShapeRefineConfig {
   // and a visibility computation and a pass cheaper).
   bool final_fit = true;
   // Give up (kNotFound) when the first pass finds an edge for less than this share of an image's
-  // samples: a start that far from what the images show does not verify (0: never).
+  // samples: a start that far from what the images show does not verify (0: never). An image
+  // without samples (the part outside its view) gives up too: the verifier needs both images.
   float min_start_share = 0.0f;
 };
 
