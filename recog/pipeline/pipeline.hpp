@@ -57,8 +57,9 @@ struct PipelineConfig {
   // Final fit of every accepted pose to the edge pixels of both images (edge_refine.hpp).
   bool edge_refine = true;
   EdgeRefineConfig edge_refine_config;
-  // Threads of the pipeline's worker pool, the calling thread included: the left and right
-  // features are extracted in parallel when there are two or more. 0: all online cores.
+  // Threads of the pipeline's worker pool, the calling thread included: with two or more the
+  // left and right features are extracted in parallel, the search votes on all of them
+  // (Recognizer::SetParallel) and the final edge fits are spread over them. 0: all online cores.
   int threads = 0;
   // The shape path for colour parts (used when a view database is given and frames are colour).
   ShapeConfig shape;
