@@ -540,23 +540,17 @@ void Pipeline::RefineOnEdges(const PosedModel* hidden, size_t n_hidden, Pipeline
   }
   if (!config_.edge_refine) return;
   // Each object is fitted with the others at their feature poses as occluders, so the fits are
-  // independent of each other and of their order: the pool runs them in parallel, each into its
-  // own slot, and the results do not depend on the thread count.
+  // independent of each other and of their order: the pool runs them in parallel, each writing
+  // only its own object's pose, and the results do not depend on the thread count.
   refine_hidden_ = hidden;
   refine_n_hidden_ = n_hidden;
   refine_out_ = out;
   pool_.ParallelFor(static_cast<int>(out->objects.size()), &Pipeline::RefineOne, this);
-  for (size_t i = 0; i < out->objects.size(); ++i) {
-    // An error (never seen: the model and maps were checked) keeps the feature pose.
-    if (!refine_ok_[i]) continue;
-    out->objects[i].cam_T_model = refine_pose_[i];
-    out->objects[i].edge_refined = true;
-  }
 }
 
 void Pipeline::RefineOne(void* self, int index) {
   Pipeline& p = *static_cast<Pipeline*>(self);
-  const PipelineResult& out = *p.refine_out_;
+  PipelineResult& out = *p.refine_out_;
   const auto i = static_cast<size_t>(index);
   PosedModel occluders[kMaxOccluders];
   size_t n_occluders = 0;
@@ -568,14 +562,18 @@ void Pipeline::RefineOne(void* self, int index) {
     occluders[n_occluders++] = {&p.table_.model(out.objects[j].model),
                                 out.objects[j].cam_T_model_features};
   }
-  const RecognizedObject& o = out.objects[i];
+  RecognizedObject& o = out.objects[i];
   EdgeRefineResult r;
   RigidTransform pose = o.cam_T_model_features;
   const Status s = RefinePoseOnEdges(
       p.calib_, AsConst(p.features_[0].edges), AsConst(p.features_[1].edges),
       p.table_.model(o.model), occluders, n_occluders, p.config_.edge_refine_config, &pose, &r);
-  p.refine_ok_[i] = s.ok() && r.refined;
-  p.refine_pose_[i] = pose;
+  // Only this object's pose is written; the others read cam_T_model_features. An error (never
+  // seen: the model and maps were checked) keeps the feature pose.
+  if (s.ok() && r.refined) {
+    o.cam_T_model = pose;
+    o.edge_refined = true;
+  }
 }
 
 ConstEdgeMapView Pipeline::left_edges() const { return AsConst(features_[0].edges); }

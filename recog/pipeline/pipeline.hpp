@@ -288,12 +288,10 @@ class Pipeline {
   // Per-frame state of the parallel feature extraction (one slot per image).
   ConstGrayView frame_images_[2];
   Status frame_status_[2];
-  // Per-frame state of the parallel final edge fit (one slot per object).
+  // Per-frame state of the parallel final edge fit.
   const PosedModel* refine_hidden_ = nullptr;
   size_t refine_n_hidden_ = 0;
-  const PipelineResult* refine_out_ = nullptr;
-  RigidTransform refine_pose_[kMaxObjects];
-  bool refine_ok_[kMaxObjects] = {};
+  PipelineResult* refine_out_ = nullptr;
   // Silhouettes of the frame's hidden objects, per image (empty: nothing hidden).
   HiddenMask masks_[2];
   // The shape path (26 MiB) is allocated by Init only when the model set holds colour parts, so
