@@ -199,6 +199,8 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
     // The search votes on the pool's threads when it has more than one (Recognizer::SetParallel).
     SH_RETURN_IF_ERROR(recognizer_.SetParallel(ParallelOn(&pool_), pool_.threads()));
   }
+  // The colour path refines a seed's candidates on them too.
+  if (shape_enabled_) shape_->SetParallel(ParallelOn(&pool_), pool_.threads());
   calib_ = calib;
   config_ = config;
   now_ns_ = now_ns;

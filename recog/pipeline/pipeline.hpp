@@ -59,7 +59,9 @@ struct PipelineConfig {
   EdgeRefineConfig edge_refine_config;
   // Threads of the pipeline's worker pool, the calling thread included: with two or more the
   // left and right features are extracted in parallel, the search votes on all of them
-  // (Recognizer::SetParallel) and the final edge fits are spread over them. 0: all online cores.
+  // (Recognizer::SetParallel), the colour path refines its candidates on them
+  // (ShapeRecognizer::SetParallel) and the final edge fits are spread over them. 0: all online
+  // cores.
   int threads = 0;
   // The shape path for colour parts (used when a view database is given and frames are colour).
   ShapeConfig shape;

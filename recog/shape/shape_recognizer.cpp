@@ -102,6 +102,44 @@ Status ShapeRecognizer::Init(const StereoCalibration& calib, const ShapeViewsVie
   return Status::Ok();
 }
 
+void ShapeRecognizer::SetParallel(const ParallelFor& parallel, int threads) {
+  parallel_ = {};
+  threads_ = 1;
+  if (!parallel.concurrent() || threads < 2) return;
+  parallel_ = parallel;
+  threads_ = std::min(threads, kMaxShapeThreads);
+}
+
+template <typename Fn>
+void ShapeRecognizer::Spread(int n, Fn&& fn) const {
+  const int stride = std::max(1, std::min(threads_, n));
+  struct Context {
+    Fn* fn;
+    int n, stride;
+  } context{&fn, n, stride};
+  auto run_slot = [](void* c, int slot) {
+    const auto* ctx = static_cast<const Context*>(c);
+    for (int k = slot; k < ctx->n; k += ctx->stride) (*ctx->fn)(slot, k);
+  };
+  if (stride == 1) {
+    run_slot(&context, 0);
+  } else {
+    parallel_(stride, run_slot, &context);
+  }
+}
+
+void ShapeRecognizer::AddStageTimes(int64_t wall_ns, const StageNs& sum) {
+  // One thread: the sums are the stage times. Several: the stage's wall-clock time, shared in
+  // the proportions of the threads' time.
+  const int64_t busy = sum.refine + sum.verify;
+  const int64_t verify =
+      busy > 0 ? static_cast<int64_t>(static_cast<double>(wall_ns) *
+                                      static_cast<double>(sum.verify) / static_cast<double>(busy))
+               : 0;
+  refine_ns_ += wall_ns - verify;
+  verify_ns_ += verify;
+}
+
 float ShapeRecognizer::MsSince(int64_t start) const {
   // Nanoseconds to milliseconds.
   return now_ns_ ? static_cast<float>(now_ns_() - start) * 1e-6f : 0.0f;
@@ -213,7 +251,8 @@ void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
   }
 }
 
-bool ShapeRecognizer::InitialPoseStereo(const Seed& seed, PosedModel* object) {
+bool ShapeRecognizer::InitialPoseStereo(const Seed& seed, SilhouetteScratch& scratch,
+                                        PosedModel* object) const {
   // Orientation relative to the viewing ray stays as the view gave it while the position moves.
   const Eigen::Matrix3f ray_R_model =
       RayFrame(seed.centroid_mm).transpose() * object->cam_T_model.R;
@@ -227,7 +266,7 @@ bool ShapeRecognizer::InitialPoseStereo(const Seed& seed, PosedModel* object) {
       const ViewCamera view = Camera(calib_, cam);
       SilhouetteMask mask;
       Eigen::Vector2d origin;
-      ok = RasterizeSilhouette(view, *object, silhouette_scratch_, &mask).ok() && !mask.empty() &&
+      ok = RasterizeSilhouette(view, *object, scratch, &mask).ok() && !mask.empty() &&
            ProjectToPixel(view.intrinsics,
                           (view.cam_T_left * object->cam_T_model.t_mm).cast<double>(), &origin);
       if (!ok) break;
@@ -316,7 +355,8 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
   return best_depth;
 }
 
-bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c, PosedModel* object) {
+bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c,
+                                      SilhouetteScratch& scratch, PosedModel* object) const {
   const int cam = c.camera;
   const ColourRegion& blob = blobs_[cam][seed.blob[cam]];
   const ViewCamera view = Camera(calib_, cam);
@@ -347,7 +387,7 @@ bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c, Pose
     if (it == config_.corrective_iterations) break;
     SilhouetteMask mask;
     Eigen::Vector2d origin;
-    if (!RasterizeSilhouette(view, *object, silhouette_scratch_, &mask).ok() || mask.empty() ||
+    if (!RasterizeSilhouette(view, *object, scratch, &mask).ok() || mask.empty() ||
         !ProjectToPixel(ci, t_cam.cast<double>(), &origin)) {
       return false;
     }
@@ -379,51 +419,75 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
   struct Coarse {
     PosedModel object;
     float found = 0;
+    bool posed = false, refined = false;
   };
   Coarse coarse[kMaxShapeCandidates];
-  size_t n_coarse = 0;
   t = Now();
-  for (const Candidate& c : candidates) {
-    PosedModel object{&views_.model(c.model), {c.cam_R_model, seed.centroid_mm}};
-    const bool posed =
-        seed.stereo ? InitialPoseStereo(seed, &object) : InitialPoseMono(seed, c, &object);
-    if (!posed) continue;
+  Spread(static_cast<int>(candidates.size()), [&](int slot, int k) {
+    const Candidate& c = candidates[static_cast<size_t>(k)];
+    Coarse& r = coarse[k];
+    r.object = {&views_.model(c.model), {c.cam_R_model, seed.centroid_mm}};
+    SilhouetteScratch& silhouette = scratch_[slot].silhouette;
+    r.posed = seed.stereo ? InitialPoseStereo(seed, silhouette, &r.object)
+                          : InitialPoseMono(seed, c, silhouette, &r.object);
+    if (!r.posed) return;
     ShapeRefineResult fit;
-    ++st.hypotheses;
-    if (!refiner_
-             .Refine(calib_, images_, colour, &object, occluders_, n_occluders_, config_.coarse,
-                     &fit)
-             .ok()) {
-      continue;
-    }
+    r.refined = scratch_[slot]
+                    .refiner
+                    .Refine(calib_, images_, colour, &r.object, occluders_, n_occluders_,
+                            config_.coarse, &fit)
+                    .ok();
     const int samples = fit.fit[0].samples + fit.fit[1].samples;
-    coarse[n_coarse++] = {
-        object, samples ? static_cast<float>(fit.fit[0].found + fit.fit[1].found) / samples : 0.0f};
+    r.found = samples ? static_cast<float>(fit.fit[0].found + fit.fit[1].found) / samples : 0.0f;
+  });
+  // In candidate order, as one thread would have left them.
+  size_t n_coarse = 0;
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    st.hypotheses += coarse[k].posed;
+    if (coarse[k].refined) coarse[n_coarse++] = coarse[k];
   }
   std::sort(coarse, coarse + n_coarse,
             [](const Coarse& a, const Coarse& b) { return a.found > b.found; });
   refine_ns_ += Now() - t;
-  // Fine stage and verification of the best.
+  // Fine stage and verification of the best. Two views that the coarse stage took to one pose:
+  // the fine stage would repeat itself (compared with the starts it does refine, not with those
+  // it skips), so the starts are chosen before any is refined.
+  size_t starts[kMaxShapeCandidates];
+  size_t n_starts = 0;
+  for (size_t i = 0; i < n_coarse && i < static_cast<size_t>(config_.fine_hypotheses); ++i) {
+    bool repeat = false;
+    for (size_t j = 0; j < n_starts && !repeat; ++j) {
+      repeat = SameStart(coarse[starts[j]].object, coarse[i].object);
+    }
+    if (!repeat) starts[n_starts++] = i;
+  }
+  struct Fine {
+    PosedModel object;
+    Verdict verdict;
+    bool refined = false;
+    StageNs ns;
+  };
+  Fine fine[kMaxShapeCandidates];
+  t = Now();
+  Spread(static_cast<int>(n_starts), [&](int slot, int k) {
+    Fine& f = fine[k];
+    f.object = coarse[starts[k]].object;
+    f.refined = RefineAndEvaluate(colour, scratch_[slot], &f.object, &f.verdict, &f.ns);
+  });
+  StageNs fine_ns;
   PosedModel best{nullptr, {}};
   Verdict best_verdict;
-  bool refined[kMaxShapeCandidates] = {};
-  for (size_t i = 0; i < n_coarse && i < static_cast<size_t>(config_.fine_hypotheses); ++i) {
-    // Two views that the coarse stage took to one pose: the fine stage would repeat itself
-    // (compared with the starts it did refine, not with those it skipped).
-    bool repeat = false;
-    for (size_t j = 0; j < i && !repeat; ++j)
-      repeat = refined[j] && SameStart(coarse[j].object, coarse[i].object);
-    if (repeat) continue;
-    refined[i] = true;
-    PosedModel object = coarse[i].object;
-    Verdict v;
-    if (!RefineAndEvaluate(colour, &object, &v) || !v.accepted) continue;
+  for (size_t k = 0; k < n_starts; ++k) {
+    fine_ns.refine += fine[k].ns.refine;
+    fine_ns.verify += fine[k].ns.verify;
+    if (!fine[k].refined || !fine[k].verdict.accepted) continue;
     ++st.verified;
-    if (best.model == nullptr || v.evidence > best_verdict.evidence) {
-      best = object;
-      best_verdict = v;
+    if (best.model == nullptr || fine[k].verdict.evidence > best_verdict.evidence) {
+      best = fine[k].object;
+      best_verdict = fine[k].verdict;
     }
   }
+  AddStageTimes(Now() - t, fine_ns);
   if (best.model == nullptr) return false;
   // A part with a near symmetry (the bracket) may have settled half a turn from the truth: the
   // turned pose, refined the same way, replaces it when the images explain it better.
@@ -435,7 +499,10 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
     turned.cam_T_model.R = found.cam_T_model.R * near.R[k];
     turned.cam_T_model.t_mm = found.cam_T_model.t_mm + found.cam_T_model.R * near.t_mm[k];
     Verdict v;
-    if (!RefineAndEvaluate(colour, &turned, &v)) continue;
+    StageNs ns;
+    const bool refined = RefineAndEvaluate(colour, scratch_[0], &turned, &v, &ns);
+    AddStageTimes(ns.refine + ns.verify, ns);
+    if (!refined) continue;
     ++st.turned;
     if (v.accepted && v.evidence > best_verdict.evidence) {
       best = turned;
@@ -459,21 +526,23 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
   return true;
 }
 
-bool ShapeRecognizer::RefineAndEvaluate(uint8_t colour, PosedModel* object, Verdict* verdict) {
+bool ShapeRecognizer::RefineAndEvaluate(uint8_t colour, ThreadScratch& scratch, PosedModel* object,
+                                        Verdict* verdict, StageNs* ns) const {
   int64_t t = Now();
   ShapeRefineResult fit;
-  const Status s = refiner_.Refine(calib_, images_, colour, object, occluders_, n_occluders_,
-                                   config_.refine, &fit);
-  refine_ns_ += Now() - t;
+  const Status s = scratch.refiner.Refine(calib_, images_, colour, object, occluders_, n_occluders_,
+                                          config_.refine, &fit);
+  ns->refine = Now() - t;
   if (!s.ok()) return false;
   t = Now();
-  *verdict = Evaluate(*object, colour, fit);
-  verify_ns_ += Now() - t;
+  *verdict = Evaluate(*object, colour, fit, scratch.silhouette);
+  ns->verify = Now() - t;
   return true;
 }
 
 ShapeRecognizer::Verdict ShapeRecognizer::Evaluate(const PosedModel& object, uint8_t colour,
-                                                   const ShapeRefineResult& fit) const {
+                                                   const ShapeRefineResult& fit,
+                                                   SilhouetteScratch& scratch) const {
   Verdict v;
   v.accepted = true;
   for (int cam = 0; cam < 2; ++cam) {
@@ -482,8 +551,7 @@ ShapeRecognizer::Verdict ShapeRecognizer::Evaluate(const PosedModel& object, uin
       v.accepted = false;
     }
     SilhouetteMask mask;
-    if (!RasterizeSilhouette(Camera(calib_, cam), object, silhouette_scratch_, &mask).ok() ||
-        mask.empty()) {
+    if (!RasterizeSilhouette(Camera(calib_, cam), object, scratch, &mask).ok() || mask.empty()) {
       v.accepted = false;
       continue;
     }
@@ -522,11 +590,11 @@ Status ShapeRecognizer::Assess(PosedModel* object, const PosedModel* occluders, 
   // From the truth the refinement runs to its end, however few edges it finds at the start.
   ShapeRefineConfig refine = config_.refine;
   refine.min_start_share = 0.0f;
-  const Status s =
-      refiner_.Refine(calib_, images_, colour, object, occluders, n_occluders, refine, &fit);
+  const Status s = scratch_[0].refiner.Refine(calib_, images_, colour, object, occluders,
+                                              n_occluders, refine, &fit);
   if (!s.ok()) return Status::Ok();
   out->refined = true;
-  const Verdict v = Evaluate(*object, colour, fit);
+  const Verdict v = Evaluate(*object, colour, fit, scratch_[0].silhouette);
   out->accepted = v.accepted;
   for (int cam = 0; cam < 2; ++cam) {
     out->edge_score[cam] = v.edge_score[cam];
@@ -627,7 +695,7 @@ int ShapeRecognizer::DeriveBlobs(int camera, uint8_t round, ShapeStats& st) {
 void ShapeRecognizer::MarkExplained(const PosedModel& object) {
   for (int cam = 0; cam < 2; ++cam) {
     SilhouetteMask mask;
-    if (!RasterizeSilhouette(Camera(calib_, cam), object, silhouette_scratch_, &mask).ok()) {
+    if (!RasterizeSilhouette(Camera(calib_, cam), object, scratch_[0].silhouette, &mask).ok()) {
       continue;
     }
     const int w = segmentation_[cam].width();

@@ -14,6 +14,8 @@
 //      a region is accepted; it hides what lies behind it and explains its pixels, so a region
 //      of two touching parts keeps an unexplained remainder that is tried again as a region of
 //      its own.
+// Steps 3 to 6 of one seed spread their candidates over the caller's threads (SetParallel); the
+// results do not depend on how many there are.
 // Results are RecognizedObjects like the polyhedral path's, model ids offset by the caller's
 // model_id_offset (the shape models follow the hash tables' models in one model set).
 //
@@ -23,6 +25,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "recog/base/parallel_for.hpp"
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
 #include "recog/camera/camera_model.hpp"
@@ -45,6 +48,9 @@ inline constexpr size_t kMaxShapeCandidates = 24;  // views tried per seed (both
 // of the rounds after it (ids are one byte: at most 255).
 inline constexpr size_t kMaxBlobs = 192;
 inline constexpr int kShapeRounds = 3;
+// Threads that refine one seed's candidates at once (ShapeRecognizer::SetParallel); each has its
+// own refiner and silhouette raster (about 1.5 MB: pages a thread never uses stay unbacked).
+inline constexpr int kMaxShapeThreads = 4;
 
 // The two stages of refinement: a few iterations over sparse samples with a wide search, then
 // the full one from where that ended.
@@ -129,6 +135,12 @@ class ShapeRecognizer {
   Status Process(const FrameView& left, const FrameView& right, Vector<RecognizedObject>& out,
                  ShapeStats* stats);
 
+  // Refinement of a seed's candidates on `parallel`'s threads, at most `threads` (capped at
+  // kMaxShapeThreads) at once; a ParallelFor without a pool, or threads 1, keeps it on the
+  // caller. Each candidate writes its own slot and the slots are read in order, so the objects
+  // are those of one thread, bit for bit.
+  void SetParallel(const ParallelFor& parallel, int threads);
+
   // What the last frame shows of a part at a given pose (diagnostics: why a part was missed):
   // the fine refinement from `object` (which receives the refined pose) and the verification's
   // verdict there, with `occluders` hiding it.
@@ -159,6 +171,18 @@ class ShapeRecognizer {
     float edge_score[2] = {0, 0};
     float background_share[2] = {1, 1};
   };
+  // What one refining thread writes: its refiner's samples and a silhouette raster (written
+  // before read, like the class's other scratch).
+  // NOLINTNEXTLINE(cppcoreguidelines-pro-type-member-init)
+  struct ThreadScratch {
+    ShapeRefiner refiner;
+    SilhouetteScratch silhouette;
+  };
+  // Time one refinement and its verification took (the stage times share a parallel stage's
+  // wall-clock time in these proportions).
+  struct StageNs {
+    int64_t refine = 0, verify = 0;
+  };
   // Where a part may be: one blob in each image (stereo), or one blob in one image.
   struct Seed {
     int blob[2] = {-1, -1};  // indices into blobs_[camera], -1: none
@@ -172,17 +196,25 @@ class ShapeRecognizer {
                int mask_stride);
   bool BlobWindow(int camera, const ColourRegion& blob, ShapeWindow* window);
   void Candidates(const Seed& seed, Vector<Candidate>& out);
-  bool InitialPoseStereo(const Seed& seed, PosedModel* object);
-  bool InitialPoseMono(const Seed& seed, const Candidate& c, PosedModel* object);
+  bool InitialPoseStereo(const Seed& seed, SilhouetteScratch& scratch, PosedModel* object) const;
+  bool InitialPoseMono(const Seed& seed, const Candidate& c, SilhouetteScratch& scratch,
+                       PosedModel* object) const;
   // Depth (z in `camera`) of a blob's surface by matching its pixels along the epipolar line in
   // the other image: the colours a blob shows (its faces' shading and the creases between them)
   // are seen again there, shifted by the disparity of its depth. 0 when nothing matches.
   float BlobDepth(int camera, const ColourRegion& blob) const;
   // Refines the candidates, verifies the best and accepts the winner; true if one was accepted.
   bool TrySeed(const Seed& seed, Vector<RecognizedObject>& out, ShapeStats& st);
-  Verdict Evaluate(const PosedModel& object, uint8_t colour, const ShapeRefineResult& fit) const;
+  Verdict Evaluate(const PosedModel& object, uint8_t colour, const ShapeRefineResult& fit,
+                   SilhouetteScratch& scratch) const;
   // The fine refinement of *object, then Evaluate(); false when refinement fails.
-  bool RefineAndEvaluate(uint8_t colour, PosedModel* object, Verdict* verdict);
+  bool RefineAndEvaluate(uint8_t colour, ThreadScratch& scratch, PosedModel* object,
+                         Verdict* verdict, StageNs* ns) const;
+  // Calls fn(slot, k) for every k in [0, n): slot s (one thread's ThreadScratch) takes
+  // k = s, s + stride, ...
+  template <typename Fn>
+  void Spread(int n, Fn&& fn) const;
+  void AddStageTimes(int64_t wall_ns, const StageNs& sum);
   float ExplainedShare(int camera, const ColourRegion& blob) const;
   void MarkExplained(const PosedModel& object);
   // The unexplained pixels of this round's blobs, split into parts, as next round's blobs.
@@ -213,10 +245,12 @@ class ShapeRecognizer {
   uint8_t part_labels_[kMaxSplitPixels];
   int64_t search_ns_ = 0, refine_ns_ = 0, verify_ns_ = 0;
   ShapeWindowScratch window_scratch_;
-  mutable SilhouetteScratch silhouette_scratch_;  // scratch, also of the const diagnostics
   uint8_t region_mask_[kMaxImagePixels];
   uint8_t explained_[2][kMaxImagePixels];  // pixels covered by accepted objects' silhouettes
-  mutable ShapeRefiner refiner_;
+  // Per refining thread; [0] is the calling thread's, also of the const diagnostics.
+  mutable ThreadScratch scratch_[kMaxShapeThreads];
+  ParallelFor parallel_;
+  int threads_ = 1;
   // Occluders: the objects accepted in this frame (theirs and other paths').
   PosedModel occluders_[kMaxOccluders];
   size_t n_occluders_ = 0;

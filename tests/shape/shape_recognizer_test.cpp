@@ -1,6 +1,7 @@
 // The shape path end to end on a flat-shaded stereo pair: a red cube, a red can and a green
 // hexagon (two models share a colour, so the view search decides) are found with their model
-// and pose, nothing is reported on an empty table, and Process() never touches the heap.
+// and pose, nothing is reported on an empty table, Process() never touches the heap, and the
+// candidates refined on several threads give what one thread gives.
 #include "recog/shape/shape_recognizer.hpp"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "recog/shape/view_database.hpp"
@@ -28,6 +30,14 @@ float SymmetricAngleDeg(const Model& m, const Eigen::Matrix3f& a, const Eigen::M
     best = std::min(best, RotationAngleDeg(a.transpose() * b * m.symmetry(k)));
   }
   return best;
+}
+
+// A ParallelFor that runs every index on a thread of its own, all at once.
+void RunOnThreads(void* /*pool*/, int n, void (*fn)(void* context, int index), void* context) {
+  std::vector<std::thread> threads;
+  threads.reserve(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) threads.emplace_back(fn, context, i);
+  for (std::thread& t : threads) t.join();
 }
 
 class ShapeRecognizerTest : public ::testing::Test {
@@ -136,6 +146,36 @@ TEST_F(ShapeRecognizerTest, ReportsNothingOnAnEmptyTableAndRefusesFramesOfAnothe
   EXPECT_EQ(recognizer_->Process(small, right.frame(), found, &stats).code(),
             StatusCode::kInvalidArgument);
   EXPECT_EQ(found.size(), 0u);
+}
+
+TEST_F(ShapeRecognizerTest, CandidatesRefinedOnSeveralThreadsGiveWhatOneThreadGives) {
+  const std::vector<testing::FlatPart> parts = Scene();
+  testing::FlatImage left, right;
+  testing::RenderFlatPair(calib_, parts, 40, 2.0f, &left, &right);
+  ParallelFor on_threads;
+  on_threads.run = &RunOnThreads;
+  Vector<RecognizedObject, kMaxObjects> found[kMaxShapeThreads];
+  ShapeStats stats[kMaxShapeThreads];
+  for (int threads = 1; threads <= kMaxShapeThreads; ++threads) {
+    recognizer_->SetParallel(on_threads, threads);
+    const Status s =
+        recognizer_->Process(left.frame(), right.frame(), found[threads - 1], &stats[threads - 1]);
+    ASSERT_TRUE(s.ok()) << s.message();
+  }
+  ASSERT_EQ(found[0].size(), static_cast<size_t>(kParts));
+  // Several candidates per part were refined, so there was work to spread.
+  EXPECT_GT(stats[0].hypotheses, 2u * kParts);
+  for (int t = 1; t < kMaxShapeThreads; ++t) {
+    EXPECT_EQ(stats[t].hypotheses, stats[0].hypotheses) << t + 1 << " threads";
+    EXPECT_EQ(stats[t].verified, stats[0].verified) << t + 1 << " threads";
+    ASSERT_EQ(found[t].size(), found[0].size()) << t + 1 << " threads";
+    for (size_t i = 0; i < found[0].size(); ++i) {
+      EXPECT_EQ(found[t][i].model, found[0][i].model);
+      EXPECT_EQ(found[t][i].cam_T_model.t_mm, found[0][i].cam_T_model.t_mm);
+      EXPECT_EQ(found[t][i].cam_T_model.R, found[0][i].cam_T_model.R);
+      EXPECT_EQ(found[t][i].verify_evidence, found[0][i].verify_evidence);
+    }
+  }
 }
 
 }  // namespace
