@@ -188,13 +188,41 @@ void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
   out.clear();
   const int first = seed.blob[0] >= 0 ? 0 : 1;
   const uint8_t colour = blobs_[first][seed.blob[first]].colour;
+  // The window of each image, then the nearest views of each image and model of the colour on
+  // the worker threads (the searches only read; each writes its own list), then the candidates
+  // from the lists in image and model order.
+  ShapeCoefficients coefficients[2];
+  bool windowed[2] = {false, false};
   for (int cam = 0; cam < 2; ++cam) {
-    if (seed.blob[cam] < 0) continue;
-    const ColourRegion& blob = blobs_[cam][seed.blob[cam]];
     ShapeWindow window{};
-    if (!BlobWindow(cam, blob, &window)) continue;
-    ShapeCoefficients coefficients;
-    views_.Project(window, &coefficients);
+    if (seed.blob[cam] < 0 || !BlobWindow(cam, blobs_[cam][seed.blob[cam]], &window)) continue;
+    views_.Project(window, &coefficients[cam]);
+    windowed[cam] = true;
+  }
+  struct Search {
+    int camera = 0;
+    uint32_t model = 0;
+    Vector<ViewMatch, kNearestPerImage> nearest;
+  };
+  Search searches[2 * kMaxShapeModels];
+  int n_searches = 0;
+  for (int cam = 0; cam < 2; ++cam) {
+    for (uint32_t m = 0; m < views_.model_count() && windowed[cam]; ++m) {
+      if (colour_of_model_[m] != colour) continue;
+      searches[n_searches].camera = cam;
+      searches[n_searches++].model = m;
+    }
+  }
+  // The nearest views of each model of the colour on its own: models with many views (no
+  // symmetry) would otherwise crowd out the others.
+  Spread(n_searches, [&](int /*slot*/, int k) {
+    Search& search = searches[k];
+    views_.Nearest(coefficients[search.camera], 1u << search.model, kNearestPerImage,
+                   search.nearest);
+  });
+  for (int k = 0; k < n_searches; ++k) {
+    const int cam = searches[k].camera;
+    const ColourRegion& blob = blobs_[cam][seed.blob[cam]];
     const ViewCamera view = Camera(calib_, cam);
     const CameraIntrinsics& ci = view.intrinsics;
     // The part's centre in this camera: triangulated, or on the blob's viewing ray (its depth
@@ -214,39 +242,32 @@ void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
     const float extent[2] = {static_cast<float>(blob.width()) * centre.z() / float(ci.fx),
                              static_cast<float>(blob.height()) * centre.z() / float(ci.fy)};
     const Eigen::Matrix3f left_R_ray = view.cam_T_left.R.transpose() * RayFrame(centre);
-    // The nearest views of each model of the colour on its own: models with many views (no
-    // symmetry) would otherwise crowd out the others.
-    for (uint32_t m = 0; m < views_.model_count(); ++m) {
-      if (colour_of_model_[m] != colour) continue;
-      Vector<ViewMatch, kNearestPerImage> nearest;
-      views_.Nearest(coefficients, 1u << m, kNearestPerImage, nearest);
-      const size_t first_of_model = out.size();
-      int taken = 0;
-      for (const ViewMatch& match : nearest) {
-        if (taken == config_.views_per_image) break;
-        const ShapeViewRecord& rec = views_.view(match.view);
-        if (seed.stereo && !clipped) {
-          bool fits = true;
-          for (int k = 0; k < 2; ++k) {
-            const float e = UQExtentMm::FromRaw(rec.extent_mm[k]).ToFloat();
-            fits &= e <= config_.max_extent_ratio * extent[k] &&
-                    extent[k] <= config_.max_extent_ratio * e;
-          }
-          if (!fits) continue;
+    const size_t first_of_model = out.size();
+    int taken = 0;
+    for (const ViewMatch& match : searches[k].nearest) {
+      if (taken == config_.views_per_image) break;
+      const ShapeViewRecord& rec = views_.view(match.view);
+      if (seed.stereo && !clipped) {
+        bool fits = true;
+        for (int e_k = 0; e_k < 2; ++e_k) {
+          const float e = UQExtentMm::FromRaw(rec.extent_mm[e_k]).ToFloat();
+          fits &= e <= config_.max_extent_ratio * extent[e_k] &&
+                  extent[e_k] <= config_.max_extent_ratio * e;
         }
-        Candidate c{rec.model, match.view, cam, left_R_ray * views_.ViewRotation(match.view)};
-        bool diverse = true;
-        for (size_t i = first_of_model; i < out.size(); ++i) {
-          if (RotationAngleDeg(out[i].cam_R_model.transpose() * c.cam_R_model) <
-              config_.diverse_deg) {
-            diverse = false;
-            break;
-          }
-        }
-        if (!diverse) continue;
-        if (!out.push_back(c)) return;
-        ++taken;
+        if (!fits) continue;
       }
+      Candidate c{rec.model, match.view, cam, left_R_ray * views_.ViewRotation(match.view)};
+      bool diverse = true;
+      for (size_t i = first_of_model; i < out.size(); ++i) {
+        if (RotationAngleDeg(out[i].cam_R_model.transpose() * c.cam_R_model) <
+            config_.diverse_deg) {
+          diverse = false;
+          break;
+        }
+      }
+      if (!diverse) continue;
+      if (!out.push_back(c)) return;
+      ++taken;
     }
   }
 }
