@@ -750,8 +750,13 @@ Status ShapeRecognizer::Process(const FrameView& left, const FrameView& right,
   }
   const int64_t t0 = Now();
   search_ns_ = refine_ns_ = verify_ns_ = 0;
+  // Both images segmented at once (each into its own segmentation; the classifier only reads).
+  Status segmented[2];
+  Spread(2, [&](int /*slot*/, int cam) {
+    segmented[cam] = segmentation_[cam].Segment(frames[cam], classifier_, config_.segment);
+  });
   for (int cam = 0; cam < 2; ++cam) {
-    SH_RETURN_IF_ERROR(segmentation_[cam].Segment(frames[cam], classifier_, config_.segment));
+    SH_RETURN_IF_ERROR(segmented[cam]);
     st.regions[cam] = static_cast<uint32_t>(segmentation_[cam].regions().size());
     st.runs_truncated |= segmentation_[cam].runs_truncated();
     st.regions_truncated |= segmentation_[cam].regions_truncated();
