@@ -19,7 +19,7 @@
 // Results are RecognizedObjects like the polyhedral path's, model ids offset by the caller's
 // model_id_offset (the shape models follow the hash tables' models in one model set).
 //
-// Statically allocated (about 30 MB); Process() never allocates.
+// Statically allocated (about 32 MB); Process() never allocates.
 #pragma once
 
 #include <cstddef>
