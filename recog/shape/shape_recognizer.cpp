@@ -334,46 +334,63 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
     for (int x = blob.x0; x <= blob.x1; x += kSampleStride) n_blob += ids[x] == id;
   }
   if (n_blob == 0) return 0.0f;
-  float best_cost = 1e30f, best_depth = 0.0f;
-  for (int k = 0; k < steps; ++k) {
-    const float inv = (1.0f / kMaxDepthMm) + (1.0f / kMinDepthMm - 1.0f / kMaxDepthMm) *
-                                                 static_cast<float>(k) / (steps - 1);
-    const float depth = 1.0f / inv;
-    Eigen::Vector2d centre_other;
-    if (!ProjectToPixel(co, (other_T_cam * (depth * ray)).cast<double>(), &centre_other)) continue;
-    // The blob moves as a whole: its centroid's correspondence gives the shift.
-    const int dx = static_cast<int>(std::lround(centre_other.x() - blob.cx));
-    const int dy = static_cast<int>(std::lround(centre_other.y() - blob.cy));
-    uint32_t n = 0, same = 0;
-    uint32_t sad = 0;
-    bool beaten = false;
-    for (int y = blob.y0; y <= blob.y1 && !beaten; y += kSampleStride) {
-      const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(y) * w;
-      const int yo = y + dy;
-      if (yo < 0 || yo >= co.height) continue;
-      const Rgb8* s_row = src.row(y);
-      const Rgb8* d_row = dst.row(yo);
-      const uint8_t* c_row = dst_classes.row(yo);
-      for (int x = blob.x0; x <= blob.x1; x += kSampleStride) {
-        const int xo = x + dx;
-        if (ids[x] != id || xo < 0 || xo >= co.width) continue;
-        ++n;
-        same += c_row[xo] == blob.colour;
-        sad += static_cast<uint32_t>(std::abs(s_row[x].r - d_row[xo].r) +
-                                     std::abs(s_row[x].g - d_row[xo].g) +
-                                     std::abs(s_row[x].b - d_row[xo].b));
+  // The depth steps in one contiguous range per thread, each range with its own best; the bests
+  // compared in range order, so that of equal costs the first wins, as on one thread (a
+  // range's early drops only skip depths that cannot beat its own best).
+  struct Best {
+    float cost = 1e30f, depth = 0.0f;
+  };
+  Best best[kMaxShapeThreads];
+  const int ranges = std::max(1, std::min(threads_, steps));
+  Spread(ranges, [&](int /*slot*/, int range) {
+    float& best_cost = best[range].cost;
+    float& best_depth = best[range].depth;
+    for (int k = steps * range / ranges; k < steps * (range + 1) / ranges; ++k) {
+      const float inv = (1.0f / kMaxDepthMm) + (1.0f / kMinDepthMm - 1.0f / kMaxDepthMm) *
+                                                   static_cast<float>(k) / (steps - 1);
+      const float depth = 1.0f / inv;
+      Eigen::Vector2d centre_other;
+      if (!ProjectToPixel(co, (other_T_cam * (depth * ray)).cast<double>(), &centre_other)) {
+        continue;
       }
-      beaten = static_cast<float>(sad) / static_cast<float>(n_blob) >= best_cost;
+      // The blob moves as a whole: its centroid's correspondence gives the shift.
+      const int dx = static_cast<int>(std::lround(centre_other.x() - blob.cx));
+      const int dy = static_cast<int>(std::lround(centre_other.y() - blob.cy));
+      uint32_t n = 0, same = 0;
+      uint32_t sad = 0;
+      bool beaten = false;
+      for (int y = blob.y0; y <= blob.y1 && !beaten; y += kSampleStride) {
+        const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(y) * w;
+        const int yo = y + dy;
+        if (yo < 0 || yo >= co.height) continue;
+        const Rgb8* s_row = src.row(y);
+        const Rgb8* d_row = dst.row(yo);
+        const uint8_t* c_row = dst_classes.row(yo);
+        for (int x = blob.x0; x <= blob.x1; x += kSampleStride) {
+          const int xo = x + dx;
+          if (ids[x] != id || xo < 0 || xo >= co.width) continue;
+          ++n;
+          same += c_row[xo] == blob.colour;
+          sad += static_cast<uint32_t>(std::abs(s_row[x].r - d_row[xo].r) +
+                                       std::abs(s_row[x].g - d_row[xo].g) +
+                                       std::abs(s_row[x].b - d_row[xo].b));
+        }
+        beaten = static_cast<float>(sad) / static_cast<float>(n_blob) >= best_cost;
+      }
+      // Most of the blob must land on its colour in the other image.
+      if (beaten || n == 0 || same * 10 < n * 7) continue;
+      const float cost = static_cast<float>(sad) / n;
+      if (cost < best_cost) {
+        best_cost = cost;
+        best_depth = depth;
+      }
     }
-    // Most of the blob must land on its colour in the other image.
-    if (beaten || n == 0 || same * 10 < n * 7) continue;
-    const float cost = static_cast<float>(sad) / n;
-    if (cost < best_cost) {
-      best_cost = cost;
-      best_depth = depth;
-    }
+  });
+  Best first;
+  for (int range = 0; range < ranges; ++range) {
+    if (best[range].cost < first.cost) first = best[range];
   }
-  return best_depth;
+  return first.depth;
 }
 
 bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c,
