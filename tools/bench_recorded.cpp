@@ -154,6 +154,7 @@ Status ParseTruth(const std::string& path, const ModelSet& models, SceneTruth* o
 struct Row {
   std::string background, occlusion;
   int scenes = 0, objects = 0, correct = 0, missed = 0, false_alarms = 0;
+  long scene_bases_tried = 0;  // summed over the scenes: the search's cost, machine-independent
   std::vector<float> time_ms, points2d, lines2d, points3d, lines3d, t_err_mm, r_err_deg;
   // Errors of the same correct objects before the final fit to the image edges.
   std::vector<float> feature_t_err_mm, feature_r_err_deg;
@@ -165,6 +166,7 @@ struct Row {
     correct += o.correct;
     missed += o.missed;
     false_alarms += o.false_alarms;
+    scene_bases_tried += o.scene_bases_tried;
     for (auto [dst, src] : {std::pair{&time_ms, &o.time_ms},
                             {&points2d, &o.points2d},
                             {&lines2d, &o.lines2d},
@@ -478,6 +480,7 @@ int RunBenchRecorded(int argc, char** argv) {
         row.stereo_ms.push_back(result->time.stereo_ms);
         row.hashing_ms.push_back(result->time.hashing_ms);
         row.verify_ms.push_back(result->time.verify_ms);
+        row.scene_bases_tried += result->recognition.scene_bases_tried;
         row.points2d.push_back(float(result->points2d[0] + result->points2d[1]) * 0.5f);
         row.lines2d.push_back(float(result->lines2d[0] + result->lines2d[1]) * 0.5f);
         row.points3d.push_back(float(result->points3d));
@@ -723,6 +726,7 @@ int RunBenchRecorded(int argc, char** argv) {
           "hidden), %d have under 30 %% 3-D support (stereo lost them), %d were not reached by "
           "the search\n",
           total.missed, sum->causes.no_edges, sum->causes.no_3d, sum->causes.not_searched);
+      std::printf("scene bases tried %ld over %d scenes\n", total.scene_bases_tried, total.scenes);
     }
     return Status::Ok();
   };

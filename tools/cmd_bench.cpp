@@ -61,6 +61,7 @@ struct SceneRow {
   render::Background bg;
   render::Occlusion occ;
   int scenes = 0, objects = 0, correct = 0, missed = 0, false_alarms = 0, failed = 0;
+  long scene_bases_tried = 0;  // summed over the scenes: the search's cost, machine-independent
   std::vector<float> time_ms, points2d, lines2d, points3d, lines3d, t_err_mm, r_err_deg;
   std::vector<float> features_ms, stereo_ms, hashing_ms, verify_ms;
 };
@@ -330,6 +331,7 @@ int RunBenchScenes(int argc, char** argv) {
       row.stereo_ms.push_back(result.time.stereo_ms);
       row.hashing_ms.push_back(result.time.hashing_ms);
       row.verify_ms.push_back(result.time.verify_ms);
+      row.scene_bases_tried += result.recognition.scene_bases_tried;
       row.points2d.push_back(float(result.points2d[0] + result.points2d[1]) * 0.5f);
       row.lines2d.push_back(float(result.lines2d[0] + result.lines2d[1]) * 0.5f);
       row.points3d.push_back(float(result.points3d));
@@ -360,6 +362,7 @@ int RunBenchScenes(int argc, char** argv) {
       total.missed += row.missed;
       total.false_alarms += row.false_alarms;
       total.failed += row.failed;
+      total.scene_bases_tried += row.scene_bases_tried;
       for (auto [dst, src] : {std::pair{&total.time_ms, &row.time_ms},
                               {&total.points2d, &row.points2d},
                               {&total.lines2d, &row.lines2d},
@@ -413,6 +416,7 @@ int RunBenchScenes(int argc, char** argv) {
         "missed %d: at the true pose %d fail the image verification (edges too weak or hidden), "
         "%d have under 30 %% 3-D support (stereo lost them), %d were not reached by the search\n",
         total.missed, miss_causes.no_edges, miss_causes.no_3d, miss_causes.not_searched);
+    std::printf("scene bases tried %ld over %d scenes\n", total.scene_bases_tried, total.scenes);
   }
   if (json_path != nullptr && !WriteTextFile(json_path, json)) {
     std::fprintf(stderr, "stereohash bench: cannot write %s\n", json_path);

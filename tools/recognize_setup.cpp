@@ -242,6 +242,10 @@ constexpr Setting<PipelineConfig> kPipelineSettings[] = {
      [](float v, PipelineConfig& c) {
        c.recognizer.max_fruitless_bases = static_cast<uint32_t>(v);
      }},
+    {"recognizer.basis_cell_rank_penalty", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.recognizer.basis_cell_rank_penalty = v; }},
+    {"recognizer.basis_cell_size_mm", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.recognizer.basis_cell_size_mm = v; }},
     {"recognizer.sigma_mm", SettingKind::kReal,
      [](float v, PipelineConfig& c) {
        c.recognizer.sigma_point_mm = c.recognizer.sigma_line_mm = v;

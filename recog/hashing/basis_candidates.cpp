@@ -28,16 +28,26 @@ void BasisCandidates::Generate(const SceneState& state, const SceneTopology& top
   all_generated_ = false;
   if (policy_.order == BasisOrder::kQuality) {
     Append(true);
-    // Best first; equal scores keep scene order (deterministic). std::sort with the index as
-    // tie-break, not std::stable_sort, which may allocate a temporary buffer.
-    uint32_t* order = order_scratch_;
+    SortOrder();
+    if (policy_.cell_rank_penalty > 0.0f) {
+      // Each basis loses score for the better bases of its cell, then all are sorted again.
+      std::fill(cell_count_, cell_count_ + kBasisCellSlots, uint16_t{0});
+      const float inv_cell = 1.0f / policy_.cell_size_mm;
+      for (uint32_t k = 0; k < count_; ++k) {
+        const uint32_t i = order_scratch_[k];
+        const Eigen::Vector3f c = CellPosition(candidates_[i]) * inv_cell;
+        const auto x = uint32_t(int32_t(std::floor(c.x())));
+        const auto y = uint32_t(int32_t(std::floor(c.y())));
+        const auto z = uint32_t(int32_t(std::floor(c.z())));
+        const uint32_t slot = (x * 73856093u ^ y * 19349663u ^ z * 83492791u) % kBasisCellSlots;
+        const uint16_t rank = cell_count_[slot];
+        if (rank < UINT16_MAX) ++cell_count_[slot];
+        score_[i] -= policy_.cell_rank_penalty * float(rank);
+      }
+      SortOrder();
+    }
     SceneBasis* sorted = sorted_scratch_;
-    for (uint32_t i = 0; i < count_; ++i) order[i] = i;
-    std::sort(order, order + count_, [this](uint32_t a, uint32_t b) {
-      if (score_[a] != score_[b]) return score_[a] > score_[b];
-      return a < b;
-    });
-    for (uint32_t i = 0; i < count_; ++i) sorted[i] = candidates_[order[i]];
+    for (uint32_t k = 0; k < count_; ++k) sorted[k] = candidates_[order_scratch_[k]];
     std::copy(sorted, sorted + count_, candidates_);
   } else {
     Append(false);
@@ -48,6 +58,24 @@ void BasisCandidates::Generate(const SceneState& state, const SceneTopology& top
         std::swap(candidates_[i - 1], candidates_[NextRandom(rng) % i]);
     }
   }
+}
+
+void BasisCandidates::SortOrder() {
+  // Best first; equal scores keep scene order (deterministic). std::sort with the index as
+  // tie-break, not std::stable_sort, which may allocate a temporary buffer.
+  uint32_t* order = order_scratch_;
+  for (uint32_t i = 0; i < count_; ++i) order[i] = i;
+  std::sort(order, order + count_, [this](uint32_t a, uint32_t b) {
+    if (score_[a] != score_[b]) return score_[a] > score_[b];
+    return a < b;
+  });
+}
+
+Eigen::Vector3f BasisCandidates::CellPosition(const SceneBasis& b) const {
+  const Scene& s = *state_.scene;
+  if (UsesLinePoint(hf_)) return s.points[b.f[1]].p_mm;
+  if (hf_ == HashFunction::kTwoLines) return 0.5f * (s.lines[b.f[0]].a_mm + s.lines[b.f[0]].b_mm);
+  return s.points[b.f[0]].p_mm;
 }
 
 bool BasisCandidates::NextPass() {

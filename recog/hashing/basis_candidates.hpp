@@ -14,6 +14,9 @@
 namespace sh {
 
 inline constexpr size_t kMaxSceneBases = 32768;  // candidate scene bases held at once
+// Spatial cells counted for the quality order's spread (hashed; cells sharing a slot count as
+// one, which only weakens the spread).
+inline constexpr size_t kBasisCellSlots = 1024;
 
 enum class BasisOrder : uint8_t {
   kFileOrder,  // features in the order stereo produced them
@@ -33,6 +36,12 @@ class BasisCandidates {  // NOLINT(cppcoreguidelines-pro-type-member-init)
     BasisOrder order = BasisOrder::kQuality;
     uint32_t random_seed = 1;
     float connect_tolerance_mm = 2.5f;  // two-line bases: ends this close are connected
+    // Quality order is spread over the scene: a basis loses this much score for each better
+    // basis in its spatial cell (cubes of cell_size_mm around its first point), so that the
+    // many bases of one busy region do not hide the best ones of a quiet region. 0: pure
+    // quality order.
+    float cell_rank_penalty = 0.0f;
+    float cell_size_mm = 50.0f;
   };
 
   // The first list for a scene (quality order: the first pass, sorted).
@@ -47,6 +56,10 @@ class BasisCandidates {  // NOLINT(cppcoreguidelines-pro-type-member-init)
 
  private:
   void Append(bool connected_only);
+  // order_scratch_: the indices of the first count_ candidates by score_, best first.
+  void SortOrder();
+  // Position that places a basis in a spatial cell: its basis point, or its first line's middle.
+  Eigen::Vector3f CellPosition(const SceneBasis& b) const;
 
   SceneState state_;
   const SceneTopology* topology_ = nullptr;
@@ -59,6 +72,7 @@ class BasisCandidates {  // NOLINT(cppcoreguidelines-pro-type-member-init)
   float score_[kMaxSceneBases];
   uint32_t order_scratch_[kMaxSceneBases];
   SceneBasis sorted_scratch_[kMaxSceneBases];
+  uint16_t cell_count_[kBasisCellSlots];
 };
 
 }  // namespace sh

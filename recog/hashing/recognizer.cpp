@@ -156,6 +156,8 @@ void Recognizer::PrepareScene(const Scene& scene) {
   policy.order = config_.order;
   policy.random_seed = config_.random_seed;
   policy.connect_tolerance_mm = config_.connect_tolerance_mm;
+  policy.cell_rank_penalty = config_.basis_cell_rank_penalty;
+  policy.cell_size_mm = config_.basis_cell_size_mm;
   candidates_.Generate(state_, topology_, table_.hash_function(), table_.limits(), policy);
 }
 

@@ -62,6 +62,10 @@ struct RecognizerConfig {
   float connect_tolerance_mm = 2.5f;       // a line this close to a point or line meets it
   float junction_reach_mm = 12.0f;         // an edge's detected end lies this close to its corner
   float support_gate_sigmas = 1.0f;        // gate for the matched counts handed to the verifier
+  // Quality order spread over the scene (BasisCandidates::Policy): score lost per better basis
+  // in the same cell, and the cell's size.
+  float basis_cell_rank_penalty = 0.0f;
+  float basis_cell_size_mm = 50.0f;
   // Look line entries up by direction class (line_direction_index.hpp): the same votes with
   // fewer entries visited. Off: every entry of the neighbourhood, for comparison.
   bool line_direction_index = true;
