@@ -78,15 +78,18 @@ Eigen::Vector3f FacePoint(const TexturedFace& f, float a, float b) {
          b * Eigen::Vector3f(f.axis_b[0], f.axis_b[1], f.axis_b[2]);
 }
 
-// The face's texture rectified at `ppm` (texel (i, j) centre at a = min_a + (i + 0.5) / ppm,
-// b = max_b - (j + 0.5) / ppm), sampled bilinearly from the texture image (already blurred for
-// this resolution); texels outside the polygon get the mean of those inside.
+// The face's texture rectified at `ppm` with `margin` texels around the face's bounding box
+// (texel (i, j) centre at a = min_a + (i - margin + 0.5) / ppm, b = max_b - (j - margin + 0.5) /
+// ppm), sampled bilinearly from the texture image (already blurred for this resolution); texels
+// outside the polygon (the margin among them) get the mean of those inside.
 FloatImage RectifyFace(const TexturedFace& face, const FaceTextureMap& map,
-                       const FloatImage& texture, float ppm) {
+                       const FloatImage& texture, float ppm, int margin) {
   const int w =
-      std::max(1, static_cast<int>(std::lround((face.max_ab_mm[0] - face.min_ab_mm[0]) * ppm)));
+      std::max(1, static_cast<int>(std::lround((face.max_ab_mm[0] - face.min_ab_mm[0]) * ppm))) +
+      2 * margin;
   const int h =
-      std::max(1, static_cast<int>(std::lround((face.max_ab_mm[1] - face.min_ab_mm[1]) * ppm)));
+      std::max(1, static_cast<int>(std::lround((face.max_ab_mm[1] - face.min_ab_mm[1]) * ppm))) +
+      2 * margin;
   FloatImage out(w, h);
   std::vector<uint8_t> inside(static_cast<size_t>(w) * h, 0);
   Eigen::Vector2f poly[kMaxTexturedFaceCorners];
@@ -96,8 +99,8 @@ FloatImage RectifyFace(const TexturedFace& face, const FaceTextureMap& map,
   size_t n_inside = 0;
   for (int j = 0; j < h; ++j) {
     for (int i = 0; i < w; ++i) {
-      const float a = face.min_ab_mm[0] + (i + 0.5f) / ppm;
-      const float b = face.max_ab_mm[1] - (j + 0.5f) / ppm;
+      const float a = face.min_ab_mm[0] + (static_cast<float>(i - margin) + 0.5f) / ppm;
+      const float b = face.max_ab_mm[1] - (static_cast<float>(j - margin) + 0.5f) / ppm;
       const Eigen::Vector3f x = FacePoint(face, a, b);
       float uv[2];
       FaceUv(map, x.data(), uv);
@@ -214,6 +217,20 @@ void Put(std::vector<uint8_t>& blob, const SectionRef& s, const T* data, size_t 
 
 }  // namespace
 
+int ViewMarginPx(const FeatureDbBuildOptions& options) {
+  // A keypoint of level k lies at least DescriptorBorderPx() level pixels inside its image, and
+  // is kept at least half that (0.5 * border * scale) inside the face: a margin of half the
+  // border at the coarsest level's scale, stretched by the largest tilt, lets every kept
+  // position be detected.
+  const float coarsest_scale =
+      std::pow(1.0f / texture::kPyramidStep, static_cast<float>(options.features.levels - 1));
+  float max_tilt = 1.0f;
+  for (float t : options.tilts) max_tilt = std::max(max_tilt, t);
+  return static_cast<int>(std::ceil(0.5f * static_cast<float>(texture::DescriptorBorderPx()) *
+                                    coarsest_scale * max_tilt)) +
+         1;
+}
+
 bool LearningView::Inside(const Eigen::Vector2f& p, float margin_px) const {
   return texture::InsideDistance(polygon_px, n_polygon, p) >= margin_px;
 }
@@ -238,6 +255,7 @@ Result<FaceLearning> LearnFace(const TexturedModel& tm, int fi,
                          fi, tm.model.name, tm.model.faces[fi].n_vertices, kMaxTexturedFaceCorners);
   }
   const float ppm = options.feature_px_per_mm;
+  const int margin = ViewMarginPx(options);
   FaceLearning out;
   out.face = FaceGeometry(tm.model, 0, fi);
   const TexturedFace& face = out.face;
@@ -248,7 +266,8 @@ Result<FaceLearning> LearnFace(const TexturedModel& tm, int fi,
   const float density = TextureDensity(face, map, tex);
   const float width_mm = face.max_ab_mm[0] - face.min_ab_mm[0];
   const float height_mm = face.max_ab_mm[1] - face.min_ab_mm[1];
-  if (width_mm * ppm > kMaxImageWidth || height_mm * ppm > kMaxImageHeight ||
+  if (width_mm * ppm + 2 * margin > kMaxImageWidth ||
+      height_mm * ppm + 2 * margin > kMaxImageHeight ||
       width_mm * options.texture_px_per_mm > kMaxFaceTextureSide ||
       height_mm * options.texture_px_per_mm > kMaxFaceTextureSide) {
     return Status::Error(StatusCode::kOutOfRange,
@@ -260,7 +279,7 @@ Result<FaceLearning> LearnFace(const TexturedModel& tm, int fi,
   // Verification texture.
   FloatImage blurred = tex;
   SH_RETURN_IF_ERROR(Blur(blurred, AntiAliasSigma(density, options.texture_px_per_mm)));
-  const FloatImage small = RectifyFace(face, map, blurred, options.texture_px_per_mm);
+  const FloatImage small = RectifyFace(face, map, blurred, options.texture_px_per_mm, 0);
   out.face.texel_width = static_cast<uint16_t>(small.width);
   out.face.texel_height = static_cast<uint16_t>(small.height);
   out.texture.width = small.width;
@@ -269,7 +288,7 @@ Result<FaceLearning> LearnFace(const TexturedModel& tm, int fi,
   // The views.
   blurred = tex;
   SH_RETURN_IF_ERROR(Blur(blurred, AntiAliasSigma(density, ppm)));
-  const FloatImage rect = RectifyFace(face, map, blurred, ppm);
+  const FloatImage rect = RectifyFace(face, map, blurred, ppm, margin);
   const Eigen::Vector2f centre_ab(0.5f * (face.min_ab_mm[0] + face.max_ab_mm[0]),
                                   0.5f * (face.min_ab_mm[1] + face.max_ab_mm[1]));
   // Rectified pixels per millimetre offset from the centre: a right, b up (rows down).
@@ -292,8 +311,9 @@ Result<FaceLearning> LearnFace(const TexturedModel& tm, int fi,
       // Face millimetres (from the centre) to view pixels (from the face centre's image). The
       // rectified image centre is the face centre: the rectified image spans the face's
       // bounding box exactly (up to rounding of its size, corrected here).
-      const Eigen::Vector2f rect_centre_of_face((centre_ab.x() - face.min_ab_mm[0]) * ppm - 0.5f,
-                                                (face.max_ab_mm[1] - centre_ab.y()) * ppm - 0.5f);
+      const Eigen::Vector2f rect_centre_of_face(
+          (centre_ab.x() - face.min_ab_mm[0]) * ppm - 0.5f + static_cast<float>(margin),
+          (face.max_ab_mm[1] - centre_ab.y()) * ppm - 0.5f + static_cast<float>(margin));
       lv.view_from_face = view.view_from_rect * rect_from_face;
       lv.view_of_centre =
           view.view_from_rect * (rect_centre_of_face - view.rect_centre) + view.view_centre;

@@ -66,6 +66,12 @@ struct LearningView {
   Eigen::Vector3f ModelPoint(const TexturedFace& face, const Eigen::Vector2f& p) const;
 };
 
+// Texels of the artwork's mean grey around each rectified face in its views, so that keypoints
+// near the face's edge exist at the coarse pyramid levels as they do in a scene (where the face
+// is embedded in a larger image): without it a level's image border (the descriptor window)
+// kept the coarse levels of a small face to its middle.
+int ViewMarginPx(const FeatureDbBuildOptions& options);
+
 // A printed face's frame (model index 0; the caller sets it), its verification texture and its
 // training images, as the database learns them.
 struct FaceLearning {

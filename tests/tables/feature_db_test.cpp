@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "hal/sim/textured_model_files.hpp"
 #include "recog/base/crc32.hpp"
+#include "recog/texture/descriptor.hpp"
 #include "recog/texture/polygon.hpp"
 #include "tables/feature_db_builder.hpp"
 #include "tables/feature_db_view.hpp"
@@ -111,6 +113,58 @@ TEST(FeatureDb, TiltedViewsAddFeaturesOfTheSameFaces) {
   PillsBlob(&frontal);
   EXPECT_EQ(tilted.views, 6u * 5u);
   EXPECT_GT(tilted.features, 3 * frontal.features);
+}
+
+// The views hold the face in a margin, so that a small face has features at the coarse levels
+// and near its edges, as the face has in a scene (where it is part of a larger image): the pills
+// carton's 25 mm sides are 100 px at 4 px/mm, too small for the coarsest levels on their own.
+TEST(FeatureDb, EveryFaceHasFeaturesOnEveryLevelUpToTheWindowFromItsEdges) {
+  const FeatureDbBuildOptions options;
+  Result<TexturedModel> m = LoadTexturedModelFile("models/textured/pills.obj");
+  ASSERT_TRUE(m.ok());
+  for (int fi = 0; fi < m->model.n_faces; ++fi) {
+    Result<FaceLearning> learning = LearnFace(*m, fi, options);
+    ASSERT_TRUE(learning.ok()) << learning.status().message();
+    const TexturedFace& face = learning->face;
+    const float width_px = (face.max_ab_mm[0] - face.min_ab_mm[0]) * options.feature_px_per_mm;
+    EXPECT_NEAR(learning->views[0].image.width, width_px + 2 * ViewMarginPx(options), 1.0f);
+  }
+  AlignedBlob blob(PillsBlob());
+  Result<FeatureDbView> view = FeatureDbView::Open(blob.data, blob.size);
+  ASSERT_TRUE(view.ok()) << view.status().message();
+  const int levels = options.features.levels;
+  const float window_px = static_cast<float>(texture::DescriptorBorderPx());
+  for (uint32_t f = 0; f < view->face_count(); ++f) {
+    const TexturedFace& face = view->face(f);
+    Eigen::Vector2f poly[kMaxTexturedFaceCorners];
+    for (int k = 0; k < face.n_corners; ++k)
+      poly[k] = {face.corners_ab_mm[k][0], face.corners_ab_mm[k][1]};
+    std::vector<int> count(static_cast<size_t>(levels), 0);
+    std::vector<float> nearest_edge_px(static_cast<size_t>(levels), 1e30f);
+    for (uint32_t i = 0; i < view->feature_count(); ++i) {
+      const FeatureRecord& r = view->feature(i);
+      if (view->view(r.view).face != f) continue;
+      ASSERT_LT(r.level, levels);
+      const Eigen::Vector3f o(face.origin_mm[0], face.origin_mm[1], face.origin_mm[2]);
+      const Eigen::Vector3f x = Eigen::Vector3f(r.model_mm[0], r.model_mm[1], r.model_mm[2]) - o;
+      const Eigen::Vector2f ab(x.dot(Eigen::Vector3f(face.axis_a)),
+                               x.dot(Eigen::Vector3f(face.axis_b)));
+      // Distance to the edge in the feature's level pixels.
+      const float d = texture::InsideDistance(poly, face.n_corners, ab) *
+                      view->header().feature_px_per_mm / r.scale;
+      ++count[r.level];
+      nearest_edge_px[r.level] = std::min(nearest_edge_px[r.level], d);
+    }
+    for (int k = 0; k < levels; ++k) {
+      EXPECT_GT(count[static_cast<size_t>(k)], 0) << "face " << f << " level " << k;
+      // Above level 0 (where the print's own plain border decides), nearer the edge than the
+      // image border of an unpadded view allows (a whole window).
+      if (k > 0) {
+        EXPECT_LT(nearest_edge_px[static_cast<size_t>(k)], 0.9f * window_px)
+            << "face " << f << " level " << k;
+      }
+    }
+  }
 }
 
 void ExpectRefused(AlignedBlob& blob, const char* fragment) {
