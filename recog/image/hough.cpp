@@ -575,19 +575,55 @@ Status ValidateHoughConfig(const HoughConfig& config) {
   return Status::Ok();
 }
 
+size_t HoughWorkspace::PointBytesFor(int width, int height) {
+  return InitBlock::PieceBytes<HoughEdgePoint>(HoughEdgeCapacity(width, height));
+}
+
+size_t HoughWorkspace::ScratchBytesFor(int width, int height) {
+  return 2 * InitBlock::PieceBytes<uint32_t>(HoughEdgeCapacity(width, height));
+}
+
 size_t HoughWorkspace::BytesFor(int width, int height) {
-  const size_t n = HoughEdgeCapacity(width, height);
-  return InitBlock::PieceBytes<HoughEdgePoint>(n) + 2 * InitBlock::PieceBytes<uint32_t>(n);
+  return PointBytesFor(width, height) + ScratchBytesFor(width, height);
 }
 
 Status HoughWorkspace::Init(int width, int height) {
-  if (block_.Holds(width, height)) return Status::Ok();
+  if (block_.Holds(width, height) && borrowed_ == nullptr) return Status::Ok();
   point_capacity_ = 0;
+  borrowed_ = nullptr;
   SH_RETURN_IF_ERROR(block_.Allocate(width, height, BytesFor(width, height), "Hough workspace"));
   const size_t n = HoughEdgeCapacity(width, height);
   points = block_.Take<HoughEdgePoint>(n);
   collected = block_.Take<uint32_t>(n);
   subset = block_.Take<uint32_t>(n);
+  point_capacity_ = n;
+  return Status::Ok();
+}
+
+Status HoughWorkspace::Init(int width, int height, uint8_t* scratch, size_t scratch_bytes) {
+  if (scratch == nullptr || scratch_bytes < ScratchBytesFor(width, height)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "Hough workspace: %zu bytes of scratch for %dx%d, %zu needed",
+                         scratch == nullptr ? size_t{0} : scratch_bytes, width, height,
+                         ScratchBytesFor(width, height));
+  }
+  const size_t n = HoughEdgeCapacity(width, height);
+  if (!block_.Holds(width, height) || borrowed_ == nullptr) {
+    point_capacity_ = 0;
+    borrowed_ = nullptr;
+    SH_RETURN_IF_ERROR(
+        block_.Allocate(width, height, PointBytesFor(width, height), "Hough workspace"));
+    points = block_.Take<HoughEdgePoint>(n);
+  }
+  // Two pieces aligned as InitBlock aligns them (ScratchBytesFor holds the slack).
+  const auto align = [](uint8_t* p) {
+    const uintptr_t at = reinterpret_cast<uintptr_t>(p);
+    return p + (InitBlock::kAlign - at % InitBlock::kAlign) % InitBlock::kAlign;
+  };
+  uint8_t* const first = align(scratch);
+  collected = reinterpret_cast<uint32_t*>(first);
+  subset = reinterpret_cast<uint32_t*>(align(first + n * sizeof(uint32_t)));
+  borrowed_ = scratch;
   point_capacity_ = n;
   return Status::Ok();
 }

@@ -153,12 +153,20 @@ struct HoughWorkspace {
   // Sized as FilterScratch is (BytesFor, Init).
   static size_t BytesFor(int width, int height);
   Status Init(int width, int height);
+  // collected and subset (ScratchBytesFor), which only DetectLines uses, carved from `scratch`
+  // instead: memory of at least ScratchBytesFor bytes that no other stage uses while DetectLines
+  // runs (FeatureWorkspace: its FilterScratch block, whose filters are done by then). The
+  // workspace's own block then holds the points only (PointBytesFor).
+  Status Init(int width, int height, uint8_t* scratch, size_t scratch_bytes);
+  static size_t PointBytesFor(int width, int height);
+  static size_t ScratchBytesFor(int width, int height);
   const ImageBlock& block() const { return block_; }
   size_t point_capacity() const { return point_capacity_; }
 
  private:
   ImageBlock block_;
   size_t point_capacity_ = 0;
+  const uint8_t* borrowed_ = nullptr;  // the scratch of collected and subset, if not block_
 };
 
 Status ValidateHoughConfig(const HoughConfig& config);

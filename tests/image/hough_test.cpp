@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <random>
 #include <vector>
@@ -321,6 +322,24 @@ TEST(Hough, EmptyAndBadInput) {
   bad = HoughConfig{};
   bad.collect_distance_px = 0.0f;
   EXPECT_EQ(DetectLines(em, bad, *hough, lines).code(), StatusCode::kInvalidArgument);
+}
+
+// Pixel lists carved from memory the caller lends: too little of it is refused with both sizes.
+TEST(Hough, BorrowedScratchMustHoldBothPixelLists) {
+  const int w = 64, h = 48;
+  auto ws = MakeZeroed<HoughWorkspace>();
+  ASSERT_NE(ws, nullptr);
+  std::vector<uint8_t> scratch(HoughWorkspace::ScratchBytesFor(w, h));
+  const Status small = ws->Init(w, h, scratch.data(), scratch.size() - 1);
+  EXPECT_EQ(small.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::strstr(small.message(), "64x48"), nullptr) << small.message();
+  ASSERT_TRUE(ws->Init(w, h, scratch.data(), scratch.size()).ok());
+  const auto* first = reinterpret_cast<const uint8_t*>(ws->collected);
+  const auto* last = reinterpret_cast<const uint8_t*>(ws->subset + ws->point_capacity());
+  EXPECT_GE(first, scratch.data());
+  EXPECT_LE(last, scratch.data() + scratch.size());
+  EXPECT_GE(reinterpret_cast<const uint8_t*>(ws->subset),
+            reinterpret_cast<const uint8_t*>(ws->collected + ws->point_capacity()));
 }
 
 }  // namespace
