@@ -61,7 +61,7 @@ struct FeatureWorkspace {
   static size_t BytesFor(int width, int height) {
     return std::max(FilterScratch::BytesFor(width, height),
                     HoughWorkspace::ScratchBytesFor(width, height)) +
-           EdgeBuffers::BytesFor(width, height) + HoughWorkspace::PointBytesFor(width, height);
+           EdgeBuffers::BytesFor(width, height) + HoughWorkspace::OwnBytesFor(width, height);
   }
   // Sizes every buffer for images up to width x height (at start-up: allocates; the same size
   // again keeps them). Refuses sizes beyond kMaxImageWidth x kMaxImageHeight.
