@@ -149,7 +149,7 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
       "after a frame whose objects do not rest on the plane")                                      \
   BOOL(mono_fallback, true,                                                                        \
        "pipeline recognition: a camera that fails leaves the other recognising alone (the "        \
-       "one-camera fallback, its 4.8 MiB allocated at boot); false: a silent camera is the "       \
+       "one-camera fallback, its 1.7 MiB allocated at boot); false: a silent camera is the "       \
        "capture fault")                                                                            \
   CHOICE(background, BackgroundKey, BackgroundKey::kAuto, "auto|dark|light",                       \
          "auto: detector thresholds measured from each image; dark or light force a preset "       \

@@ -370,8 +370,9 @@ int FirmwareMain(int argc, char** argv, Board* board) {
                           sizeof(texture::TextureRecognizer)));
       }
     }
-    // The one-camera fallback when a camera fails (4.8 MiB), only when configured: allocated
-    // here, once, zeroed; without it no page of it is mapped or locked.
+    // The one-camera fallback when a camera fails (1.0 MiB here and its voter's counters, sized
+    // by the aspect table at Init), only when configured: allocated here, once, zeroed; without
+    // it no page of it is mapped or locked.
     static ZeroedPtr<MonoPipeline> mono;
     static ZeroedPtr<MonoResult> mono_result;
     if (config.mono_fallback) {

@@ -52,7 +52,7 @@ class PipelineRecognition final : public Recognition {
  public:
   // `pipeline` is large (tens of MiB): the caller keeps it in static storage. `texture` (about
   // 63 MiB) and `texture_result` are needed for printed models only (null: a feature database
-  // in the model set fails Init); allocated once at start-up. `mono` (4.8 MiB, allocated
+  // in the model set fails Init); allocated once at start-up. `mono` (1.0 MiB, allocated
   // once at start-up when the fallback is configured) and `mono_result` are the one-camera
   // fallback (null: none); the monocular pipeline
   // borrows the stereo pipeline's feature workspace of the camera it runs on.

@@ -23,11 +23,11 @@ inline constexpr size_t kMeasuredStackHighWaterBytes = size_t{84} * 1024;
 inline constexpr size_t kPrefaultStackBytes = size_t{128} * 1024;
 
 // Stack of every thread the firmware starts. The default (the stack rlimit, 8 MiB on Debian) is
-// locked in full by LockMemory: seven threads locked 56 MiB, at 1 MiB each 7 MiB. 512 KiB is 6.1
-// times the measured depth (libcamera's threads on the board, which get it too, were not measured
-// here), and the guard page below each stack turns an overflow into a crash rather than
-// corruption.
-inline constexpr size_t kThreadStackBytes = size_t{512} * 1024;
+// locked in full by LockMemory: seven threads locked 56 MiB, at 1 MiB each 7 MiB, at 512 KiB
+// 3.5 MiB. 384 KiB is 4.6 times the measured depth (libcamera's threads on the board, which get
+// it too, were not measured here), and the guard page below each stack turns an overflow into a
+// crash rather than corruption.
+inline constexpr size_t kThreadStackBytes = size_t{384} * 1024;
 static_assert(kPrefaultStackBytes >= kMeasuredStackHighWaterBytes, "pre-fault the used depth");
 static_assert(kThreadStackBytes >= 4 * kMeasuredStackHighWaterBytes, "4 x margin over the depth");
 static_assert(kThreadStackBytes >= 2 * kPrefaultStackBytes, "room above the pre-fault");

@@ -301,7 +301,8 @@ Status DirectoryFrameSource::ReadFile(int side, const std::string& path, size_t*
   return Status::Ok();
 }
 
-Status DirectoryFrameSource::Decode(int side, const std::string& path, Decoded* out) {
+Status DirectoryFrameSource::Decode(int side, const std::string& path, uint8_t* pixels,
+                                    Decoded* out) {
   size_t size = 0;
   SH_RETURN_IF_ERROR(ReadFile(side, path, &size));
   // The decode buffers hold the recording's first pair: a larger frame is refused by name.
@@ -314,8 +315,8 @@ Status DirectoryFrameSource::Decode(int side, const std::string& path, Decoded* 
                          SideName(side), BaseName(path), header->width, header->height, width_,
                          height_);
   }
-  const Result<ImageInfo> info = DecodeImage(file_buffer_.get(), size, PixelFormat::kGray8,
-                                             decode_[side].get(), decode_capacity_);
+  const Result<ImageInfo> info =
+      DecodeImage(file_buffer_.get(), size, PixelFormat::kGray8, pixels, decode_capacity_);
   if (!info.ok()) return info.status().WithContext("%s %s", SideName(side), BaseName(path));
   out->width = info->width;
   out->height = info->height;
@@ -334,8 +335,8 @@ Status DirectoryFrameSource::Open(int* width, int* height) {
     Decoded r;
     Status s = AllocateDecodeBuffersFor(p);
     if (s.code() == StatusCode::kResourceExhausted) return s;
-    if (s.ok()) s = Decode(0, p.left, &l);
-    if (s.ok()) s = Decode(1, p.right, &r);
+    if (s.ok()) s = Decode(0, p.left, decode_[0].get(), &l);
+    if (s.ok()) s = Decode(1, p.right, decode_[1].get(), &r);
     if (s.ok() && (l.width != r.width || l.height != r.height)) {
       return Status::Error(StatusCode::kInvalidArgument,
                            "recording: %s is %dx%d but %s is %dx%d; left and right must match",
@@ -345,6 +346,8 @@ Status DirectoryFrameSource::Open(int* width, int* height) {
     if (s.ok()) {
       width_ = *width = l.width;
       height_ = *height = l.height;
+      // Playback decodes into the camera's frames: the decode buffers served this check only.
+      for (auto& d : decode_) d.reset();
       return Status::Ok();
     }
     if (first_error.ok()) first_error = s;
@@ -360,10 +363,21 @@ Status DirectoryFrameSource::Render(uint64_t frame_index, GrayView left, GrayVie
     return Status::Error(StatusCode::kOutOfRange, "end of recording after %zu pairs",
                          pairs_.size());
   }
+  if (left.width != width_ || left.height != height_ || left.stride < width_ ||
+      right.width != width_ || right.height != height_ || right.stride < width_) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "recording frames are %dx%d, the camera's %dx%d (stride %d) and %dx%d "
+                         "(stride %d)",
+                         width_, height_, left.width, left.height, left.stride, right.width,
+                         right.height, right.stride);
+  }
+  // Decoded straight into the camera's frames, rows packed: a frame of width_ x height_ pixels
+  // fits in a view of that size whatever its stride (stride >= width).
   const PathPair& p = pairs_[frame_index % pairs_.size()];
+  const GrayView views[2] = {left, right};
   Decoded d[2];
-  SH_RETURN_IF_ERROR(Decode(0, p.left, &d[0]));
-  SH_RETURN_IF_ERROR(Decode(1, p.right, &d[1]));
+  SH_RETURN_IF_ERROR(Decode(0, p.left, views[0].data, &d[0]));
+  SH_RETURN_IF_ERROR(Decode(1, p.right, views[1].data, &d[1]));
   if (d[0].width != d[1].width || d[0].height != d[1].height) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "%s is %dx%d but %s is %dx%d; left and right must match", BaseName(p.left),
@@ -373,12 +387,12 @@ Status DirectoryFrameSource::Render(uint64_t frame_index, GrayView left, GrayVie
     return Status::Error(StatusCode::kInvalidArgument, "%s is %dx%d, expected %dx%d",
                          BaseName(p.left), d[0].width, d[0].height, width_, height_);
   }
-  // Decoded rows are packed; the camera's buffers may have a larger stride.
-  const GrayView views[2] = {left, right};
-  for (int side = 0; side < 2; ++side) {
-    for (int y = 0; y < height_; ++y) {
-      std::memcpy(views[side].row(y), decode_[side].get() + static_cast<size_t>(y) * width_,
-                  static_cast<size_t>(width_));
+  // Packed rows to the view's stride, the last row first (each moves to a later or the same
+  // place, so no row is overwritten before it has moved).
+  for (const GrayView& v : views) {
+    if (v.stride == width_) continue;
+    for (int y = height_ - 1; y > 0; --y) {
+      std::memmove(v.row(y), v.data + static_cast<size_t>(y) * width_, static_cast<size_t>(width_));
     }
   }
   return Status::Ok();

@@ -10,9 +10,10 @@
 // other files are ignored. All frames must have the size of the first readable pair; a left file
 // without its right partner (or the reverse) makes Start() fail naming it.
 //
-// Memory: Start() allocates one file buffer (the largest file's size) and one decode buffer per
-// side of the first readable pair's size (not kMaxImagePixels); playback reads and decodes into
-// them without further allocation, and a later frame larger than that pair is refused by name.
+// Memory: Start() allocates one file buffer (the largest file's size); the first readable pair is
+// decoded into two buffers of its size (not kMaxImagePixels), freed once it has set the frame
+// size. Playback reads each file into the file buffer and decodes it straight into the camera's
+// frame without further allocation; a later frame larger than the first pair is refused by name.
 //
 // Timestamps are synthetic (first_timestamp_ns + n * frame_period_ns on both sides) and go
 // through the same pairing as live cameras. Per-frame problems (truncated or corrupt file,
@@ -73,18 +74,18 @@ class DirectoryFrameSource final : public FrameSource {
   Status AllocateDecodeBuffersFor(const PathPair& pair);
   // Reads `path` into the file buffer; *size is the file's size.
   Status ReadFile(int side, const std::string& path, size_t* size);
-  // Reads `path` into the file buffer and decodes it as grey into decode_[side]; a frame larger
-  // than the decode buffers is kInvalidArgument (as a frame of another size), naming both
-  // sizes; kOutOfRange stays the end of the recording.
-  Status Decode(int side, const std::string& path, Decoded* out);
+  // Reads `path` into the file buffer and decodes it as grey, rows packed, into `pixels`
+  // (decode_capacity_ bytes); a frame larger than that is kInvalidArgument (as a frame of another
+  // size), naming both sizes; kOutOfRange stays the end of the recording.
+  Status Decode(int side, const std::string& path, uint8_t* pixels, Decoded* out);
 
   std::string directory_;
   bool loop_;
   std::vector<PathPair> pairs_;
   std::unique_ptr<uint8_t[]> file_buffer_;
   size_t file_capacity_ = 0;
-  std::unique_ptr<uint8_t[]> decode_[2];  // decode_capacity_ pixels each
-  size_t decode_capacity_ = 0;
+  std::unique_ptr<uint8_t[]> decode_[2];  // decode_capacity_ pixels each, during Open() only
+  size_t decode_capacity_ = 0;            // pixels of a frame (of the first pair, after Open())
   int width_ = 0;
   int height_ = 0;
 };

@@ -49,6 +49,8 @@ class InitBlock {
   }
 
   size_t bytes() const { return bytes_; }
+  // The start of the block (null before Allocate), for memory another stage borrows whole.
+  uint8_t* data() const { return data_.get(); }
 
  private:
   struct Free {

@@ -2,6 +2,8 @@
 // configuration and one workspace.
 #pragma once
 
+#include <algorithm>
+
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
 #include "recog/image/canny.hpp"
@@ -53,17 +55,20 @@ struct FeatureWorkspace {
   EdgeBuffers edges;
   HoughWorkspace hough;
 
-  // Bytes Init takes for images up to width x height (besides sizeof(FeatureWorkspace)).
+  // Bytes Init takes for images up to width x height (besides sizeof(FeatureWorkspace)). The
+  // Hough transform's pixel lists (collected, subset) share the filter block: ExtractFeatures
+  // runs the filters (corners, Canny) before the transform, and nothing reads them after it.
   static size_t BytesFor(int width, int height) {
-    return FilterScratch::BytesFor(width, height) + EdgeBuffers::BytesFor(width, height) +
-           HoughWorkspace::BytesFor(width, height);
+    return std::max(FilterScratch::BytesFor(width, height),
+                    HoughWorkspace::ScratchBytesFor(width, height)) +
+           EdgeBuffers::BytesFor(width, height) + HoughWorkspace::OwnBytesFor(width, height);
   }
   // Sizes every buffer for images up to width x height (at start-up: allocates; the same size
   // again keeps them). Refuses sizes beyond kMaxImageWidth x kMaxImageHeight.
   Status Init(int width, int height) {
-    SH_RETURN_IF_ERROR(filter.Init(width, height));
+    SH_RETURN_IF_ERROR(filter.Init(width, height, HoughWorkspace::ScratchBytesFor(width, height)));
     SH_RETURN_IF_ERROR(edges.Init(width, height));
-    return hough.Init(width, height);
+    return hough.Init(width, height, filter.block().data(), filter.block().bytes());
   }
 };
 

@@ -108,9 +108,10 @@ size_t FilterScratch::BytesFor(int width, int height) {
          InitBlock::PieceBytes<uint8_t>(ReducedPixels(width, height));
 }
 
-Status FilterScratch::Init(int width, int height) {
-  if (block_.Holds(width, height)) return Status::Ok();
-  SH_RETURN_IF_ERROR(block_.Allocate(width, height, BytesFor(width, height), "filter scratch"));
+Status FilterScratch::Init(int width, int height, size_t min_bytes) {
+  const size_t bytes = std::max(BytesFor(width, height), min_bytes);
+  if (block_.Holds(width, height) && block_.bytes() >= bytes) return Status::Ok();
+  SH_RETURN_IF_ERROR(block_.Allocate(width, height, bytes, "filter scratch"));
   for (float*& ring : rings) ring = block_.Take<float>(size_t{kRingRows} * width);
   response = block_.Take<float>(size_t{kResponseRows} * width);
   reduced = block_.Take<uint8_t>(ReducedPixels(width, height));

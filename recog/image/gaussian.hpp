@@ -70,6 +70,8 @@ class ImageBlock {
     return block_.Take<T>(count);
   }
   bool Holds(int width, int height) const { return width == width_ && height == height_; }
+  uint8_t* data() const { return block_.data(); }
+  size_t bytes() const { return block_.bytes(); }
   int width() const { return width_; }
   int height() const { return height_; }
 
@@ -101,7 +103,9 @@ struct FilterScratch {
   static size_t BytesFor(int width, int height);
   // Carves the buffers for images up to width x height (at start-up: allocates). A second call
   // with the same size keeps them. EdgeBuffers and HoughWorkspace size themselves the same way.
-  Status Init(int width, int height);
+  // `min_bytes`: the block is at least that large, for a later stage that borrows it whole once
+  // the filters are done (FeatureWorkspace: the Hough transform's pixel lists).
+  Status Init(int width, int height, size_t min_bytes = 0);
   const ImageBlock& block() const { return block_; }
 
  private:

@@ -30,9 +30,10 @@ static_assert(kMaxImageWidth + kMaxImageHeight + kHoughRhoOffset < (1 << 12),
 struct Tables {
   int32_t sin_q[kHoughThetaBins];  // sin(theta) * 2^kTrigBits, rounded
   int32_t cos_q[kHoughThetaBins];
-  int16_t weight[kSubBins][kMaxTaps];  // bin (base - taps/2 + 1 + k) for sub-position s
-  int taps = 0;                        // 2 * ceil(half width)
-  int window = 0;                      // theta half-window in bins
+  int16_t weight[kSubBins][kMaxTaps];    // bin (base - taps/2 + 1 + k) for sub-position s
+  int taps = 0;                          // 2 * ceil(half width)
+  int window = 0;                        // theta half-window in bins
+  int32_t rho_offset = kHoughRhoOffset;  // the workspace's bin of rho 0
 };
 
 void BuildTables(const HoughConfig& config, Tables& tb) {
@@ -55,6 +56,11 @@ void BuildTables(const HoughConfig& config, Tables& tb) {
   }
   tb.window =
       static_cast<int>(std::lround(config.angle_window_deg * kPi / 180.0f / kHoughThetaStepRad));
+}
+
+// The largest rho of a pixel of a width x height image, in whole bins.
+int ImageDiagonal(int width, int height) {
+  return static_cast<int>(std::ceil(std::hypot(width, height)));
 }
 
 int WrapTheta(int t) {
@@ -80,7 +86,7 @@ template <int kSign, int kTaps, bool kIndexed, bool kMarkDirty>
 void VoteRowT(int32_t* __restrict row, uint8_t* __restrict dirty, const Tables& tb, int t,
               const HoughEdgePoint* points, const uint32_t* idx, int32_t begin, int32_t end) {
   const int32_t s = tb.sin_q[t], c = tb.cos_q[t];
-  const int32_t off = (kHoughRhoOffset << kTrigBits) + (1 << (kPosShift - 1));
+  const int32_t off = (tb.rho_offset << kTrigBits) + (1 << (kPosShift - 1));
   constexpr int kFirst = 1 - kTaps / 2;  // first tap relative to the vote's bin
   for (int32_t i = begin; i < end; ++i) {
     const HoughEdgePoint& p = points[kIndexed ? idx[i] : static_cast<uint32_t>(i)];
@@ -120,7 +126,7 @@ void VoteRow(int32_t* row, uint8_t* dirty, const Tables& tb, int t, const HoughE
 // vectorises, then the first cell holding it: the same cell as a scan that keeps the earliest of
 // equal maxima).
 void BlockMax(HoughWorkspace& ws, int t, int b) {
-  const int32_t* cell = ws.acc[t] + static_cast<ptrdiff_t>(b) * HoughWorkspace::kBlock;
+  const int32_t* cell = ws.AccRow(t) + static_cast<ptrdiff_t>(b) * HoughWorkspace::kBlock;
   int32_t m = cell[0];
   for (int i = 1; i < HoughWorkspace::kBlock; ++i) m = cell[i] > m ? cell[i] : m;
   int arg = 0;
@@ -162,7 +168,7 @@ void UpdateMaxima(HoughWorkspace& ws, int block_lo, int block_hi) {
 // a cache miss per row.
 void CastAllVotes(HoughWorkspace& ws, const Tables& tb, int block_lo, int block_hi) {
   for (int t = 0; t < kHoughThetaBins; ++t) {
-    int32_t* row = ws.acc[t];
+    int32_t* row = ws.AccRow(t);
     std::fill(row + ws.acc_lo, row + ws.acc_hi, 0);
     for (int j = -tb.window; j <= tb.window; ++j) {
       const int tc = WrapTheta(t - j);
@@ -185,7 +191,7 @@ void RemoveVotes(HoughWorkspace& ws, const Tables& tb, const uint32_t* idx, size
     while (e < n && ws.points[idx[e]].tc == tc) ++e;
     for (int j = -tb.window; j <= tb.window; ++j) {
       const int t = WrapTheta(tc + j);
-      VoteRow<-1, true, true>(ws.acc[t], ws.block_dirty[t], tb, t, ws.points, idx,
+      VoteRow<-1, true, true>(ws.AccRow(t), ws.block_dirty[t], tb, t, ws.points, idx,
                               static_cast<int32_t>(i), static_cast<int32_t>(e));
       ws.row_dirty[t] = 1;
     }
@@ -197,10 +203,10 @@ void RemoveVotes(HoughWorkspace& ws, const Tables& tb, const uint32_t* idx, size
 float AccAt(const HoughWorkspace& ws, int t, int r) {
   if (t < 0 || t >= kHoughThetaBins) {
     t = WrapTheta(t);
-    r = 2 * kHoughRhoOffset - r;  // bin of -rho
+    r = 2 * ws.rho_offset - r;  // bin of -rho
   }
   if (r < ws.acc_lo || r >= ws.acc_hi) return 0.0f;
-  return static_cast<float>(ws.acc[t][r]);
+  return static_cast<float>(ws.AccRow(t)[r]);
 }
 
 // Quadratic least-squares fit over the 3x3 neighbourhood (Niblack & Petkovic); returns false if
@@ -575,19 +581,75 @@ Status ValidateHoughConfig(const HoughConfig& config) {
   return Status::Ok();
 }
 
+int HoughWorkspace::RhoOffsetFor(int height) {
+  return kHoughRhoOffset - kBlock * ((kHoughRhoOffset - height - kMaxVoteHalfWidthPx) / kBlock);
+}
+
+int HoughWorkspace::AccStrideFor(int width, int height) {
+  const int block_hi =
+      (RhoOffsetFor(height) + ImageDiagonal(width, height) + kMaxVoteHalfWidthPx) / kBlock;
+  return (block_hi + 1) * kBlock;
+}
+
+size_t HoughWorkspace::OwnBytesFor(int width, int height) {
+  return InitBlock::PieceBytes<int32_t>(size_t{kHoughThetaBins} *
+                                        static_cast<size_t>(AccStrideFor(width, height))) +
+         InitBlock::PieceBytes<HoughEdgePoint>(HoughEdgeCapacity(width, height));
+}
+
+size_t HoughWorkspace::ScratchBytesFor(int width, int height) {
+  return 2 * InitBlock::PieceBytes<uint32_t>(HoughEdgeCapacity(width, height));
+}
+
 size_t HoughWorkspace::BytesFor(int width, int height) {
-  const size_t n = HoughEdgeCapacity(width, height);
-  return InitBlock::PieceBytes<HoughEdgePoint>(n) + 2 * InitBlock::PieceBytes<uint32_t>(n);
+  return OwnBytesFor(width, height) + ScratchBytesFor(width, height);
+}
+
+void HoughWorkspace::TakeOwn(int width, int height) {
+  rho_offset = RhoOffsetFor(height);
+  acc_stride = AccStrideFor(width, height);
+  acc_lo = acc_hi = 0;
+  acc = block_.Take<int32_t>(size_t{kHoughThetaBins} * static_cast<size_t>(acc_stride));
+  points = block_.Take<HoughEdgePoint>(HoughEdgeCapacity(width, height));
 }
 
 Status HoughWorkspace::Init(int width, int height) {
-  if (block_.Holds(width, height)) return Status::Ok();
+  if (block_.Holds(width, height) && borrowed_ == nullptr) return Status::Ok();
   point_capacity_ = 0;
+  borrowed_ = nullptr;
   SH_RETURN_IF_ERROR(block_.Allocate(width, height, BytesFor(width, height), "Hough workspace"));
   const size_t n = HoughEdgeCapacity(width, height);
-  points = block_.Take<HoughEdgePoint>(n);
+  TakeOwn(width, height);
   collected = block_.Take<uint32_t>(n);
   subset = block_.Take<uint32_t>(n);
+  point_capacity_ = n;
+  return Status::Ok();
+}
+
+Status HoughWorkspace::Init(int width, int height, uint8_t* scratch, size_t scratch_bytes) {
+  if (scratch == nullptr || scratch_bytes < ScratchBytesFor(width, height)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "Hough workspace: %zu bytes of scratch for %dx%d, %zu needed",
+                         scratch == nullptr ? size_t{0} : scratch_bytes, width, height,
+                         ScratchBytesFor(width, height));
+  }
+  const size_t n = HoughEdgeCapacity(width, height);
+  if (!block_.Holds(width, height) || borrowed_ == nullptr) {
+    point_capacity_ = 0;
+    borrowed_ = nullptr;
+    SH_RETURN_IF_ERROR(
+        block_.Allocate(width, height, OwnBytesFor(width, height), "Hough workspace"));
+    TakeOwn(width, height);
+  }
+  // Two pieces aligned as InitBlock aligns them (ScratchBytesFor holds the slack).
+  const auto align = [](uint8_t* p) {
+    const uintptr_t at = reinterpret_cast<uintptr_t>(p);
+    return p + (InitBlock::kAlign - at % InitBlock::kAlign) % InitBlock::kAlign;
+  };
+  uint8_t* const first = align(scratch);
+  collected = reinterpret_cast<uint32_t*>(first);
+  subset = reinterpret_cast<uint32_t*>(align(first + n * sizeof(uint32_t)));
+  borrowed_ = scratch;
   point_capacity_ = n;
   return Status::Ok();
 }
@@ -616,14 +678,16 @@ Status DetectLines(const ConstEdgeMapView& edges, const HoughConfig& config, Hou
   SH_RETURN_IF_ERROR(CheckFitsWorkspace(e.width, e.height, ws.block(), "DetectLines (workspace)"));
   Tables tb;
   BuildTables(config, tb);
+  tb.rho_offset = ws.rho_offset;
 
   GatherPoints(edges, ws, st.edge_pixels_dropped);
   st.edge_pixels = ws.point_count;
-  // Votes of this image land in rho bins kHoughRhoOffset + [-(height - 1), diagonal], widened
-  // by the kernel; only those blocks are cleared and searched.
-  const int diagonal = static_cast<int>(std::ceil(std::hypot(e.width, e.height)));
-  const int block_lo = (kHoughRhoOffset - e.height - kMaxVoteHalfWidthPx) / HoughWorkspace::kBlock;
-  const int block_hi = (kHoughRhoOffset + diagonal + kMaxVoteHalfWidthPx) / HoughWorkspace::kBlock;
+  // Votes of this image land in rho bins rho_offset + [-(height - 1), diagonal], widened by the
+  // kernel; only those blocks are cleared and searched (within the accumulator: the image fits
+  // the workspace).
+  const int diagonal = ImageDiagonal(e.width, e.height);
+  const int block_lo = (ws.rho_offset - e.height - kMaxVoteHalfWidthPx) / HoughWorkspace::kBlock;
+  const int block_hi = (ws.rho_offset + diagonal + kMaxVoteHalfWidthPx) / HoughWorkspace::kBlock;
   ws.acc_lo = block_lo * HoughWorkspace::kBlock;
   ws.acc_hi = (block_hi + 1) * HoughWorkspace::kBlock;
   CastAllVotes(ws, tb, block_lo, block_hi);
@@ -650,13 +714,13 @@ Status DetectLines(const ConstEdgeMapView& edges, const HoughConfig& config, Hou
       dt = dr = 0.0f;
     }
     float theta = (best_t + dt) * kHoughThetaStepRad;
-    float rho = static_cast<float>(best_r - kHoughRhoOffset) + dr;
+    float rho = static_cast<float>(best_r - ws.rho_offset) + dr;
     NormaliseLine(theta, rho);
     size_t n = CollectPoints(ws, tb, best_t, theta, rho, config.collect_distance_px);
     if (n == 0) {
       // Cannot happen while every vote comes from an unassigned pixel within the kernel width,
       // but guarantees progress: retire the cell.
-      ws.acc[best_t][best_r] = 0;
+      ws.AccRow(best_t)[best_r] = 0;
       ws.row_dirty[best_t] = 1;
       ws.block_dirty[best_t][best_r / HoughWorkspace::kBlock] = 1;
       ++st.lines_rejected;

@@ -116,16 +116,25 @@ struct HoughEdgePoint {
   int16_t line = -1;  // index into the output lines; -1 unassigned, -2 assigned to a rejected peak
 };
 
-// Accumulator (for the largest image, 3.7 MiB) and the edge-pixel arrays (2 W H bytes for images
-// up to W x H, taken at Init). After DetectLines, points[0 .. point_count) tell which line each
-// edge pixel supports.
+// Accumulator and edge-pixel arrays for images up to W x H, taken at Init (docs/memory.md): the
+// accumulator holds the rho bins such images can vote for (3.25 MiB at 1280 x 800, 3.7 MiB at
+// the maximum), the arrays 2 W H bytes. After DetectLines, points[0 .. point_count) tell which
+// line each edge pixel supports.
 struct HoughWorkspace {
   static constexpr int kBlock = 64;  // rho bins per block of the incremental maximum search
   static constexpr int kBlocks = (kHoughRhoBins + kBlock - 1) / kBlock;
   static constexpr int kSupportBins = 2 * kHoughMaxDiagonalPx + 8;
 
-  int32_t acc[kHoughThetaBins][kBlocks * kBlock];
+  // kHoughThetaBins rows of acc_stride rho bins (AccStrideFor), taken at Init. Bin rho_offset is
+  // rho 0: kHoughRhoOffset lowered by whole blocks to the least that images up to the
+  // workspace's height need (RhoOffsetFor), which shifts every bin and block by the same count
+  // and changes no vote, maximum or line.
+  int32_t* acc = nullptr;
+  int acc_stride = 0;
+  int rho_offset = kHoughRhoOffset;
   int32_t acc_lo = 0, acc_hi = 0;  // rho bins [acc_lo, acc_hi) cleared for the current image
+  int32_t* AccRow(int t) { return acc + static_cast<ptrdiff_t>(t) * acc_stride; }
+  const int32_t* AccRow(int t) const { return acc + static_cast<ptrdiff_t>(t) * acc_stride; }
   int32_t block_max[kHoughThetaBins][kBlocks];
   int16_t block_arg[kHoughThetaBins][kBlocks];
   uint8_t block_dirty[kHoughThetaBins][kBlocks];
@@ -153,12 +162,25 @@ struct HoughWorkspace {
   // Sized as FilterScratch is (BytesFor, Init).
   static size_t BytesFor(int width, int height);
   Status Init(int width, int height);
+  // collected and subset (ScratchBytesFor), which only DetectLines uses, carved from `scratch`
+  // instead: memory of at least ScratchBytesFor bytes that no other stage uses while DetectLines
+  // runs (FeatureWorkspace: its FilterScratch block, whose filters are done by then). The
+  // workspace's own block then holds the accumulator and the points only (OwnBytesFor).
+  Status Init(int width, int height, uint8_t* scratch, size_t scratch_bytes);
+  static size_t OwnBytesFor(int width, int height);
+  static int RhoOffsetFor(int height);
+  static int AccStrideFor(int width, int height);
+  static size_t ScratchBytesFor(int width, int height);
   const ImageBlock& block() const { return block_; }
   size_t point_capacity() const { return point_capacity_; }
 
  private:
+  // Carves the accumulator and the points from block_ (OwnBytesFor).
+  void TakeOwn(int width, int height);
+
   ImageBlock block_;
   size_t point_capacity_ = 0;
+  const uint8_t* borrowed_ = nullptr;  // the scratch of collected and subset, if not block_
 };
 
 Status ValidateHoughConfig(const HoughConfig& config);

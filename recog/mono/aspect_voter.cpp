@@ -45,6 +45,7 @@ Status AspectVoter::Init(const AspectTableView& table, const VoterConfig& config
   }
   table_ = table;
   config_ = config;
+  SH_RETURN_IF_ERROR(AllocateCounters());
   basis_keys_ = nullptr;
   inv_sigma2_point_ = 1.0f / (config.sigma_point_px * config.sigma_point_px);
   inv_sigma2_line_ = 1.0f / (config.sigma_line_px * config.sigma_line_px);
@@ -53,13 +54,47 @@ Status AspectVoter::Init(const AspectTableView& table, const VoterConfig& config
   return Status::Ok();
 }
 
+size_t AspectVoter::BytesFor(uint32_t point_entries, uint32_t line_entries, uint32_t bases) {
+  return 2 * InitBlock::PieceBytes<uint16_t>(point_entries) +
+         2 * InitBlock::PieceBytes<uint16_t>(line_entries) +
+         InitBlock::PieceBytes<uint16_t>(bases) + 3 * InitBlock::PieceBytes<uint32_t>(bases);
+}
+
+Status AspectVoter::AllocateCounters() {
+  const uint32_t points = table_.point_entry_count();
+  const uint32_t lines = table_.line_entry_count();
+  const uint32_t bases = table_.basis_count();
+  const size_t bytes = BytesFor(points, lines, bases);
+  if (bytes == block_.bytes() && point_stamp_ != nullptr) {
+    std::memset(point_stamp_, 0, size_t{points} * sizeof(uint16_t));
+    std::memset(line_stamp_, 0, size_t{lines} * sizeof(uint16_t));
+    std::memset(basis_stamp_, 0, size_t{bases} * sizeof(uint16_t));
+    return Status::Ok();
+  }
+  point_stamp_ = point_best_ = line_stamp_ = line_best_ = basis_stamp_ = nullptr;
+  basis_point_sum_ = basis_line_sum_ = touched_ = nullptr;
+  if (!block_.Allocate(bytes)) {
+    return Status::Error(StatusCode::kResourceExhausted,
+                         "aspect voter: cannot allocate %zu bytes of counters", bytes);
+  }
+  point_stamp_ = block_.Take<uint16_t>(points);
+  point_best_ = block_.Take<uint16_t>(points);
+  line_stamp_ = block_.Take<uint16_t>(lines);
+  line_best_ = block_.Take<uint16_t>(lines);
+  basis_stamp_ = block_.Take<uint16_t>(bases);
+  basis_point_sum_ = block_.Take<uint32_t>(bases);
+  basis_line_sum_ = block_.Take<uint32_t>(bases);
+  touched_ = block_.Take<uint32_t>(bases);
+  return Status::Ok();
+}
+
 void AspectVoter::NextStamp() {
   n_touched_ = 0;
   if (++stamp_ != 0) return;
   // Wrapped: forget every old stamp so none can be mistaken for the new one.
-  std::memset(point_stamp_, 0, sizeof(point_stamp_));
-  std::memset(line_stamp_, 0, sizeof(line_stamp_));
-  std::memset(basis_stamp_, 0, sizeof(basis_stamp_));
+  std::memset(point_stamp_, 0, size_t{table_.point_entry_count()} * sizeof(uint16_t));
+  std::memset(line_stamp_, 0, size_t{table_.line_entry_count()} * sizeof(uint16_t));
+  std::memset(basis_stamp_, 0, size_t{table_.basis_count()} * sizeof(uint16_t));
   stamp_ = 1;
 }
 

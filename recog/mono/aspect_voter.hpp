@@ -6,13 +6,15 @@
 // normalised vote is its point votes over its point entries plus its line votes over its line
 // entries, in [0, 2].
 //
-// Statically allocated (about 4 MiB of per-entry and per-basis counters); no heap.
+// The per-entry and per-basis counters are one block taken at Init, sized by the table's entry
+// and basis counts (docs/memory.md); nothing is allocated per vote.
 #pragma once
 
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
 
+#include "recog/base/init_block.hpp"
 #include "recog/base/status.hpp"
 #include "recog/hashing/vote_lut.hpp"
 #include "recog/mono/frame2d.hpp"
@@ -113,15 +115,23 @@ class AspectVoter {
   const float* basis_keys_ = nullptr;
   float inv_sigma2_point_ = 0, inv_sigma2_line_ = 0;
 
+  // Bytes of the counters' block for a table of that many entries and bases.
+  static size_t BytesFor(uint32_t point_entries, uint32_t line_entries, uint32_t bases);
+  // Takes (or, at the same size, clears) the counters' block for the table's counts.
+  Status AllocateCounters();
+
   uint16_t stamp_ = 0;
-  uint16_t point_stamp_[kMaxAspectPointEntries];
-  uint16_t point_best_[kMaxAspectPointEntries];
-  uint16_t line_stamp_[kMaxAspectLineEntries];
-  uint16_t line_best_[kMaxAspectLineEntries];
-  uint16_t basis_stamp_[kMaxAspectBases];
-  uint32_t basis_point_sum_[kMaxAspectBases];
-  uint32_t basis_line_sum_[kMaxAspectBases];
-  uint32_t touched_[kMaxAspectBases];
+  // Carved from block_ at Init: table_.point_entry_count(), line_entry_count() and
+  // basis_count() entries.
+  InitBlock block_;
+  uint16_t* point_stamp_ = nullptr;
+  uint16_t* point_best_ = nullptr;
+  uint16_t* line_stamp_ = nullptr;
+  uint16_t* line_best_ = nullptr;
+  uint16_t* basis_stamp_ = nullptr;
+  uint32_t* basis_point_sum_ = nullptr;
+  uint32_t* basis_line_sum_ = nullptr;
+  uint32_t* touched_ = nullptr;
   uint32_t n_touched_ = 0;
   // Rows of line-centre bins crossed by the current scene line's strip.
   uint16_t row_y_[kMaxAspectGridSide], row_x0_[kMaxAspectGridSide], row_x1_[kMaxAspectGridSide];

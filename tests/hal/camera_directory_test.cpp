@@ -272,5 +272,31 @@ TEST(CameraDirectory, FrameWithDifferentSizeThanRecordingIsAnError) {
   EXPECT_EQ(cam.stats().errors, 2u);
 }
 
+// Frames are decoded straight into the camera's buffers, rows packed, then moved to the
+// buffer's stride: a view with a wider stride shows the same pixels as a packed one.
+TEST(CameraDirectory, RendersIntoViewsOfAWiderStride) {
+  TempDir dir("camera_dir");
+  WriteFlatRecording(dir, {1, 2}, 13, 9);
+  DirectoryFrameSource source(dir.path(), /*loop=*/false);
+  int w = 0;
+  int h = 0;
+  ASSERT_TRUE(source.Open(&w, &h).ok());
+  ASSERT_EQ(w, 13);
+  ASSERT_EQ(h, 9);
+  for (const int stride : {13, 14, 40}) {
+    std::vector<uint8_t> left(static_cast<size_t>(stride) * h, 0xEE);
+    std::vector<uint8_t> right(static_cast<size_t>(stride) * h, 0xEE);
+    const GrayView lv{left.data(), w, h, stride};
+    const GrayView rv{right.data(), w, h, stride};
+    ASSERT_TRUE(source.Render(1, lv, rv).ok()) << "stride " << stride;
+    EXPECT_EQ(ValueShown(lv), 20) << "stride " << stride;
+    EXPECT_EQ(ValueShown(rv), 21) << "stride " << stride;
+  }
+  // A view of another size is refused, not written past.
+  std::vector<uint8_t> small(static_cast<size_t>(w) * (h - 1));
+  const GrayView sv{small.data(), w, h - 1, w};
+  EXPECT_EQ(source.Render(0, sv, sv).code(), StatusCode::kInvalidArgument);
+}
+
 }  // namespace
 }  // namespace sh::hal

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <random>
 #include <vector>
@@ -57,17 +58,24 @@ int MatchSide(const Vector<Line2D>& lines, const Side& s, double& angle_err, dou
   return best;
 }
 
+// The polygons (grey 190 on 40), blurred 0.7 px, with noise of sigma 2 (`seed`), as a grey
+// image whose pixels `px` holds.
+ConstGrayView TestSceneImage(int w, int h, const std::vector<Polygon>& polys, uint32_t seed,
+                             std::vector<uint8_t>& px) {
+  testing::SyntheticImage synth(w, h, 40.0);
+  for (const Polygon& p : polys) synth.Fill(p);
+  synth.Blur(0.7);
+  synth.AddNoise(2.0, seed);
+  return synth.ToGray(px);
+}
+
 class HoughSceneTest : public ::testing::TestWithParam<std::pair<int, int>> {};
 
 TEST_P(HoughSceneTest, FindsEverySideOnceWithSubpixelAccuracy) {
   const auto [w, h] = GetParam();
   const std::vector<Polygon> polys = testing::TestScene(w, h, 190.0);
-  testing::SyntheticImage synth(w, h, 40.0);
-  for (const Polygon& p : polys) synth.Fill(p);
-  synth.Blur(0.7);
-  synth.AddNoise(2.0, 21);
   std::vector<uint8_t> px;
-  const ConstGrayView img = synth.ToGray(px);
+  const ConstGrayView img = TestSceneImage(w, h, polys, 21, px);
   std::vector<Side> sides;
   for (const Polygon& p : polys) {
     for (size_t i = 0; i < p.vertices.size(); ++i) {
@@ -321,6 +329,57 @@ TEST(Hough, EmptyAndBadInput) {
   bad = HoughConfig{};
   bad.collect_distance_px = 0.0f;
   EXPECT_EQ(DetectLines(em, bad, *hough, lines).code(), StatusCode::kInvalidArgument);
+}
+
+// Pixel lists carved from memory the caller lends: too little of it is refused with both sizes.
+TEST(Hough, BorrowedScratchMustHoldBothPixelLists) {
+  const int w = 64, h = 48;
+  auto ws = MakeZeroed<HoughWorkspace>();
+  ASSERT_NE(ws, nullptr);
+  std::vector<uint8_t> scratch(HoughWorkspace::ScratchBytesFor(w, h));
+  const Status small = ws->Init(w, h, scratch.data(), scratch.size() - 1);
+  EXPECT_EQ(small.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::strstr(small.message(), "64x48"), nullptr) << small.message();
+  ASSERT_TRUE(ws->Init(w, h, scratch.data(), scratch.size()).ok());
+  const auto* first = reinterpret_cast<const uint8_t*>(ws->collected);
+  const auto* last = reinterpret_cast<const uint8_t*>(ws->subset + ws->point_capacity());
+  EXPECT_GE(first, scratch.data());
+  EXPECT_LE(last, scratch.data() + scratch.size());
+  EXPECT_GE(reinterpret_cast<const uint8_t*>(ws->subset),
+            reinterpret_cast<const uint8_t*>(ws->collected + ws->point_capacity()));
+}
+
+// The accumulator is sized at Init for the workspace's image size, its bin of rho 0 lowered by
+// whole blocks: a 1280 x 800 workspace takes fewer bins than one of the maximum size and finds
+// the same lines, to the bit, on the same edges.
+TEST(Hough, AccumulatorSizedForTheWorkspaceFindsTheSameLines) {
+  const int w = 1280, h = 800;
+  std::vector<uint8_t> px;
+  const ConstGrayView img = TestSceneImage(w, h, testing::TestScene(w, h, 190.0), 23, px);
+  Workspaces full;
+  EdgeMapView edges;
+  ASSERT_TRUE(DetectEdges(img, CannyConfig{}, *full.scratch, *full.edges, edges).ok());
+  auto sized = MakeWorkspace<HoughWorkspace>(w, h);
+  ASSERT_NE(sized, nullptr);
+  EXPECT_LT(sized->acc_stride, full.hough->acc_stride);
+  EXPECT_LT(sized->rho_offset, full.hough->rho_offset);
+  EXPECT_LT(HoughWorkspace::OwnBytesFor(w, h),
+            HoughWorkspace::OwnBytesFor(kMaxImageWidth, kMaxImageHeight));
+  Vector<Line2D, kMaxLines2d> a;
+  Vector<Line2D, kMaxLines2d> b;
+  HoughStats sa;
+  HoughStats sb;
+  ASSERT_TRUE(DetectLines(AsConst(edges), HoughConfig{}, *sized, a, &sa).ok());
+  ASSERT_TRUE(DetectLines(AsConst(edges), HoughConfig{}, *full.hough, b, &sb).ok());
+  ASSERT_GT(a.size(), 3u);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(sa.peaks_examined, sb.peaks_examined);
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].theta_rad, b[i].theta_rad) << i;
+    EXPECT_EQ(a[i].rho_px, b[i].rho_px) << i;
+    EXPECT_EQ(a[i].votes, b[i].votes) << i;
+    EXPECT_EQ(a[i].edge_pixels, b[i].edge_pixels) << i;
+  }
 }
 
 }  // namespace
