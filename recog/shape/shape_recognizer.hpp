@@ -67,7 +67,7 @@ struct ShapeConfig {
   int fine_hypotheses = 2;
   // Nearest views taken from each image's window for each model of the blob's colour, after
   // the size check and dropping views within diverse_deg of a better one.
-  int views_per_image = 2;
+  int views_per_image = 3;
   float diverse_deg = 20.0f;
   // A view's extent (box width and height, mm at the part's depth) must lie within this factor
   // of the region's.
