@@ -65,7 +65,11 @@ Status CheckShapeConfig(const ShapeConfig& c) {
                   c.corrective_iterations >= 0 && c.corrective_iterations <= 20 &&
                   c.min_edge_score >= 0 && c.min_edge_score <= 1 && c.max_background_share >= 0 &&
                   c.max_background_share <= 1 && c.explained_share > 0 && c.explained_share <= 1 &&
-                  c.rounds >= 1 && c.rounds <= kShapeRounds;
+                  c.rounds >= 1 && c.rounds <= kShapeRounds && c.weak_edge_score >= 0 &&
+                  c.weak_edge_score <= 1 && c.restart_deg >= 0 && c.restart_deg <= 90 &&
+                  c.second_pass_starts >= 0 &&
+                  static_cast<size_t>(c.second_pass_starts) <= kMaxShapeCandidates &&
+                  c.second_pass_min_score >= 0 && c.second_pass_min_score <= 1;
   if (!ok) {
     return Status::Error(StatusCode::kOutOfRange,
                          "shape recognition: settings out of range (1..%zu views per image, "
@@ -490,42 +494,41 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
   // Fine stage and verification of the best. Two views that the coarse stage took to one pose:
   // the fine stage would repeat itself (compared with the starts it does refine, not with those
   // it skips), so the starts are chosen before any is refined.
-  size_t starts[kMaxShapeCandidates];
+  PosedModel starts[kMaxShapeCandidates];
+  bool chosen[kMaxShapeCandidates] = {};
   size_t n_starts = 0;
-  for (size_t i = 0; i < n_coarse && i < static_cast<size_t>(config_.fine_hypotheses); ++i) {
-    bool repeat = false;
-    for (size_t j = 0; j < n_starts && !repeat; ++j) {
-      repeat = SameStart(coarse[starts[j]].object, coarse[i].object);
+  const auto choose = [&](size_t limit) {
+    const size_t first_new = n_starts;
+    for (size_t i = 0; i < n_coarse && n_starts - first_new < limit; ++i) {
+      if (chosen[i]) continue;
+      chosen[i] = true;
+      bool repeat = false;
+      for (size_t j = 0; j < n_starts && !repeat; ++j) {
+        repeat = SameStart(starts[j], coarse[i].object);
+      }
+      if (!repeat) starts[n_starts++] = coarse[i].object;
     }
-    if (!repeat) starts[n_starts++] = i;
-  }
-  struct Fine {
-    PosedModel object;
-    Verdict verdict;
-    bool refined = false;
-    StageNs ns;
+    return n_starts - first_new;
   };
-  Fine fine[kMaxShapeCandidates];
-  t = Now();
-  Spread(static_cast<int>(n_starts), [&](int slot, int k) {
-    Fine& f = fine[k];
-    f.object = coarse[starts[k]].object;
-    f.refined = RefineAndEvaluate(colour, scratch_[slot], &f.object, &f.verdict, &f.ns);
-  });
-  StageNs fine_ns;
+  choose(static_cast<size_t>(config_.fine_hypotheses));
   PosedModel best{nullptr, {}};
   Verdict best_verdict;
-  for (size_t k = 0; k < n_starts; ++k) {
-    fine_ns.refine += fine[k].ns.refine;
-    fine_ns.verify += fine[k].ns.verify;
-    if (!fine[k].refined || !fine[k].verdict.accepted) continue;
-    ++st.verified;
-    if (best.model == nullptr || fine[k].verdict.evidence > best_verdict.evidence) {
-      best = fine[k].object;
-      best_verdict = fine[k].verdict;
+  PosedModel weak{nullptr, {}};  // the unverified fine result with the most edges confirmed
+  Verdict weak_verdict;
+  RefineStarts(colour, starts, n_starts, &best, &best_verdict, &weak, &weak_verdict, st);
+  // Second, wider pass for a seed none of whose first starts verified: the coarse results not
+  // refined yet, then the unverified result nearest to verifying from turned starts.
+  if (best.model == nullptr && config_.second_pass) {
+    const size_t first = n_starts;
+    const size_t added = choose(static_cast<size_t>(config_.second_pass_starts));
+    RefineStarts(colour, starts + first, added, &best, &best_verdict, &weak, &weak_verdict, st);
+    if (best.model == nullptr && weak.model != nullptr) {
+      best = weak;
+      best_verdict = weak_verdict;
+      RestartWeak(colour, &best, &best_verdict, st);
+      if (!best_verdict.accepted) best.model = nullptr;
     }
   }
-  AddStageTimes(Now() - t, fine_ns);
   if (best.model == nullptr) return false;
   // A part with a near symmetry (the bracket) may have settled half a turn from the truth: the
   // turned pose, refined the same way, replaces it when the images explain it better.
@@ -548,6 +551,7 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
       ++st.turned_kept;
     }
   }
+  RestartWeak(colour, &best, &best_verdict, st);
   RecognizedObject o;
   o.model = static_cast<uint16_t>(model_id_offset_ + (best.model - &views_.model(0)));
   o.cam_T_model = best.cam_T_model;
@@ -562,6 +566,77 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
   if (n_occluders_ < kMaxOccluders) occluders_[n_occluders_++] = best;
   MarkExplained(best);
   return true;
+}
+
+void ShapeRecognizer::RefineStarts(uint8_t colour, const PosedModel* starts, size_t n,
+                                   PosedModel* best, Verdict* best_verdict, PosedModel* weak,
+                                   Verdict* weak_verdict, ShapeStats& st) {
+  struct Fine {
+    PosedModel object;
+    Verdict verdict;
+    bool refined = false;
+    StageNs ns;
+  };
+  Fine fine[kMaxShapeCandidates];
+  const int64_t t = Now();
+  Spread(static_cast<int>(n), [&](int slot, int k) {
+    Fine& f = fine[k];
+    f.object = starts[k];
+    f.refined = RefineAndEvaluate(colour, scratch_[slot], &f.object, &f.verdict, &f.ns);
+  });
+  StageNs sum;
+  for (size_t k = 0; k < n; ++k) {
+    const Fine& f = fine[k];
+    sum.refine += f.ns.refine;
+    sum.verify += f.ns.verify;
+    if (!f.refined) continue;
+    if (!f.verdict.accepted) {
+      const float edges = std::min(f.verdict.edge_score[0], f.verdict.edge_score[1]);
+      if (edges >= config_.second_pass_min_score &&
+          (weak->model == nullptr ||
+           edges > std::min(weak_verdict->edge_score[0], weak_verdict->edge_score[1]))) {
+        *weak = f.object;
+        *weak_verdict = f.verdict;
+      }
+      continue;
+    }
+    ++st.verified;
+    if (best->model == nullptr || f.verdict.evidence > best_verdict->evidence) {
+      *best = f.object;
+      *best_verdict = f.verdict;
+    }
+  }
+  AddStageTimes(Now() - t, sum);
+}
+
+void ShapeRecognizer::RestartWeak(uint8_t colour, PosedModel* best, Verdict* verdict,
+                                  ShapeStats& st) {
+  if (config_.restart_deg <= 0 ||
+      std::min(verdict->edge_score[0], verdict->edge_score[1]) >= config_.weak_edge_score) {
+    return;
+  }
+  ++st.restarted;
+  constexpr int kStarts = 6;  // +- about each model axis
+  const float angle_rad = config_.restart_deg * 3.14159265f / 180.0f;
+  PosedModel starts[kStarts];
+  for (int k = 0; k < kStarts; ++k) {
+    const float sign = (k & 1) ? -1.0f : 1.0f;
+    starts[k] = *best;
+    starts[k].cam_T_model.R =
+        best->cam_T_model.R *
+        Eigen::AngleAxisf(sign * angle_rad, Eigen::Vector3f::Unit(k / 2)).toRotationMatrix();
+  }
+  PosedModel found{nullptr, {}}, unverified{nullptr, {}};
+  Verdict found_verdict, unverified_verdict;
+  RefineStarts(colour, starts, kStarts, &found, &found_verdict, &unverified, &unverified_verdict,
+               st);
+  const bool kept =
+      found.model != nullptr && (!verdict->accepted || found_verdict.evidence > verdict->evidence);
+  if (kept) {
+    *best = found;
+    *verdict = found_verdict;
+  }
+  st.restart_kept += kept;
 }
 
 bool ShapeRecognizer::RefineAndEvaluate(uint8_t colour, ThreadScratch& scratch, PosedModel* object,

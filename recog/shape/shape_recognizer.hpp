@@ -67,7 +67,7 @@ struct ShapeConfig {
   int fine_hypotheses = 2;
   // Nearest views taken from each image's window for each model of the blob's colour, after
   // the size check and dropping views within diverse_deg of a better one.
-  int views_per_image = 2;
+  int views_per_image = 3;
   float diverse_deg = 20.0f;
   // A view's extent (box width and height, mm at the part's depth) must lie within this factor
   // of the region's.
@@ -76,6 +76,17 @@ struct ShapeConfig {
   // Parts with a near symmetry (near_symmetry.hpp: the bracket) are refined half a turn from
   // where they were found too, and the pose the images explain better is kept.
   bool near_symmetries = true;
+  // A winner with weak edge evidence (under weak_edge_score in either image) may be a local
+  // minimum near the truth: it is refined again from its pose turned by +-restart_deg about each
+  // of its model's axes, and the verified pose with the most evidence is kept (0: off).
+  float weak_edge_score = 0.7f;
+  float restart_deg = 10.0f;
+  // A seed none of whose fine starts verified gets a second pass: up to second_pass_starts more
+  // coarse results refined, then, if still none verifies, the unverified result with the most
+  // edges confirmed (at least second_pass_min_score in both images) restarted as above.
+  bool second_pass = true;
+  int second_pass_starts = 2;
+  float second_pass_min_score = 0.35f;
   // Verification, in each image: confirmed share of the edge samples, and at most this share of
   // the predicted silhouette showing no part colour (the table).
   float min_edge_score = 0.55f;
@@ -112,6 +123,8 @@ struct ShapeStats {
   // Accepted parts with a near symmetry refined half a turn away too (near_symmetry.hpp), and
   // how often that pose replaced the first.
   uint32_t turned = 0, turned_kept = 0;
+  // Weak winners refined again from turned starts, and how often one of those replaced them.
+  uint32_t restarted = 0, restart_kept = 0;
   bool runs_truncated = false, regions_truncated = false, pairs_truncated = false;
   bool blobs_full = false;
   bool objects_full = false;
@@ -205,6 +218,14 @@ class ShapeRecognizer {
   float BlobDepth(int camera, const ColourRegion& blob) const;
   // Refines the candidates, verifies the best and accepts the winner; true if one was accepted.
   bool TrySeed(const Seed& seed, Vector<RecognizedObject>& out, ShapeStats& st);
+  // A weak winner refined again from turned starts (ShapeConfig::restart_deg); replaces *best
+  // and *verdict when a start verifies with more evidence.
+  void RestartWeak(uint8_t colour, PosedModel* best, Verdict* verdict, ShapeStats& st);
+  // The fine refinement and verification of n starts (on the worker threads): the verified one
+  // with the most evidence replaces *best when it has more, the unverified one with the most
+  // edges confirmed (in its weaker image) replaces *weak likewise.
+  void RefineStarts(uint8_t colour, const PosedModel* starts, size_t n, PosedModel* best,
+                    Verdict* best_verdict, PosedModel* weak, Verdict* weak_verdict, ShapeStats& st);
   Verdict Evaluate(const PosedModel& object, uint8_t colour, const ShapeRefineResult& fit,
                    SilhouetteScratch& scratch) const;
   // The fine refinement of *object, then Evaluate(); false when refinement fails.

@@ -1,7 +1,8 @@
 // The shape path end to end on a flat-shaded stereo pair: a red cube, a red can and a green
 // hexagon (two models share a colour, so the view search decides) are found with their model
 // and pose, nothing is reported on an empty table, Process() never touches the heap, and the
-// candidates refined on several threads give what one thread gives.
+// candidates refined on several threads give what one thread gives, also when every winner is
+// refined again from turned starts.
 #include "recog/shape/shape_recognizer.hpp"
 
 #include <gtest/gtest.h>
@@ -32,12 +33,64 @@ float SymmetricAngleDeg(const Model& m, const Eigen::Matrix3f& a, const Eigen::M
   return best;
 }
 
+// Each part found once near its truth, as its own model, within 1 mm and 1 degree.
+void ExpectEveryPartAtItsPose(const std::vector<testing::FlatPart>& parts,
+                              const Vector<RecognizedObject, kMaxObjects>& found) {
+  for (int i = 0; i < kParts; ++i) {
+    const RecognizedObject* match = nullptr;
+    for (const RecognizedObject& o : found) {
+      if ((o.cam_T_model.t_mm - parts[i].posed.cam_T_model.t_mm).norm() < 20.0f) match = &o;
+    }
+    ASSERT_NE(match, nullptr) << kNames[i] << " not found";
+    EXPECT_EQ(match->model, i) << kNames[i] << " reported as another model";
+    EXPECT_LT((match->cam_T_model.t_mm - parts[i].posed.cam_T_model.t_mm).norm(), 1.0f)
+        << kNames[i];
+    EXPECT_LT(SymmetricAngleDeg(*parts[i].posed.model, match->cam_T_model.R,
+                                parts[i].posed.cam_T_model.R),
+              1.0f)
+        << kNames[i];
+  }
+}
+
 // A ParallelFor that runs every index on a thread of its own, all at once.
 void RunOnThreads(void* /*pool*/, int n, void (*fn)(void* context, int index), void* context) {
   std::vector<std::thread> threads;
   threads.reserve(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) threads.emplace_back(fn, context, i);
   for (std::thread& t : threads) t.join();
+}
+
+// Process() on 1 to kMaxShapeThreads threads gives what one thread gives, bit for bit; returns
+// the one thread's objects and statistics.
+void ExpectSameOnEveryThreadCount(ShapeRecognizer& recognizer, const testing::FlatImage& left,
+                                  const testing::FlatImage& right,
+                                  Vector<RecognizedObject, kMaxObjects>* one_thread,
+                                  ShapeStats* one_thread_stats) {
+  ParallelFor on_threads;
+  on_threads.run = &RunOnThreads;
+  Vector<RecognizedObject, kMaxObjects> found[kMaxShapeThreads];
+  ShapeStats stats[kMaxShapeThreads];
+  for (int threads = 1; threads <= kMaxShapeThreads; ++threads) {
+    recognizer.SetParallel(on_threads, threads);
+    const Status s =
+        recognizer.Process(left.frame(), right.frame(), found[threads - 1], &stats[threads - 1]);
+    ASSERT_TRUE(s.ok()) << s.message();
+  }
+  for (int t = 1; t < kMaxShapeThreads; ++t) {
+    EXPECT_EQ(stats[t].hypotheses, stats[0].hypotheses) << t + 1 << " threads";
+    EXPECT_EQ(stats[t].verified, stats[0].verified) << t + 1 << " threads";
+    EXPECT_EQ(stats[t].restarted, stats[0].restarted) << t + 1 << " threads";
+    EXPECT_EQ(stats[t].restart_kept, stats[0].restart_kept) << t + 1 << " threads";
+    ASSERT_EQ(found[t].size(), found[0].size()) << t + 1 << " threads";
+    for (size_t i = 0; i < found[0].size(); ++i) {
+      EXPECT_EQ(found[t][i].model, found[0][i].model);
+      EXPECT_EQ(found[t][i].cam_T_model.t_mm, found[0][i].cam_T_model.t_mm);
+      EXPECT_EQ(found[t][i].cam_T_model.R, found[0][i].cam_T_model.R);
+      EXPECT_EQ(found[t][i].verify_evidence, found[0][i].verify_evidence);
+    }
+  }
+  *one_thread = found[0];
+  *one_thread_stats = stats[0];
 }
 
 class ShapeRecognizerTest : public ::testing::Test {
@@ -96,6 +149,15 @@ class ShapeRecognizerTest : public ::testing::Test {
     return parts;
   }
 
+  // The scene of `parts` processed on 1 to kMaxShapeThreads threads, which must agree; the one
+  // thread's objects and statistics.
+  void ProcessOnEveryThreadCount(const std::vector<testing::FlatPart>& parts,
+                                 Vector<RecognizedObject, kMaxObjects>* found, ShapeStats* stats) {
+    testing::FlatImage left, right;
+    testing::RenderFlatPair(calib_, parts, 40, 2.0f, &left, &right);
+    ExpectSameOnEveryThreadCount(*recognizer_, left, right, found, stats);
+  }
+
   static std::vector<uint8_t>* blob_;
   ShapeViewsView views_;
   StereoCalibration calib_;
@@ -115,20 +177,7 @@ TEST_F(ShapeRecognizerTest, FindsEveryPartWithItsModelAndPoseWithoutTouchingTheH
   EXPECT_EQ(testing::HeapAllocations(), before) << "Process() allocated";
   ASSERT_TRUE(s.ok()) << s.message();
   EXPECT_EQ(found.size(), static_cast<size_t>(kParts));
-  for (int i = 0; i < kParts; ++i) {
-    const RecognizedObject* match = nullptr;
-    for (const RecognizedObject& o : found) {
-      if ((o.cam_T_model.t_mm - parts[i].posed.cam_T_model.t_mm).norm() < 20.0f) match = &o;
-    }
-    ASSERT_NE(match, nullptr) << kNames[i] << " not found";
-    EXPECT_EQ(match->model, i) << kNames[i] << " reported as another model";
-    EXPECT_LT((match->cam_T_model.t_mm - parts[i].posed.cam_T_model.t_mm).norm(), 1.0f)
-        << kNames[i];
-    EXPECT_LT(SymmetricAngleDeg(*parts[i].posed.model, match->cam_T_model.R,
-                                parts[i].posed.cam_T_model.R),
-              1.0f)
-        << kNames[i];
-  }
+  ExpectEveryPartAtItsPose(parts, found);
   EXPECT_FALSE(stats.regions_truncated || stats.pairs_truncated || stats.objects_full);
 }
 
@@ -150,32 +199,43 @@ TEST_F(ShapeRecognizerTest, ReportsNothingOnAnEmptyTableAndRefusesFramesOfAnothe
 
 TEST_F(ShapeRecognizerTest, CandidatesRefinedOnSeveralThreadsGiveWhatOneThreadGives) {
   const std::vector<testing::FlatPart> parts = Scene();
-  testing::FlatImage left, right;
-  testing::RenderFlatPair(calib_, parts, 40, 2.0f, &left, &right);
-  ParallelFor on_threads;
-  on_threads.run = &RunOnThreads;
-  Vector<RecognizedObject, kMaxObjects> found[kMaxShapeThreads];
-  ShapeStats stats[kMaxShapeThreads];
-  for (int threads = 1; threads <= kMaxShapeThreads; ++threads) {
-    recognizer_->SetParallel(on_threads, threads);
-    const Status s =
-        recognizer_->Process(left.frame(), right.frame(), found[threads - 1], &stats[threads - 1]);
-    ASSERT_TRUE(s.ok()) << s.message();
-  }
-  ASSERT_EQ(found[0].size(), static_cast<size_t>(kParts));
+  Vector<RecognizedObject, kMaxObjects> found;
+  ShapeStats stats;
+  ProcessOnEveryThreadCount(parts, &found, &stats);
+  ASSERT_EQ(found.size(), static_cast<size_t>(kParts));
   // Several candidates per part were refined, so there was work to spread.
-  EXPECT_GT(stats[0].hypotheses, 2u * kParts);
-  for (int t = 1; t < kMaxShapeThreads; ++t) {
-    EXPECT_EQ(stats[t].hypotheses, stats[0].hypotheses) << t + 1 << " threads";
-    EXPECT_EQ(stats[t].verified, stats[0].verified) << t + 1 << " threads";
-    ASSERT_EQ(found[t].size(), found[0].size()) << t + 1 << " threads";
-    for (size_t i = 0; i < found[0].size(); ++i) {
-      EXPECT_EQ(found[t][i].model, found[0][i].model);
-      EXPECT_EQ(found[t][i].cam_T_model.t_mm, found[0][i].cam_T_model.t_mm);
-      EXPECT_EQ(found[t][i].cam_T_model.R, found[0][i].cam_T_model.R);
-      EXPECT_EQ(found[t][i].verify_evidence, found[0][i].verify_evidence);
-    }
-  }
+  EXPECT_GT(stats.hypotheses, 2u * kParts);
+}
+
+// Every winner counted as weak: each is refined again from six turned starts (on the threads),
+// a start replaces it only with more evidence, so the parts keep their model and pose.
+TEST_F(ShapeRecognizerTest, WinnersRefinedAgainFromTurnedStartsKeepTheirPoseOnEveryThreadCount) {
+  ShapeConfig config;
+  config.weak_edge_score = 1.0f;
+  ASSERT_TRUE(recognizer_->Init(calib_, views_, config, 0).ok());
+  const std::vector<testing::FlatPart> parts = Scene();
+  Vector<RecognizedObject, kMaxObjects> found;
+  ShapeStats stats;
+  ProcessOnEveryThreadCount(parts, &found, &stats);
+  ASSERT_EQ(found.size(), static_cast<size_t>(kParts));
+  EXPECT_GE(stats.restarted, static_cast<uint32_t>(kParts));
+  ExpectEveryPartAtItsPose(parts, found);
+}
+
+TEST(ShapeConfigTest, RefusesRestartsAndSecondPassesOutOfRange) {
+  EXPECT_TRUE(CheckShapeConfig(ShapeConfig{}).ok());
+  ShapeConfig c;
+  c.restart_deg = 91.0f;
+  EXPECT_FALSE(CheckShapeConfig(c).ok());
+  c = ShapeConfig{};
+  c.weak_edge_score = 1.5f;
+  EXPECT_FALSE(CheckShapeConfig(c).ok());
+  c = ShapeConfig{};
+  c.second_pass_starts = static_cast<int>(kMaxShapeCandidates) + 1;
+  EXPECT_FALSE(CheckShapeConfig(c).ok());
+  c = ShapeConfig{};
+  c.second_pass_min_score = -0.1f;
+  EXPECT_FALSE(CheckShapeConfig(c).ok());
 }
 
 }  // namespace
