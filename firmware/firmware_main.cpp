@@ -238,6 +238,9 @@ PipelineRecognitionConfig PipelineSettings(const FwConfig& config, const TablePo
   pc.automatic = config.background == BackgroundKey::kAuto;
   pc.light_background = config.background == BackgroundKey::kLight;
   pc.threads = config.threads;
+  // The simulator's cameras hand over grey or NV12 frames, always with a luma plane; libcamera
+  // may offer only BGR888, which needs the grey images to convert into.
+  pc.rgb_frames = config.camera == CameraSource::kLibcamera;
   pc.volume_set = config.volume_set();
   for (int k = 0; k < 3; ++k) {
     pc.volume_min_mm[k] = config.volume_min_mm[k];

@@ -20,6 +20,7 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const ModelSet&
                           : config_.light_background ? PipelineConfig::LightBackground()
                                                      : PipelineConfig::DarkBackground();
   config.threads = config_.threads;
+  config.rgb_frames = config_.rgb_frames;
   const RigidTransform& left_T_table = config_.left_T_table_at_init != nullptr
                                            ? *config_.left_T_table_at_init
                                            : config_.left_T_table;

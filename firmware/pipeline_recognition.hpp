@@ -18,6 +18,7 @@ struct PipelineRecognitionConfig {
   bool automatic = true;          // thresholds measured from each image (no preset)
   bool light_background = false;  // without `automatic`: the light-table preset
   int threads = 0;                // worker threads, the calling one included; 0 = all cores
+  bool rgb_frames = true;         // the camera may hand over RGB frames (PipelineConfig)
   bool table_known = false;       // left_T_table is the table the objects stand on
   // Without table_known: the plane the objects found rest on, estimated in each frame, and
   // carried between frames once confirmed (firmware key table_estimate; PipelineConfig).

@@ -171,7 +171,7 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
                          calib.left.width, calib.left.height, calib.right.width, calib.right.height,
                          kMaxImageWidth, kMaxImageHeight);
   }
-  SH_RETURN_IF_ERROR(InitImageBuffers(calib));
+  SH_RETURN_IF_ERROR(InitImageBuffers(calib, config.rgb_frames));
   table_ = table;  // the model set refers to the pipeline's own copy of the view
   models_ = ModelSet(&table_, shape_views);
   if (models_.count() == 0) {
@@ -214,11 +214,19 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
   return Status::Ok();
 }
 
-Status Pipeline::InitImageBuffers(const StereoCalibration& calib) {
+Status Pipeline::InitImageBuffers(const StereoCalibration& calib, bool rgb_frames) {
   const CameraIntrinsics* cams[2] = {&calib.left, &calib.right};
   for (int i = 0; i < 2; ++i) {
     const Status st = workspace_[i].Init(cams[i]->width, cams[i]->height);
     if (!st.ok()) return Status::Error(st.code(), "pipeline: %s", st.message());
+  }
+  if (!rgb_frames) {
+    grey_block_ = InitBlock();
+    for (int i = 0; i < 2; ++i) {
+      grey_[i] = nullptr;
+      grey_width_[i] = grey_height_[i] = 0;
+    }
+    return Status::Ok();
   }
   if (grey_width_[0] == calib.left.width && grey_height_[0] == calib.left.height &&
       grey_width_[1] == calib.right.width && grey_height_[1] == calib.right.height) {
@@ -324,6 +332,12 @@ Status Pipeline::Process(const FrameView& left, const FrameView& right, float bu
     ConstGrayView grey[2];
     for (int i = 0; i < 2; ++i) {
       if (FrameLuma(frames[i], &grey[i])) continue;
+      if (grey_[i] == nullptr) {
+        return Status::Error(StatusCode::kInvalidArgument,
+                             "pipeline: the %s frame is RGB, but the pipeline was set up for "
+                             "frames with a luma plane (rgb_frames off)",
+                             i == 0 ? "left" : "right");
+      }
       // RGB: the grey the polyhedral path reads, converted once (the image fits kMaxImage*).
       const GrayView g{grey_[i], frames[i].width(), frames[i].height(), frames[i].width()};
       SH_RETURN_IF_ERROR(FrameToGray(frames[i], g));

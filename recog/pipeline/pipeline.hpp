@@ -63,6 +63,11 @@ struct PipelineConfig {
   // (ShapeRecognizer::SetParallel) and the final edge fits are spread over them. 0: all online
   // cores.
   int threads = 0;
+  // Frames may be RGB (PNG files, a camera that offers only BGR888): the polyhedral path then
+  // converts each into a grey image of the calibration's size, 2 W H bytes taken at Init. Off
+  // for sources that always hand over a luma plane (grey, NV12, YUV420): no such images, and an
+  // RGB frame is refused with an error.
+  bool rgb_frames = true;
   // The shape path for colour parts (used when a view database is given and frames are colour).
   ShapeConfig shape;
   // Objects found by another path before the polyhedral one (Process's `hidden`, the printed
@@ -254,7 +259,7 @@ class Pipeline {
   void KeepOverFrameTable(PipelineResult* out);
 
   // Sizes the feature workspaces and the grey buffers for the calibration's images.
-  Status InitImageBuffers(const StereoCalibration& calib);
+  Status InitImageBuffers(const StereoCalibration& calib, bool rgb_frames);
   static void ExtractOne(void* self, int image);
   // Steps 1-6 of the polyhedral path on grey images; frame_t0 is the frame's start (the budget
   // covers the whole frame), t0 the path's (its stage times).

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "tables/table_file.hpp"
@@ -250,6 +251,47 @@ TEST_F(PipelineTest, NoClockMeansNoTimings) {
   EXPECT_EQ(r.time.total_ms, 0.0f);
   EXPECT_FALSE(r.recognition.budget_exhausted);  // without a clock only the basis budget applies
   EXPECT_GT(r.objects.size(), 0u);
+}
+
+// RGB frames are converted into the pipeline's grey images; a pipeline set up without them
+// (rgb_frames off: sources that always hand over a luma plane) refuses an RGB frame by name and
+// still recognises grey frames, the same objects as the one with them.
+TEST_F(PipelineTest, RgbFramesNeedTheGreyImagesAndAreRefusedWithoutThem) {
+  std::unique_ptr<RenderedPair> pair = RenderDark(22);
+  ASSERT_TRUE(pair);
+  const FrameView grey[2] = {FrameView::Gray(pair->left_view()),
+                             FrameView::Gray(pair->right_view())};
+  std::vector<Rgb8> rgb[2];
+  FrameView colour[2];
+  for (int i = 0; i < 2; ++i) {
+    const ConstGrayView& g = grey[i].luma;
+    rgb[i].resize(static_cast<size_t>(g.width) * g.height);
+    for (int y = 0; y < g.height; ++y) {
+      for (int x = 0; x < g.width; ++x) {
+        const uint8_t v = g.row(y)[x];
+        rgb[i][static_cast<size_t>(y) * g.width + x] = {v, v, v};
+      }
+    }
+    colour[i] = FrameView::Rgb({rgb[i].data(), g.width, g.height, g.width});
+  }
+  PipelineConfig config = ConfigFor(render::Background::kDark);
+  PipelineResult with_rgb, from_grey;
+  ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, config).ok());
+  ASSERT_TRUE(pipeline_->Process(colour[0], colour[1], 0, &with_rgb).ok());
+  EXPECT_GT(with_rgb.objects.size(), 0u);
+
+  config.rgb_frames = false;
+  ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, config).ok());
+  PipelineResult refused;
+  const Status s = pipeline_->Process(colour[0], colour[1], 0, &refused);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(std::string(s.message()).find("RGB"), std::string::npos) << s.message();
+  ASSERT_TRUE(pipeline_->Process(grey[0], grey[1], 0, &from_grey).ok());
+  ASSERT_EQ(from_grey.objects.size(), with_rgb.objects.size());
+  for (size_t i = 0; i < from_grey.objects.size(); ++i) {
+    EXPECT_EQ(from_grey.objects[i].model, with_rgb.objects[i].model);
+    EXPECT_EQ(from_grey.objects[i].cam_T_model.t_mm, with_rgb.objects[i].cam_T_model.t_mm);
+  }
 }
 
 // A budget shorter than the feature stage leaves no time for recognition: the frame completes
