@@ -515,7 +515,8 @@ using Outcome = SearchObserver::Outcome;
 bool Recognizer::RefineAndVerify(const Hypothesis& h, uint32_t basis_number, RefineInput& refine_in,
                                  const Vector<RecognizedObject>& objects,
                                  HypothesisVerifier& verifier, RecognitionStats& stats,
-                                 RecognizedObject* candidate, Correspondences* matches) {
+                                 RecognizedObject* candidate, Correspondences* matches,
+                                 int min_matched) {
   const Model& model = table_.model(h.model);
   refine_in.model = &model;
   const RefineResult refined = RefinePose(refine_in, h.cam_T_model, config_.refine);
@@ -535,6 +536,7 @@ bool Recognizer::RefineAndVerify(const Hypothesis& h, uint32_t basis_number, Ref
                         config_.support_gate_sigmas * config_.sigma_point_mm, &tight);
   candidate->matched_points = uint16_t(tight.matched_points);
   candidate->matched_lines = uint16_t(tight.matched_lines);
+  if (tight.matched_points + tight.matched_lines < min_matched) return false;
   ++stats.verifications;
   const bool verified = verifier.Verify(model, objects, *candidate);
   if (observer_) {
@@ -570,14 +572,24 @@ void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInpu
     if (!SceneBasisFrame(b, &basis_T_cam, &shape_point)) continue;
     if ((basis_T_cam.Inverse().t_mm - centre_mm).squaredNorm() > radius2_mm2) continue;
     ++voted;
-    stats.hypotheses += Vote(b, scratch_, hypotheses, nullptr);
+    // With two threads or more the next bases were mostly voted ahead, on this same scene.
+    uint32_t k = ahead_next_;
+    while (k < ahead_count_ && ahead_[k].index < j) ++k;
+    if (k < ahead_count_ && ahead_[k].index == j) {
+      hypotheses = ahead_[k].hypotheses;
+    } else {
+      (void)Vote(b, scratch_, hypotheses, nullptr);
+    }
+    stats.hypotheses += uint32_t(hypotheses.size());
     for (const Hypothesis& h : hypotheses) {
       if (h.model == first.model) continue;
       if ((h.cam_T_model.t_mm - centre_mm).squaredNorm() >= place2_mm2) continue;
       RecognizedObject candidate;
       Correspondences matches;
+      // More 3-D support than the object (matched corners and edges) before the verifier is
+      // asked.
       if (!RefineAndVerify(h, basis_number, refine_in, objects, verifier, stats, &candidate,
-                           &matches)) {
+                           &matches, first.matched_points + first.matched_lines + 1)) {
         continue;
       }
       if ((candidate.cam_T_model.t_mm - centre_mm).squaredNorm() >= place2_mm2) continue;

@@ -77,7 +77,8 @@ struct RecognizerConfig {
   // untried active scene bases whose origin lies within the object's model radius of its centre
   // (looked for among the next kCompeteScanBases candidates) are voted on the scene it is accepted
   // from. A hypothesis of another model there, refined to within min_object_separation_mm of the
-  // object's centre, replaces the object when its verification explains clearly more: evidence
+  // object's centre and matching more scene features than it (corners and edges within the
+  // verifier's gate), replaces the object when its verification explains clearly more: evidence
   // at least (1 + compete_evidence_margin) times the object's and both scores higher by
   // compete_score_margin. A model fitting a subset of a larger object's corners and edges (a
   // pentagon prism on a hexagon prism) would otherwise be accepted first and take the features
@@ -245,11 +246,13 @@ class Recognizer {
   bool TooCloseToAccepted(const RigidTransform& cam_T_model,
                           const Vector<RecognizedObject>& objects) const;
   // A refined and verified candidate of hypothesis `h` (the search's step for each hypothesis);
-  // false when it is too close to an accepted object or rejected. Reports to the observer.
+  // false when it is too close to an accepted object, matches fewer than `min_matched` scene
+  // features within the verifier's gate (not verified then) or is rejected. Reports verified,
+  // rejected and too-close hypotheses to the observer.
   bool RefineAndVerify(const Hypothesis& h, uint32_t basis_number, RefineInput& refine_in,
                        const Vector<RecognizedObject>& objects, HypothesisVerifier& verifier,
                        RecognitionStats& stats, RecognizedObject* candidate,
-                       Correspondences* matches);
+                       Correspondences* matches, int min_matched = 0);
   // Competition at acceptance (RecognizerConfig::compete_bases): `best` (with `best_matches`),
   // about to be accepted from the basis before candidate `next`, is replaced by a clearly better
   // verified object of another model at its place, if the bases near it show one.
