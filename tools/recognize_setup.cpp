@@ -262,6 +262,8 @@ constexpr Setting<PipelineConfig> kPipelineSettings[] = {
      }},
     {"recognizer.hypotheses_per_basis", SettingKind::kCount,
      [](float v, PipelineConfig& c) { c.recognizer.hypotheses_per_basis = static_cast<int>(v); }},
+    {"recognizer.compete_bases", SettingKind::kCount,
+     [](float v, PipelineConfig& c) { c.recognizer.compete_bases = static_cast<int>(v); }},
     {"stereo.epipolar_tolerance_px", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.stereo.epipolar_tolerance_px = v; }},
     {"stereo.min_plane_angle_deg", SettingKind::kReal,

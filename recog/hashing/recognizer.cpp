@@ -74,6 +74,10 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
     return Status::Error(StatusCode::kInvalidArgument, "hypotheses per basis must be 1..%zu",
                          kMaxHypothesesPerBasis);
   }
+  if (config.compete_bases < 0 || config.compete_bases > kMaxCompeteBases) {
+    return Status::Error(StatusCode::kInvalidArgument, "competing bases must be 0..%d",
+                         kMaxCompeteBases);
+  }
   table_ = table;
   config_ = config;
   // Reach of the model entries from their basis origins (plus the vote support), for the
@@ -508,6 +512,100 @@ bool Recognizer::TooCloseToAccepted(const RigidTransform& cam_T_model,
 
 using Outcome = SearchObserver::Outcome;
 
+bool Recognizer::RefineAndVerify(const Hypothesis& h, uint32_t basis_number, RefineInput& refine_in,
+                                 const Vector<RecognizedObject>& objects,
+                                 HypothesisVerifier& verifier, RecognitionStats& stats,
+                                 RecognizedObject* candidate, Correspondences* matches,
+                                 int min_matched) {
+  const Model& model = table_.model(h.model);
+  refine_in.model = &model;
+  const RefineResult refined = RefinePose(refine_in, h.cam_T_model, config_.refine);
+  *candidate = RecognizedObject{};
+  candidate->model = h.model;
+  candidate->cam_T_model = refined.cam_T_model;
+  candidate->vote = h.vote;
+  candidate->fit_rms_mm = refined.rms_mm;
+  if (TooCloseToAccepted(refined.cam_T_model, objects)) {
+    if (observer_) observer_->OnHypothesis(basis_number, h, *candidate, Outcome::kTooClose);
+    return false;
+  }
+  // The verifier counts support within a tighter gate than refinement used: clutter near a
+  // wrong pose easily falls within 2 sigma, rarely within 1.
+  Correspondences tight;
+  SelectCorrespondences(refine_in, refined.cam_T_model,
+                        config_.support_gate_sigmas * config_.sigma_point_mm, &tight);
+  candidate->matched_points = uint16_t(tight.matched_points);
+  candidate->matched_lines = uint16_t(tight.matched_lines);
+  if (tight.matched_points + tight.matched_lines < min_matched) return false;
+  ++stats.verifications;
+  const bool verified = verifier.Verify(model, objects, *candidate);
+  if (observer_) {
+    observer_->OnHypothesis(basis_number, h, *candidate,
+                            verified ? Outcome::kVerified : Outcome::kRejected);
+  }
+  if (verified) *matches = refined.matches;
+  return verified;
+}
+
+void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInput& refine_in,
+                                const Vector<RecognizedObject>& objects,
+                                HypothesisVerifier& verifier, RecognitionStats& stats,
+                                RecognizedObject& best, Correspondences& best_matches) {
+  const Model& accepted_model = table_.model(best.model);
+  float radius2_mm2 = 0.0f;
+  for (int i = 0; i < accepted_model.n_corners; ++i) {
+    radius2_mm2 = std::max(radius2_mm2, accepted_model.corner(i).squaredNorm());
+  }
+  const Eigen::Vector3f centre_mm = best.cam_T_model.t_mm;
+  const float place2_mm2 = config_.min_object_separation_mm * config_.min_object_separation_mm;
+  const int most = std::min(config_.compete_bases, kMaxCompeteBases);
+  const uint32_t end = std::min(candidates_.count(), next + kCompeteScanBases);
+  // Scores of the object to beat; `best` changes when a challenger wins.
+  const RecognizedObject first = best;
+  Vector<Hypothesis, kMaxHypothesesPerBasis> hypotheses;
+  int voted = 0;
+  for (uint32_t j = next; j < end && voted < most; ++j) {
+    const SceneBasis& b = candidates_[j];
+    if (!BasisActive(b)) continue;
+    RigidTransform basis_T_cam;
+    Eigen::Vector3f shape_point;
+    if (!SceneBasisFrame(b, &basis_T_cam, &shape_point)) continue;
+    if ((basis_T_cam.Inverse().t_mm - centre_mm).squaredNorm() > radius2_mm2) continue;
+    ++voted;
+    // With two threads or more the next bases were mostly voted ahead, on this same scene.
+    uint32_t k = ahead_next_;
+    while (k < ahead_count_ && ahead_[k].index < j) ++k;
+    if (k < ahead_count_ && ahead_[k].index == j) {
+      hypotheses = ahead_[k].hypotheses;
+    } else {
+      (void)Vote(b, scratch_, hypotheses, nullptr);
+    }
+    stats.hypotheses += uint32_t(hypotheses.size());
+    for (const Hypothesis& h : hypotheses) {
+      if (h.model == first.model) continue;
+      if ((h.cam_T_model.t_mm - centre_mm).squaredNorm() >= place2_mm2) continue;
+      RecognizedObject candidate;
+      Correspondences matches;
+      // More 3-D support than the object (matched corners and edges) before the verifier is
+      // asked.
+      if (!RefineAndVerify(h, basis_number, refine_in, objects, verifier, stats, &candidate,
+                           &matches, first.matched_points + first.matched_lines + 1)) {
+        continue;
+      }
+      if ((candidate.cam_T_model.t_mm - centre_mm).squaredNorm() >= place2_mm2) continue;
+      const bool clearly_better =
+          candidate.verify_evidence >=
+              (1.0f + config_.compete_evidence_margin) * first.verify_evidence &&
+          candidate.verify_score[0] >= first.verify_score[0] + config_.compete_score_margin &&
+          candidate.verify_score[1] >= first.verify_score[1] + config_.compete_score_margin;
+      if (clearly_better && candidate.verify_evidence > best.verify_evidence) {
+        best = candidate;
+        best_matches = matches;
+      }
+    }
+  }
+}
+
 Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, const Budget& budget,
                              Vector<RecognizedObject>& objects, RecognitionStats* stats_out) {
   RecognitionStats stats;
@@ -557,40 +655,24 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     Correspondences best_matches;
     float best_support = -1.0f;
     for (const Hypothesis& h : hypotheses) {
-      const Model& model = table_.model(h.model);
-      refine_in.model = &model;
-      const RefineResult refined = RefinePose(refine_in, h.cam_T_model, config_.refine);
       RecognizedObject candidate;
-      candidate.model = h.model;
-      candidate.cam_T_model = refined.cam_T_model;
-      candidate.vote = h.vote;
-      candidate.fit_rms_mm = refined.rms_mm;
-      if (TooCloseToAccepted(refined.cam_T_model, objects)) {
-        if (observer_) observer_->OnHypothesis(basis_number, h, candidate, Outcome::kTooClose);
+      Correspondences matches;
+      if (!RefineAndVerify(h, basis_number, refine_in, objects, verifier, stats, &candidate,
+                           &matches)) {
         continue;
       }
-      // The verifier counts support within a tighter gate than refinement used: clutter near a
-      // wrong pose easily falls within 2 sigma, rarely within 1.
-      Correspondences tight;
-      SelectCorrespondences(refine_in, refined.cam_T_model,
-                            config_.support_gate_sigmas * config_.sigma_point_mm, &tight);
-      candidate.matched_points = uint16_t(tight.matched_points);
-      candidate.matched_lines = uint16_t(tight.matched_lines);
-      ++stats.verifications;
-      const bool verified = verifier.Verify(model, objects, candidate);
-      if (observer_) {
-        observer_->OnHypothesis(basis_number, h, candidate,
-                                verified ? Outcome::kVerified : Outcome::kRejected);
-      }
-      if (!verified) continue;
       const float support = candidate.verify_evidence;
       if (support > best_support) {
         best_support = support;
         best = candidate;
-        best_matches = refined.matches;
+        best_matches = matches;
       }
     }
     if (best_support >= 0.0f) {
+      if (config_.compete_bases > 0) {
+        CompeteAtPlace(cursor, basis_number, refine_in, objects, verifier, stats, best,
+                       best_matches);
+      }
       for (const RecognizedObject& o : objects) best.instance += o.model == best.model;
       if (!objects.push_back(best)) {
         stats.objects_full = true;

@@ -44,6 +44,10 @@ inline constexpr size_t kMaxHypothesesPerBasis = 8;  // model bases tried per sc
 // (Recognizer::SetParallel), and the most threads that vote.
 inline constexpr uint32_t kVoteAheadBases = 16;
 inline constexpr int kMaxVoteThreads = 8;
+// Competition at acceptance (RecognizerConfig::compete_bases): the most scene bases voted at an
+// accepted object's place, and how far down the candidate list they are looked for.
+inline constexpr int kMaxCompeteBases = 8;
+inline constexpr uint32_t kCompeteScanBases = 64;
 
 struct RecognizerConfig {
   float sigma_point_mm = 2.0f;             // vote width for points
@@ -69,6 +73,19 @@ struct RecognizerConfig {
   // Look line entries up by direction class (line_direction_index.hpp): the same votes with
   // fewer entries visited. Off: every entry of the neighbourhood, for comparison.
   bool line_direction_index = true;
+  // Competition at acceptance: before an object leaves the scene, the next `compete_bases`
+  // untried active scene bases whose origin lies within the object's model radius of its centre
+  // (looked for among the next kCompeteScanBases candidates) are voted on the scene it is accepted
+  // from. A hypothesis of another model there, refined to within min_object_separation_mm of the
+  // object's centre and matching more scene features than it (corners and edges within the
+  // verifier's gate), replaces the object when its verification explains clearly more: evidence
+  // at least (1 + compete_evidence_margin) times the object's and both scores higher by
+  // compete_score_margin. A model fitting a subset of a larger object's corners and edges (a
+  // pentagon prism on a hexagon prism) would otherwise be accepted first and take the features
+  // that the larger model needed. 0: off (at most kMaxCompeteBases).
+  int compete_bases = 0;
+  float compete_evidence_margin = 0.1f;
+  float compete_score_margin = 0.05f;
   RefineConfig refine;
 };
 
@@ -228,6 +245,21 @@ class Recognizer {
   bool BasisActive(const SceneBasis& b) const;
   bool TooCloseToAccepted(const RigidTransform& cam_T_model,
                           const Vector<RecognizedObject>& objects) const;
+  // A refined and verified candidate of hypothesis `h` (the search's step for each hypothesis);
+  // false when it is too close to an accepted object, matches fewer than `min_matched` scene
+  // features within the verifier's gate (not verified then) or is rejected. Reports verified,
+  // rejected and too-close hypotheses to the observer.
+  bool RefineAndVerify(const Hypothesis& h, uint32_t basis_number, RefineInput& refine_in,
+                       const Vector<RecognizedObject>& objects, HypothesisVerifier& verifier,
+                       RecognitionStats& stats, RecognizedObject* candidate,
+                       Correspondences* matches, int min_matched = 0);
+  // Competition at acceptance (RecognizerConfig::compete_bases): `best` (with `best_matches`),
+  // about to be accepted from the basis before candidate `next`, is replaced by a clearly better
+  // verified object of another model at its place, if the bases near it show one.
+  void CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInput& refine_in,
+                      const Vector<RecognizedObject>& objects, HypothesisVerifier& verifier,
+                      RecognitionStats& stats, RecognizedObject& best,
+                      Correspondences& best_matches);
 
   TableView table_;
   RecognizerConfig config_;

@@ -40,6 +40,10 @@ PipelineConfig CommonPreset() {
   // six instead of three lets the whole object compete with a smaller model fitting part of it
   // (dark hold-out rows: false alarms 6.8 -> 3.8 %, correct 91.9 -> 94.8 %).
   c.recognizer.hypotheses_per_basis = 6;
+  // Before an object leaves the scene, the next five scene bases at its place are voted and
+  // another model explaining clearly more of the image there replaces it (a pentagon prism
+  // fitting part of a hexagon prism): docs/pipeline.md, "Competition at acceptance".
+  c.recognizer.compete_bases = 5;
   return c;
 }
 

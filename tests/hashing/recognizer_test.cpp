@@ -220,6 +220,54 @@ TEST_F(RecognizerTest, ObserverSeesEveryHypothesisAndAcceptance) {
   }
 }
 
+// Competition at acceptance: a model fitting a subset of an object's corners and edges may be
+// voted best on the first scene basis and accepted; the next bases at its place then show the
+// object's own model, which explains clearly more and replaces it. Each model alone in its
+// scene, one hypothesis per scene basis (so that the object's own model cannot win within the
+// basis that found the smaller one).
+TEST_F(RecognizerTest, CompetitionAtAcceptanceReplacesAModelFittingPartOfAnother) {
+  SyntheticSceneParams p;
+  p.min_objects = p.max_objects = 1;
+  p.total_features = 0;
+  p.missing_min = 0.3f;
+  p.missing_max = 0.5f;
+  p.noise_min_mm = 1.0f;
+  p.noise_max_mm = 1.5f;
+  struct Tally {
+    int correct = 0, wrong_model_in_place = 0;
+  };
+  auto run = [&](int compete_bases) {
+    RecognizerConfig config;
+    config.hypotheses_per_basis = 1;
+    config.compete_bases = compete_bases;
+    auto recognizer = MakeRecognizer(view_, config);
+    SceneSupportVerifier verifier(0.25f, 5);
+    Tally t;
+    for (int m = 0; m < int(models_.size()); ++m) {
+      p.model_mask = 1u << m;
+      for (uint64_t seed = 1; seed <= 30; ++seed) {
+        GenerateSyntheticScene(models_, p, 1000 * uint64_t(m) + seed, synthetic_.get());
+        EXPECT_TRUE(recognizer->Recognize(synthetic_->scene, verifier, Budget{}, objects_).ok());
+        const TruthObject& truth = synthetic_->truth[0];
+        for (const RecognizedObject& o : objects_) {
+          const bool in_place = (o.cam_T_model.t_mm - truth.cam_T_model.t_mm).norm() <
+                                config.min_object_separation_mm;
+          if (in_place && o.model != truth.model) ++t.wrong_model_in_place;
+        }
+        t.correct += MatchToTruth(models_, synthetic_->truth, Poses(objects_)).correct;
+      }
+    }
+    return t;
+  };
+  const Tally without = run(0), with = run(5);
+  std::printf("competition off: %d correct, %d wrong models in place; on: %d, %d\n",
+              without.correct, without.wrong_model_in_place, with.correct,
+              with.wrong_model_in_place);
+  ASSERT_GT(without.wrong_model_in_place, 0);  // the scenes hold the case
+  EXPECT_LT(with.wrong_model_in_place, without.wrong_model_in_place);
+  EXPECT_GT(with.correct, without.correct);
+}
+
 // Removing an object takes every 3-D feature that shares a 2-D feature with it.
 TEST_F(RecognizerTest, RemovesFeaturesSharingTwoDimensionalSources) {
   auto recognizer = MakeRecognizer(view_);
