@@ -177,7 +177,7 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
   INT(sim_port, int, 0, 0, 65535, "",                                                              \
       "socketcand port on 127.0.0.1, 0 = ephemeral (printed as SOCKETCAND_PORT=<n>)")              \
   INT(sim_socketcand_clients, int, 4, 1, 16, "",                                                   \
-      "socketcand client slots (hal::kSocketcandMaxClients)")                                      \
+      "socketcand client slots, 65 KiB of buffers each (hal::kSocketcandMaxClients)")              \
   INT(sim_socketcand_handshake_ms, int, 2000, 1, 600000, "ms",                                     \
       "a client not in raw mode this long after connecting is closed")                             \
   INT(sim_socketcand_idle_ms, int, 0, 0, 600000, "ms",                                             \

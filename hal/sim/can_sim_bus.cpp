@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <new>
 
 namespace sh::hal {
 namespace {
@@ -51,6 +52,12 @@ Result<SimCanEndpoint*> SimCanBus::AddEndpoint(const SimCanEndpointConfig& confi
                          config.queue_depth, kSimCanMaxQueueDepth);
   }
   SimCanEndpoint& e = endpoints_[endpoint_count_];
+  // The ring of the configured depth, once per endpoint (never per frame).
+  e.queue_.reset(new (std::nothrow) CanFrame[config.queue_depth]);
+  if (e.queue_ == nullptr) {
+    return Status::Error(StatusCode::kResourceExhausted,
+                         "sim CAN bus: cannot allocate a queue of %zu frames", config.queue_depth);
+  }
   if (config.notify_fd) {
     e.notify_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     if (e.notify_fd_ < 0) {

@@ -2,9 +2,10 @@
 // medium. A frame sent by one endpoint is queued at every other endpoint whose filter accepts it,
 // like on a real bus (no loopback to the sender).
 //
-// Storage is fixed at compile time: kSimCanMaxEndpoints endpoints, each with a receive ring of
-// queue_depth frames (kSimCanQueueDepth by default, like a SocketCAN socket's receive buffer;
-// up to kSimCanMaxQueueDepth for a bridge that relays a whole burst). A full receive ring drops
+// Capacities are fixed at compile time: kSimCanMaxEndpoints endpoints, each with a receive ring
+// of queue_depth frames (kSimCanQueueDepth by default, like a SocketCAN socket's receive buffer;
+// up to kSimCanMaxQueueDepth for a bridge that relays a whole burst). AddEndpoint() allocates
+// the ring of the configured depth (QueueBytes(queue_depth)), once; a full receive ring drops
 // the new frame and counts it in that endpoint's rx_dropped_overflow (what a real controller
 // does when software reads too slowly).
 //
@@ -19,6 +20,7 @@
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 
 #include "hal/can.hpp"
@@ -55,6 +57,10 @@ class SimCanEndpoint final : public CanBus {
   // pending; the consumer reads it (8 bytes) and then drains Receive(frame, 0).
   int notify_fd() const { return notify_fd_; }
 
+  // The receive ring AddEndpoint() allocates for queue_depth frames.
+  static constexpr size_t QueueBytes(size_t queue_depth) { return queue_depth * sizeof(CanFrame); }
+  size_t queue_depth() const { return depth_; }
+
   SimCanEndpoint() = default;
   SimCanEndpoint(const SimCanEndpoint&) = delete;
   SimCanEndpoint& operator=(const SimCanEndpoint&) = delete;
@@ -72,8 +78,8 @@ class SimCanEndpoint final : public CanBus {
   bool deliver_error_frames_ = false;
   int notify_fd_ = -1;
 
-  CanFrame queue_[kSimCanMaxQueueDepth];
-  size_t depth_ = kSimCanQueueDepth;
+  std::unique_ptr<CanFrame[]> queue_;  // depth_ frames
+  size_t depth_ = 0;
   size_t head_ = 0;
   size_t count_ = 0;
   std::condition_variable cv_;

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <new>
 
 namespace sh::hal {
 namespace {
@@ -52,6 +53,24 @@ Status SocketcandServer::Start(SimCanBus* bus, const SocketcandServerConfig& con
                          config.stall_timeout_ms, kMaxTimeoutMs);
   }
   config_ = config;
+  // The buffers of the configured slots, once per start (never per message).
+  buffer_bytes_ = 0;
+  buffers_.reset(new (std::nothrow) char[BufferBytes(config.max_clients)]);
+  if (buffers_ == nullptr) {
+    return Status::Error(StatusCode::kResourceExhausted,
+                         "socketcand: cannot allocate %zu bytes of buffers for %zu clients",
+                         BufferBytes(config.max_clients), config.max_clients);
+  }
+  buffer_bytes_ = BufferBytes(config.max_clients);
+  char* next = buffers_.get();
+  for (size_t i = 0; i < kSocketcandMaxClients; ++i) {
+    Client& c = clients_[i];
+    c.in = c.out = nullptr;
+    if (i >= config.max_clients) continue;
+    c.in = next;
+    c.out = next + kSocketcandInBufferBytes;
+    next += kSocketcandInBufferBytes + kSocketcandOutBufferBytes;
+  }
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
   addr.sin_port = htons(config.port);
@@ -369,7 +388,7 @@ void SocketcandServer::ReportMalformed(size_t index, const char* what, const cha
 
 void SocketcandServer::ReadClient(size_t index) {
   Client& c = clients_[index];
-  const ssize_t n = recv(c.fd, c.in + c.in_len, sizeof(c.in) - c.in_len, MSG_DONTWAIT);
+  const ssize_t n = recv(c.fd, c.in + c.in_len, kSocketcandInBufferBytes - c.in_len, MSG_DONTWAIT);
   if (n == 0) {
     DropClient(index, "closed by peer");
     return;
@@ -463,7 +482,8 @@ void SocketcandServer::HandleMessage(size_t index, const char* text, size_t leng
 size_t SocketcandServer::ClientWithoutRoom() const {
   for (size_t i = 0; i < config_.max_clients; ++i) {
     const Client& c = clients_[i];
-    if (c.phase == Phase::kRaw && c.out_len + kSocketcandMessageMax + 1 > sizeof(c.out)) return i;
+    if (c.phase == Phase::kRaw && c.out_len + kSocketcandMessageMax + 1 > kSocketcandOutBufferBytes)
+      return i;
   }
   return kSocketcandMaxClients;
 }
@@ -498,7 +518,7 @@ void SocketcandServer::QueueToClients(const CanFrame& frame, int except_index) {
     Client& c = clients_[i];
     if (c.phase != Phase::kRaw || static_cast<int>(i) == except_index) continue;
     any = true;
-    if (c.out_len + len > sizeof(c.out)) {
+    if (c.out_len + len > kSocketcandOutBufferBytes) {
       // Only a frame one client sends to the others can meet a full buffer (bus frames wait
       // until there is room); counted and reported when the client goes or catches up.
       frames_dropped_slow_.fetch_add(1);
@@ -527,7 +547,7 @@ void SocketcandServer::FlushClient(size_t index, int64_t now_ms) {
   }
   std::memmove(c.out, c.out + n, c.out_len - static_cast<size_t>(n));
   c.out_len -= static_cast<size_t>(n);
-  if (c.full_since_ms >= 0 && c.out_len <= sizeof(c.out) / 2) {
+  if (c.full_since_ms >= 0 && c.out_len <= kSocketcandOutBufferBytes / 2) {
     c.full_since_ms = -1;  // reading again
     if (c.dropped > 0 && config_.log != nullptr) {
       std::fprintf(config_.log, "socketcand: client %zu reads again; %llu frames were lost\n",

@@ -12,8 +12,10 @@
 // drops one character after the last complete message it parsed, and without the space that
 // character is the '<' of a message cut by a TCP segment boundary, which loses the message.
 //
-// Bounded: up to kSocketcandMaxClients clients (config.max_clients of them used) with fixed
-// input and output buffers. Nothing is lost without a trace:
+// Bounded: up to kSocketcandMaxClients clients, config.max_clients of them used, each with fixed
+// input and output buffers; Start() allocates the buffers of the configured slots in one block
+// (BufferBytes(max_clients)), so slots beyond the configuration take no memory. Nothing is lost
+// without a trace:
 //  - backpressure: a client's commands are read only while its output buffer is at most half
 //    full, so a client that floods commands waits (in TCP) for the answers it has not read yet
 //    instead of losing them; while any client's output is full, bus frames wait in the bridge's
@@ -35,6 +37,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 
 #include "hal/sim/can_sim_bus.hpp"
 #include "hal/sim/socketcand_text.hpp"
@@ -91,6 +94,12 @@ class SocketcandServer {
   // Clients past the handshake that receive bus frames.
   size_t raw_mode_clients() const { return raw_mode_.load(); }
   SocketcandStats stats() const;
+  // The client buffers Start() allocates for max_clients slots.
+  static constexpr size_t BufferBytes(size_t max_clients) {
+    return max_clients * (kSocketcandInBufferBytes + kSocketcandOutBufferBytes);
+  }
+  // The client buffers allocated by the last Start() (0 before it).
+  size_t buffer_bytes() const { return buffer_bytes_; }
   // The server's own endpoint on the bus (for fault injection in tests).
   SimCanEndpoint* endpoint() const { return endpoint_; }
 
@@ -104,9 +113,9 @@ class SocketcandServer {
     int64_t last_message_ms = 0;  // last message from the client
     int64_t full_since_ms = -1;   // output full since then (-1: not full)
     uint64_t dropped = 0;         // frames lost because the output was full
-    char in[kSocketcandInBufferBytes] = {};
+    char* in = nullptr;           // kSocketcandInBufferBytes in buffers_
     size_t in_len = 0;
-    char out[kSocketcandOutBufferBytes] = {};
+    char* out = nullptr;  // kSocketcandOutBufferBytes in buffers_
     size_t out_len = 0;
   };
 
@@ -139,6 +148,8 @@ class SocketcandServer {
   std::atomic<size_t> connected_{0};
   std::atomic<size_t> raw_mode_{0};
   Client clients_[kSocketcandMaxClients];
+  std::unique_ptr<char[]> buffers_;  // the in and out buffers of config_.max_clients slots
+  size_t buffer_bytes_ = 0;
 
   // Written by the server thread, read by stats() from others.
   std::atomic<uint64_t> clients_accepted_{0}, clients_rejected_{0}, clients_evicted_{0},

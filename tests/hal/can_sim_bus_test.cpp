@@ -76,6 +76,35 @@ TEST_F(SimCanBusTest, FullReceiveQueueDropsAndCounts) {
   EXPECT_EQ(got.data[0], 0);  // the oldest frames are kept, the newest dropped
 }
 
+TEST_F(SimCanBusTest, ConfiguredQueueDepthBoundsTheRingAndItsMemory) {
+  SimCanEndpoint* a = Add();
+  SimCanEndpointConfig small;
+  small.queue_depth = 7;
+  SimCanEndpoint* b = Add(small);
+  ASSERT_NE(b, nullptr);
+  EXPECT_EQ(b->queue_depth(), 7u);
+  EXPECT_EQ(SimCanEndpoint::QueueBytes(7), 7 * sizeof(CanFrame));
+  EXPECT_LT(SimCanEndpoint::QueueBytes(7), SimCanEndpoint::QueueBytes(kSimCanQueueDepth));
+  for (uint8_t i = 0; i < 10; ++i) ASSERT_TRUE(a->Send(Frame(0x100, i)).ok());
+  EXPECT_EQ(b->stats().rx_dropped_overflow, 3u);
+  CanFrame got;
+  for (uint8_t i = 0; i < 7; ++i) {
+    ASSERT_TRUE(*b->Receive(&got, 0));
+    EXPECT_EQ(got.data[0], i);
+  }
+  EXPECT_FALSE(*b->Receive(&got, 0));
+  // The ring wraps: the freed places take new frames.
+  for (uint8_t i = 0; i < 7; ++i) ASSERT_TRUE(a->Send(Frame(0x100, uint8_t(20 + i))).ok());
+  EXPECT_EQ(b->stats().rx_dropped_overflow, 3u);
+  for (uint8_t i = 0; i < 7; ++i) {
+    ASSERT_TRUE(*b->Receive(&got, 0));
+    EXPECT_EQ(got.data[0], 20 + i);
+  }
+  SimCanEndpointConfig too_deep;
+  too_deep.queue_depth = kSimCanMaxQueueDepth + 1;
+  EXPECT_EQ(bus_.AddEndpoint(too_deep).status().code(), StatusCode::kOutOfRange);
+}
+
 TEST_F(SimCanBusTest, RejectsInvalidFrames) {
   SimCanEndpoint* a = Add();
   CanFrame f = Frame(0x800);

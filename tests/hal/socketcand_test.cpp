@@ -533,6 +533,41 @@ TEST(SocketcandServerConfigTest, SlotCountIsConfigurableAndBounded) {
   EXPECT_EQ(c.Read(), "< error too many clients >");
 }
 
+// The client buffers are those of the configured slots: N slots take N clients' buffers, and
+// the N+1-th client is refused.
+TEST(SocketcandServerConfigTest, BufferMemoryScalesWithTheSlotCount) {
+  EXPECT_EQ(SocketcandServer::BufferBytes(1), kSocketcandInBufferBytes + kSocketcandOutBufferBytes);
+  for (size_t slots : {size_t{1}, size_t{3}}) {
+    SimCanBus bus;
+    SocketcandServer server;
+    EXPECT_EQ(server.buffer_bytes(), 0u);
+    SocketcandServerConfig config = QuietConfig();
+    config.max_clients = slots;
+    ASSERT_TRUE(server.Start(&bus, config).ok());
+    EXPECT_EQ(server.buffer_bytes(), SocketcandServer::BufferBytes(slots));
+    EXPECT_EQ(server.buffer_bytes(), slots * SocketcandServer::BufferBytes(1));
+    std::vector<Client> clients(slots + 1);
+    for (size_t i = 0; i < slots; ++i) {
+      ASSERT_TRUE(clients[i].Connect(server.port()));
+      ASSERT_TRUE(clients[i].Handshake());
+    }
+    ASSERT_TRUE(clients[slots].Connect(server.port()));
+    EXPECT_EQ(clients[slots].Read(), "< error too many clients >");
+    EXPECT_EQ(server.stats().clients_rejected, 1u);
+    // Every slot's buffers carry frames: a bus frame reaches each client.
+    SimCanEndpointConfig device_config;
+    device_config.name = "device";
+    Result<SimCanEndpoint*> device = bus.AddEndpoint(device_config);
+    ASSERT_TRUE(device.ok());
+    CanFrame frame;
+    frame.id = 0x181;
+    frame.len = 1;
+    frame.data[0] = 0x5a;
+    ASSERT_TRUE((*device)->Send(frame).ok());
+    for (size_t i = 0; i < slots; ++i) EXPECT_EQ(clients[i].Read().rfind("< frame 181 ", 0), 0u);
+  }
+}
+
 TEST(SocketcandServerConfigTest, RejectsABadBindAddress) {
   SimCanBus bus;
   SocketcandServer server;
