@@ -31,17 +31,11 @@ void BasisCandidates::Generate(const SceneState& state, const SceneTopology& top
     SortOrder();
     if (policy_.cell_rank_penalty > 0.0f) {
       // Each basis loses score for the better bases of its cell, then all are sorted again.
-      std::fill(cell_count_, cell_count_ + kBasisCellSlots, uint16_t{0});
+      std::fill(cells_, cells_ + kBasisCellSlots, Cell{});
       const float inv_cell = 1.0f / policy_.cell_size_mm;
       for (uint32_t k = 0; k < count_; ++k) {
         const uint32_t i = order_scratch_[k];
-        const Eigen::Vector3f c = CellPosition(candidates_[i]) * inv_cell;
-        const auto x = uint32_t(int32_t(std::floor(c.x())));
-        const auto y = uint32_t(int32_t(std::floor(c.y())));
-        const auto z = uint32_t(int32_t(std::floor(c.z())));
-        const uint32_t slot = (x * 73856093u ^ y * 19349663u ^ z * 83492791u) % kBasisCellSlots;
-        const uint16_t rank = cell_count_[slot];
-        if (rank < UINT16_MAX) ++cell_count_[slot];
+        const uint16_t rank = CountInCell(CellPosition(candidates_[i]) * inv_cell);
         score_[i] -= policy_.cell_rank_penalty * float(rank);
       }
       SortOrder();
@@ -58,6 +52,31 @@ void BasisCandidates::Generate(const SceneState& state, const SceneTopology& top
         std::swap(candidates_[i - 1], candidates_[NextRandom(rng) % i]);
     }
   }
+}
+
+uint16_t BasisCandidates::CountInCell(const Eigen::Vector3f& cell_position) {
+  // Cells within +-2^20 (50 km at 50 mm) fit int32 coordinates; beyond, or not finite: none.
+  constexpr float kMaxCell = 1048576.0f;
+  if (!cell_position.allFinite() || cell_position.cwiseAbs().maxCoeff() >= kMaxCell) return 0;
+  const auto x = int32_t(std::floor(cell_position.x()));
+  const auto y = int32_t(std::floor(cell_position.y()));
+  const auto z = int32_t(std::floor(cell_position.z()));
+  uint32_t slot = (uint32_t(x) * 73856093u ^ uint32_t(y) * 19349663u ^ uint32_t(z) * 83492791u) %
+                  kBasisCellSlots;
+  for (size_t probe = 0; probe < kBasisCellSlots; ++probe) {
+    Cell& cell = cells_[slot];
+    if (cell.count == 0) {
+      cell = {x, y, z, 1};
+      return 0;
+    }
+    if (cell.x == x && cell.y == y && cell.z == z) {
+      const uint16_t rank = cell.count;
+      if (cell.count < UINT16_MAX) ++cell.count;
+      return rank;
+    }
+    slot = (slot + 1) % kBasisCellSlots;
+  }
+  return 0;  // the table is full
 }
 
 void BasisCandidates::SortOrder() {

@@ -78,6 +78,13 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
     return Status::Error(StatusCode::kInvalidArgument, "competing bases must be 0..%d",
                          kMaxCompeteBases);
   }
+  // The spread's cells: a penalty of 0 or more, cells of 1 mm to 10 m (finite).
+  if (!(config.basis_cell_rank_penalty >= 0.0f && config.basis_cell_rank_penalty <= 1e6f) ||
+      !(config.basis_cell_size_mm >= 1.0f && config.basis_cell_size_mm <= 10000.0f)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "basis cell penalty must be 0..1e6 and the cell 1..10000 mm (got %g, %g)",
+                         double(config.basis_cell_rank_penalty), double(config.basis_cell_size_mm));
+  }
   table_ = table;
   config_ = config;
   // Reach of the model entries from their basis origins (plus the vote support), for the

@@ -89,6 +89,22 @@ TEST(BasisCandidates, CellSpreadBringsAQuietRegionForward) {
   for (int k = 0; k < 3; ++k) EXPECT_EQ((*spread)[0].f[k], (*quality)[0].f[k]);
 }
 
+// Cells are told apart by their coordinates, not by a hash slot: cell (8, 24, 10) shares a slot
+// of a plain 1024-slot hash with the busy cell (0, 0, 10), yet its quiet square is not penalised
+// for the busy one's bases.
+TEST(BasisCandidates, CellsThatShareAHashSlotAreCountedApart) {
+  auto f = std::make_unique<SceneFixture>();
+  for (int k = 0; k < 10; ++k) AddSquare(f->scene, {0.0f, 0.0f, 500.0f + 4.0f * float(k)}, 40.0f);
+  AddSquare(f->scene, {405.0f, 1205.0f, 500.0f}, 36.0f);
+  f->Prepare();
+  BasisCandidates::Policy spread_policy;
+  spread_policy.cell_rank_penalty = 1.0f;
+  const auto spread = Ordered(*f, spread_policy);
+  const int quiet = FirstRankBeyond(*spread, f->scene, 200.0f);
+  ASSERT_GE(quiet, 0);
+  EXPECT_LT(quiet, 10);
+}
+
 // Without a penalty the order is the quality order, whatever the cell size.
 TEST(BasisCandidates, NoPenaltyKeepsTheQualityOrder) {
   const auto f = BusyAndQuietScene(3);

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <limits>
+#include <string>
 
 #include "tests/support/tables_fixture.hpp"
 
@@ -130,6 +132,30 @@ TEST_F(RecognizerTest, StopsAtTheObjectLimit) {
   EXPECT_EQ(objects_.size(), 2u);
   EXPECT_LT(limited.scene_bases_tried, all.scene_bases_tried);
   EXPECT_FALSE(limited.budget_exhausted);
+}
+
+// Settings of the bases' spread over the scene that would make the cell arithmetic meaningless
+// are refused at Init, by name.
+TEST_F(RecognizerTest, RefusesCellSpreadSettingsOutOfRange) {
+  const float bad[][2] = {{-1.0f, 50.0f},
+                          {0.5f, 0.0f},
+                          {0.5f, -50.0f},
+                          {0.5f, 0.1f},
+                          {0.5f, std::numeric_limits<float>::quiet_NaN()},
+                          {std::numeric_limits<float>::infinity(), 50.0f}};
+  for (const auto& b : bad) {
+    RecognizerConfig config;
+    config.basis_cell_rank_penalty = b[0];
+    config.basis_cell_size_mm = b[1];
+    auto recognizer = std::make_unique<Recognizer>();
+    const Status s = recognizer->Init(view_, config);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << b[0] << " " << b[1];
+    EXPECT_NE(std::string(s.message()).find("cell"), std::string::npos) << s.message();
+  }
+  RecognizerConfig good;
+  good.basis_cell_rank_penalty = 0.5f;
+  good.basis_cell_size_mm = 50.0f;
+  EXPECT_TRUE(std::make_unique<Recognizer>()->Init(view_, good).ok());
 }
 
 TEST_F(RecognizerTest, HonoursTheModelMask) {
