@@ -65,7 +65,10 @@ Status AspectVoter::AllocateCounters() {
   const uint32_t lines = table_.line_entry_count();
   const uint32_t bases = table_.basis_count();
   const size_t bytes = BytesFor(points, lines, bases);
-  if (bytes == block_.bytes() && point_stamp_ != nullptr) {
+  // The same block serves only the same layout: another table of the same total size would
+  // overlap the arrays.
+  if (point_stamp_ != nullptr && points == carved_points_ && lines == carved_lines_ &&
+      bases == carved_bases_) {
     std::memset(point_stamp_, 0, size_t{points} * sizeof(uint16_t));
     std::memset(line_stamp_, 0, size_t{lines} * sizeof(uint16_t));
     std::memset(basis_stamp_, 0, size_t{bases} * sizeof(uint16_t));
@@ -85,6 +88,9 @@ Status AspectVoter::AllocateCounters() {
   basis_point_sum_ = block_.Take<uint32_t>(bases);
   basis_line_sum_ = block_.Take<uint32_t>(bases);
   touched_ = block_.Take<uint32_t>(bases);
+  carved_points_ = points;
+  carved_lines_ = lines;
+  carved_bases_ = bases;
   return Status::Ok();
 }
 

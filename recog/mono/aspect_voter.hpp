@@ -133,6 +133,8 @@ class AspectVoter {
   uint32_t* basis_line_sum_ = nullptr;
   uint32_t* touched_ = nullptr;
   uint32_t n_touched_ = 0;
+  // The entry and basis counts the block was carved for: reused only for the same three.
+  uint32_t carved_points_ = 0, carved_lines_ = 0, carved_bases_ = 0;
   // Rows of line-centre bins crossed by the current scene line's strip.
   uint16_t row_y_[kMaxAspectGridSide], row_x0_[kMaxAspectGridSide], row_x1_[kMaxAspectGridSide];
 };

@@ -65,6 +65,23 @@ inline std::unique_ptr<BuiltAspectTable> BuildTable(const std::vector<Model>& mo
   return t;
 }
 
+// A voter set up on the aspect table of one model, built without refinement.
+struct ModelVoter {
+  std::unique_ptr<BuiltAspectTable> table;
+  std::unique_ptr<AspectVoter> voter;
+};
+
+inline ModelVoter VoterOf(const Model& model, const VoterConfig& config = {}) {
+  ModelVoter v;
+  AspectBuildOptions options;
+  options.refine = false;
+  v.table = BuildTable({model}, options);
+  EXPECT_TRUE(v.table->view.valid());
+  v.voter = std::make_unique<AspectVoter>();
+  EXPECT_TRUE(v.voter->Init(v.table->view, config).ok());
+  return v;
+}
+
 // The thesis camera: 756 x 581 px, f = 1136.4 px, no distortion.
 inline CameraIntrinsics ThesisCamera() {
   CameraIntrinsics c;

@@ -20,12 +20,9 @@ using testing::ThesisTable;
 
 TEST(PoseFromHypothesis, BestHypothesisOfTheBasesIsNearTheTruth) {
   const Model& cube = ReferenceModel("cube");
-  AspectBuildOptions options;
-  options.refine = false;
-  auto table = BuildTable({cube}, options);
-  ASSERT_TRUE(table->view.valid());
-  auto voter = std::make_unique<AspectVoter>();
-  ASSERT_TRUE(voter->Init(table->view, VoterConfig{}).ok());
+  const testing::ModelVoter v = testing::VoterOf(cube);
+  auto& table = v.table;
+  auto& voter = v.voter;
   const CameraIntrinsics cam = ThesisCamera();
   const RigidTransform truth =
       PoseFromAxisAngle({0.3f, 1.0f, 0.2f}, 50.0f, {30.0f, -20.0f, 450.0f});
