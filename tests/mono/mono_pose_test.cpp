@@ -54,7 +54,7 @@ TEST(PoseFromHypothesis, BestHypothesisOfTheBasesIsNearTheTruth) {
 // Exact features of a posed model, matched at a disturbed pose and fitted back.
 struct FitCase {
   CameraIntrinsics cam;
-  const Model* model;
+  const Model* model = nullptr;
   RigidTransform truth;
 };
 
