@@ -10,12 +10,12 @@
 namespace sh::fw {
 
 // Deepest stack any firmware thread reached (84 KiB, with the one-camera fallback; 76 to 80 KiB
-// in the other runs, the other threads 12 to 52 KiB): the resident part of each thread's stack
+// in the other runs, the other threads 12 to 56 KiB): the resident part of each thread's stack
 // in /proc/PID/smaps of the simulator replaying 1280 x 800 pairs, with the rendered world, with
-// the carton database (texture features) and with the right camera silent, the pre-fault cut to
-// one 16 KiB chunk so that it does not hide the depth; the pages the C library keeps at the top
-// of each stack (the thread's control block, its TLS) are included (docs/memory.md, "Thread
-// stacks").
+// the carton database (texture features), with colour parts and with the right camera silent, the
+// pre-fault cut to one 16 KiB chunk so that it does not hide the depth; the pages the C library
+// keeps at the top of each stack (the thread's control block, its TLS) are included
+// (docs/memory.md, "Thread stacks").
 inline constexpr size_t kMeasuredStackHighWaterBytes = size_t{84} * 1024;
 
 // Stack bytes each firmware thread touches when it starts, so that an unlocked run takes its
