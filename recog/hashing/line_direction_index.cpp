@@ -44,10 +44,13 @@ bool LineDirectionIndex::Build(const TableView& table, float angle_cut_mm2) {
 
   // Count per class and bin, then place each class's entries in bin order.
   std::memset(offsets_, 0, sizeof(offsets_));
+  std::memset(bin_classes_, 0, sizeof(bin_classes_));
   for (uint32_t b = 0; b < bins; ++b) {
     for (uint32_t e = bin_offsets[b]; e < bin_offsets[b + 1]; ++e) {
       const Entry d = DecodeLineEntry(lines[e], e);
-      ++offsets_[ClassOf({d.ux, d.uy, d.uz})][b + 1];
+      const int c = ClassOf({d.ux, d.uy, d.uz});
+      ++offsets_[c][b + 1];
+      bin_classes_[b] |= uint64_t{1} << c;
     }
   }
   uint32_t start = 0;

@@ -281,39 +281,28 @@ void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v,
   const bool indexed = line_index_.built();
   const uint64_t live = indexed ? line_index_.LiveClasses(v) : 0u;
   const uint32_t first_new = scratch.n_touched_lines;
-  // Rows of bins (first and last bin) in the ball, gathered to be run once per live class.
-  constexpr int kRowBatch = 64;
-  uint32_t row_first[kRowBatch], row_last[kRowBatch];
-  int n_rows = 0;
-  auto run_rows = [&]() {
-    for (uint64_t m = live; m != 0; m &= m - 1) {
-      const int c = __builtin_ctzll(m);
-      for (int k = 0; k < n_rows; ++k) {
-        const uint32_t end = line_index_.end(c, row_last[k]);
-        for (uint32_t i = line_index_.begin(c, row_first[k]); i < end; ++i) {
-          VoteLineEntry(line_index_.entry(i), q, scratch);
-        }
-      }
-    }
-    n_rows = 0;
-  };
   for (int z = lo[2]; z <= hi[2]; ++z) {
     for (int y = lo[1]; y <= hi[1]; ++y) {
       int x_lo = 0, x_hi = 0;
       if (!RowRangeInBall(g, s, r, y, z, &x_lo, &x_hi)) continue;
       const uint32_t row = (uint32_t(z) * g.dims[1] + uint32_t(y)) * g.dims[0];
+      const uint32_t first = row + uint32_t(x_lo), last = row + uint32_t(x_hi);
       if (indexed) {
-        row_first[n_rows] = row + uint32_t(x_lo);
-        row_last[n_rows] = row + uint32_t(x_hi);
-        if (++n_rows == kRowBatch) run_rows();
+        // Only the live classes with entries in these bins: most (class, row) ranges are empty.
+        for (uint64_t m = live & line_index_.ClassesIn(first, last); m != 0; m &= m - 1) {
+          const int c = __builtin_ctzll(m);
+          const uint32_t end = line_index_.end(c, last);
+          for (uint32_t i = line_index_.begin(c, first); i < end; ++i) {
+            VoteLineEntry(line_index_.entry(i), q, scratch);
+          }
+        }
         continue;
       }
-      const uint32_t begin = offsets[row + x_lo], end = offsets[row + x_hi + 1];
+      const uint32_t begin = offsets[first], end = offsets[last + 1];
       for (uint32_t e = begin; e < end; ++e) VoteLineEntry(DecodeLineEntry(base[e], e), q, scratch);
     }
   }
   if (indexed) {
-    run_rows();
     // Without the index the entries are visited in table order, so first touched in ascending
     // order; restore that order, on which the order of the model bases (and ties) depends.
     std::sort(scratch.touched_lines + first_new, scratch.touched_lines + scratch.n_touched_lines);
