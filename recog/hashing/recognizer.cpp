@@ -223,32 +223,13 @@ void Recognizer::VotePoint(const Eigen::Vector3f& q, VoteScratch& scratch) const
   }
 }
 
-// A scene line's look-up: the line (s, v) in the basis frame and the cut-offs of the tests
-// that rule entries out before their vote is computed.
-struct Recognizer::LineLookUp {
-  Eigen::Vector3f s, v;
-  Eigen::Vector3f n;  // a unit vector perpendicular to v
-  float n_dot_s = 0.0f;
-  float angle_cut_mm2 = 0.0f;   // L^2 (1 - cos^2 angle) at or above: no vote
-  float offset_cut_mm2 = 0.0f;  // (n . (centre - s))^2 at or above: no vote
-};
-
 // One line entry's vote for the scene line, kept if it beats the entry's best so far.
 inline void Recognizer::VoteLineEntry(const LineDirectionIndex::Entry& l, const LineLookUp& q,
                                       VoteScratch& scratch) const {
-  const Eigen::Vector3f c(l.cx, l.cy, l.cz);
-  // The segment centre's offset from the scene line along n is one component of the centre's
-  // distance from the line, a term of eq. 4.4: too large, and there is no vote.
-  const float offset = q.n.dot(c) - q.n_dot_s;
-  if (offset * offset >= q.offset_cut_mm2) return;
-  const Eigen::Vector3f u(l.ux, l.uy, l.uz);
-  const float length = l.length_mm;
-  // The angle term of eq. 4.4 alone, L^2/12 (1 - cos^2), rules most entries out: a
-  // vote needs it below the cut-off d^2 < kVoteCutoff sigma^2.
-  const float cos_angle = q.v.dot(u);
-  if (length * length * (1.0f - cos_angle * cos_angle) >= q.angle_cut_mm2) return;
+  if (q.RulesOut(l)) return;
+  const Eigen::Vector3f c(l.cx, l.cy, l.cz), u(l.ux, l.uy, l.uz);
   const uint16_t vote =
-      votes_lut_.Vote(SegmentLineDistance2(c, u, length, q.s, q.v), inv_sigma2_line_);
+      votes_lut_.Vote(SegmentLineDistance2(c, u, l.length_mm, q.s, q.v), inv_sigma2_line_);
   const uint32_t e = l.table_index;
   if (vote > scratch.line_vote[e]) {
     if (scratch.line_vote[e] == 0) scratch.touched_lines[scratch.n_touched_lines++] = e;
@@ -264,17 +245,7 @@ void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v,
   for (int a = 0; a < 3; ++a) {
     if (!BinRange(g, a, s[a], r, &lo[a], &hi[a])) return;
   }
-  LineLookUp q;
-  q.s = s;
-  q.v = v;
-  // n: across v, from the coordinate axis least aligned with it.
-  const Eigen::Vector3f va = v.cwiseAbs();
-  const int least = va.x() <= va.y() ? (va.x() <= va.z() ? 0 : 2) : (va.y() <= va.z() ? 1 : 2);
-  q.n = v.cross(Eigen::Vector3f::Unit(least)).normalized();
-  q.n_dot_s = q.n.dot(s);
-  q.angle_cut_mm2 = 12.0f * float(kVoteCutoff) / inv_sigma2_line_;
-  // The vote's cut-off distance^2, with a margin for rounding: the test only saves work.
-  q.offset_cut_mm2 = float(kVoteCutoff) / inv_sigma2_line_ * 1.01f + 0.25f;
+  const LineLookUp q = LineLookUp::For(s, v, inv_sigma2_line_);
 
   const LineEntry* base = table_.line_entries();
   const uint32_t* offsets = table_.line_bin_offsets();
