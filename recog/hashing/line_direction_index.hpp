@@ -70,7 +70,7 @@ class LineDirectionIndex {
  private:
   bool built_ = false;
   uint64_t non_empty_ = 0;                    // classes with entries
-  float axis_[kClasses][3] = {};              // unit axis of each class
+  float axis_[3][kClasses] = {};              // unit axis of each class, by component
   float min_abs_cos_[kClasses] = {};          // live while |v . axis| >= this
   uint16_t offsets_[kClasses][kMaxBins + 1];  // per class: bin -> first entry
   uint64_t bin_classes_[kMaxBins] = {};       // per bin: the classes with entries in it
