@@ -44,10 +44,13 @@ bool LineDirectionIndex::Build(const TableView& table, float angle_cut_mm2) {
 
   // Count per class and bin, then place each class's entries in bin order.
   std::memset(offsets_, 0, sizeof(offsets_));
+  std::memset(bin_classes_, 0, sizeof(bin_classes_));
   for (uint32_t b = 0; b < bins; ++b) {
     for (uint32_t e = bin_offsets[b]; e < bin_offsets[b + 1]; ++e) {
       const Entry d = DecodeLineEntry(lines[e], e);
-      ++offsets_[ClassOf({d.ux, d.uy, d.uz})][b + 1];
+      const int c = ClassOf({d.ux, d.uy, d.uz});
+      ++offsets_[c][b + 1];
+      bin_classes_[b] |= uint64_t{1} << c;
     }
   }
   uint32_t start = 0;
@@ -91,7 +94,7 @@ bool LineDirectionIndex::Build(const TableView& table, float angle_cut_mm2) {
     const double reach =
         min_length * min_length <= cut ? kHalfPi : std::asin(std::sqrt(cut) / min_length);
     const double limit = spread + reach + kClassSlackRad;
-    for (int k = 0; k < 3; ++k) axis_[c][k] = float(axis[k]);
+    for (int k = 0; k < 3; ++k) axis_[k][c] = float(axis[k]);
     min_abs_cos_[c] = limit >= kHalfPi ? -1.0f : float(std::cos(limit));
   }
   built_ = true;
@@ -99,13 +102,16 @@ bool LineDirectionIndex::Build(const TableView& table, float angle_cut_mm2) {
 }
 
 uint64_t LineDirectionIndex::LiveClasses(const Eigen::Vector3f& v) const {
-  uint64_t live = 0;
-  for (uint64_t m = non_empty_; m != 0; m &= m - 1) {
-    const int c = __builtin_ctzll(m);
-    const float cos_axis = v.x() * axis_[c][0] + v.y() * axis_[c][1] + v.z() * axis_[c][2];
-    if (std::fabs(cos_axis) >= min_abs_cos_[c]) live |= uint64_t{1} << c;
+  // Every class at once, in a loop the compiler vectorises (an empty class never passes: its
+  // min_abs_cos_ is 2), then the flags gathered into the mask.
+  int32_t passes[kClasses];
+  for (int c = 0; c < kClasses; ++c) {
+    const float cos_axis = v.x() * axis_[0][c] + v.y() * axis_[1][c] + v.z() * axis_[2][c];
+    passes[c] = std::fabs(cos_axis) >= min_abs_cos_[c] ? 1 : 0;
   }
-  return live;
+  uint64_t live = 0;
+  for (int c = 0; c < kClasses; ++c) live |= uint64_t(passes[c]) << c;
+  return live & non_empty_;
 }
 
 }  // namespace sh

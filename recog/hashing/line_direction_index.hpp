@@ -9,8 +9,10 @@
 // (a margin of kClassSlackRad), so the entries left out are exactly ones that could not vote.
 //
 // Within a class, the entries keep the table's bin order, and offsets per class and bin give one
-// contiguous range for a row of bins, as in the table itself. Tables with more bins or entries
-// than the capacities below are not indexed (built() is false) and are searched as they are.
+// contiguous range for a row of bins, as in the table itself. Each bin knows which classes it
+// holds, so a row of bins is visited only for the classes that have entries there. Tables with more
+// bins or entries than the capacities below are not indexed (built() is false) and are searched as
+// they are.
 #pragma once
 
 #include <Eigen/Core>
@@ -49,6 +51,14 @@ class LineDirectionIndex {
   // direction v (in the basis frame).
   uint64_t LiveClasses(const Eigen::Vector3f& v) const;
 
+  // Classes with entries in bins [bin_lo, bin_hi] (bit c: class c); a class outside the mask
+  // has an empty range there.
+  uint64_t ClassesIn(uint32_t bin_lo, uint32_t bin_hi) const {
+    uint64_t classes = 0;
+    for (uint32_t b = bin_lo; b <= bin_hi; ++b) classes |= bin_classes_[b];
+    return classes;
+  }
+
   // Entries of class c in bins [bin_lo, bin_hi] (bins of the table's line grid).
   uint32_t begin(int c, uint32_t bin_lo) const { return offsets_[c][bin_lo]; }
   uint32_t end(int c, uint32_t bin_hi) const { return offsets_[c][bin_hi + 1]; }
@@ -60,9 +70,10 @@ class LineDirectionIndex {
  private:
   bool built_ = false;
   uint64_t non_empty_ = 0;                    // classes with entries
-  float axis_[kClasses][3] = {};              // unit axis of each class
+  float axis_[3][kClasses] = {};              // unit axis of each class, by component
   float min_abs_cos_[kClasses] = {};          // live while |v . axis| >= this
   uint16_t offsets_[kClasses][kMaxBins + 1];  // per class: bin -> first entry
+  uint64_t bin_classes_[kMaxBins] = {};       // per bin: the classes with entries in it
   Entry entries_[kMaxEntries];
 };
 

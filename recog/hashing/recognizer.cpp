@@ -223,32 +223,13 @@ void Recognizer::VotePoint(const Eigen::Vector3f& q, VoteScratch& scratch) const
   }
 }
 
-// A scene line's look-up: the line (s, v) in the basis frame and the cut-offs of the tests
-// that rule entries out before their vote is computed.
-struct Recognizer::LineLookUp {
-  Eigen::Vector3f s, v;
-  Eigen::Vector3f n;  // a unit vector perpendicular to v
-  float n_dot_s = 0.0f;
-  float angle_cut_mm2 = 0.0f;   // L^2 (1 - cos^2 angle) at or above: no vote
-  float offset_cut_mm2 = 0.0f;  // (n . (centre - s))^2 at or above: no vote
-};
-
 // One line entry's vote for the scene line, kept if it beats the entry's best so far.
 inline void Recognizer::VoteLineEntry(const LineDirectionIndex::Entry& l, const LineLookUp& q,
                                       VoteScratch& scratch) const {
-  const Eigen::Vector3f c(l.cx, l.cy, l.cz);
-  // The segment centre's offset from the scene line along n is one component of the centre's
-  // distance from the line, a term of eq. 4.4: too large, and there is no vote.
-  const float offset = q.n.dot(c) - q.n_dot_s;
-  if (offset * offset >= q.offset_cut_mm2) return;
-  const Eigen::Vector3f u(l.ux, l.uy, l.uz);
-  const float length = l.length_mm;
-  // The angle term of eq. 4.4 alone, L^2/12 (1 - cos^2), rules most entries out: a
-  // vote needs it below the cut-off d^2 < kVoteCutoff sigma^2.
-  const float cos_angle = q.v.dot(u);
-  if (length * length * (1.0f - cos_angle * cos_angle) >= q.angle_cut_mm2) return;
+  if (q.RulesOut(l)) return;
+  const Eigen::Vector3f c(l.cx, l.cy, l.cz), u(l.ux, l.uy, l.uz);
   const uint16_t vote =
-      votes_lut_.Vote(SegmentLineDistance2(c, u, length, q.s, q.v), inv_sigma2_line_);
+      votes_lut_.Vote(SegmentLineDistance2(c, u, l.length_mm, q.s, q.v), inv_sigma2_line_);
   const uint32_t e = l.table_index;
   if (vote > scratch.line_vote[e]) {
     if (scratch.line_vote[e] == 0) scratch.touched_lines[scratch.n_touched_lines++] = e;
@@ -264,56 +245,35 @@ void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v,
   for (int a = 0; a < 3; ++a) {
     if (!BinRange(g, a, s[a], r, &lo[a], &hi[a])) return;
   }
-  LineLookUp q;
-  q.s = s;
-  q.v = v;
-  // n: across v, from the coordinate axis least aligned with it.
-  const Eigen::Vector3f va = v.cwiseAbs();
-  const int least = va.x() <= va.y() ? (va.x() <= va.z() ? 0 : 2) : (va.y() <= va.z() ? 1 : 2);
-  q.n = v.cross(Eigen::Vector3f::Unit(least)).normalized();
-  q.n_dot_s = q.n.dot(s);
-  q.angle_cut_mm2 = 12.0f * float(kVoteCutoff) / inv_sigma2_line_;
-  // The vote's cut-off distance^2, with a margin for rounding: the test only saves work.
-  q.offset_cut_mm2 = float(kVoteCutoff) / inv_sigma2_line_ * 1.01f + 0.25f;
+  const LineLookUp q = LineLookUp::For(s, v, inv_sigma2_line_);
 
   const LineEntry* base = table_.line_entries();
   const uint32_t* offsets = table_.line_bin_offsets();
   const bool indexed = line_index_.built();
   const uint64_t live = indexed ? line_index_.LiveClasses(v) : 0u;
   const uint32_t first_new = scratch.n_touched_lines;
-  // Rows of bins (first and last bin) in the ball, gathered to be run once per live class.
-  constexpr int kRowBatch = 64;
-  uint32_t row_first[kRowBatch], row_last[kRowBatch];
-  int n_rows = 0;
-  auto run_rows = [&]() {
-    for (uint64_t m = live; m != 0; m &= m - 1) {
-      const int c = __builtin_ctzll(m);
-      for (int k = 0; k < n_rows; ++k) {
-        const uint32_t end = line_index_.end(c, row_last[k]);
-        for (uint32_t i = line_index_.begin(c, row_first[k]); i < end; ++i) {
-          VoteLineEntry(line_index_.entry(i), q, scratch);
-        }
-      }
-    }
-    n_rows = 0;
-  };
   for (int z = lo[2]; z <= hi[2]; ++z) {
     for (int y = lo[1]; y <= hi[1]; ++y) {
       int x_lo = 0, x_hi = 0;
       if (!RowRangeInBall(g, s, r, y, z, &x_lo, &x_hi)) continue;
       const uint32_t row = (uint32_t(z) * g.dims[1] + uint32_t(y)) * g.dims[0];
+      const uint32_t first = row + uint32_t(x_lo), last = row + uint32_t(x_hi);
       if (indexed) {
-        row_first[n_rows] = row + uint32_t(x_lo);
-        row_last[n_rows] = row + uint32_t(x_hi);
-        if (++n_rows == kRowBatch) run_rows();
+        // Only the live classes with entries in these bins: most (class, row) ranges are empty.
+        for (uint64_t m = live & line_index_.ClassesIn(first, last); m != 0; m &= m - 1) {
+          const int c = __builtin_ctzll(m);
+          const uint32_t end = line_index_.end(c, last);
+          for (uint32_t i = line_index_.begin(c, first); i < end; ++i) {
+            VoteLineEntry(line_index_.entry(i), q, scratch);
+          }
+        }
         continue;
       }
-      const uint32_t begin = offsets[row + x_lo], end = offsets[row + x_hi + 1];
+      const uint32_t begin = offsets[first], end = offsets[last + 1];
       for (uint32_t e = begin; e < end; ++e) VoteLineEntry(DecodeLineEntry(base[e], e), q, scratch);
     }
   }
   if (indexed) {
-    run_rows();
     // Without the index the entries are visited in table order, so first touched in ascending
     // order; restore that order, on which the order of the model bases (and ties) depends.
     std::sort(scratch.touched_lines + first_new, scratch.touched_lines + scratch.n_touched_lines);

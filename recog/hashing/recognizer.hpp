@@ -27,6 +27,7 @@
 #include "recog/hashing/basis.hpp"
 #include "recog/hashing/basis_candidates.hpp"
 #include "recog/hashing/line_direction_index.hpp"
+#include "recog/hashing/line_look_up.hpp"
 #include "recog/hashing/pose_refine.hpp"
 #include "recog/hashing/scene_grid.hpp"
 #include "recog/hashing/scene_state.hpp"
@@ -233,7 +234,6 @@ class Recognizer {
            float* best_per_model) const;
   void VotePoint(const Eigen::Vector3f& q, VoteScratch& scratch) const;
   void VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v, VoteScratch& scratch) const;
-  struct LineLookUp;
   void VoteLineEntry(const LineDirectionIndex::Entry& l, const LineLookUp& q,
                      VoteScratch& scratch) const;
   // The hypotheses of candidate `index` (basis `b`) of the current pass: from the bases voted

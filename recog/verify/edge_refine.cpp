@@ -20,15 +20,26 @@ bool ProjectF(const CameraIntrinsics& cam, const Eigen::Vector3f& x_cam, Eigen::
   return true;
 }
 
-// The six pose parameters applied to a left-frame point of the object posed at `origin`: a
-// rotation about the model origin, then a translation.
-Eigen::Vector3f Perturb(const Eigen::Vector3f& x, const Eigen::Vector3f& origin, int k, float d) {
+// The finite-difference steps of the three rotation parameters: turns by kDelta about the left
+// camera's axes, as matrices (an angle-axis rotation applied to a vector is its matrix times the
+// vector, so these give the same products as building the rotation per sample).
+struct StepTurns {
+  Eigen::Matrix3f R[3];
+  StepTurns() {
+    for (int k = 0; k < 3; ++k) R[k] = Eigen::AngleAxisf(kDelta, Eigen::Vector3f::Unit(k)).matrix();
+  }
+};
+
+// The six pose parameters, each stepped by kDelta, applied to a left-frame point of the object
+// posed at `origin`: a rotation about the model origin, then a translation.
+Eigen::Vector3f Perturb(const Eigen::Vector3f& x, const Eigen::Vector3f& origin, int k,
+                        const StepTurns& turns) {
   if (k >= 3) {
     Eigen::Vector3f y = x;
-    y[k - 3] += d;
+    y[k - 3] += kDelta;
     return y;
   }
-  return origin + Eigen::AngleAxisf(d, Eigen::Vector3f::Unit(k)) * (x - origin);
+  return origin + turns.R[k] * (x - origin);
 }
 
 struct Accumulated {
@@ -73,6 +84,7 @@ Status Accumulate(const ViewCamera& view, const ConstEdgeMapView& edges, const M
   const CameraIntrinsics& cam = view.intrinsics;
   const RigidTransform left_T_cam = view.cam_T_left.Inverse();
   const float min_abs_cos = std::cos(config.max_angle_deg * kPi / 180.0f);
+  const StepTurns turns;
   for (int k = 0; k < visible.n_edges; ++k) {
     const VisibleEdge& ve = visible.edges[k];
     for (int r = 0; r < ve.n_runs; ++r) {
@@ -94,7 +106,7 @@ Status Accumulate(const ViewCamera& view, const ConstEdgeMapView& edges, const M
         bool ok = true;
         for (int j = 0; j < 6 && ok; ++j) {
           Eigen::Vector2f moved;
-          ok = ProjectF(cam, view.cam_T_left * Perturb(x_left, pose.t_mm, j, kDelta), &moved);
+          ok = ProjectF(cam, view.cam_T_left * Perturb(x_left, pose.t_mm, j, turns), &moved);
           // The residual is edge minus sample: it shrinks as the sample moves towards the edge.
           J[j] = -normal.dot(moved - p) / kDelta;
         }

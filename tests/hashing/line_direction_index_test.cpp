@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <random>
@@ -61,6 +62,33 @@ TEST(LineDirectionIndex, HoldsEveryEntryOnceInBinOrderWithinItsClass) {
     }
   }
   for (uint32_t e = 0; e < n; ++e) EXPECT_EQ(seen[e], 1) << "entry " << e;
+}
+
+// A row of bins is visited only for the classes ClassesIn names: it must name every class with
+// an entry in the range, and no other.
+TEST(LineDirectionIndex, ClassesInNamesTheClassesWithEntriesInTheBins) {
+  auto view = OpenDefaultTable();
+  ASSERT_TRUE(view.ok());
+  auto index = std::make_unique<LineDirectionIndex>();
+  ASSERT_TRUE(index->Build(*view, kAngleCutMm2));
+  const uint32_t bins = view->line_grid().bin_count();
+  std::mt19937 rng(11);
+  int empty = 0, held = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    // Single bins and short ranges, as the rows of a look-up's ball.
+    const uint32_t lo = rng() % bins;
+    const uint32_t hi = std::min(bins - 1, lo + (trial % 2 == 0 ? 0u : uint32_t(rng() % 8)));
+    const uint64_t classes = index->ClassesIn(lo, hi);
+    for (int c = 0; c < LineDirectionIndex::kClasses; ++c) {
+      const bool has_entries = index->begin(c, lo) < index->end(c, hi);
+      ASSERT_EQ(((classes >> c) & 1u) != 0, has_entries)
+          << "class " << c << ", bins " << lo << ".." << hi;
+      (has_entries ? held : empty) += 1;
+    }
+  }
+  // Both kinds occur: the mask does leave classes out, and names others.
+  EXPECT_GT(empty, 0);
+  EXPECT_GT(held, 0);
 }
 
 TEST(LineDirectionIndex, SkipsOnlyClassesWhoseEntriesFailTheAngleTest) {

@@ -1,0 +1,64 @@
+// A scene line's look-up in the hash table's line entries: the line in the basis frame and the
+// tests that rule an entry out before its vote is computed.
+//
+// The vote of a model segment (centre c, unit direction u, length L) for the scene line
+// (support vector s, unit direction v) is the Gaussian of eq. 4.4, d^2 = |perpendicular part of
+// c - s|^2 + L^2/12 (1 - (u . v)^2), cut at d^2 >= kVoteCutoff sigma^2 (vote_lut.hpp). Each
+// term alone bounds d^2 from below, so an entry with a term at or over the cut cannot vote.
+// The tests, cheapest first: the centre's offset along n (one direction across v), then with
+// its offset along m (across v and n) the whole perpendicular distance, then the angle term.
+// The offset cut carries a margin for rounding, so the tests only save work: an entry they
+// rule out would have voted 0.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "recog/hashing/line_direction_index.hpp"
+#include "recog/hashing/vote_lut.hpp"
+
+namespace sh {
+
+struct LineLookUp {
+  Eigen::Vector3f s, v;
+  Eigen::Vector3f n, m;  // unit vectors perpendicular to v and to each other
+  float n_dot_s = 0.0f, m_dot_s = 0.0f;
+  float angle_cut_mm2 = 0.0f;  // L^2 (1 - cos^2 angle) at or above: no vote
+  // (n . (centre - s))^2, and that plus (m . (centre - s))^2, at or above: no vote
+  float offset_cut_mm2 = 0.0f;
+
+  // The look-up of the line through support vector s along unit direction v, for votes of
+  // width sigma (given as 1 / sigma^2, in 1/mm^2).
+  static LineLookUp For(const Eigen::Vector3f& s, const Eigen::Vector3f& v, float inv_sigma2) {
+    LineLookUp q;
+    q.s = s;
+    q.v = v;
+    // n: across v, from the coordinate axis least aligned with it.
+    const Eigen::Vector3f va = v.cwiseAbs();
+    const int least = va.x() <= va.y() ? (va.x() <= va.z() ? 0 : 2) : (va.y() <= va.z() ? 1 : 2);
+    q.n = v.cross(Eigen::Vector3f::Unit(least)).normalized();
+    q.n_dot_s = q.n.dot(s);
+    q.m = v.cross(q.n);
+    q.m_dot_s = q.m.dot(s);
+    q.angle_cut_mm2 = 12.0f * float(kVoteCutoff) / inv_sigma2;
+    // The vote's cut-off distance^2, with a margin for rounding: the tests only save work.
+    q.offset_cut_mm2 = float(kVoteCutoff) / inv_sigma2 * 1.01f + 0.25f;
+    return q;
+  }
+
+  // True when entry l cannot vote for the line.
+  bool RulesOut(const LineDirectionIndex::Entry& l) const {
+    const Eigen::Vector3f c(l.cx, l.cy, l.cz);
+    // On thesis-camera about three in four of the entries visited fail the first test, and
+    // four in five of the rest the second.
+    const float offset = n.dot(c) - n_dot_s;
+    const float offset2 = offset * offset;
+    if (offset2 >= offset_cut_mm2) return true;
+    const float across = m.dot(c) - m_dot_s;
+    if (offset2 + across * across >= offset_cut_mm2) return true;
+    const float cos_angle = v.dot(Eigen::Vector3f(l.ux, l.uy, l.uz));
+    return l.length_mm * l.length_mm * (1.0f - cos_angle * cos_angle) >= angle_cut_mm2;
+  }
+};
+
+}  // namespace sh
