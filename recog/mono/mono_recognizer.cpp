@@ -45,20 +45,27 @@ Status MonoRecognizer::Init(const ViewCamera& camera, const AspectTableView& tab
   ideal_focal_px_ = static_cast<float>(std::sqrt(cam.fx * cam.fy));
   table_ = table;
   config_ = config;
-  has_table_ = left_T_table != nullptr;
-  if (has_table_) {
-    plane_.cam_T_table = camera.cam_T_left * *left_T_table;
+  has_table_ = false;
+  SH_RETURN_IF_ERROR(SetTable(left_T_table));
+  initialised_ = true;
+  return Status::Ok();
+}
+
+Status MonoRecognizer::SetTable(const RigidTransform* left_T_table) {
+  if (left_T_table != nullptr) {
+    const RigidTransform cam_T_table = camera_.cam_T_left * *left_T_table;
     // The camera must look down at the table from above it.
-    const RigidTransform table_T_cam = plane_.cam_T_table.Inverse();
+    const RigidTransform table_T_cam = cam_T_table.Inverse();
     if (!(table_T_cam.t_mm.z() > 1.0f)) {
       return Status::Error(StatusCode::kInvalidArgument,
                            "mono: the camera is not above the table (height %.1f mm)",
                            table_T_cam.t_mm.z());
     }
+    plane_.cam_T_table = cam_T_table;
   }
+  has_table_ = left_T_table != nullptr;
   ComputeBasisKeys();
   voter_.SetBasisKeys(basis_key_);
-  initialised_ = true;
   return Status::Ok();
 }
 

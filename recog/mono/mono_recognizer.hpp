@@ -145,6 +145,10 @@ class MonoRecognizer {
               const RigidTransform* left_T_table, const MonoConfig& config);
   const MonoConfig& config() const { return config_; }
   bool has_table() const { return has_table_; }
+  // Another table (left-camera frame; null: none, free 6-D poses) for the following frames,
+  // without allocating: the stereo pipeline's rescue lends the plane it estimated to a
+  // recogniser set up without one. A table the camera is not above is refused, nothing changed.
+  Status SetTable(const RigidTransform* left_T_table);
 
   // Recognises objects in one image's features (corners, lines and the edge map of that
   // image). `objects` is cleared first; poses are left-camera frame; verify_score[0] is the

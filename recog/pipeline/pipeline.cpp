@@ -544,8 +544,17 @@ Status Pipeline::Rescue(const Budget& budget, PipelineResult* out) {
   Budget limited = budget;
   limited.max_objects = 0;
   limited.max_scene_bases = std::min(budget.max_scene_bases, rc.max_scene_bases);
-  SH_RETURN_IF_ERROR(rescue_->RecognizeRest(features_[0], rescue_mask_, limited, rescue_objects_,
-                                            n_known, &stats.search));
+  // A recogniser set up without a table takes the frame's estimated or carried one for this
+  // search (objects resting on it: depth and tilt fixed), and is given back as it was.
+  const bool lend_plane = frame_table_.known && !rescue_->has_table();
+  if (lend_plane && !rescue_->SetTable(&frame_table_.left_T_table).ok()) {
+    stats.ran = false;  // a plane the camera is not above: no search on it
+    return Status::Ok();
+  }
+  const Status searched = rescue_->RecognizeRest(features_[0], rescue_mask_, limited,
+                                                 rescue_objects_, n_known, &stats.search);
+  if (lend_plane) (void)rescue_->SetTable(nullptr);  // no table: cannot fail
+  SH_RETURN_IF_ERROR(searched);
   for (size_t i = n_known; i < rescue_objects_.size(); ++i) {
     ++stats.found;
     RecognizedObject candidate = rescue_objects_[i];

@@ -65,9 +65,9 @@ class PipelineRescue : public ::testing::Test {
 
   // The pipeline for one scene's calibration and table, its 3-D features taken away when asked,
   // and the rescue's recogniser lent (rescue on) or not.
-  static void SetUp(const RenderedPair& pair, bool lose_stereo, bool rescue) {
+  static void SetUp(const RenderedPair& pair, bool lose_stereo, bool rescue, bool table = true) {
     PipelineConfig config = PipelineConfig::Automatic();
-    config.table.known = true;
+    config.table.known = table;
     config.table.left_T_table = pair.generated.scene.left_T_table;
     config.threads = 1;
     if (lose_stereo) {
@@ -77,7 +77,8 @@ class PipelineRescue : public ::testing::Test {
     ASSERT_TRUE(pipeline_->Init(pair.generated.calib, *table_, config, FakeClock).ok());
     ASSERT_TRUE(mono_
                     ->Init(LeftView(pair.generated.calib), *aspects_,
-                           &pair.generated.scene.left_T_table, MonoPipelineConfig::Automatic().mono)
+                           table ? &pair.generated.scene.left_T_table : nullptr,
+                           MonoPipelineConfig::Automatic().mono)
                     .ok());
     if (rescue) {
       ASSERT_TRUE(pipeline_->LendRescue(mono_).ok());
@@ -155,6 +156,22 @@ TEST_F(PipelineRescue, ReportsNoObjectTwice) {
   }
   EXPECT_GE(correct_with, correct_without);
   EXPECT_LE(false_with, false_without);  // the rescue adds none
+}
+
+TEST_F(PipelineRescue, WithoutATableItSearchesOnTheEstimatedOneAndGivesTheRecogniserBack) {
+  int estimated = 0, false_with = 0, false_without = 0;
+  for (const auto& pair : *pairs_) {
+    SetUp(*pair, /*lose_stereo=*/false, /*rescue=*/false, /*table=*/false);
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+    false_without += MatchToTruth(models_->table, pair->truth, PosesOf(*result_)).false_alarms;
+    SetUp(*pair, /*lose_stereo=*/false, /*rescue=*/true, /*table=*/false);
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+    false_with += MatchToTruth(models_->table, pair->truth, PosesOf(*result_)).false_alarms;
+    estimated += result_->table_source == TableSource::kEstimated;
+    EXPECT_FALSE(mono_->has_table());  // the estimated plane was lent for the search only
+  }
+  EXPECT_GT(estimated, 0);
+  EXPECT_LE(false_with, false_without);
 }
 
 TEST_F(PipelineRescue, RefusesWhatTheRightImageDoesNotShow) {
