@@ -63,7 +63,17 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const ModelSet&
         models.hash() != nullptr ? table.FindModel(aspects_.model(m).name) : -1;
   }
   calib_ = calib;
-  return InitMono(0);
+  SH_RETURN_IF_ERROR(InitMono(0));
+  return LendRescue();
+}
+
+Status PipelineRecognition::LendRescue() {
+  if (mono_ == nullptr || !pipeline_->config().rescue.enabled) return Status::Ok();
+  if (!mono_->initialised() || mono_->camera() != 0) SH_RETURN_IF_ERROR(InitMono(0));
+  // Other models or another order (a model set without its own aspect table): no rescue.
+  if (!pipeline_->LendRescue(&mono_->recognizer()).ok()) return Status::Ok();
+  rescue_lent_ = true;
+  return Status::Ok();
 }
 
 Result<AspectTableView> PipelineRecognition::OpenAspects() {
@@ -142,6 +152,11 @@ Status PipelineRecognition::ProcessMonocular(hal::StereoSide side, ConstGrayView
   if (!mono_->initialised() || mono_->camera() != camera || plane_changed) {
     SH_RETURN_IF_ERROR(InitMono(camera));
   }
+  // Set up for the right camera, it no longer serves the stereo frames' rescue.
+  if (rescue_lent_ && camera != 0) {
+    (void)pipeline_->LendRescue(nullptr);
+    rescue_lent_ = false;
+  }
   // The stereo pipeline is idle while one camera is out: its workspace of that camera is free.
   SH_RETURN_IF_ERROR(mono_->Process(image, budget_ms, pipeline_->workspace(camera), mono_result_));
   size_t n = 0;
@@ -172,6 +187,8 @@ Status PipelineRecognition::SetModelMask(uint32_t model_mask) {
   const TableCarry carry = pipeline_->table_carry();
   SH_RETURN_IF_ERROR(pipeline_->Init(calib, table, config, &MonotonicNs, models_.shape()));
   pipeline_->RestoreTableCarry(carry);
+  rescue_lent_ = false;  // Init took it back
+  SH_RETURN_IF_ERROR(LendRescue());
   model_mask_ = model_mask;  // the colour and printed models' bits are applied to their objects
   return Status::Ok();
 }
@@ -218,6 +235,8 @@ Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_
       cartons[n_cartons++] = {&texture_->db().model(c.model), c.cam_T_model};
     }
   }
+  // Back from a fallback on the right camera: the rescue's recogniser for the left one again.
+  if (!rescue_lent_) SH_RETURN_IF_ERROR(LendRescue());
   // The frames as delivered: the polyhedral path reads their grey (the Y plane in place), the
   // colour parts' path runs when they are colour and the set holds colour parts.
   SH_RETURN_IF_ERROR(pipeline_->Process(frame.left_frame, frame.right_frame, polyhedra_budget_ms,

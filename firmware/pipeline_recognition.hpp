@@ -92,6 +92,10 @@ class PipelineRecognition final : public Recognition {
   Result<AspectTableView> OpenAspects();
   // Sets the monocular pipeline up for `camera` (0 left, 1 right): no allocation.
   Status InitMono(int camera);
+  // Lends the fallback's recogniser (set up for the left camera) to the stereo pipeline's
+  // one-image rescue, when its aspect table lists the stereo tables' models in order; after a
+  // fallback on the right camera it is set up for the left one again first.
+  Status LendRescue();
   // The plane the fallback lays objects onto when no table pose is configured: the stereo
   // frames' carried plane, once confirmed (null: none, free 6-D poses).
   const RigidTransform* CarriedPlaneForMono() const;
@@ -116,6 +120,7 @@ class PipelineRecognition final : public Recognition {
   // The carried plane the monocular pipeline was set up with (mono_on_carried_plane_).
   RigidTransform mono_left_T_table_;
   bool mono_on_carried_plane_ = false;
+  bool rescue_lent_ = false;  // the stereo pipeline's rescue runs on mono_'s recogniser
 };
 
 }  // namespace sh::fw

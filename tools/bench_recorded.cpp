@@ -371,7 +371,12 @@ int RunBenchRecorded(int argc, char** argv) {
   LoadedAspects aspects;
   std::unique_ptr<MonoPipeline> mono;
   ZeroedPtr<FeatureWorkspace> workspace;
-  if (run_mono) {
+  // The stereo pipeline's one-image rescue (PipelineConfig::rescue) and the monocular mode both
+  // need the aspect table and the one-camera settings.
+  const bool rescue = run_stereo && config.rescue.enabled && model_set.hash_count() > 0;
+  ZeroedPtr<MonoRecognizer> rescue_recognizer;
+  MonoPipelineConfig mono_config = MakeMonoConfig(options);
+  if (run_mono || rescue) {
     s = LoadAspects(options, &aspects);
     if (!s.ok()) return Fail(s.message());
     // Poses are scored by model index: both tables must list the same models in order.
@@ -380,13 +385,19 @@ int RunBenchRecorded(int argc, char** argv) {
       same = std::strcmp(aspects.view.model(m).name, tables.view.model(m).name) == 0;
     }
     if (!same) return Fail("the aspect table's models differ from the hash tables'");
-    MonoPipelineConfig mono_config = MakeMonoConfig(options);
     for (const char* setting : mono_settings) {
       if (const Status applied = ApplyMonoSetting(setting, &mono_config); !applied.ok()) {
         std::fprintf(stderr, "stereohash bench recorded: %s\n", applied.message());
         return 2;
       }
     }
+  }
+  if (rescue) {
+    s = LendRescueRecognizer(aspects.view, *calib, table.present ? &table.left_T_table : nullptr,
+                             mono_config.mono, pipeline.get(), &rescue_recognizer);
+    if (!s.ok()) return Fail(s.message());
+  }
+  if (run_mono) {
     mono = std::make_unique<MonoPipeline>();
     workspace = MakeWorkspace<FeatureWorkspace>();  // any image size up to the maximum
     s = mono->Init(*calib, camera, aspects.view, table.present ? &table.left_T_table : nullptr,
@@ -406,6 +417,9 @@ int RunBenchRecorded(int argc, char** argv) {
     // Frames that took the carried plane, and planes dropped (--carry-table).
     int carried = 0, drops = 0;
     std::vector<float> normal_err_deg, offset_err_mm, table_ms;
+    // The one-image rescue: frames it ran in, objects it added, its time per frame.
+    int rescue_ran = 0, rescue_added = 0;
+    std::vector<float> rescue_ms;
   };
   auto run = [&](bool monocular, Summary* sum) -> Status {
     std::vector<Row> rows;
@@ -552,9 +566,23 @@ int RunBenchRecorded(int argc, char** argv) {
         ++sum->vis_objects[bin];
         sum->vis_correct[bin] += m.truth_found[i] ? 1 : 0;
       }
+      if (!monocular) {
+        const RescueStats& rs = result->rescue;
+        sum->rescue_ran += rs.ran ? 1 : 0;
+        sum->rescue_added += static_cast<int>(rs.added);
+        sum->rescue_ms.push_back(result->time.rescue_ms);
+      }
       if (verbose) {
         std::printf("%s: %d of %zu correct, %d false, %.1f ms\n", name.c_str(), m.correct,
                     truth.objects.size(), m.false_alarms, total_ms);
+        if (!monocular && result->rescue.ran) {
+          const RescueStats& rs = result->rescue;
+          std::printf(
+              "  rescue: %u free corners, %u bases tried, found %u, refused %u resting, %u "
+              "verify, %u overlap; added %u (%.1f ms)\n",
+              rs.free_corners, rs.search.scene_bases_tried, rs.found, rs.refused_rest,
+              rs.refused_verify, rs.refused_overlap, rs.added, result->time.rescue_ms);
+        }
         if (!monocular && model_set.shape_count() > 0) {
           const ShapeStats& sh = result->shape;
           std::printf(
@@ -626,8 +654,11 @@ int RunBenchRecorded(int argc, char** argv) {
       sum->scene_json += buffer;
       if (!monocular) {
         std::snprintf(buffer, sizeof(buffer),
-                      "\"points3d\": %u, \"lines3d\": %u, \"scene_bases_tried\": %u, ",
-                      result->points3d, result->lines3d, result->recognition.scene_bases_tried);
+                      "\"points3d\": %u, \"lines3d\": %u, \"scene_bases_tried\": %u, "
+                      "\"rescue\": {\"ran\": %s, \"found\": %u, \"added\": %u, \"ms\": %.2f}, ",
+                      result->points3d, result->lines3d, result->recognition.scene_bases_tried,
+                      result->rescue.ran ? "true" : "false", result->rescue.found,
+                      result->rescue.added, result->time.rescue_ms);
         sum->scene_json += buffer;
       }
       sum->scene_json += table_json;
@@ -686,6 +717,13 @@ int RunBenchRecorded(int argc, char** argv) {
           Median(total.feature_t_err_mm), Median(total.feature_r_err_deg), Median(total.time_ms),
           Max(total.time_ms), Median(total.features_ms), Median(total.stereo_ms),
           Median(total.hashing_ms), Median(total.verify_ms));
+    }
+    if (!monocular && rescue) {
+      std::printf(
+          "rescue (one image, confirmed in both): ran in %d of %zu scenes, added %d "
+          "objects; %.1f ms median, %.1f ms worst\n",
+          sum->rescue_ran, scenes.size(), sum->rescue_added, Median(sum->rescue_ms),
+          Max(sum->rescue_ms));
     }
     if (sum->estimates > 0) {
       std::printf("table estimated in %d of %d scenes, %.2f ms median, %.2f ms worst",

@@ -92,6 +92,10 @@ void PrintTable(const ModelSet& models, const PipelineResult& r) {
   std::printf("recognition: %u of %u scene bases tried, %u hypotheses, %u verified, %u accepted\n",
               r.recognition.scene_bases_tried, r.recognition.scene_bases_available,
               r.recognition.hypotheses, r.recognition.verifications, r.recognition.accepted);
+  if (r.rescue.ran) {
+    std::printf("rescue (one image, confirmed in both): %u found, %u added, %.1f ms\n",
+                r.rescue.found, r.rescue.added, r.time.rescue_ms);
+  }
   std::printf(
       "time: features %.1f ms, stereo %.1f ms, hashing %.1f ms, verify %.1f ms, edge fit %.1f "
       "ms, total %.1f ms%s\n",
@@ -267,6 +271,15 @@ int RunRecognize(int argc, char** argv) {
   auto pipeline = MakeZeroed<Pipeline>();  // ~118 MiB, resident as used (docs/memory.md)
   s = pipeline->Init(*calib, tables.view, config, NowNs, tables.shape());
   if (!s.ok()) return Fail("%s", s.message());
+  // The one-image rescue, with the monocular mode's aspect table when it lists the same models.
+  LoadedAspects aspects;
+  ZeroedPtr<MonoRecognizer> rescue;
+  if (config.rescue.enabled && pipeline->models().hash_count() > 0 &&
+      LoadAspects(options, &aspects).ok()) {
+    s = LendRescueRecognizer(aspects.view, *calib, table.present ? &table.left_T_table : nullptr,
+                             MakeMonoConfig(options).mono, pipeline.get(), &rescue);
+    if (!s.ok()) std::fprintf(stderr, "stereohash recognize: no rescue: %s\n", s.message());
+  }
   // The printed models first: the cartons found are hidden from the polyhedral path (their
   // edges and print would crowd its features and search), as in the firmware.
   std::string printed_json;

@@ -310,6 +310,16 @@ constexpr Setting<PipelineConfig> kPipelineSettings[] = {
      [](float v, PipelineConfig& c) { c.table_carry.tolerance_mm = v; }},
     {"table_carry.tolerance_deg", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.table_carry.tolerance_deg = v; }},
+    {"rescue.enabled", SettingKind::kFlag,
+     [](float v, PipelineConfig& c) { c.rescue.enabled = v != 0.0f; }},
+    {"rescue.min_free_corners", SettingKind::kCount,
+     [](float v, PipelineConfig& c) { c.rescue.min_free_corners = static_cast<int>(v); }},
+    {"rescue.margin_px", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.rescue.margin_px = v; }},
+    {"rescue.max_scene_bases", SettingKind::kCount,
+     [](float v, PipelineConfig& c) { c.rescue.max_scene_bases = static_cast<uint32_t>(v); }},
+    {"rescue.max_above_table_mm", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.rescue.max_above_table_mm = v; }},
 };
 
 }  // namespace
@@ -396,10 +406,12 @@ std::string ResultJson(const ModelSet& models, const PipelineResult& r, const Ta
   std::snprintf(buffer, sizeof(buffer),
                 "], \"features\": {\"points2d\": [%u, %u], \"lines2d\": [%u, %u], \"points3d\": "
                 "%u, \"lines3d\": %u}, \"recognition\": {\"scene_bases_tried\": %u, "
-                "\"hypotheses\": %u, \"verifications\": %u, \"budget_exhausted\": %s}, ",
+                "\"hypotheses\": %u, \"verifications\": %u, \"budget_exhausted\": %s}, "
+                "\"rescue\": {\"ran\": %s, \"found\": %u, \"added\": %u}, ",
                 r.points2d[0], r.points2d[1], r.lines2d[0], r.lines2d[1], r.points3d, r.lines3d,
                 r.recognition.scene_bases_tried, r.recognition.hypotheses,
-                r.recognition.verifications, r.recognition.budget_exhausted ? "true" : "false");
+                r.recognition.verifications, r.recognition.budget_exhausted ? "true" : "false",
+                r.rescue.ran ? "true" : "false", r.rescue.found, r.rescue.added);
   json += buffer;
   const DetectionChoice* d = r.detection;
   std::snprintf(buffer, sizeof(buffer),
@@ -443,10 +455,10 @@ std::string ResultJson(const ModelSet& models, const PipelineResult& r, const Ta
   }
   std::snprintf(buffer, sizeof(buffer),
                 "\"time_ms\": {\"features\": %.3f, \"stereo\": %.3f, \"hashing\": %.3f, "
-                "\"verify\": %.3f, \"refine\": %.3f, \"table\": %.3f, \"total\": %.3f}, "
-                "\"threads\": %d}\n",
+                "\"verify\": %.3f, \"refine\": %.3f, \"table\": %.3f, \"rescue\": %.3f, "
+                "\"total\": %.3f}, \"threads\": %d}\n",
                 r.time.features_ms, r.time.stereo_ms, r.time.hashing_ms, r.time.verify_ms,
-                r.time.refine_ms, r.time.table_ms, r.time.total_ms, threads);
+                r.time.refine_ms, r.time.table_ms, r.time.rescue_ms, r.time.total_ms, threads);
   json += buffer;
   return json;
 }

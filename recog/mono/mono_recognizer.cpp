@@ -45,20 +45,27 @@ Status MonoRecognizer::Init(const ViewCamera& camera, const AspectTableView& tab
   ideal_focal_px_ = static_cast<float>(std::sqrt(cam.fx * cam.fy));
   table_ = table;
   config_ = config;
-  has_table_ = left_T_table != nullptr;
-  if (has_table_) {
-    plane_.cam_T_table = camera.cam_T_left * *left_T_table;
+  has_table_ = false;
+  SH_RETURN_IF_ERROR(SetTable(left_T_table));
+  initialised_ = true;
+  return Status::Ok();
+}
+
+Status MonoRecognizer::SetTable(const RigidTransform* left_T_table) {
+  if (left_T_table != nullptr) {
+    const RigidTransform cam_T_table = camera_.cam_T_left * *left_T_table;
     // The camera must look down at the table from above it.
-    const RigidTransform table_T_cam = plane_.cam_T_table.Inverse();
+    const RigidTransform table_T_cam = cam_T_table.Inverse();
     if (!(table_T_cam.t_mm.z() > 1.0f)) {
       return Status::Error(StatusCode::kInvalidArgument,
                            "mono: the camera is not above the table (height %.1f mm)",
                            table_T_cam.t_mm.z());
     }
+    plane_.cam_T_table = cam_T_table;
   }
+  has_table_ = left_T_table != nullptr;
   ComputeBasisKeys();
   voter_.SetBasisKeys(basis_key_);
-  initialised_ = true;
   return Status::Ok();
 }
 
@@ -155,7 +162,7 @@ void MonoRecognizer::KeyRange(const Frame2d& frame, VoteRequest* request) const 
   request->reach = 2.0f * max_model_radius_mm_ * ideal_focal_px_ / near;
 }
 
-Status MonoRecognizer::PrepareScene(const ImageFeatures& f) {
+Status MonoRecognizer::PrepareScene(const ImageFeatures& f, const FeatureMask* ignore) {
   const CameraIntrinsics& cam = camera_.intrinsics;
   if (f.edges.edge.width != cam.width || f.edges.edge.height != cam.height) {
     return Status::Error(StatusCode::kInvalidArgument,
@@ -209,8 +216,17 @@ Status MonoRecognizer::PrepareScene(const ImageFeatures& f) {
     ideal.dir = (ib - ia) / len;
     ideal.t0 = 0;
     ideal.t1 = len;
+    // A line whose support lies within a hidden (convex) region belongs to what hides it.
+    if (ignore != nullptr && ignore->Hides(ea.x(), ea.y()) && ignore->Hides(eb.x(), eb.y())) {
+      line_active_[i] = 0;
+    }
   }
   AddJunctionCorners();
+  if (ignore != nullptr) {
+    for (int i = 0; i < n_corners_; ++i) {
+      if (ignore->Hides(pose_corners_[i].px.x(), pose_corners_[i].px.y())) corner_active_[i] = 0;
+    }
+  }
   return Status::Ok();
 }
 
@@ -513,7 +529,7 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
     const PosedModel other{&table_.model(accepted[i].model),
                            camera_.cam_T_left * accepted[i].cam_T_model};
     if (!Interpenetrate(posed, other)) continue;
-    if (c.displaces >= 0 || !config_.displace_weaker) {
+    if (c.displaces >= 0 || !config_.displace_weaker || i < n_known_) {
       ++stats->rejected_overlap;
       return false;
     }
@@ -641,10 +657,15 @@ void MonoRecognizer::Accept(const Candidate& c, Vector<RecognizedObject>& object
   }
   // The object's image circle (ideal pixels): bases inside it that failed before may succeed
   // now that its occlusion is known.
-  const Eigen::Vector3f centre = c.cam_T_model * ModelCentroid(table_.model(c.model));
+  object_circle_[objects.size() - 1] = ImageCircle(table_.model(c.model), c.cam_T_model);
+}
+
+Eigen::Vector3f MonoRecognizer::ImageCircle(const Model& model,
+                                            const RigidTransform& cam_T_model) const {
+  const Eigen::Vector3f centre = cam_T_model * ModelCentroid(model);
   const float radius_px = 1.5f * max_model_radius_mm_ * ideal_focal_px_ / centre.z();
-  object_circle_[objects.size() - 1] = {ideal_focal_px_ * centre.x() / centre.z(),
-                                        ideal_focal_px_ * centre.y() / centre.z(), radius_px};
+  return {ideal_focal_px_ * centre.x() / centre.z(), ideal_focal_px_ * centre.y() / centre.z(),
+          radius_px};
 }
 
 Frame2d MonoRecognizer::BasisFrame(const SceneBasis2d& sb) const {
@@ -777,11 +798,54 @@ Status MonoRecognizer::Recognize(const ImageFeatures& features, const Budget& bu
                          "mono: the result holds %zu objects, at most %zu are tracked",
                          objects.capacity(), size_t{kMaxObjects});
   }
-  SH_RETURN_IF_ERROR(PrepareScene(features));
+  SH_RETURN_IF_ERROR(PrepareScene(features, nullptr));
+  Search(budget, objects, 0, &stats);
+  return Status::Ok();
+}
+
+Status MonoRecognizer::RecognizeRest(const ImageFeatures& features, const FeatureMask& ignore,
+                                     const Budget& budget, Vector<RecognizedObject>& objects,
+                                     size_t n_known, MonoStats* stats_out) {
+  MonoStats local;
+  MonoStats& stats = stats_out != nullptr ? *stats_out : local;
+  stats = MonoStats{};
+  if (!initialised_) {
+    return Status::Error(StatusCode::kFailedPrecondition, "mono: Init() has not succeeded");
+  }
+  if (objects.capacity() > kMaxObjects || n_known > objects.size()) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "mono: %zu known objects of %zu, a result of %zu (at most %zu tracked)",
+                         n_known, objects.size(), objects.capacity(), size_t{kMaxObjects});
+  }
+  for (size_t i = 0; i < n_known; ++i) {
+    if (objects[i].model >= table_.model_count()) {
+      return Status::Error(StatusCode::kInvalidArgument, "mono: known object %zu has model %u", i,
+                           unsigned{objects[i].model});
+    }
+  }
+  (void)objects.resize(n_known);
+  SH_RETURN_IF_ERROR(PrepareScene(features, &ignore));
+  Search(budget, objects, n_known, &stats);
+  return Status::Ok();
+}
+
+void MonoRecognizer::Search(const Budget& budget, Vector<RecognizedObject>& objects, size_t n_known,
+                            MonoStats* stats_ptr) {
+  MonoStats& stats = *stats_ptr;
   GenerateBases();
   stats.scene_bases_available = n_candidates_;
   stats.aspects_enabled = aspects_enabled_;
+  // The known objects: occluders, with no image features of their own to give back.
+  n_known_ = n_known;
   n_occluders_ = 0;
+  for (size_t o = 0; o < n_known; ++o) {
+    const RigidTransform cam_T_model = camera_.cam_T_left * objects[o].cam_T_model;
+    if (n_occluders_ < kMaxOccluders) {
+      occluders_[n_occluders_++] = {&table_.model(objects[o].model), cam_T_model};
+    }
+    n_claimed_points_[o] = n_claimed_lines_[o] = 0;
+    object_circle_[o] = ImageCircle(table_.model(objects[o].model), cam_T_model);
+  }
   for (uint32_t k = 0; k < n_candidates_; ++k) tried_[k] = 0;
   // Two passes: every scene basis in order, then the bases that failed before an object was
   // found near them (that object hides parts of theirs, which verification now knows).
@@ -790,29 +854,28 @@ Status MonoRecognizer::Recognize(const ImageFeatures& features, const Budget& bu
     for (uint32_t k = 0; k < n_candidates_; ++k) {
       if (stats.scene_bases_tried >= budget.max_scene_bases || DeadlinePassed(budget)) {
         stats.budget_exhausted = true;
-        return Status::Ok();
+        return;
       }
       if (objects.full()) {
         stats.objects_full = true;
-        return Status::Ok();
+        return;
       }
       if (!BasisActive(candidates_[k])) continue;
       if (pass == 0 ? tried_[k] != 0 : !(tried_[k] == 1 && NearLaterObject(k, objects.size()))) {
         continue;
       }
       tried_at_[k] = static_cast<uint8_t>(objects.size());
-      if (!TryBasis(k, objects, &stats, &best_)) {
+      if (!TryBasis(k, objects, stats_ptr, &best_)) {
         if (pass == 1) tried_[k] = 2;  // one retry only
         if (++fruitless >= config_.max_fruitless_bases) break;
         continue;
       }
       fruitless = 0;
-      ChooseAmongCompetitors(k, objects, &stats);
+      ChooseAmongCompetitors(k, objects, stats_ptr);
       Accept(best_, objects);
       ++stats.accepted;
     }
   }
-  return Status::Ok();
 }
 
 Status MonoRecognizer::Diagnose(const ImageFeatures& features, int model_index,
@@ -824,9 +887,10 @@ Status MonoRecognizer::Diagnose(const ImageFeatures& features, int model_index,
   if (model_index < 0 || model_index >= static_cast<int>(table_.model_count())) {
     return Status::Error(StatusCode::kInvalidArgument, "mono: no model %d", model_index);
   }
-  SH_RETURN_IF_ERROR(PrepareScene(features));
+  SH_RETURN_IF_ERROR(PrepareScene(features, nullptr));
   GenerateBases();
   n_occluders_ = 0;
+  n_known_ = 0;
   const Model& model = table_.model(static_cast<uint32_t>(model_index));
   const CameraIntrinsics& cam = camera_.intrinsics;
   const RigidTransform cam_T_model = camera_.cam_T_left * left_T_model;

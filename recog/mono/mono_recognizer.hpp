@@ -19,6 +19,7 @@
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
 #include "recog/hashing/recognizer.hpp"
+#include "recog/image/feature_mask.hpp"
 #include "recog/image/features.hpp"
 #include "recog/mono/aspect_voter.hpp"
 #include "recog/mono/mono_pose.hpp"
@@ -144,6 +145,10 @@ class MonoRecognizer {
               const RigidTransform* left_T_table, const MonoConfig& config);
   const MonoConfig& config() const { return config_; }
   bool has_table() const { return has_table_; }
+  // Another table (left-camera frame; null: none, free 6-D poses) for the following frames,
+  // without allocating: the stereo pipeline's rescue lends the plane it estimated to a
+  // recogniser set up without one. A table the camera is not above is refused, nothing changed.
+  Status SetTable(const RigidTransform* left_T_table);
 
   // Recognises objects in one image's features (corners, lines and the edge map of that
   // image). `objects` is cleared first; poses are left-camera frame; verify_score[0] is the
@@ -151,6 +156,16 @@ class MonoRecognizer {
   // corners and edges matched.
   Status Recognize(const ImageFeatures& features, const Budget& budget,
                    Vector<RecognizedObject>& objects, MonoStats* stats = nullptr);
+
+  // Recognises what known objects do not explain (the stereo pipeline's rescue stage): the
+  // first n_known entries of `objects` (left-camera frame, models of this table) are kept, hide
+  // what lies behind them and are never displaced; a candidate that interpenetrates one is
+  // rejected. Image corners and lines that `ignore` hides (the known objects' silhouettes) take
+  // no part. Objects found are appended after the known ones.
+  Status RecognizeRest(const ImageFeatures& features, const FeatureMask& ignore,
+                       const Budget& budget, Vector<RecognizedObject>& objects, size_t n_known,
+                       MonoStats* stats = nullptr);
+  const AspectTableView& table() const { return table_; }
 
   // The last frame's image corners (distorted pixels): the detected ones, then those added at
   // line junctions (for overlays and diagnostics).
@@ -176,7 +191,10 @@ class MonoRecognizer {
     float match_fraction = 0;
     int displaces = -1;  // the object found before whose place it takes, or -1
   };
-  Status PrepareScene(const ImageFeatures& features);
+  Status PrepareScene(const ImageFeatures& features, const FeatureMask* ignore);
+  // The search over the prepared scene, after the first n_known objects.
+  void Search(const Budget& budget, Vector<RecognizedObject>& objects, size_t n_known,
+              MonoStats* stats);
   struct SceneBasis2d;
   Frame2d BasisFrame(const SceneBasis2d& sb) const;
   bool BasisActive(const SceneBasis2d& sb) const;
@@ -198,6 +216,8 @@ class MonoRecognizer {
   bool Evaluate(const AspectHypothesis& h, const Frame2d& scene_frame,
                 const Vector<RecognizedObject>& accepted, MonoStats* stats, Candidate* out);
   void Accept(const Candidate& c, Vector<RecognizedObject>& objects);
+  // An object's image circle (ideal pixels: centre and reach) in this camera's frame.
+  Eigen::Vector3f ImageCircle(const Model& model, const RigidTransform& cam_T_model) const;
   // Takes object `index` out of the result: its image features are free again.
   void Remove(size_t index, Vector<RecognizedObject>& objects);
   void ComputeBasisKeys();
@@ -222,6 +242,7 @@ class MonoRecognizer {
 
   // Per frame.
   const ImageFeatures* features_ = nullptr;
+  size_t n_known_ = 0;               // leading objects given by the caller (RecognizeRest)
   int n_corners_ = 0, n_lines_ = 0;  // corners: detected ones, then junction corners
   int junction_corners_ = 0;
   ScenePoint2d ideal_points_[kMaxCorners2d];

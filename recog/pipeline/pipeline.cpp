@@ -1,9 +1,11 @@
 #include "recog/pipeline/pipeline.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 #include "recog/camera/calibration_check.hpp"
 #include "recog/camera/image_check.hpp"
+#include "recog/mono/aspect.hpp"
 #include "recog/stereo/image_adapters.hpp"
 #include "recog/verify/inside_object.hpp"
 
@@ -167,6 +169,7 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
                       const PipelineConfig& config, ClockFn now_ns,
                       const ShapeViewsView* shape_views) {
   initialised_ = false;
+  rescue_ = nullptr;  // lent for one calibration and table: lent again after Init
   SH_RETURN_IF_ERROR(ValidateStereoCalibration(calib));
   if (calib.left.width > kMaxImageWidth || calib.left.height > kMaxImageHeight ||
       calib.right.width > kMaxImageWidth || calib.right.height > kMaxImageHeight) {
@@ -425,11 +428,20 @@ Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, flo
     if (carrying) carry_.ObserveEstimate(config_.table_carry, out->table_estimate);
   }
   out->table_carry = carry_;
-  const int64_t t3 = now_ns_ ? now_ns_() : 0;
+  int64_t t3 = now_ns_ ? now_ns_() : 0;
   if (now_ns_) {
     const float recognize_ms = MsSince(t2);
     out->time.verify_ms = static_cast<float>(verify_ns) * 1e-6f;
     out->time.hashing_ms = std::max(0.0f, recognize_ms - out->time.verify_ms - out->time.table_ms);
+  }
+
+  // 5c. What stereo missed, from the left image alone, confirmed in both.
+  if (rescue_ != nullptr && config_.rescue.enabled) {
+    SH_RETURN_IF_ERROR(Rescue(budget, out));
+    if (now_ns_) {
+      out->time.rescue_ms = MsSince(t3);
+      t3 = now_ns_();
+    }
   }
 
   // 6. The last fit: each accepted pose to the edge pixels of both images.
@@ -484,6 +496,111 @@ void Pipeline::KeepOverFrameTable(PipelineResult* out) {
   out->points3d = static_cast<uint32_t>(scene_.points.size());
   out->lines3d = static_cast<uint32_t>(scene_.lines.size());
   if (now_ns_) out->time.table_ms += MsSince(keep_start);
+}
+
+Status Pipeline::LendRescue(MonoRecognizer* mono) {
+  rescue_ = nullptr;
+  if (mono == nullptr) return Status::Ok();
+  if (!initialised_) {
+    return Status::Error(StatusCode::kFailedPrecondition, "pipeline: Init() has not succeeded");
+  }
+  // Objects are reported by model index: the aspect table must list the hash models in order.
+  const AspectTableView& aspects = mono->table();
+  bool same = aspects.valid() && aspects.model_count() == table_.model_count();
+  for (uint32_t m = 0; same && m < table_.model_count(); ++m) {
+    same = std::strcmp(aspects.model(m).name, table_.model(m).name) == 0;
+  }
+  if (!same) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "pipeline: the rescue's aspect table lists other models than the hash "
+                         "tables");
+  }
+  rescue_ = mono;
+  return Status::Ok();
+}
+
+Status Pipeline::Rescue(const Budget& budget, PipelineResult* out) {
+  RescueStats& stats = out->rescue;
+  const RescueConfig& rc = config_.rescue;
+  if (out->objects.full()) return Status::Ok();
+  // What the accepted objects explain leaves the left image: their silhouettes join those of
+  // the hidden objects (whose corners the extraction dropped already).
+  rescue_mask_ = masks_[0];
+  const ViewCamera left = LeftView(calib_);
+  for (const RecognizedObject& o : out->objects) {
+    (void)rescue_mask_.Add(left, {&table_.model(o.model), o.cam_T_model}, rc.margin_px);
+  }
+  // The gate: enough corners left that no accepted object explains.
+  for (const Corner2D& c : features_[0].corners) {
+    stats.free_corners += rescue_mask_.Hides(c.x_px, c.y_px) ? 0u : 1u;
+  }
+  if (stats.free_corners < static_cast<uint32_t>(std::max(0, rc.min_free_corners))) {
+    return Status::Ok();
+  }
+  stats.ran = true;
+  rescue_objects_.clear();
+  for (const RecognizedObject& o : out->objects) (void)rescue_objects_.push_back(o);
+  const size_t n_known = rescue_objects_.size();
+  Budget limited = budget;
+  limited.max_objects = 0;
+  limited.max_scene_bases = std::min(budget.max_scene_bases, rc.max_scene_bases);
+  // A recogniser set up without a table takes the frame's estimated or carried one for this
+  // search (objects resting on it: depth and tilt fixed), and is given back as it was.
+  const bool lend_plane = frame_table_.known && !rescue_->has_table();
+  if (lend_plane && !rescue_->SetTable(&frame_table_.left_T_table).ok()) {
+    stats.ran = false;  // a plane the camera is not above: no search on it
+    return Status::Ok();
+  }
+  const Status searched = rescue_->RecognizeRest(features_[0], rescue_mask_, limited,
+                                                 rescue_objects_, n_known, &stats.search);
+  if (lend_plane) (void)rescue_->SetTable(nullptr);  // no table: cannot fail
+  SH_RETURN_IF_ERROR(searched);
+  for (size_t i = n_known; i < rescue_objects_.size(); ++i) {
+    ++stats.found;
+    RecognizedObject candidate = rescue_objects_[i];
+    // Models the active set leaves out (RecognizerConfig::model_mask) are not reported.
+    if (!((config_.recognizer.model_mask >> candidate.model) & 1u)) continue;
+    const Model& model = table_.model(candidate.model);
+    if (frame_table_.known) {
+      const float lowest =
+          LowestCornerHeightMm(model, candidate.cam_T_model, frame_table_.left_T_table);
+      if (!(lowest <= rc.max_above_table_mm)) {  // the verifier checks the other side
+        ++stats.refused_rest;
+        continue;
+      }
+    } else {
+      const Eigen::Vector3f centre = candidate.cam_T_model * ModelCentroid(model);
+      if (!config_.stereo.volume.Contains(centre.cast<double>())) {
+        ++stats.refused_rest;
+        continue;
+      }
+    }
+    bool overlaps = false;
+    for (const RecognizedObject& o : out->objects) {
+      overlaps = overlaps || Interpenetrate({&model, candidate.cam_T_model},
+                                            {&table_.model(o.model), o.cam_T_model});
+    }
+    if (overlaps) {
+      ++stats.refused_overlap;
+      continue;
+    }
+    // The stereo verifier: both images, its thresholds, the accepted objects as occluders, the
+    // table check.
+    const uint32_t below = verifier_.below_table();
+    if (!verifier_.Verify(model, out->objects, candidate)) {
+      if (verifier_.below_table() != below) {
+        ++stats.refused_rest;
+      } else {
+        ++stats.refused_verify;
+      }
+      continue;
+    }
+    candidate.instance = 0;
+    for (const RecognizedObject& o : out->objects) candidate.instance += o.model == candidate.model;
+    if (!out->objects.push_back(candidate)) break;
+    ++stats.added;
+  }
+  return Status::Ok();
 }
 
 void Pipeline::DropInsideHidden(const PosedModel* hidden, size_t n_hidden, PipelineResult* out) {

@@ -14,6 +14,7 @@
 #include "recog/image/features.hpp"
 #include "recog/image/frame.hpp"
 #include "recog/image/image.hpp"
+#include "recog/mono/mono_recognizer.hpp"
 #include "recog/pipeline/hidden_mask.hpp"
 #include "recog/pipeline/model_set.hpp"
 #include "recog/pipeline/table_carry.hpp"
@@ -37,6 +38,25 @@ struct TableConstraint {
   // Bottom corners triangulate a little below the top, and a tilted object leaning on another
   // may touch the table with an edge: 5 mm is several times the stereo depth error.
   float max_below_mm = 5.0f;
+};
+
+// The one-image rescue after the stereo search (Pipeline::LendRescue): the monocular recogniser
+// searches the left image's features that the accepted objects do not explain, and each object
+// it finds is accepted only if the stereo verifier confirms it in both images at that pose, it
+// interpenetrates no accepted object and it rests plausibly (on the frame's table when there is
+// one, else its centre within the working volume). Objects whose edges stereo loses (edges near
+// the epipolar direction, low contrast) have little 3-D support but verify in both images.
+struct RescueConfig {
+  bool enabled = true;
+  // The gate: the rescue runs only when at least this many left-image corners lie outside the
+  // accepted objects' silhouettes (grown by margin_px), the hidden objects' and over the table.
+  int min_free_corners = 6;
+  float margin_px = 4.0f;
+  // Scene bases the one-image search may try (its own max_fruitless_bases ends it earlier).
+  uint32_t max_scene_bases = 400;
+  // With a table: the lowest corner at most this far over the table top (the one-image pose
+  // rests on the table; a pose that floats is not the object's).
+  float max_above_table_mm = 10.0f;
 };
 
 struct PipelineConfig {
@@ -75,6 +95,8 @@ struct PipelineConfig {
   // (corners dropped, edge pixels cleared before line detection and verification). The margin
   // covers the carton's pose error (about 1 px) and the Canny and corner blur (2-3 px).
   float hide_margin_px = 4.0f;
+  // The one-image rescue (runs only when a recogniser is lent: Pipeline::LendRescue).
+  RescueConfig rescue;
 
   // Presets for the two kinds of scene (thesis 5.3): the detectors' preset plus recognition and
   // verification settings measured on rendered scenes (docs/pipeline.md).
@@ -93,6 +115,20 @@ struct PipelineTimings {
   // The table estimate and dropping the features outside the space over it (the second search
   // counts as hashing and verification).
   float table_ms = 0;
+  // The one-image rescue (its search and its verifications).
+  float rescue_ms = 0;
+};
+
+// What the one-image rescue did in a frame.
+struct RescueStats {
+  bool ran = false;              // the gate let it run
+  uint32_t free_corners = 0;     // left-image corners none of the accepted objects explains
+  uint32_t found = 0;            // objects the one-image search found
+  uint32_t refused_rest = 0;     // ... not resting plausibly (table, working volume)
+  uint32_t refused_verify = 0;   // ... failing the stereo verifier (both images)
+  uint32_t refused_overlap = 0;  // ... interpenetrating an accepted object
+  uint32_t added = 0;            // accepted
+  MonoStats search;
 };
 
 // Which table the frame's table check and working volume used.
@@ -141,6 +177,7 @@ struct PipelineResult {
   // Polyhedral hypotheses rejected, and objects dropped after the edge fit, because their centre
   // lies inside a hidden object (inside_object.hpp): one object, one report.
   uint32_t inside_hidden = 0;
+  RescueStats rescue;
 };
 
 // The verifier of the stereo pipeline: projects the refined hypothesis into both images and
@@ -227,6 +264,12 @@ class Pipeline {
   // mask) puts the carried state back.
   const TableCarry& table_carry() const { return carry_; }
   void RestoreTableCarry(const TableCarry& carry) { carry_ = carry; }
+  // Lends the one-image recogniser of the rescue stage (PipelineConfig::rescue), or takes it
+  // back (null). It must be initialised for the left camera of this calibration with the hash
+  // tables' models in their order (the table pose, if any, that of PipelineConfig::table), and
+  // stay unused elsewhere while Process() runs: the firmware lends its one-camera fallback's.
+  // Init() takes it back.
+  Status LendRescue(MonoRecognizer* mono);
   // Diagnosis only (bench tools): sees every hypothesis of the following frames' searches.
   void SetSearchObserver(SearchObserver* observer) { recognizer_.SetObserver(observer); }
   const ImageFeatures& left_features() const { return features_[0]; }
@@ -266,6 +309,8 @@ class Pipeline {
   Status RecognisePolyhedra(ConstGrayView left, ConstGrayView right, float budget_ms,
                             int64_t frame_t0, int64_t t0, const PosedModel* hidden, size_t n_hidden,
                             PipelineResult* out);
+  // The one-image rescue (PipelineConfig::rescue) after the search: objects added to out.
+  Status Rescue(const Budget& budget, PipelineResult* out);
   // Drops the objects whose centre lies inside a hidden object (after the edge fit moved them).
   void DropInsideHidden(const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
   // The masks of both images from the hidden objects (counts into out).
@@ -301,6 +346,11 @@ class Pipeline {
   PipelineResult* refine_out_ = nullptr;
   // Silhouettes of the frame's hidden objects, per image (empty: nothing hidden).
   HiddenMask masks_[2];
+  // The rescue's recogniser (lent, not owned), the left image's silhouettes of the hidden and
+  // accepted objects, and its objects (the accepted ones first).
+  MonoRecognizer* rescue_ = nullptr;
+  HiddenMask rescue_mask_;
+  Vector<RecognizedObject, kMaxObjects> rescue_objects_;
   // The shape path (26 MiB) is allocated by Init only when the model set holds colour parts, so
   // a pipeline without them neither holds nor locks its buffers (docs/memory.md); then the grey
   // images of RGB frames for the polyhedral path.

@@ -145,5 +145,79 @@ TEST(MonoPipeline, OnePlaceOneObjectKeepsTheRightModel) {
   EXPECT_EQ(with.correct, with.objects) << with.correct << " of " << with.objects;
 }
 
+// The image regions of the rest search: a disc around one point (the known object's image),
+// or the whole image.
+class DiscMask final : public FeatureMask {
+ public:
+  DiscMask(const Eigen::Vector2f& centre, float radius) : centre_(centre), radius_(radius) {}
+  bool Hides(float x_px, float y_px) const override {
+    return (Eigen::Vector2f(x_px, y_px) - centre_).norm() <= radius_;
+  }
+  uint32_t ClearEdges(EdgeMapView) const override { return 0; }
+
+ private:
+  Eigen::Vector2f centre_;
+  float radius_;
+};
+
+// The stereo pipeline's rescue: objects known before the search keep their place (never
+// displaced, never found again), the others are found around them, and features the mask hides
+// take no part.
+TEST(MonoPipeline, RecognizeRestKeepsTheKnownObjectsAndFindsTheOthers) {
+  const MonoSceneSet& f = MonoScenes();
+  auto pipeline = std::make_unique<MonoPipeline>();
+  auto workspace = MakeWorkspace<FeatureWorkspace>();
+  auto result = std::make_unique<MonoResult>();
+  const RenderedPair& pair = MonoScene(0);
+  ASSERT_GE(pair.truth.size(), 2u);
+  const RigidTransform left_T_table = pair.generated.scene.left_T_table;
+  ASSERT_TRUE(pipeline
+                  ->Init(pair.generated.calib, 0, f.table, &left_T_table,
+                         MonoPipelineConfig::Automatic(), FakeClock)
+                  .ok());
+  ASSERT_TRUE(pipeline->Process(pair.left_view(), 0, *workspace, result.get()).ok());
+  const TruthObject& known_truth = pair.truth[0];
+  RecognizedObject known;
+  known.model = static_cast<uint16_t>(known_truth.model);
+  known.cam_T_model = known_truth.cam_T_model;
+  known.verify_evidence = 1e9f;  // no candidate has more evidence
+  const Eigen::Vector3f c = known.cam_T_model.t_mm;
+  const CameraIntrinsics& cam = pair.generated.calib.left;
+  const Eigen::Vector2f centre_px(static_cast<float>(cam.fx) * c.x() / c.z() + cam.cx,
+                                  static_cast<float>(cam.fy) * c.y() / c.z() + cam.cy);
+  const DiscMask around_known(centre_px, 1.0f);  // hides next to nothing
+  Vector<RecognizedObject, kMaxObjects> objects;
+  ASSERT_TRUE(objects.push_back(known));
+  MonoStats stats;
+  ASSERT_TRUE(pipeline->recognizer()
+                  .RecognizeRest(pipeline->features(), around_known, Budget{}, objects, 1, &stats)
+                  .ok());
+  ASSERT_GE(objects.size(), 1u);
+  EXPECT_EQ(objects[0].cam_T_model.t_mm, known.cam_T_model.t_mm);  // kept in first place
+  for (size_t i = 1; i < objects.size(); ++i) {
+    EXPECT_GT((objects[i].cam_T_model.t_mm - c).norm(), 15.0f) << "object " << i;
+    EXPECT_FALSE(Interpenetrate({&f.table.model(objects[i].model), objects[i].cam_T_model},
+                                {&f.table.model(known.model), known.cam_T_model}));
+  }
+  std::vector<TruthObject> others(pair.truth.begin() + 1, pair.truth.end());
+  std::vector<RecognizedPose> found;
+  for (size_t i = 1; i < objects.size(); ++i) {
+    found.push_back({objects[i].model, objects[i].cam_T_model});
+  }
+  EXPECT_GT(MatchToTruth(f.models.table, others, found, 5.0f, 5.0f).correct, 0);
+
+  // Every feature hidden: nothing but the known object.
+  const DiscMask everything(centre_px, 1e6f);
+  ASSERT_TRUE(pipeline->recognizer()
+                  .RecognizeRest(pipeline->features(), everything, Budget{}, objects, 1, &stats)
+                  .ok());
+  EXPECT_EQ(objects.size(), 1u);
+  EXPECT_EQ(stats.scene_bases_tried, 0u);
+  // More known objects than the list holds is refused.
+  EXPECT_FALSE(pipeline->recognizer()
+                   .RecognizeRest(pipeline->features(), everything, Budget{}, objects, 2, &stats)
+                   .ok());
+}
+
 }  // namespace
 }  // namespace sh

@@ -1,0 +1,227 @@
+// The one-image rescue (PipelineConfig::rescue) on rendered stereo pairs: with stereo's 3-D
+// features taken away (every line pair treated as degenerate, points whose rays do not meet
+// within a hundredth of a millimetre), the stereo search finds nothing and the rescue finds the
+// objects from the left image, each confirmed in both; a right image without the objects refuses
+// every one-image hypothesis; the rescue allocates nothing (this binary counts operator new).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "recog/mono/mono_pipeline.hpp"
+#include "recog/pipeline/pipeline.hpp"
+#include "recog/verify/view_camera.hpp"
+#include "tables/aspect_file.hpp"
+#include "tables/table_file.hpp"
+#include "tests/support/counting_allocator.hpp"
+#include "tools/eval/rendered_eval.hpp"
+
+namespace sh {
+namespace {
+
+int64_t FakeClock() {
+  static int64_t t = 0;
+  return t += 1000;  // 1 us per call: the budget is never reached
+}
+
+constexpr int kScenes = 4;
+
+class PipelineRescue : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const Result<TableView> t = OpenDefaultTable();
+    ASSERT_TRUE(t.ok()) << t.status().message();
+    table_ = new TableView(*t);
+    const Result<AspectTableView> a = OpenDefaultAspectTable();
+    ASSERT_TRUE(a.ok()) << a.status().message();
+    aspects_ = new AspectTableView(*a);
+    models_ = new RenderModels();
+    ASSERT_TRUE(LoadRenderModels(STEREOHASH_MODELS_DIR, *table_, models_).ok());
+    pairs_ = new std::vector<std::unique_ptr<RenderedPair>>();
+    for (int i = 0; i < kScenes; ++i) {
+      render::ScenarioParams p;
+      p.background = render::Background::kDark;
+      p.occlusion = render::Occlusion::kNone;
+      p.n_objects = 3;
+      p.camera_distance_mm = 400.0f;
+      auto pair = std::make_unique<RenderedPair>();
+      ASSERT_TRUE(RenderPair(uint64_t(7100 + i), p, *models_, pair.get()).ok());
+      pairs_->push_back(std::move(pair));
+    }
+    pipeline_ = new Pipeline();
+    mono_ = new MonoRecognizer();
+    result_ = new PipelineResult();
+  }
+  static void TearDownTestSuite() {
+    delete result_;
+    delete mono_;
+    delete pipeline_;
+    delete pairs_;
+    delete models_;
+    delete aspects_;
+    delete table_;
+  }
+
+  // The pipeline for one scene's calibration and table, its 3-D features taken away when asked,
+  // and the rescue's recogniser lent (rescue on) or not.
+  static void SetUp(const RenderedPair& pair, bool lose_stereo, bool rescue, bool table = true) {
+    PipelineConfig config = PipelineConfig::Automatic();
+    config.table.known = table;
+    config.table.left_T_table = pair.generated.scene.left_T_table;
+    config.threads = 1;
+    if (lose_stereo) {
+      config.stereo.min_plane_angle_deg = 89.9f;
+      config.stereo.max_ray_gap_mm = 0.01f;
+    }
+    ASSERT_TRUE(pipeline_->Init(pair.generated.calib, *table_, config, FakeClock).ok());
+    ASSERT_TRUE(mono_
+                    ->Init(LeftView(pair.generated.calib), *aspects_,
+                           table ? &pair.generated.scene.left_T_table : nullptr,
+                           MonoPipelineConfig::Automatic().mono)
+                    .ok());
+    if (rescue) {
+      ASSERT_TRUE(pipeline_->LendRescue(mono_).ok());
+    }
+  }
+
+  static TableView* table_;
+  static AspectTableView* aspects_;
+  static RenderModels* models_;
+  static std::vector<std::unique_ptr<RenderedPair>>* pairs_;
+  static Pipeline* pipeline_;
+  static MonoRecognizer* mono_;
+  static PipelineResult* result_;
+};
+
+TableView* PipelineRescue::table_ = nullptr;
+AspectTableView* PipelineRescue::aspects_ = nullptr;
+RenderModels* PipelineRescue::models_ = nullptr;
+std::vector<std::unique_ptr<RenderedPair>>* PipelineRescue::pairs_ = nullptr;
+Pipeline* PipelineRescue::pipeline_ = nullptr;
+MonoRecognizer* PipelineRescue::mono_ = nullptr;
+PipelineResult* PipelineRescue::result_ = nullptr;
+
+TEST_F(PipelineRescue, FindsWhatStereoLostAndConfirmsItInBothImages) {
+  int truth = 0, stereo_alone = 0, rescued = 0, rescued_correct = 0, rescued_false = 0;
+  for (const auto& pair : *pairs_) {
+    truth += static_cast<int>(pair->truth.size());
+    SetUp(*pair, /*lose_stereo=*/true, /*rescue=*/false);
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+    stereo_alone += MatchToTruth(models_->table, pair->truth, PosesOf(*result_)).correct;
+    EXPECT_FALSE(result_->rescue.ran);  // not lent: no rescue
+
+    SetUp(*pair, /*lose_stereo=*/true, /*rescue=*/true);
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+    EXPECT_TRUE(result_->rescue.ran);
+    EXPECT_EQ(result_->rescue.added, result_->objects.size());  // stereo found nothing
+    const MatchCounts m = MatchToTruth(models_->table, pair->truth, PosesOf(*result_));
+    rescued += static_cast<int>(result_->rescue.added);
+    rescued_correct += m.correct;
+    rescued_false += m.false_alarms;
+    // Confirmed in both images by the stereo verifier, then fitted to both edge maps.
+    for (const RecognizedObject& o : result_->objects) {
+      EXPECT_GT(o.verify_score[0], 0.5f);
+      EXPECT_GT(o.verify_score[1], 0.5f);
+    }
+  }
+  std::printf("%d objects, stereo without 3-D features finds %d, the rescue %d (%d correct)\n",
+              truth, stereo_alone, rescued, rescued_correct);
+  EXPECT_EQ(stereo_alone, 0);
+  EXPECT_GE(rescued_correct * 2, truth);  // at least half from one image
+  EXPECT_EQ(rescued_false, 0);
+}
+
+TEST_F(PipelineRescue, ReportsNoObjectTwice) {
+  // Stereo intact: what the rescue adds lies outside the objects stereo found.
+  int correct_without = 0, false_without = 0, correct_with = 0, false_with = 0;
+  for (const auto& pair : *pairs_) {
+    SetUp(*pair, /*lose_stereo=*/false, /*rescue=*/false);
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+    const MatchCounts before = MatchToTruth(models_->table, pair->truth, PosesOf(*result_));
+    correct_without += before.correct;
+    false_without += before.false_alarms;
+    SetUp(*pair, /*lose_stereo=*/false, /*rescue=*/true);
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+    const MatchCounts m = MatchToTruth(models_->table, pair->truth, PosesOf(*result_));
+    correct_with += m.correct;
+    false_with += m.false_alarms;
+    for (size_t i = 0; i < result_->objects.size(); ++i) {
+      for (size_t j = 0; j < i; ++j) {
+        const float d =
+            (result_->objects[i].cam_T_model.t_mm - result_->objects[j].cam_T_model.t_mm).norm();
+        EXPECT_GT(d, 15.0f) << "objects " << j << " and " << i;
+      }
+    }
+  }
+  EXPECT_GE(correct_with, correct_without);
+  EXPECT_LE(false_with, false_without);  // the rescue adds none
+}
+
+TEST_F(PipelineRescue, WithoutATableItSearchesOnTheEstimatedOneAndGivesTheRecogniserBack) {
+  int estimated = 0, false_with = 0, false_without = 0;
+  for (const auto& pair : *pairs_) {
+    SetUp(*pair, /*lose_stereo=*/false, /*rescue=*/false, /*table=*/false);
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+    false_without += MatchToTruth(models_->table, pair->truth, PosesOf(*result_)).false_alarms;
+    SetUp(*pair, /*lose_stereo=*/false, /*rescue=*/true, /*table=*/false);
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+    false_with += MatchToTruth(models_->table, pair->truth, PosesOf(*result_)).false_alarms;
+    estimated += result_->table_source == TableSource::kEstimated;
+    EXPECT_FALSE(mono_->has_table());  // the estimated plane was lent for the search only
+  }
+  EXPECT_GT(estimated, 0);
+  EXPECT_LE(false_with, false_without);
+}
+
+TEST_F(PipelineRescue, RefusesWhatTheRightImageDoesNotShow) {
+  // The right image: the table alone (its background grey, no object edges).
+  const RenderedPair& pair = *(*pairs_)[0];
+  std::vector<uint8_t> empty(pair.right.size(), pair.right[0]);
+  const ConstGrayView right{empty.data(), pair.generated.calib.right.width,
+                            pair.generated.calib.right.height, pair.generated.calib.right.width};
+  SetUp(pair, /*lose_stereo=*/false, /*rescue=*/true);
+  ASSERT_TRUE(pipeline_->Process(pair.left_view(), right, 0, result_).ok());
+  EXPECT_TRUE(result_->rescue.ran);
+  EXPECT_GT(result_->rescue.found, 0u);  // the left image alone shows the objects
+  EXPECT_EQ(result_->rescue.refused_verify, result_->rescue.found);
+  EXPECT_EQ(result_->rescue.added, 0u);
+  EXPECT_TRUE(result_->objects.empty());
+}
+
+TEST_F(PipelineRescue, SwitchedOffItDoesNotRun) {
+  const RenderedPair& pair = *(*pairs_)[0];
+  SetUp(pair, /*lose_stereo=*/true, /*rescue=*/true);
+  PipelineConfig config = pipeline_->config();
+  config.rescue.enabled = false;
+  ASSERT_TRUE(pipeline_->Init(pair.generated.calib, *table_, config, FakeClock).ok());
+  ASSERT_TRUE(pipeline_->LendRescue(mono_).ok());
+  ASSERT_TRUE(pipeline_->Process(pair.left_view(), pair.right_view(), 0, result_).ok());
+  EXPECT_FALSE(result_->rescue.ran);
+  EXPECT_TRUE(result_->objects.empty());
+}
+
+TEST_F(PipelineRescue, RefusesARecogniserOfOtherModels) {
+  const RenderedPair& pair = *(*pairs_)[0];
+  SetUp(pair, false, false);
+  static MonoRecognizer unset;  // no aspect table
+  EXPECT_FALSE(pipeline_->LendRescue(&unset).ok());
+  EXPECT_TRUE(pipeline_->LendRescue(nullptr).ok());
+}
+
+TEST_F(PipelineRescue, NoAllocationWhileRescuing) {
+  size_t rescued = 0;
+  for (const auto& pair : *pairs_) {
+    SetUp(*pair, /*lose_stereo=*/true, /*rescue=*/true);
+    // The first frame after Init may touch lazily set-up state: it is not counted.
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+    const uint64_t before = testing::HeapAllocations();
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+    EXPECT_EQ(testing::HeapAllocations() - before, 0u) << "heap allocations while rescuing";
+    rescued += result_->rescue.added;
+  }
+  EXPECT_GT(rescued, 0u);
+}
+
+}  // namespace
+}  // namespace sh
