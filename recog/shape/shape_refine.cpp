@@ -39,9 +39,12 @@ float ParabolaPeak(float a, float b, float c) {
 // nearer than the edge found (the peak lies within a sample and a half of its transition), so a
 // pose near the image's edges reads a few pixels per sample, not the whole range. Of edges at the
 // same distance the one at the smaller s is kept, as a scan from -range would keep it.
-bool SearchEdge(ImageView<const Rgb8> image, ConstGrayView classes, uint8_t colour, bool silhouette,
-                const Eigen::Vector2f& p, const Eigen::Vector2f& n, int range, float min_contrast,
-                float* s_out) {
+// Flattened: the lambdas below and the colour interpolation inlined into one body (the search
+// runs for every sample of every pass; calls were a third of its instructions).
+[[gnu::flatten]] bool SearchEdge(ImageView<const Rgb8> image, ConstGrayView classes, uint8_t colour,
+                                 bool silhouette, const Eigen::Vector2f& p,
+                                 const Eigen::Vector2f& n, int range, float min_contrast,
+                                 float* s_out) {
   constexpr int kMax = 2 * kMaxSearchPx + 3;
   constexpr uint8_t kRead = 1, kValid = 2, kInside = 4, kSampled = 8;
   float c[kMax][3];
