@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "recog/camera/calibration_check.hpp"
 #include "recog/stereo/triangulation.hpp"
@@ -341,21 +342,29 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
   // The depth steps in one contiguous range per thread, each range with its own best; the bests
   // compared in range order, so that of equal costs the first wins, as on one thread (a
   // range's early drops only skip depths that cannot beat its own best).
+  //
+  // Within a range every kCoarseEvery-th step comes first, then the others: a cost near the
+  // least found early drops most of the remaining steps after a few rows. The best is the least
+  // cost and, of equal costs, the first step, whatever the order they are tried in (a step
+  // before the best is dropped only when it must cost more), so the depth is the one a scan in
+  // order finds.
+  constexpr int kCoarseEvery = 8;
   struct Best {
     float cost = 1e30f, depth = 0.0f;
+    int step = std::numeric_limits<int>::max();
   };
   Best best[kMaxShapeThreads];
   const int ranges = std::max(1, std::min(threads_, steps));
   Spread(ranges, [&](int /*slot*/, int range) {
-    float& best_cost = best[range].cost;
-    float& best_depth = best[range].depth;
-    for (int k = steps * range / ranges; k < steps * (range + 1) / ranges; ++k) {
+    Best& b = best[range];
+    const int begin = steps * range / ranges, end = steps * (range + 1) / ranges;
+    auto try_step = [&](int k) {
       const float inv = (1.0f / kMaxDepthMm) + (1.0f / kMinDepthMm - 1.0f / kMaxDepthMm) *
                                                    static_cast<float>(k) / (steps - 1);
       const float depth = 1.0f / inv;
       Eigen::Vector2d centre_other;
       if (!ProjectToPixel(co, (other_T_cam * (depth * ray)).cast<double>(), &centre_other)) {
-        continue;
+        return;
       }
       // The blob moves as a whole: its centroid's correspondence gives the shift.
       const int dx = static_cast<int>(std::lround(centre_other.x() - blob.cx));
@@ -379,15 +388,17 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
                                        std::abs(s_row[x].g - d_row[xo].g) +
                                        std::abs(s_row[x].b - d_row[xo].b));
         }
-        beaten = static_cast<float>(sad) / static_cast<float>(n_blob) >= best_cost;
+        const float least = static_cast<float>(sad) / static_cast<float>(n_blob);
+        beaten = least > b.cost || (least == b.cost && k > b.step);
       }
       // Most of the blob must land on its colour in the other image.
-      if (beaten || n == 0 || same * 10 < n * 7) continue;
+      if (beaten || n == 0 || same * 10 < n * 7) return;
       const float cost = static_cast<float>(sad) / n;
-      if (cost < best_cost) {
-        best_cost = cost;
-        best_depth = depth;
-      }
+      if (cost < b.cost || (cost == b.cost && k < b.step)) b = {cost, depth, k};
+    };
+    for (int k = begin; k < end; k += kCoarseEvery) try_step(k);
+    for (int k = begin; k < end; ++k) {
+      if ((k - begin) % kCoarseEvery != 0) try_step(k);
     }
   });
   Best first;
