@@ -40,7 +40,7 @@ float ParabolaPeak(float a, float b, float c) {
 // pose near the image's edges reads a few pixels per sample, not the whole range. Of edges at the
 // same distance the one at the smaller s is kept, as a scan from -range would keep it.
 // Flattened: the lambdas below and the colour interpolation inlined into one body (the search
-// runs for every sample of every pass; calls were a third of its instructions).
+// runs for every sample of every pass; 5 % fewer instructions in it than with the calls).
 [[gnu::flatten]] bool SearchEdge(ImageView<const Rgb8> image, ConstGrayView classes, uint8_t colour,
                                  bool silhouette, const Eigen::Vector2f& p,
                                  const Eigen::Vector2f& n, int range, float min_contrast,
