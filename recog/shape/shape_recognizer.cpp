@@ -333,10 +333,23 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
   const ConstGrayView dst_classes = images_.classes[other];
   // The blob's sampled pixels: no shift maps more of them, so a sum of differences that already
   // reaches best_cost times their count cannot give a lower mean; the depth is dropped there.
+  // Per sampled row, the first and last sampled columns that are the blob's: the shifts read
+  // between them only (the same pixels; an empty row has last < first).
+  struct Span {
+    int16_t first, last;
+  };
+  Span spans[kMaxImageHeight / kSampleStride + 1];
   uint32_t n_blob = 0;
-  for (int y = blob.y0; y <= blob.y1; y += kSampleStride) {
+  for (int y = blob.y0, r = 0; y <= blob.y1; y += kSampleStride, ++r) {
     const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(y) * w;
-    for (int x = blob.x0; x <= blob.x1; x += kSampleStride) n_blob += ids[x] == id;
+    int first = blob.x1 + 1, last = blob.x0 - 1;
+    for (int x = blob.x0; x <= blob.x1; x += kSampleStride) {
+      if (ids[x] != id) continue;
+      ++n_blob;
+      first = std::min(first, x);
+      last = x;
+    }
+    spans[r] = {static_cast<int16_t>(first), static_cast<int16_t>(last)};
   }
   if (n_blob == 0) return 0.0f;
   // The depth steps in one contiguous range per thread, each range with its own best; the bests
@@ -372,14 +385,14 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
       uint32_t n = 0, same = 0;
       uint32_t sad = 0;
       bool beaten = false;
-      for (int y = blob.y0; y <= blob.y1 && !beaten; y += kSampleStride) {
+      for (int y = blob.y0, r = 0; y <= blob.y1 && !beaten; y += kSampleStride, ++r) {
         const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(y) * w;
         const int yo = y + dy;
         if (yo < 0 || yo >= co.height) continue;
         const Rgb8* s_row = src.row(y);
         const Rgb8* d_row = dst.row(yo);
         const uint8_t* c_row = dst_classes.row(yo);
-        for (int x = blob.x0; x <= blob.x1; x += kSampleStride) {
+        for (int x = spans[r].first; x <= spans[r].last; x += kSampleStride) {
           const int xo = x + dx;
           if (ids[x] != id || xo < 0 || xo >= co.width) continue;
           ++n;
