@@ -458,13 +458,15 @@ bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c,
       return false;
     }
     // Centroid offset as in the stereo case; the box's size corrects the depth.
+    // The box of the inside pixels: each row read from both ends to its first inside pixel.
     int x0 = mask.width, x1 = -1, y0 = mask.height, y1 = -1;
     for (int y = 0; y < mask.height; ++y) {
-      for (int x = 0; x < mask.width; ++x) {
-        if (mask.mask[static_cast<size_t>(y) * mask.width + x]) {
-          x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-        }
-      }
+      const uint8_t* row = mask.mask + static_cast<size_t>(y) * mask.width;
+      int first = 0, last = mask.width - 1;
+      while (first < mask.width && !row[first]) ++first;
+      if (first == mask.width) continue;
+      while (!row[last]) --last;
+      x0 = std::min(x0, first), x1 = std::max(x1, last), y0 = std::min(y0, y), y1 = y;
     }
     if (x1 < x0) return false;
     if (known_depth <= 0) depth *= static_cast<float>(x1 - x0 + 1 + y1 - y0 + 1) / extent_px;
