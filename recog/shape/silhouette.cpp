@@ -108,9 +108,11 @@ Status RasterizeSilhouette(const ViewCamera& camera, const PosedModel& object,
     const uint8_t* row = scratch.mask + static_cast<size_t>(y) * out->width;
     uint32_t n = 0, row_sx = 0;
     for (int x = 0; x < out->width; ++x) {
-      const uint32_t in = row[x] != 0;
-      n += in;
-      row_sx += in * static_cast<uint32_t>(x);
+      // All ones inside, zero outside: a mask rather than a product (no 32-bit lane multiply
+      // in the baseline x86-64 vector instructions).
+      const uint32_t in = row[x] != 0 ? ~0u : 0u;
+      n += in & 1u;
+      row_sx += in & static_cast<uint32_t>(x);
     }
     area += n;
     sx += row_sx;
