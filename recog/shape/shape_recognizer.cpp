@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "recog/camera/calibration_check.hpp"
 #include "recog/stereo/triangulation.hpp"
@@ -332,30 +333,51 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
   const ConstGrayView dst_classes = images_.classes[other];
   // The blob's sampled pixels: no shift maps more of them, so a sum of differences that already
   // reaches best_cost times their count cannot give a lower mean; the depth is dropped there.
+  // Per sampled row, the first and last sampled columns that are the blob's: the shifts read
+  // between them only (the same pixels; an empty row has last < first).
+  struct Span {
+    int16_t first, last;
+  };
+  Span spans[kMaxImageHeight / kSampleStride + 1];
   uint32_t n_blob = 0;
-  for (int y = blob.y0; y <= blob.y1; y += kSampleStride) {
+  for (int y = blob.y0, r = 0; y <= blob.y1; y += kSampleStride, ++r) {
     const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(y) * w;
-    for (int x = blob.x0; x <= blob.x1; x += kSampleStride) n_blob += ids[x] == id;
+    int first = blob.x1 + 1, last = blob.x0 - 1;
+    for (int x = blob.x0; x <= blob.x1; x += kSampleStride) {
+      if (ids[x] != id) continue;
+      ++n_blob;
+      first = std::min(first, x);
+      last = x;
+    }
+    spans[r] = {static_cast<int16_t>(first), static_cast<int16_t>(last)};
   }
   if (n_blob == 0) return 0.0f;
   // The depth steps in one contiguous range per thread, each range with its own best; the bests
   // compared in range order, so that of equal costs the first wins, as on one thread (a
   // range's early drops only skip depths that cannot beat its own best).
+  //
+  // Within a range every kCoarseEvery-th step comes first, then the others: a cost near the
+  // least found early drops most of the remaining steps after a few rows. The best is the least
+  // cost and, of equal costs, the first step, whatever the order they are tried in (a step
+  // before the best is dropped only when it must cost more), so the depth is the one a scan in
+  // order finds.
+  constexpr int kCoarseEvery = 8;
   struct Best {
     float cost = 1e30f, depth = 0.0f;
+    int step = std::numeric_limits<int>::max();
   };
   Best best[kMaxShapeThreads];
   const int ranges = std::max(1, std::min(threads_, steps));
   Spread(ranges, [&](int /*slot*/, int range) {
-    float& best_cost = best[range].cost;
-    float& best_depth = best[range].depth;
-    for (int k = steps * range / ranges; k < steps * (range + 1) / ranges; ++k) {
+    Best& b = best[range];
+    const int begin = steps * range / ranges, end = steps * (range + 1) / ranges;
+    auto try_step = [&](int k) {
       const float inv = (1.0f / kMaxDepthMm) + (1.0f / kMinDepthMm - 1.0f / kMaxDepthMm) *
                                                    static_cast<float>(k) / (steps - 1);
       const float depth = 1.0f / inv;
       Eigen::Vector2d centre_other;
       if (!ProjectToPixel(co, (other_T_cam * (depth * ray)).cast<double>(), &centre_other)) {
-        continue;
+        return;
       }
       // The blob moves as a whole: its centroid's correspondence gives the shift.
       const int dx = static_cast<int>(std::lround(centre_other.x() - blob.cx));
@@ -363,14 +385,14 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
       uint32_t n = 0, same = 0;
       uint32_t sad = 0;
       bool beaten = false;
-      for (int y = blob.y0; y <= blob.y1 && !beaten; y += kSampleStride) {
+      for (int y = blob.y0, r = 0; y <= blob.y1 && !beaten; y += kSampleStride, ++r) {
         const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(y) * w;
         const int yo = y + dy;
         if (yo < 0 || yo >= co.height) continue;
         const Rgb8* s_row = src.row(y);
         const Rgb8* d_row = dst.row(yo);
         const uint8_t* c_row = dst_classes.row(yo);
-        for (int x = blob.x0; x <= blob.x1; x += kSampleStride) {
+        for (int x = spans[r].first; x <= spans[r].last; x += kSampleStride) {
           const int xo = x + dx;
           if (ids[x] != id || xo < 0 || xo >= co.width) continue;
           ++n;
@@ -379,15 +401,17 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
                                        std::abs(s_row[x].g - d_row[xo].g) +
                                        std::abs(s_row[x].b - d_row[xo].b));
         }
-        beaten = static_cast<float>(sad) / static_cast<float>(n_blob) >= best_cost;
+        const float least = static_cast<float>(sad) / static_cast<float>(n_blob);
+        beaten = least > b.cost || (least == b.cost && k > b.step);
       }
       // Most of the blob must land on its colour in the other image.
-      if (beaten || n == 0 || same * 10 < n * 7) continue;
+      if (beaten || n == 0 || same * 10 < n * 7) return;
       const float cost = static_cast<float>(sad) / n;
-      if (cost < best_cost) {
-        best_cost = cost;
-        best_depth = depth;
-      }
+      if (cost < b.cost || (cost == b.cost && k < b.step)) b = {cost, depth, k};
+    };
+    for (int k = begin; k < end; k += kCoarseEvery) try_step(k);
+    for (int k = begin; k < end; ++k) {
+      if ((k - begin) % kCoarseEvery != 0) try_step(k);
     }
   });
   Best first;
@@ -434,13 +458,15 @@ bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c,
       return false;
     }
     // Centroid offset as in the stereo case; the box's size corrects the depth.
+    // The box of the inside pixels: each row read from both ends to its first inside pixel.
     int x0 = mask.width, x1 = -1, y0 = mask.height, y1 = -1;
     for (int y = 0; y < mask.height; ++y) {
-      for (int x = 0; x < mask.width; ++x) {
-        if (mask.mask[static_cast<size_t>(y) * mask.width + x]) {
-          x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-        }
-      }
+      const uint8_t* row = mask.mask + static_cast<size_t>(y) * mask.width;
+      int first = 0, last = mask.width - 1;
+      while (first < mask.width && !row[first]) ++first;
+      if (first == mask.width) continue;
+      while (!row[last]) --last;
+      x0 = std::min(x0, first), x1 = std::max(x1, last), y0 = std::min(y0, y), y1 = y;
     }
     if (x1 < x0) return false;
     if (known_depth <= 0) depth *= static_cast<float>(x1 - x0 + 1 + y1 - y0 + 1) / extent_px;

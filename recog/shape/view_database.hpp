@@ -141,9 +141,10 @@ class ShapeViewsView {
   void Project(const ShapeWindow& window, ShapeCoefficients* out) const;
 
   // The `k` nearest views among the models whose bit is set in `model_mask`, nearest first
-  // (exhaustive, with partial-distance early exit: a view is abandoned once its running sum
-  // exceeds the k-th best so far; the components come in decreasing variance, so most views
-  // are abandoned after a few blocks).
+  // (exhaustive, with partial-distance early exit: views go in groups of four, and a group is
+  // abandoned once every running sum in it reaches the k-th best so far; the components come in
+  // decreasing variance, so most views are abandoned after a few blocks). Of equal distances
+  // the earlier view comes first.
   void Nearest(const ShapeCoefficients& query, uint32_t model_mask, size_t k,
                Vector<ViewMatch>& out) const;
 

@@ -113,6 +113,41 @@ TEST(Silhouette, CentredCubeFaceOnHasItsCentroidOnTheAxisAndItsAnalyticArea) {
   EXPECT_NEAR(mask.area_px, area, 0.02 * area);
 }
 
+// The area and centroid are those of the mask's pixels, summed in doubles, exactly.
+TEST(Silhouette, AreaAndCentroidAreThoseOfTheMasksPixels) {
+  auto scratch = std::make_unique<SilhouetteScratch>();
+  const ViewCamera view{Camera(-0.1), RigidTransform::Identity()};
+  int checked = 0;
+  for (const char* name : {"bracket", "star", "can"}) {
+    const Model model = Load(name);
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Matrix3f R =
+          Eigen::AngleAxisf(0.7f * k + 0.3f, Eigen::Vector3f(1, 2, 3 - k).normalized())
+              .toRotationMatrix();
+      // The last pose half out of the right border: a clipped mask.
+      const Eigen::Vector3f t(k == 3 ? 140.0f : -40.0f + 25.0f * k, 10.0f * k - 15.0f, 420.0f);
+      SilhouetteMask mask;
+      ASSERT_TRUE(RasterizeSilhouette(view, {&model, {R, t}}, *scratch, &mask).ok());
+      double sx = 0, sy = 0;
+      uint32_t area = 0;
+      for (int y = 0; y < mask.height; ++y) {
+        for (int x = 0; x < mask.width; ++x) {
+          if (!mask.mask[static_cast<size_t>(y) * mask.width + x]) continue;
+          ++area;
+          sx += x;
+          sy += y;
+        }
+      }
+      ASSERT_GT(area, 0u) << name << k;
+      EXPECT_EQ(mask.area_px, area) << name << k;
+      EXPECT_EQ(mask.cx, static_cast<float>(mask.x0 + sx / area)) << name << k;
+      EXPECT_EQ(mask.cy, static_cast<float>(mask.y0 + sy / area)) << name << k;
+      checked += k == 3 ? mask.clipped : 1;
+    }
+  }
+  EXPECT_EQ(checked, 12);
+}
+
 TEST(Silhouette, ClippedOutsideAndBehindTheCamera) {
   const Model cube = Load("cube");
   auto scratch = std::make_unique<SilhouetteScratch>();

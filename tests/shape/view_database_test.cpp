@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cstring>
 #include <memory>
 #include <random>
@@ -193,6 +194,89 @@ TEST(ViewDatabase, OrientationsBetweenTheSamplesFindANeighbouringView) {
   // Silhouettes alone leave some orientations ambiguous (a view and its mirror image through
   // the viewing ray); most are found among the four nearest.
   EXPECT_GE(near, trials * 3 / 4);
+}
+
+// Each coefficient is the sum over the pixels in order, one component at a time, bit for bit,
+// for component counts that do and do not fill the search's groups of components.
+TEST(ViewDatabase, ProjectionSumsEachComponentOverThePixelsInOrder) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> pixel(-0.02f, 0.02f);
+  std::uniform_int_distribution<int> raw(-16384, 16384);
+  std::vector<float> mean(kWindowPixels);
+  for (float& m : mean) m = pixel(rng);
+  std::vector<QBasis::Raw> basis(static_cast<size_t>(kWindowPixels) * 21);
+  for (QBasis::Raw& b : basis) b = static_cast<QBasis::Raw>(raw(rng));
+  auto window = std::make_unique<ShapeWindow>();
+  for (float& v : window->v) v = pixel(rng);
+  for (const int n : {1, 8, 13, 21}) {
+    const int stride = (n + 7) / 8 * 8;
+    ShapeCoefficients c;
+    for (QCoefficient::Raw& x : c.c) x = 77;  // padding must come back zero
+    ProjectShapeWindow(mean.data(), basis.data(), n, stride, *window, &c);
+    for (int k = 0; k < n; ++k) {
+      float sum = 0;
+      for (int i = 0; i < kWindowPixels; ++i) {
+        sum += (window->v[i] - mean[i]) * static_cast<float>(basis[k * kWindowPixels + i]);
+      }
+      EXPECT_EQ(c.c[k], QCoefficient::FromDouble(double(sum) / QBasis::kScale).raw()) << n << k;
+    }
+    for (int k = n; k < stride; ++k) EXPECT_EQ(c.c[k], 0) << n << k;
+  }
+}
+
+// The k nearest views are those of the whole list of distances, each summed over the
+// components in order, sorted stably (of equal distances the earlier view first): the early
+// exit and the views compared together change nothing, whatever k and models are asked for.
+TEST(ViewDatabase, NearestViewsAreThoseOfAnExhaustiveStableSort) {
+  Blob blob(TestBlob());
+  Result<ShapeViewsView> v = ShapeViewsView::Open(blob.data(), blob.size);
+  ASSERT_TRUE(v.ok());
+  const int stride = v->header().component_stride;
+  std::mt19937 rng(12);
+  std::normal_distribution<float> n01;
+  for (int t = 0; t < 6; ++t) {
+    ShapeCoefficients query;
+    if (t < 3) {
+      // A view's own coefficients, a little off: many close distances.
+      const QCoefficient::Raw* own = v->coefficients(static_cast<uint32_t>(t * 997));
+      for (int k = 0; k < stride; ++k) {
+        query.c[k] = static_cast<QCoefficient::Raw>(own[k] + static_cast<int>(40 * n01(rng)));
+      }
+    } else {
+      const Eigen::Matrix3f R = Eigen::Quaternionf(n01(rng), n01(rng), n01(rng), n01(rng))
+                                    .normalized()
+                                    .toRotationMatrix();
+      v->Project(RenderWindow(v->model(t % 2), R, 400), &query);
+    }
+    for (const uint32_t mask : {0x1u, 0x2u, 0x3u}) {
+      std::vector<ViewMatch> all;
+      for (uint32_t m = 0; m < v->model_count(); ++m) {
+        if (!(mask & (1u << m))) continue;
+        const ShapeModelRecord& rec = v->shape_model(m);
+        for (uint32_t i = rec.first_view; i < rec.first_view + rec.n_views; ++i) {
+          float d2 = 0;
+          for (int k = 0; k < stride; ++k) {
+            const float d =
+                static_cast<float>(int32_t{query.c[k]} - int32_t{v->coefficients(i)[k]});
+            d2 += d * d;
+          }
+          all.push_back({i, d2 / static_cast<float>(QCoefficient::kScale * QCoefficient::kScale)});
+        }
+      }
+      std::stable_sort(all.begin(), all.end(), [](const ViewMatch& a, const ViewMatch& b) {
+        return a.distance2 < b.distance2;
+      });
+      for (const size_t k : {size_t{1}, size_t{3}, size_t{32}}) {
+        Vector<ViewMatch, 32> nearest;
+        v->Nearest(query, mask, k, nearest);
+        ASSERT_EQ(nearest.size(), std::min(k, all.size()));
+        for (size_t i = 0; i < nearest.size(); ++i) {
+          EXPECT_EQ(nearest[i].view, all[i].view) << t << " " << mask << " " << k << " " << i;
+          EXPECT_EQ(nearest[i].distance2, all[i].distance2);
+        }
+      }
+    }
+  }
 }
 
 // Header fields either make Open refuse the blob or leave what the search reads unchanged.
