@@ -15,6 +15,7 @@ Status PipelineRecognition::Init(const StereoCalibration& calib, const ModelSet&
   printed_ = false;
   carry_trusted_ = false;  // Init starts the carried plane again
   carry_drops_ = 0;
+  rescue_lent_ = false;  // the pipeline's Init takes the rescue's recogniser back
   // The automatic default or a preset (detectors, verification, search), not bare defaults.
   PipelineConfig config = config_.automatic          ? PipelineConfig::Automatic()
                           : config_.light_background ? PipelineConfig::LightBackground()
@@ -71,9 +72,42 @@ Status PipelineRecognition::LendRescue() {
   if (mono_ == nullptr || !pipeline_->config().rescue.enabled) return Status::Ok();
   if (!mono_->initialised() || mono_->camera() != 0) SH_RETURN_IF_ERROR(InitMono(0));
   // Other models or another order (a model set without its own aspect table): no rescue.
-  if (!pipeline_->LendRescue(&mono_->recognizer()).ok()) return Status::Ok();
-  rescue_lent_ = true;
+  if (!pipeline_->LendRescue(&mono_->recognizer()).ok()) {
+    NoteRescueLent(false, "the fallback's aspect table lists other models than the stereo tables");
+    return Status::Ok();
+  }
+  rescue_lends_.fetch_add(1, std::memory_order_relaxed);
+  NoteRescueLent(true,
+                 "the one-camera fallback's recogniser (left camera) lent to the stereo pipeline");
   return Status::Ok();
+}
+
+void PipelineRecognition::NoteRescueLent(bool lent, const char* why) {
+  rescue_lent_.store(lent, std::memory_order_relaxed);
+  // Only on a change: a mask change lends it again, an aspect table of other models is tried at
+  // each frame.
+  const RescueLog state = lent ? RescueLog::kOn : RescueLog::kOff;
+  if (state == rescue_logged_) return;
+  std::fprintf(stderr, "stereohash-fw: one-image rescue %s: %s\n", lent ? "on" : "off", why);
+  rescue_logged_ = state;
+}
+
+void PipelineRecognition::CountRescue(bool lent, const RescueStats& stats) {
+  if (!lent) return;
+  rescue_frames_lent_.fetch_add(1, std::memory_order_relaxed);
+  if (stats.ran) rescue_frames_ran_.fetch_add(1, std::memory_order_relaxed);
+  rescue_found_.fetch_add(stats.found, std::memory_order_relaxed);
+  rescue_added_.fetch_add(stats.added, std::memory_order_relaxed);
+}
+
+RescueCounters PipelineRecognition::rescue_counters() const {
+  RescueCounters c;
+  c.lends = rescue_lends_.load(std::memory_order_relaxed);
+  c.frames_lent = rescue_frames_lent_.load(std::memory_order_relaxed);
+  c.frames_ran = rescue_frames_ran_.load(std::memory_order_relaxed);
+  c.found = rescue_found_.load(std::memory_order_relaxed);
+  c.added = rescue_added_.load(std::memory_order_relaxed);
+  return c;
 }
 
 Result<AspectTableView> PipelineRecognition::OpenAspects() {
@@ -155,7 +189,7 @@ Status PipelineRecognition::ProcessMonocular(hal::StereoSide side, ConstGrayView
   // Set up for the right camera, it no longer serves the stereo frames' rescue.
   if (rescue_lent_ && camera != 0) {
     (void)pipeline_->LendRescue(nullptr);
-    rescue_lent_ = false;
+    NoteRescueLent(false, "the fallback's recogniser serves the right camera");
   }
   // The stereo pipeline is idle while one camera is out: its workspace of that camera is free.
   SH_RETURN_IF_ERROR(mono_->Process(image, budget_ms, pipeline_->workspace(camera), mono_result_));
@@ -187,7 +221,7 @@ Status PipelineRecognition::SetModelMask(uint32_t model_mask) {
   const TableCarry carry = pipeline_->table_carry();
   SH_RETURN_IF_ERROR(pipeline_->Init(calib, table, config, &MonotonicNs, models_.shape()));
   pipeline_->RestoreTableCarry(carry);
-  rescue_lent_ = false;  // Init took it back
+  rescue_lent_ = false;  // Init took it back (lent again at once: nothing to log)
   SH_RETURN_IF_ERROR(LendRescue());
   model_mask_ = model_mask;  // the colour and printed models' bits are applied to their objects
   return Status::Ok();
@@ -241,6 +275,7 @@ Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_
   // colour parts' path runs when they are colour and the set holds colour parts.
   SH_RETURN_IF_ERROR(pipeline_->Process(frame.left_frame, frame.right_frame, polyhedra_budget_ms,
                                         &result_, cartons, n_cartons));
+  CountRescue(rescue_lent_, result_.rescue);
   set->status = result_.recognition.budget_exhausted ? protocol::ResultStatus::kTimeBudgetHit
                                                      : protocol::ResultStatus::kOk;
   set->table = TablePlaneOf(result_.table_source);

@@ -5,6 +5,9 @@
 // camera when the other has failed.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
+
 #include "firmware/recognition.hpp"
 #include "recog/mono/mono_pipeline.hpp"
 #include "recog/pipeline/pipeline.hpp"
@@ -49,6 +52,19 @@ struct PipelineRecognitionConfig {
   const char* aspects_file = nullptr;
 };
 
+// What the stereo pipeline's one-image rescue (docs/pipeline.md, stage 4d) did since start, on the
+// fallback's recogniser: how often it was lent (at Init, back from a fallback on the right
+// camera, after a model mask change), the stereo frames processed with it lent, those in which
+// its gate let it run (enough left-image corners no accepted object explains), the objects its
+// one-image search found and those confirmed in both images and reported.
+struct RescueCounters {
+  uint64_t lends = 0;
+  uint64_t frames_lent = 0;
+  uint64_t frames_ran = 0;
+  uint64_t found = 0;
+  uint64_t added = 0;
+};
+
 class PipelineRecognition final : public Recognition {
  public:
   // `pipeline` is large (tens of MiB): the caller keeps it in static storage. `texture` (about
@@ -79,6 +95,10 @@ class PipelineRecognition final : public Recognition {
   bool mono_on_carried_plane() const { return mono_on_carried_plane_; }
   Status ProcessMonocular(hal::StereoSide side, ConstGrayView image, float budget_ms,
                           protocol::ResultSet* set) override;
+  // The rescue's counters (written by the thread that calls Process, read by any) and whether
+  // the fallback's recogniser is lent to it now.
+  RescueCounters rescue_counters() const;
+  bool rescue_lent() const { return rescue_lent_.load(std::memory_order_relaxed); }
 
  private:
   // The printed models' objects after the n objects already in *set, masked, up to capacity.
@@ -99,6 +119,10 @@ class PipelineRecognition final : public Recognition {
   // The plane the fallback lays objects onto when no table pose is configured: the stereo
   // frames' carried plane, once confirmed (null: none, free 6-D poses).
   const RigidTransform* CarriedPlaneForMono() const;
+  // Sets rescue_lent_ and logs when that changed.
+  void NoteRescueLent(bool lent, const char* why);
+  // Counts what the rescue did in the frame just processed.
+  void CountRescue(bool lent, const RescueStats& stats);
 
   Pipeline* pipeline_;
   PipelineRecognitionConfig config_;
@@ -120,7 +144,11 @@ class PipelineRecognition final : public Recognition {
   // The carried plane the monocular pipeline was set up with (mono_on_carried_plane_).
   RigidTransform mono_left_T_table_;
   bool mono_on_carried_plane_ = false;
-  bool rescue_lent_ = false;  // the stereo pipeline's rescue runs on mono_'s recogniser
+  // The stereo pipeline's rescue runs on mono_'s recogniser; the state the log last reported.
+  std::atomic<bool> rescue_lent_{false};
+  enum class RescueLog : uint8_t { kNone, kOn, kOff } rescue_logged_ = RescueLog::kNone;
+  std::atomic<uint64_t> rescue_lends_{0}, rescue_frames_lent_{0}, rescue_frames_ran_{0},
+      rescue_found_{0}, rescue_added_{0};
 };
 
 }  // namespace sh::fw
