@@ -2,7 +2,10 @@
 // recognition: the right camera goes silent after three frames, EMCY 0x7300 (one camera) follows
 // with the state staying ready, result sets come with the monocular status and poses that match
 // the rendered truth, without heap allocation, and a clear-fault returns to stereo once the
-// camera is back. Own binary: it counts every operator new of the process.
+// camera is back. While both cameras deliver, the fallback's recogniser serves the stereo
+// pipeline's one-image rescue: it adds what stereo missed, is lent again after a right-camera
+// fallback and after a model mask change, and is absent without the fallback. Own binary: it
+// counts every operator new of the process.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -120,20 +123,29 @@ SetScore ScoreSet(const render::SimWorld& world, const TableView& table, const i
 // the real stereo and monocular pipelines (static: one rig runs at a time) and a PLC.
 struct FallbackRig {
   explicit FallbackRig(const hal::SimCameraConfig& camera_config)
-      : fw(*bus.AddEndpoint(hal::SimCanEndpointConfig{})),
+      : FallbackRig(camera_config, &World()) {}
+  // `world`: the scenes the camera sees (one rig, one table).
+  FallbackRig(const hal::SimCameraConfig& camera_config, render::SimWorld* world)
+      : world(world),
+        fw(*bus.AddEndpoint(hal::SimCanEndpointConfig{})),
         plc(*bus.AddEndpoint(PlcConfig())),
-        camera(&World(), camera_config),
-        data(std::make_unique<FileDataSource>("builtin", "", &World().calibration())) {}
+        camera(world, camera_config),
+        data(std::make_unique<FileDataSource>("builtin", "", &world->calibration())) {}
   ~FallbackRig() { core.Stop(); }
 
   static render::SimWorld& World() {
     static render::SimWorld world;
+    return OneSceneWorld(&world, 3, render::SimWorldConfig{}.seed);
+  }
+  // `world` built once: one scene of `objects` plain models placed from `seed`.
+  static render::SimWorld& OneSceneWorld(render::SimWorld* world, int objects, uint64_t seed) {
     render::SimWorldConfig wc;
     wc.models_dir = STEREOHASH_FW_SOURCE_MODELS_DIR;
     wc.scenes = 1;
-    wc.objects = 3;
-    EXPECT_TRUE(BuildOnce(world, wc));
-    return world;
+    wc.objects = objects;
+    wc.seed = seed;
+    EXPECT_TRUE(BuildOnce(*world, wc));
+    return *world;
   }
 
   // table_configured: the rendered table as the cell's table pose; without it the stereo frames
@@ -145,15 +157,16 @@ struct FallbackRig {
     static MonoResult mono_result;
     PipelineRecognitionConfig pc;
     pc.mono_table_known = table_configured;
-    pc.left_T_table_at_init = table_configured ? &World().left_T_table() : nullptr;
+    pc.left_T_table_at_init = table_configured ? &world->left_T_table() : nullptr;
     pc.table_confirm_frames = confirm_frames;
     recognition = std::make_unique<PipelineRecognition>(&pipeline, pc, nullptr, nullptr,
                                                         fallback ? &mono : nullptr,
                                                         fallback ? &mono_result : nullptr);
     const Result<TableView> table = data->LoadTable();
     ASSERT_TRUE(table.ok());
-    MapWorldModelsToIds(World(), ModelSet(&*table, nullptr), table_ids);
+    MapWorldModelsToIds(*world, ModelSet(&*table, nullptr), table_ids);
     CoreConfig config;
+    if (hide_scene_object >= 0) config.model_mask = ~ModelBitOf(hide_scene_object);
     config.node_id = kNodeId;
     config.heartbeat_ms = 100;
     config.capture_timeout_ms = 500;
@@ -164,11 +177,17 @@ struct FallbackRig {
     ASSERT_EQ(recognition->monocular(), fallback);
   }
 
+  // The model id bit of the scene's object k (after Start).
+  uint32_t ModelBitOf(int k) const {
+    return 1u << table_ids[world->scene(0).scene.objects[size_t(k)].model_index];
+  }
+
   static hal::SimCanEndpointConfig PlcConfig() {
     hal::SimCanEndpointConfig c;
     c.name = "plc";
     return c;
   }
+  render::SimWorld* world;
   hal::SimCanBus bus;
   hal::SimCanEndpoint* fw;
 
@@ -179,6 +198,9 @@ struct FallbackRig {
   std::unique_ptr<FileDataSource> data;
   std::unique_ptr<PipelineRecognition> recognition;
   int table_ids[render::kMaxWorldModels] = {};
+  // When set before Start: the model of this scene object is left out of the mask at boot, so
+  // the stereo search cannot find it and its corners stay free for the one-image rescue.
+  int hide_scene_object = -1;
   FirmwareCore core;
 };
 
@@ -414,6 +436,139 @@ TEST(FirmwareMonocular, BootWithOneCameraMissingStartsOnTheOther) {
     EXPECT_EQ(rig.core.capture_mode(), working);
     EXPECT_EQ(rig.core.state(), FirmwareState::kReady);
   }
+}
+
+// A busier cell: one scene of 8 objects in which the stereo search misses one (seed 31).
+render::SimWorld& BusyWorld() {
+  static render::SimWorld world;
+  return FallbackRig::OneSceneWorld(&world, 8, 31);
+}
+
+// The stereo pipeline's one-image rescue on the fallback's recogniser, lent at boot: on the busy
+// cell it runs and adds an object the stereo search missed, so the sets hold more of the truth
+// than without the fallback (no recogniser to lend), nothing false, and no heap allocation.
+TEST(FirmwareRescue, TheFallbacksRecogniserAddsWhatStereoMissed) {
+  constexpr int kSets = 2;
+  SetScore score[2];  // without the fallback, with it
+  RescueCounters counters[2];
+  for (const bool fallback : {false, true}) {
+    FallbackRig rig(hal::SimCameraConfig{}, &BusyWorld());
+    rig.Start(/*table_configured=*/true, /*confirm_frames=*/3, fallback);
+    EXPECT_EQ(rig.recognition->rescue_lent(), fallback);
+    const uint64_t allocations_before = HeapAllocations();
+    for (int i = 0; i < kSets; ++i) {
+      rig.plc.Trigger(uint16_t(i + 1));
+      const std::optional<ResultSet> s = rig.plc.WaitSet();
+      ASSERT_TRUE(s);
+      EXPECT_EQ(s->status, ResultStatus::kOk);
+      const SetScore c = ScoreSet(BusyWorld(), rig.data->table(), rig.table_ids, *s);
+      score[fallback].truth += c.truth;
+      score[fallback].correct += c.correct;
+      score[fallback].false_alarms += c.false_alarms;
+    }
+    counters[fallback] = rig.recognition->rescue_counters();
+    EXPECT_EQ(HeapAllocations() - allocations_before, 0u) << "heap allocations in triggers";
+  }
+  const RescueCounters& r = counters[1];
+  std::printf(
+      "busy cell, %d sets: stereo alone %d of %d correct, %d false; with the rescue %d "
+      "correct, %d false (lent %llu frames, ran %llu, found %llu, added %llu)\n",
+      kSets, score[0].correct, score[0].truth, score[0].false_alarms, score[1].correct,
+      score[1].false_alarms, static_cast<unsigned long long>(r.frames_lent),
+      static_cast<unsigned long long>(r.frames_ran), static_cast<unsigned long long>(r.found),
+      static_cast<unsigned long long>(r.added));
+  EXPECT_EQ(counters[0].frames_ran, 0u);
+  EXPECT_EQ(r.lends, 1u);
+  EXPECT_EQ(r.frames_lent, uint64_t(kSets));
+  EXPECT_GE(r.frames_ran, 1u);
+  EXPECT_GE(r.added, 1u);
+  EXPECT_GT(score[1].correct, score[0].correct);
+  EXPECT_LE(score[1].false_alarms, score[0].false_alarms);
+}
+
+// Without the fallback (mono_fallback = false) there is no recogniser to lend: no rescue, on the
+// same frames on which it runs with the fallback.
+TEST(FirmwareRescue, WithoutTheFallbackTheRescueNeverRuns) {
+  FallbackRig rig(hal::SimCameraConfig{});
+  rig.hide_scene_object = 0;
+  rig.Start(/*table_configured=*/true, /*confirm_frames=*/3, /*fallback=*/false);
+  for (int i = 0; i < 2; ++i) {
+    rig.plc.Trigger(uint16_t(i + 1));
+    const std::optional<ResultSet> s = rig.plc.WaitSet();
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->status, ResultStatus::kOk);
+  }
+  EXPECT_FALSE(rig.recognition->rescue_lent());
+  const RescueCounters r = rig.recognition->rescue_counters();
+  EXPECT_EQ(r.lends, 0u);
+  EXPECT_EQ(r.frames_lent, 0u);
+  EXPECT_EQ(r.frames_ran, 0u);
+}
+
+// A fallback on the right camera takes the recogniser from the rescue (set up for the right
+// camera); back in stereo after clear-fault it is set up for the left one, lent again and runs.
+TEST(FirmwareRescue, AfterARightCameraFallbackItIsLentForTheLeftCameraAgain) {
+  hal::SimCameraConfig cc;
+  cc.left_stop_after = 1;  // frame 0 paired, then the left camera is silent ...
+  cc.fault_starts = 1;     // ... until the firmware restarts the camera
+  FallbackRig rig(cc);
+  rig.hide_scene_object = 0;
+  rig.Start();
+  rig.plc.Trigger(1);
+  std::optional<ResultSet> s = rig.plc.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->status, ResultStatus::kOk);
+  const RescueCounters before = rig.recognition->rescue_counters();
+  EXPECT_EQ(before.frames_lent, 1u);
+
+  rig.plc.Trigger(2);  // answered from the right camera
+  s = rig.plc.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->status, ResultStatus::kMonocular);
+  EXPECT_EQ(rig.core.capture_mode(), hal::CaptureMode::kRightOnly);
+  EXPECT_FALSE(rig.recognition->rescue_lent());
+
+  rig.plc.Send({0x04, 0, 0, 0, 0, 0, 0, 0});
+  const std::optional<CommandAck> ack = rig.plc.WaitAck(0x04);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, 0);
+  EXPECT_EQ(rig.core.capture_mode(), hal::CaptureMode::kStereo);
+  rig.plc.Trigger(3);
+  s = rig.plc.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->status, ResultStatus::kOk);
+  EXPECT_TRUE(rig.recognition->rescue_lent());
+  const RescueCounters after = rig.recognition->rescue_counters();
+  EXPECT_EQ(after.lends, before.lends + 1);
+  EXPECT_EQ(after.frames_lent, before.frames_lent + 1);
+  EXPECT_EQ(after.frames_ran, before.frames_ran + 1);
+}
+
+// select-models re-initialises the stereo pipeline, which takes the recogniser back: it is lent
+// again and runs on the next frame (the newly masked model's object left to it).
+TEST(FirmwareRescue, AModelMaskChangeLendsItAgain) {
+  FallbackRig rig(hal::SimCameraConfig{});
+  rig.Start();
+  rig.plc.Trigger(1);
+  std::optional<ResultSet> s = rig.plc.WaitSet();
+  ASSERT_TRUE(s);
+  const RescueCounters before = rig.recognition->rescue_counters();
+  const uint32_t mask = rig.core.model_mask() & ~rig.ModelBitOf(0);
+  rig.plc.Send(
+      {0x02, uint8_t(mask), uint8_t(mask >> 8), uint8_t(mask >> 16), uint8_t(mask >> 24), 0, 0, 0});
+  const std::optional<CommandAck> ack = rig.plc.WaitAck(0x02);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, 0);
+  rig.plc.Trigger(2);
+  s = rig.plc.WaitSet();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->status, ResultStatus::kOk);
+  EXPECT_EQ(rig.core.model_mask(), mask);
+  EXPECT_TRUE(rig.recognition->rescue_lent());
+  const RescueCounters after = rig.recognition->rescue_counters();
+  EXPECT_EQ(after.lends, before.lends + 1);
+  EXPECT_EQ(after.frames_lent, before.frames_lent + 1);
+  EXPECT_EQ(after.frames_ran, before.frames_ran + 1);
 }
 
 }  // namespace
