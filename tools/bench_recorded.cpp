@@ -578,10 +578,11 @@ int RunBenchRecorded(int argc, char** argv) {
         if (!monocular && result->rescue.ran) {
           const RescueStats& rs = result->rescue;
           std::printf(
-              "  rescue: %u free corners, %u bases tried, found %u, refused %u resting, %u "
-              "verify, %u overlap; added %u (%.1f ms)\n",
-              rs.free_corners, rs.search.scene_bases_tried, rs.found, rs.refused_rest,
-              rs.refused_verify, rs.refused_overlap, rs.added, result->time.rescue_ms);
+              "  rescue: %u / %u free corners, %u / %u bases tried (left / right image), found "
+              "%u, refused %u resting, %u verify, %u overlap; added %u (%.1f ms)\n",
+              rs.free_corners, rs.free_corners_right, rs.search.scene_bases_tried,
+              rs.search_right.scene_bases_tried, rs.found, rs.refused_rest, rs.refused_verify,
+              rs.refused_overlap, rs.added, result->time.rescue_ms);
         }
         if (!monocular && model_set.shape_count() > 0) {
           const ShapeStats& sh = result->shape;
@@ -655,9 +656,11 @@ int RunBenchRecorded(int argc, char** argv) {
       if (!monocular) {
         std::snprintf(buffer, sizeof(buffer),
                       "\"points3d\": %u, \"lines3d\": %u, \"scene_bases_tried\": %u, "
-                      "\"rescue\": {\"ran\": %s, \"found\": %u, \"added\": %u, \"ms\": %.2f}, ",
+                      "\"rescue\": {\"ran\": %s, \"ran_right\": %s, \"found\": %u, "
+                      "\"added\": %u, \"ms\": %.2f}, ",
                       result->points3d, result->lines3d, result->recognition.scene_bases_tried,
-                      result->rescue.ran ? "true" : "false", result->rescue.found,
+                      result->rescue.ran ? "true" : "false",
+                      result->rescue.ran_right ? "true" : "false", result->rescue.found,
                       result->rescue.added, result->time.rescue_ms);
         sum->scene_json += buffer;
       }

@@ -320,6 +320,8 @@ constexpr Setting<PipelineConfig> kPipelineSettings[] = {
      [](float v, PipelineConfig& c) { c.rescue.max_scene_bases = static_cast<uint32_t>(v); }},
     {"rescue.max_above_table_mm", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.rescue.max_above_table_mm = v; }},
+    {"rescue.right_image", SettingKind::kFlag,
+     [](float v, PipelineConfig& c) { c.rescue.right_image = v != 0.0f; }},
 };
 
 }  // namespace
@@ -407,11 +409,12 @@ std::string ResultJson(const ModelSet& models, const PipelineResult& r, const Ta
                 "], \"features\": {\"points2d\": [%u, %u], \"lines2d\": [%u, %u], \"points3d\": "
                 "%u, \"lines3d\": %u}, \"recognition\": {\"scene_bases_tried\": %u, "
                 "\"hypotheses\": %u, \"verifications\": %u, \"budget_exhausted\": %s}, "
-                "\"rescue\": {\"ran\": %s, \"found\": %u, \"added\": %u}, ",
+                "\"rescue\": {\"ran\": %s, \"ran_right\": %s, \"found\": %u, \"added\": %u}, ",
                 r.points2d[0], r.points2d[1], r.lines2d[0], r.lines2d[1], r.points3d, r.lines3d,
                 r.recognition.scene_bases_tried, r.recognition.hypotheses,
                 r.recognition.verifications, r.recognition.budget_exhausted ? "true" : "false",
-                r.rescue.ran ? "true" : "false", r.rescue.found, r.rescue.added);
+                r.rescue.ran ? "true" : "false", r.rescue.ran_right ? "true" : "false",
+                r.rescue.found, r.rescue.added);
   json += buffer;
   const DetectionChoice* d = r.detection;
   std::snprintf(buffer, sizeof(buffer),

@@ -40,9 +40,7 @@ Status MonoRecognizer::Init(const ViewCamera& camera, const AspectTableView& tab
   for (uint32_t m = 0; m < table.model_count(); ++m) {
     SH_RETURN_IF_ERROR(ComputeStableFaces(table.model(m), 0.5f, &stable_[m]));
   }
-  camera_ = camera;
-  left_T_cam_ = camera.cam_T_left.Inverse();
-  ideal_focal_px_ = static_cast<float>(std::sqrt(cam.fx * cam.fy));
+  UseCamera(camera);
   table_ = table;
   config_ = config;
   has_table_ = false;
@@ -67,6 +65,30 @@ Status MonoRecognizer::SetTable(const RigidTransform* left_T_table) {
   ComputeBasisKeys();
   voter_.SetBasisKeys(basis_key_);
   return Status::Ok();
+}
+
+Status MonoRecognizer::SetCamera(const ViewCamera& camera) {
+  if (!initialised_) {
+    return Status::Error(StatusCode::kFailedPrecondition, "mono: Init() has not succeeded");
+  }
+  const CameraIntrinsics& cam = camera.intrinsics;
+  if (!(cam.fx > 0 && cam.fy > 0) || cam.width <= 0 || cam.height <= 0) {
+    return Status::Error(StatusCode::kInvalidArgument, "mono: invalid camera intrinsics");
+  }
+  // The table stays where it is in the left camera's frame; SetTable puts it into the new
+  // camera's frame (and refuses a camera under it, after which the old one is put back).
+  const RigidTransform left_T_table = left_T_cam_ * plane_.cam_T_table;
+  const ViewCamera before = camera_;
+  UseCamera(camera);
+  const Status s = SetTable(has_table_ ? &left_T_table : nullptr);
+  if (!s.ok()) UseCamera(before);
+  return s;
+}
+
+void MonoRecognizer::UseCamera(const ViewCamera& camera) {
+  camera_ = camera;
+  left_T_cam_ = camera.cam_T_left.Inverse();
+  ideal_focal_px_ = static_cast<float>(std::sqrt(camera.intrinsics.fx * camera.intrinsics.fy));
 }
 
 // Table mode: an aspect is kept when its view direction is close to how some resting pose of

@@ -149,6 +149,13 @@ class MonoRecognizer {
   // without allocating: the stereo pipeline's rescue lends the plane it estimated to a
   // recogniser set up without one. A table the camera is not above is refused, nothing changed.
   Status SetTable(const RigidTransform* left_T_table);
+  // Another camera of the rig (intrinsics and pose relative to the left camera) for the
+  // following frames, the table kept where it is in the left camera's frame, without
+  // allocating: the stereo pipeline's rescue searches the right image with the recogniser set
+  // up for the left one, and sets it back. A camera that is not above the table, or invalid
+  // intrinsics, are refused with nothing changed.
+  Status SetCamera(const ViewCamera& camera);
+  const ViewCamera& camera() const { return camera_; }
 
   // Recognises objects in one image's features (corners, lines and the edge map of that
   // image). `objects` is cleared first; poses are left-camera frame; verify_score[0] is the
@@ -191,6 +198,7 @@ class MonoRecognizer {
     float match_fraction = 0;
     int displaces = -1;  // the object found before whose place it takes, or -1
   };
+  void UseCamera(const ViewCamera& camera);  // the camera and what follows from it
   Status PrepareScene(const ImageFeatures& features, const FeatureMask* ignore);
   // The search over the prepared scene, after the first n_known objects.
   void Search(const Budget& budget, Vector<RecognizedObject>& objects, size_t n_known,

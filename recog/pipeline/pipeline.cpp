@@ -520,24 +520,38 @@ Status Pipeline::LendRescue(MonoRecognizer* mono) {
 }
 
 Status Pipeline::Rescue(const Budget& budget, PipelineResult* out) {
+  SH_RETURN_IF_ERROR(RescueInImage(0, budget, out));
+  if (!config_.rescue.right_image) return Status::Ok();
+  // The lent recogniser is set up for the left camera: the right one for this search, then back
+  // (which cannot fail: it was the recogniser's camera with this table a moment ago).
+  const ViewCamera left = rescue_->camera();
+  if (!rescue_->SetCamera(RightView(calib_)).ok()) return Status::Ok();
+  const Status s = RescueInImage(1, budget, out);
+  (void)rescue_->SetCamera(left);
+  return s;
+}
+
+Status Pipeline::RescueInImage(int side, const Budget& budget, PipelineResult* out) {
   RescueStats& stats = out->rescue;
   const RescueConfig& rc = config_.rescue;
   if (out->objects.full()) return Status::Ok();
-  // What the accepted objects explain leaves the left image: their silhouettes join those of
-  // the hidden objects (whose corners the extraction dropped already).
-  rescue_mask_ = masks_[0];
-  const ViewCamera left = LeftView(calib_);
+  // What the accepted objects explain leaves the image: their silhouettes join those of the
+  // hidden objects (whose corners the extraction dropped already).
+  rescue_mask_ = masks_[side];
+  const ViewCamera view = side == 0 ? LeftView(calib_) : RightView(calib_);
   for (const RecognizedObject& o : out->objects) {
-    (void)rescue_mask_.Add(left, {&table_.model(o.model), o.cam_T_model}, rc.margin_px);
+    (void)rescue_mask_.Add(view, {&table_.model(o.model), o.cam_T_model}, rc.margin_px);
   }
   // The gate: enough corners left that no accepted object explains.
-  for (const Corner2D& c : features_[0].corners) {
-    stats.free_corners += rescue_mask_.Hides(c.x_px, c.y_px) ? 0u : 1u;
+  uint32_t& free_corners = side == 0 ? stats.free_corners : stats.free_corners_right;
+  for (const Corner2D& c : features_[side].corners) {
+    free_corners += rescue_mask_.Hides(c.x_px, c.y_px) ? 0u : 1u;
   }
-  if (stats.free_corners < static_cast<uint32_t>(std::max(0, rc.min_free_corners))) {
+  if (free_corners < static_cast<uint32_t>(std::max(0, rc.min_free_corners))) {
     return Status::Ok();
   }
   stats.ran = true;
+  if (side == 1) stats.ran_right = true;
   rescue_objects_.clear();
   for (const RecognizedObject& o : out->objects) (void)rescue_objects_.push_back(o);
   const size_t n_known = rescue_objects_.size();
@@ -551,8 +565,9 @@ Status Pipeline::Rescue(const Budget& budget, PipelineResult* out) {
     stats.ran = false;  // a plane the camera is not above: no search on it
     return Status::Ok();
   }
-  const Status searched = rescue_->RecognizeRest(features_[0], rescue_mask_, limited,
-                                                 rescue_objects_, n_known, &stats.search);
+  const Status searched =
+      rescue_->RecognizeRest(features_[side], rescue_mask_, limited, rescue_objects_, n_known,
+                             side == 0 ? &stats.search : &stats.search_right);
   if (lend_plane) (void)rescue_->SetTable(nullptr);  // no table: cannot fail
   SH_RETURN_IF_ERROR(searched);
   for (size_t i = n_known; i < rescue_objects_.size(); ++i) {

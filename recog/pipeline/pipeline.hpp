@@ -57,6 +57,11 @@ struct RescueConfig {
   // With a table: the lowest corner at most this far over the table top (the one-image pose
   // rests on the table; a pose that floats is not the object's).
   float max_above_table_mm = 10.0f;
+  // Then the right image the same way, with what the left one added among the known objects:
+  // each camera loses other edges to low contrast and to the other objects, so an object whose
+  // corners the left image lacks may show them on the right (the recogniser is set to the right
+  // camera for that search and set back).
+  bool right_image = true;
 };
 
 struct PipelineConfig {
@@ -121,14 +126,17 @@ struct PipelineTimings {
 
 // What the one-image rescue did in a frame.
 struct RescueStats {
-  bool ran = false;              // the gate let it run
-  uint32_t free_corners = 0;     // left-image corners none of the accepted objects explains
-  uint32_t found = 0;            // objects the one-image search found
-  uint32_t refused_rest = 0;     // ... not resting plausibly (table, working volume)
-  uint32_t refused_verify = 0;   // ... failing the stereo verifier (both images)
-  uint32_t refused_overlap = 0;  // ... interpenetrating an accepted object
-  uint32_t added = 0;            // accepted
-  MonoStats search;
+  bool ran = false;                 // the gate let it run (in either image)
+  bool ran_right = false;           // ... in the right image
+  uint32_t free_corners = 0;        // left-image corners none of the accepted objects explains
+  uint32_t free_corners_right = 0;  // the same in the right image, after the left's search
+  uint32_t found = 0;               // objects the one-image search found
+  uint32_t refused_rest = 0;        // ... not resting plausibly (table, working volume)
+  uint32_t refused_verify = 0;      // ... failing the stereo verifier (both images)
+  uint32_t refused_overlap = 0;     // ... interpenetrating an accepted object
+  uint32_t added = 0;               // accepted
+  MonoStats search;                 // the left image's search
+  MonoStats search_right;           // the right image's
 };
 
 // Which table the frame's table check and working volume used.
@@ -311,6 +319,8 @@ class Pipeline {
                             PipelineResult* out);
   // The one-image rescue (PipelineConfig::rescue) after the search: objects added to out.
   Status Rescue(const Budget& budget, PipelineResult* out);
+  // One image's part of it (0 left, 1 right; the recogniser set up for that camera).
+  Status RescueInImage(int side, const Budget& budget, PipelineResult* out);
   // Drops the objects whose centre lies inside a hidden object (after the edge fit moved them).
   void DropInsideHidden(const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
   // The masks of both images from the hidden objects (counts into out).

@@ -8,6 +8,7 @@
 
 #include "recog/mono/mono_pipeline.hpp"
 #include "recog/verify/inside_object.hpp"
+#include "recog/verify/view_camera.hpp"
 #include "tests/mono/mono_render.hpp"
 #include "tools/eval/synthetic_scene.hpp"
 
@@ -217,6 +218,59 @@ TEST(MonoPipeline, RecognizeRestKeepsTheKnownObjectsAndFindsTheOthers) {
   EXPECT_FALSE(pipeline->recognizer()
                    .RecognizeRest(pipeline->features(), everything, Budget{}, objects, 2, &stats)
                    .ok());
+}
+
+// The stereo pipeline's rescue searches the right image with the recogniser set up for the left
+// camera: set to the right camera it finds what one set up for the right camera finds (poses in
+// the left camera's frame, the table where it was), and set back what it found before; a camera
+// that is not above the table is refused with nothing changed.
+TEST(MonoPipeline, SetCameraSearchesTheOtherImageAndSetsBack) {
+  const MonoSceneSet& f = MonoScenes();
+  auto left = std::make_unique<MonoPipeline>();
+  auto right = std::make_unique<MonoPipeline>();
+  // A workspace per image: the features' edge maps live in them.
+  auto left_workspace = MakeWorkspace<FeatureWorkspace>();
+  auto right_workspace = MakeWorkspace<FeatureWorkspace>();
+  auto result = std::make_unique<MonoResult>();
+  const RenderedPair& pair = MonoScene(0);
+  const RigidTransform left_T_table = pair.generated.scene.left_T_table;
+  const MonoPipelineConfig config = MonoPipelineConfig::Automatic();
+  ASSERT_TRUE(left->Init(pair.generated.calib, 0, f.table, &left_T_table, config, FakeClock).ok());
+  ASSERT_TRUE(right->Init(pair.generated.calib, 1, f.table, &left_T_table, config, FakeClock).ok());
+  ASSERT_TRUE(right->Process(pair.right_view(), 0, *right_workspace, result.get()).ok());
+  const Vector<RecognizedObject, kMaxObjects> in_right = result->objects;
+  ASSERT_TRUE(left->Process(pair.left_view(), 0, *left_workspace, result.get()).ok());
+  const Vector<RecognizedObject, kMaxObjects> in_left = result->objects;
+  ASSERT_GT(in_right.size(), 0u);
+  ASSERT_GT(in_left.size(), 0u);
+
+  const auto expect_same = [](const Vector<RecognizedObject, kMaxObjects>& a,
+                              const Vector<RecognizedObject, kMaxObjects>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].model, b[i].model) << "object " << i;
+      EXPECT_LT((a[i].cam_T_model.t_mm - b[i].cam_T_model.t_mm).norm(), 0.01f) << "object " << i;
+      EXPECT_LT(RotationAngleDeg(a[i].cam_T_model.R.transpose() * b[i].cam_T_model.R), 0.01f);
+    }
+  };
+  MonoRecognizer& recognizer = left->recognizer();
+  Vector<RecognizedObject, kMaxObjects> objects;
+  ASSERT_TRUE(recognizer.SetCamera(RightView(pair.generated.calib)).ok());
+  ASSERT_TRUE(recognizer.Recognize(right->features(), Budget{}, objects).ok());
+  expect_same(objects, in_right);
+  ASSERT_TRUE(recognizer.SetCamera(LeftView(pair.generated.calib)).ok());
+  ASSERT_TRUE(recognizer.Recognize(left->features(), Budget{}, objects).ok());
+  expect_same(objects, in_left);
+
+  // A camera in the table's plane (its frame the table's) is not above it: refused.
+  ViewCamera on_table = LeftView(pair.generated.calib);
+  on_table.cam_T_left = left_T_table.Inverse();
+  EXPECT_FALSE(recognizer.SetCamera(on_table).ok());
+  EXPECT_LT(
+      (recognizer.camera().cam_T_left.t_mm - LeftView(pair.generated.calib).cam_T_left.t_mm).norm(),
+      1e-6f);
+  ASSERT_TRUE(recognizer.Recognize(left->features(), Budget{}, objects).ok());
+  expect_same(objects, in_left);
 }
 
 }  // namespace

@@ -1,8 +1,9 @@
 // The one-image rescue (PipelineConfig::rescue) on rendered stereo pairs: with stereo's 3-D
 // features taken away (every line pair treated as degenerate, points whose rays do not meet
 // within a hundredth of a millimetre), the stereo search finds nothing and the rescue finds the
-// objects from the left image, each confirmed in both; a right image without the objects refuses
-// every one-image hypothesis; the rescue allocates nothing (this binary counts operator new).
+// objects from the left image and then the right, each confirmed in both; a right image without the
+// objects refuses every one-image hypothesis; the rescue allocates nothing (this binary counts
+// operator new).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -65,8 +66,11 @@ class PipelineRescue : public ::testing::Test {
 
   // The pipeline for one scene's calibration and table, its 3-D features taken away when asked,
   // and the rescue's recogniser lent (rescue on) or not.
-  static void SetUp(const RenderedPair& pair, bool lose_stereo, bool rescue, bool table = true) {
+  static void SetUp(const RenderedPair& pair, bool lose_stereo, bool rescue, bool table = true,
+                    bool right_image = true, bool gate_open = false) {
     PipelineConfig config = PipelineConfig::Automatic();
+    config.rescue.right_image = right_image;
+    if (gate_open) config.rescue.min_free_corners = 0;
     config.table.known = table;
     config.table.left_T_table = pair.generated.scene.left_T_table;
     config.threads = 1;
@@ -130,6 +134,32 @@ TEST_F(PipelineRescue, FindsWhatStereoLostAndConfirmsItInBothImages) {
   EXPECT_EQ(stereo_alone, 0);
   EXPECT_GE(rescued_correct * 2, truth);  // at least half from one image
   EXPECT_EQ(rescued_false, 0);
+}
+
+TEST_F(PipelineRescue, SearchesTheRightImageAfterTheLeftAndSetsTheRecogniserBack) {
+  int left_only = 0, both = 0, false_both = 0;
+  for (const auto& pair : *pairs_) {
+    SetUp(*pair, /*lose_stereo=*/true, /*rescue=*/true, /*table=*/true, /*right_image=*/false);
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+    EXPECT_FALSE(result_->rescue.ran_right);
+    left_only += MatchToTruth(models_->table, pair->truth, PosesOf(*result_)).correct;
+
+    // With the gate open, the right image is searched in every frame, after the left.
+    SetUp(*pair, /*lose_stereo=*/true, /*rescue=*/true, /*table=*/true, /*right_image=*/true,
+          /*gate_open=*/true);
+    ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+    EXPECT_TRUE(result_->rescue.ran_right);
+    const MatchCounts m = MatchToTruth(models_->table, pair->truth, PosesOf(*result_));
+    both += m.correct;
+    false_both += m.false_alarms;
+    // The recogniser lent for the left camera is set back to it.
+    const ViewCamera left = LeftView(pair->generated.calib);
+    EXPECT_LT((mono_->camera().cam_T_left.t_mm - left.cam_T_left.t_mm).norm(), 1e-6f);
+    EXPECT_EQ(mono_->camera().intrinsics.cx, left.intrinsics.cx);
+  }
+  std::printf("rescued from the left image %d, from both %d\n", left_only, both);
+  EXPECT_GE(both, left_only);
+  EXPECT_EQ(false_both, 0);
 }
 
 TEST_F(PipelineRescue, ReportsNoObjectTwice) {
