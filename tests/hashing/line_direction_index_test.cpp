@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <random>
@@ -157,7 +158,7 @@ TEST(LineDirectionIndex, TooLargeATableIsNotIndexed) {
 }
 
 // The index changes which entries are visited, never a vote: every scene basis of cluttered
-// scenes gives the same hypotheses, bit for bit, with and without it.
+// scenes gives the same hypotheses with and without it (bit for bit on x86-64, see below).
 TEST(LineDirectionIndex, VotesAreThoseOfTheFullLookUp) {
   for (int hf : {3, 5}) {
     auto table = BuildTable(static_cast<HashFunction>(hf));
@@ -182,12 +183,17 @@ TEST(LineDirectionIndex, VotesAreThoseOfTheFullLookUp) {
         const int na = indexed->VoteForBasis(indexed->Candidate(i), a, best_a);
         const int nb = plain->VoteForBasis(plain->Candidate(i), b, best_b);
         ASSERT_EQ(na, nb) << "hf " << hf << " seed " << seed << " basis " << i;
+        // Votes bit for bit where multiply and add round apart (x86-64); where the compiler
+        // fuses them (aarch64) the two look-ups' sums may round apart by a few millionths (one
+        // entry's weight rounded once less).
+        const auto close = [](float x, float y) { return std::abs(x - y) <= 1e-5f; };
         for (uint32_t m = 0; m < kMaxTableModels; ++m)
-          EXPECT_EQ(best_a[m], best_b[m]) << "model " << m;
+          EXPECT_TRUE(close(best_a[m], best_b[m]))
+              << "model " << m << ": " << best_a[m] << " " << best_b[m];
         for (int h = 0; h < na; ++h) {
           EXPECT_EQ(a[h].model, b[h].model);
           EXPECT_EQ(a[h].model_basis, b[h].model_basis);
-          EXPECT_EQ(a[h].vote, b[h].vote);
+          EXPECT_TRUE(close(a[h].vote, b[h].vote)) << a[h].vote << " " << b[h].vote;
           EXPECT_TRUE(a[h].cam_T_model.R == b[h].cam_T_model.R);
           EXPECT_TRUE(a[h].cam_T_model.t_mm == b[h].cam_T_model.t_mm);
         }

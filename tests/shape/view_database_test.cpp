@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <random>
@@ -270,9 +271,19 @@ TEST(ViewDatabase, NearestViewsAreThoseOfAnExhaustiveStableSort) {
         Vector<ViewMatch, 32> nearest;
         v->Nearest(query, mask, k, nearest);
         ASSERT_EQ(nearest.size(), std::min(k, all.size()));
+        // Bit for bit where multiply and add round apart (x86-64); a compiler that fuses them
+        // (aarch64) rounds some sums of the reference loop once less, so distances agree to a
+        // few units in the last place there, and the order of views whose distances are that
+        // close is not checked.
+        const auto close = [](float a, float b) { return std::abs(a - b) <= 1e-6f * std::abs(b); };
         for (size_t i = 0; i < nearest.size(); ++i) {
-          EXPECT_EQ(nearest[i].view, all[i].view) << t << " " << mask << " " << k << " " << i;
-          EXPECT_EQ(nearest[i].distance2, all[i].distance2);
+          EXPECT_TRUE(close(nearest[i].distance2, all[i].distance2))
+              << nearest[i].distance2 << " " << all[i].distance2;
+          const bool tied = (i > 0 && close(all[i - 1].distance2, all[i].distance2)) ||
+                            (i + 1 < all.size() && close(all[i + 1].distance2, all[i].distance2));
+          if (!tied) {
+            EXPECT_EQ(nearest[i].view, all[i].view) << t << " " << mask << " " << k << " " << i;
+          }
         }
       }
     }
