@@ -57,7 +57,8 @@ bool NearestEdge(const ConstEdgeMapView& edges, const Eigen::Vector2f& p,
   const int w = edges.edge.width, h = edges.edge.height;
   const int steps = static_cast<int>(search_px * 2.0f);
   for (int step = 0; step <= 2 * steps; ++step) {
-    const float s = 0.5f * static_cast<float>((step + 1) / 2) * ((step & 1) ? 1.0f : -1.0f);
+    const int half_steps = (step + 1) / 2;  // 0, 1, 1, 2, 2, ...: out from p on both sides
+    const float s = 0.5f * static_cast<float>(half_steps) * ((step & 1) ? 1.0f : -1.0f);
     const Eigen::Vector2f q = p + s * normal;
     const int qx = static_cast<int>(std::floor(q.x() + 0.5f));
     const int qy = static_cast<int>(std::floor(q.y() + 0.5f));

@@ -187,9 +187,10 @@ TEST(LineDirectionIndex, VotesAreThoseOfTheFullLookUp) {
         // fuses them (aarch64) the two look-ups' sums may round apart by a few millionths (one
         // entry's weight rounded once less).
         const auto close = [](float x, float y) { return std::abs(x - y) <= 1e-5f; };
-        for (uint32_t m = 0; m < kMaxTableModels; ++m)
+        for (uint32_t m = 0; m < kMaxTableModels; ++m) {
           EXPECT_TRUE(close(best_a[m], best_b[m]))
               << "model " << m << ": " << best_a[m] << " " << best_b[m];
+        }
         for (int h = 0; h < na; ++h) {
           EXPECT_EQ(a[h].model, b[h].model);
           EXPECT_EQ(a[h].model_basis, b[h].model_basis);

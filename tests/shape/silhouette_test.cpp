@@ -52,7 +52,8 @@ TEST_P(SilhouetteTest, SamePixelsAsTheRayTracersLabelsUpToTheBoundary) {
       Eigen::AngleAxisf(0.9f, Eigen::Vector3f(0.3f, 0.8f, 0.5f).normalized()).toRotationMatrix();
   object.table_T_model.t_mm = {-20, 15, 60};
   ASSERT_TRUE(scene.objects.push_back(object));
-  std::vector<uint8_t> image(cam.width * cam.height), labels(cam.width * cam.height);
+  const size_t pixels = static_cast<size_t>(cam.width) * static_cast<size_t>(cam.height);
+  std::vector<uint8_t> image(pixels), labels(pixels);
   render::RenderTargets targets;
   targets.image = {image.data(), cam.width, cam.height, cam.width};
   targets.labels = {labels.data(), cam.width, cam.height, cam.width};

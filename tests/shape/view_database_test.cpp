@@ -82,10 +82,10 @@ ShapeWindow RenderWindow(const Model& model, const Eigen::Matrix3f& R, float dis
     extent_mm[0] = static_cast<float>(x1 - x0 + 1) * distance_mm / 1000.0f;
     extent_mm[1] = static_cast<float>(y1 - y0 + 1) * distance_mm / 1000.0f;
   }
-  ShapeWindow w;
+  ShapeWindow w{};
+  const ptrdiff_t first = static_cast<ptrdiff_t>(y0) * mask.width + x0;
   EXPECT_TRUE(
-      ComputeShapeWindow({mask.mask + y0 * mask.width + x0, x1 - x0 + 1, y1 - y0 + 1, mask.width},
-                         *scratch, &w)
+      ComputeShapeWindow({mask.mask + first, x1 - x0 + 1, y1 - y0 + 1, mask.width}, *scratch, &w)
           .ok());
   return w;
 }
