@@ -479,39 +479,100 @@ bool Recognizer::TooCloseToAccepted(const RigidTransform& cam_T_model,
 
 using Outcome = SearchObserver::Outcome;
 
+void Recognizer::Evaluate(const Hypothesis& h, const RefineInput& refine_in,
+                          const Vector<RecognizedObject>& objects, HypothesisVerifier& verifier,
+                          int min_matched, Evaluated* out) const {
+  const Model& model = table_.model(h.model);
+  RefineInput in = refine_in;
+  in.model = &model;
+  const RefineResult refined = RefinePose(in, h.cam_T_model, config_.refine);
+  RecognizedObject& candidate = out->candidate;
+  candidate = RecognizedObject{};
+  candidate.model = h.model;
+  candidate.cam_T_model = refined.cam_T_model;
+  candidate.vote = h.vote;
+  candidate.fit_rms_mm = refined.rms_mm;
+  out->too_close = TooCloseToAccepted(refined.cam_T_model, objects);
+  out->enough = out->verified = false;
+  if (out->too_close) return;
+  // The verifier counts support within a tighter gate than refinement used: clutter near a
+  // wrong pose easily falls within 2 sigma, rarely within 1.
+  Correspondences tight;
+  SelectCorrespondences(in, refined.cam_T_model,
+                        config_.support_gate_sigmas * config_.sigma_point_mm, &tight);
+  candidate.matched_points = uint16_t(tight.matched_points);
+  candidate.matched_lines = uint16_t(tight.matched_lines);
+  out->enough = tight.matched_points + tight.matched_lines >= min_matched;
+  if (!out->enough) return;
+  out->verified = verifier.Verify(model, objects, candidate);
+  if (out->verified) out->matches = refined.matches;
+}
+
+bool Recognizer::Conclude(const Hypothesis& h, const Evaluated& e, uint32_t basis_number,
+                          RecognitionStats& stats, RecognizedObject* candidate,
+                          Correspondences* matches) const {
+  *candidate = e.candidate;
+  if (e.too_close) {
+    if (observer_) observer_->OnHypothesis(basis_number, h, *candidate, Outcome::kTooClose);
+    return false;
+  }
+  if (!e.enough) return false;
+  ++stats.verifications;
+  if (observer_) {
+    observer_->OnHypothesis(basis_number, h, *candidate,
+                            e.verified ? Outcome::kVerified : Outcome::kRejected);
+  }
+  if (e.verified) *matches = e.matches;
+  return e.verified;
+}
+
 bool Recognizer::RefineAndVerify(const Hypothesis& h, uint32_t basis_number, RefineInput& refine_in,
                                  const Vector<RecognizedObject>& objects,
                                  HypothesisVerifier& verifier, RecognitionStats& stats,
                                  RecognizedObject* candidate, Correspondences* matches,
                                  int min_matched) {
-  const Model& model = table_.model(h.model);
-  refine_in.model = &model;
-  const RefineResult refined = RefinePose(refine_in, h.cam_T_model, config_.refine);
-  *candidate = RecognizedObject{};
-  candidate->model = h.model;
-  candidate->cam_T_model = refined.cam_T_model;
-  candidate->vote = h.vote;
-  candidate->fit_rms_mm = refined.rms_mm;
-  if (TooCloseToAccepted(refined.cam_T_model, objects)) {
-    if (observer_) observer_->OnHypothesis(basis_number, h, *candidate, Outcome::kTooClose);
+  Evaluated e;
+  Evaluate(h, refine_in, objects, verifier, min_matched, &e);
+  return Conclude(h, e, basis_number, stats, candidate, matches);
+}
+
+bool Recognizer::EvaluateAhead(const Vector<Hypothesis>& hypotheses, const RefineInput& refine_in,
+                               const Vector<RecognizedObject>& objects,
+                               HypothesisVerifier& verifier, int min_matched) {
+  if (!parallel_.concurrent() || hypotheses.size() < 2 || !verifier.ConcurrentVerify()) {
     return false;
   }
-  // The verifier counts support within a tighter gate than refinement used: clutter near a
-  // wrong pose easily falls within 2 sigma, rarely within 1.
-  Correspondences tight;
-  SelectCorrespondences(refine_in, refined.cam_T_model,
-                        config_.support_gate_sigmas * config_.sigma_point_mm, &tight);
-  candidate->matched_points = uint16_t(tight.matched_points);
-  candidate->matched_lines = uint16_t(tight.matched_lines);
-  if (tight.matched_points + tight.matched_lines < min_matched) return false;
-  ++stats.verifications;
-  const bool verified = verifier.Verify(model, objects, *candidate);
-  if (observer_) {
-    observer_->OnHypothesis(basis_number, h, *candidate,
-                            verified ? Outcome::kVerified : Outcome::kRejected);
+  struct Job {
+    const Recognizer* self;
+    const Vector<Hypothesis>* hypotheses;
+    const RefineInput* refine_in;
+    const Vector<RecognizedObject>* objects;
+    HypothesisVerifier* verifier;
+    int min_matched;
+    Evaluated* out;
+  } job{this, &hypotheses, &refine_in, &objects, &verifier, min_matched, evaluated_};
+  parallel_(
+      int(hypotheses.size()),
+      [](void* context, int i) {
+        const Job& j = *static_cast<const Job*>(context);
+        j.self->Evaluate((*j.hypotheses)[size_t(i)], *j.refine_in, *j.objects, *j.verifier,
+                         j.min_matched, &j.out[i]);
+      },
+      &job);
+  return true;
+}
+
+bool Recognizer::RefineAndVerifyAt(const Vector<Hypothesis>& hypotheses, size_t i, bool ahead,
+                                   uint32_t basis_number, RefineInput& refine_in,
+                                   const Vector<RecognizedObject>& objects,
+                                   HypothesisVerifier& verifier, RecognitionStats& stats,
+                                   RecognizedObject* candidate, Correspondences* matches,
+                                   int min_matched) {
+  if (!ahead) {
+    return RefineAndVerify(hypotheses[i], basis_number, refine_in, objects, verifier, stats,
+                           candidate, matches, min_matched);
   }
-  if (verified) *matches = refined.matches;
-  return verified;
+  return Conclude(hypotheses[i], evaluated_[i], basis_number, stats, candidate, matches);
 }
 
 void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInput& refine_in,
@@ -548,15 +609,22 @@ void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInpu
       (void)Vote(b, scratch_, hypotheses, nullptr);
     }
     stats.hypotheses += uint32_t(hypotheses.size());
+    // The challengers: other models at this place.
+    Vector<Hypothesis, kMaxHypothesesPerBasis> challengers;
     for (const Hypothesis& h : hypotheses) {
       if (h.model == first.model) continue;
       if ((h.cam_T_model.t_mm - centre_mm).squaredNorm() >= place2_mm2) continue;
+      (void)challengers.push_back(h);
+    }
+    const int min_matched = first.matched_points + first.matched_lines + 1;
+    const bool ahead = EvaluateAhead(challengers, refine_in, objects, verifier, min_matched);
+    for (size_t i = 0; i < challengers.size(); ++i) {
       RecognizedObject candidate;
       Correspondences matches;
       // More 3-D support than the object (matched corners and edges) before the verifier is
       // asked.
-      if (!RefineAndVerify(h, basis_number, refine_in, objects, verifier, stats, &candidate,
-                           &matches, first.matched_points + first.matched_lines + 1)) {
+      if (!RefineAndVerifyAt(challengers, i, ahead, basis_number, refine_in, objects, verifier,
+                             stats, &candidate, &matches, min_matched)) {
         continue;
       }
       if ((candidate.cam_T_model.t_mm - centre_mm).squaredNorm() >= place2_mm2) continue;
@@ -621,11 +689,13 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     RecognizedObject best;
     Correspondences best_matches;
     float best_support = -1.0f;
-    for (const Hypothesis& h : hypotheses) {
+    // With two threads or more the hypotheses are evaluated together, then taken in turn.
+    const bool ahead = EvaluateAhead(hypotheses, refine_in, objects, verifier, 0);
+    for (size_t i = 0; i < hypotheses.size(); ++i) {
       RecognizedObject candidate;
       Correspondences matches;
-      if (!RefineAndVerify(h, basis_number, refine_in, objects, verifier, stats, &candidate,
-                           &matches)) {
+      if (!RefineAndVerifyAt(hypotheses, i, ahead, basis_number, refine_in, objects, verifier,
+                             stats, &candidate, &matches)) {
         continue;
       }
       const float support = candidate.verify_evidence;

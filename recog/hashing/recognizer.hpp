@@ -125,6 +125,11 @@ class HypothesisVerifier {
   // `accepted` holds the objects accepted so far in this scene (for occlusion reasoning).
   virtual bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
                       RecognizedObject& candidate) = 0;
+  // Whether Verify may run for several candidates at once (the same `accepted`) on different
+  // threads: its verdict and scores depend on its arguments alone, and what it counts does not
+  // depend on the order of the calls. The search then verifies the hypotheses of a scene basis
+  // in parallel (Recognizer::SetParallel).
+  virtual bool ConcurrentVerify() const { return false; }
 };
 
 // Accepts when enough of the model's corners and edges found scene features after refinement
@@ -138,6 +143,7 @@ class SceneSupportVerifier : public HypothesisVerifier {
       : min_fraction_(min_fraction), min_features_(min_features) {}
   bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
               RecognizedObject& candidate) override;
+  bool ConcurrentVerify() const override { return true; }
 
  private:
   float min_fraction_;
@@ -253,6 +259,35 @@ class Recognizer {
                        const Vector<RecognizedObject>& objects, HypothesisVerifier& verifier,
                        RecognitionStats& stats, RecognizedObject* candidate,
                        Correspondences* matches, int min_matched = 0);
+  // A hypothesis refined, its support within the verifier's gate counted and, with at least
+  // `min_matched`, verified: what RefineAndVerify computes without reporting it.
+  struct Evaluated {
+    RecognizedObject candidate;
+    Correspondences matches;
+    bool too_close = false;
+    bool enough = false;  // matched at least min_matched within the gate: verified
+    bool verified = false;
+  };
+  void Evaluate(const Hypothesis& h, const RefineInput& refine_in,
+                const Vector<RecognizedObject>& objects, HypothesisVerifier& verifier,
+                int min_matched, Evaluated* out) const;
+  // RefineAndVerify's report of an evaluated hypothesis (observer, counts, results).
+  bool Conclude(const Hypothesis& h, const Evaluated& e, uint32_t basis_number,
+                RecognitionStats& stats, RecognizedObject* candidate,
+                Correspondences* matches) const;
+  // Evaluates `hypotheses` into evaluated_[0 ..) spread over the voting threads when there are
+  // two or more and the verifier allows it (else false: the search evaluates each in turn). The
+  // scene and `objects` do not change in between, so each evaluation is the one the search
+  // would make in turn; the search then concludes them in order.
+  bool EvaluateAhead(const Vector<Hypothesis>& hypotheses, const RefineInput& refine_in,
+                     const Vector<RecognizedObject>& objects, HypothesisVerifier& verifier,
+                     int min_matched);
+  // RefineAndVerify of hypotheses[i], from evaluated_[i] when EvaluateAhead ran (`ahead`).
+  bool RefineAndVerifyAt(const Vector<Hypothesis>& hypotheses, size_t i, bool ahead,
+                         uint32_t basis_number, RefineInput& refine_in,
+                         const Vector<RecognizedObject>& objects, HypothesisVerifier& verifier,
+                         RecognitionStats& stats, RecognizedObject* candidate,
+                         Correspondences* matches, int min_matched = 0);
   // Competition at acceptance (RecognizerConfig::compete_bases): `best` (with `best_matches`),
   // about to be accepted from the basis before candidate `next`, is replaced by a clearly better
   // verified object of another model at its place, if the bases near it show one.
@@ -295,6 +330,8 @@ class Recognizer {
   // ahead_count_).
   AheadVote ahead_[kVoteAheadBases];
   uint32_t ahead_count_ = 0, ahead_next_ = 0;
+  // The hypotheses of one scene basis evaluated at once, in parallel (EvaluateAhead).
+  Evaluated evaluated_[kMaxHypothesesPerBasis];
 };
 
 }  // namespace sh

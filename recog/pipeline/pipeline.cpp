@@ -116,13 +116,13 @@ bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>&
   if (support_ != nullptr && support_->known) {
     if (LowestCornerHeightMm(model, candidate.cam_T_model, support_->left_T_table) <
         -support_->max_below_mm) {
-      ++below_table_;
+      below_table_.fetch_add(1, std::memory_order_relaxed);
       return false;
     }
   }
   // An object another path found already (a colour part's outline, a carton's box edges).
   if (CentreInsideAny(model, candidate.cam_T_model, hidden_, n_hidden_) >= 0) {
-    ++inside_hidden_;
+    inside_hidden_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
   const int64_t start = now_ns_ ? now_ns_() : 0;
@@ -154,9 +154,9 @@ bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>&
   const PosedModel hypothesis{&model, candidate.cam_T_model};
   const Result<VerifyResult> r =
       VerifyHypothesis(*calib_, left_, right_, hypothesis, occluders, n_occluders, *config_);
-  if (now_ns_) elapsed_ns_ += now_ns_() - start;
+  if (now_ns_) elapsed_ns_.fetch_add(now_ns_() - start, std::memory_order_relaxed);
   if (!r.ok()) {
-    ++errors_;
+    errors_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
   candidate.verify_score[0] = r->score_left;

@@ -4,6 +4,7 @@
 // allocation per workspace, at start-up: docs/memory.md); Process() never allocates.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 
 #include "recog/base/status.hpp"
@@ -201,11 +202,15 @@ class EdgeMapVerifier : public HypothesisVerifier {
              int64_t (*now_ns)(), const PosedModel* hidden = nullptr, size_t n_hidden = 0);
   bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
               RecognizedObject& candidate) override;
+  // The verdict depends on the arguments and the frame alone, and the counts are sums: the
+  // search verifies a scene basis's hypotheses on the pool's threads at once.
+  bool ConcurrentVerify() const override { return true; }
 
-  int64_t elapsed_ns() const { return elapsed_ns_; }
-  uint32_t errors() const { return errors_; }
-  uint32_t below_table() const { return below_table_; }
-  uint32_t inside_hidden() const { return inside_hidden_; }
+  // Time spent verifying since Reset, summed over the threads that verified.
+  int64_t elapsed_ns() const { return elapsed_ns_.load(std::memory_order_relaxed); }
+  uint32_t errors() const { return errors_.load(std::memory_order_relaxed); }
+  uint32_t below_table() const { return below_table_.load(std::memory_order_relaxed); }
+  uint32_t inside_hidden() const { return inside_hidden_.load(std::memory_order_relaxed); }
 
  private:
   const StereoCalibration* calib_ = nullptr;
@@ -216,10 +221,11 @@ class EdgeMapVerifier : public HypothesisVerifier {
   const PosedModel* hidden_ = nullptr;
   size_t n_hidden_ = 0;
   int64_t (*now_ns_)() = nullptr;
-  int64_t elapsed_ns_ = 0;
-  uint32_t errors_ = 0;
-  uint32_t below_table_ = 0;
-  uint32_t inside_hidden_ = 0;
+  // Counts of concurrent calls (ConcurrentVerify).
+  std::atomic<int64_t> elapsed_ns_{0};
+  std::atomic<uint32_t> errors_{0};
+  std::atomic<uint32_t> below_table_{0};
+  std::atomic<uint32_t> inside_hidden_{0};
 };
 
 class Pipeline {
