@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tables/table_file.hpp"
+#include "tests/support/same_objects.hpp"
 #include "tools/eval/rendered_eval.hpp"
 
 namespace sh {
@@ -177,30 +178,37 @@ TEST_F(PipelineTest, TimingsAddUpAndResultsRepeat) {
   EXPECT_EQ(a.lines3d, b.lines3d);
 }
 
-// Every hypothesis the search tries, in order: basis number, model basis and vote.
+// Every hypothesis the search tries, in order: basis number, model basis, vote, outcome, the
+// refined pose's position and the verifier's evidence.
 class HypothesisLog : public SearchObserver {
  public:
   struct Entry {
     uint32_t basis_number;
     uint32_t model_basis;
     float vote;
+    Outcome outcome;
+    Eigen::Vector3f t_mm;
+    float evidence;
     bool operator==(const Entry& o) const {
-      return basis_number == o.basis_number && model_basis == o.model_basis && vote == o.vote;
+      return basis_number == o.basis_number && model_basis == o.model_basis && vote == o.vote &&
+             outcome == o.outcome && t_mm == o.t_mm && evidence == o.evidence;
     }
   };
-  void OnHypothesis(uint32_t basis_number, const Hypothesis& h, const RecognizedObject&,
-                    Outcome) override {
-    entries.push_back({basis_number, h.model_basis, h.vote});
+  void OnHypothesis(uint32_t basis_number, const Hypothesis& h, const RecognizedObject& candidate,
+                    Outcome outcome) override {
+    entries.push_back({basis_number, h.model_basis, h.vote, outcome, candidate.cam_T_model.t_mm,
+                       candidate.verify_evidence});
   }
   void OnAccepted(uint32_t, const RecognizedObject&) override { ++accepted; }
   std::vector<Entry> entries;
   int accepted = 0;
 };
 
-// The search votes scene bases ahead on the pool's threads (Recognizer::SetParallel); each vote
-// is made on the scene the one-thread search sees, so two and three threads try the same
-// hypotheses with the same votes in the same order as one and give exactly the same objects,
-// also without a table (two searches) and on a light table.
+// The search votes scene bases ahead on the pool's threads (Recognizer::SetParallel), and
+// refines and verifies the hypotheses of a basis together; each vote is made on the scene the
+// one-thread search sees, and the hypotheses are taken in order, so two and three threads try
+// the same hypotheses with the same votes, outcomes and refined poses in the same order as one
+// and give exactly the same objects, also without a table (two searches) and on a light table.
 TEST_F(PipelineTest, SearchOnMoreThreadsGivesWhatOneGives) {
   int compared = 0, accepted = 0;
   for (const render::Background bg : {render::Background::kDark, render::Background::kLight}) {
@@ -226,13 +234,7 @@ TEST_F(PipelineTest, SearchOnMoreThreadsGivesWhatOneGives) {
       const PipelineResult &one = result[0], &two = result[1];
       EXPECT_EQ(one.recognition.scene_bases_tried, two.recognition.scene_bases_tried);
       EXPECT_EQ(one.recognition.hypotheses, two.recognition.hypotheses);
-      ASSERT_EQ(one.objects.size(), two.objects.size()) << "seed " << seed;
-      for (size_t i = 0; i < one.objects.size(); ++i) {
-        EXPECT_EQ(one.objects[i].model, two.objects[i].model);
-        EXPECT_EQ(one.objects[i].cam_T_model.t_mm, two.objects[i].cam_T_model.t_mm);
-        EXPECT_EQ(one.objects[i].cam_T_model.R, two.objects[i].cam_T_model.R);
-        EXPECT_EQ(one.objects[i].vote, two.objects[i].vote);
-      }
+      testing::ExpectSameObjects(one.objects, two.objects, seed);
       compared += static_cast<int>(one.objects.size());
     }
   }
