@@ -427,15 +427,19 @@ bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c,
   const ColourRegion& blob = blobs_[cam][seed.blob[cam]];
   const ViewCamera view = Camera(calib_, cam);
   const CameraIntrinsics& ci = view.intrinsics;
-  // Depth: that of the stereo pair the blob (or the blob it came from) was part of, else from
-  // size, the view's box (mm at the origin's depth) against the blob's (px).
+  // Depth: that of the blob's surface (matched in the other image) plus half the model's radius;
+  // else, when nothing matched there (the pixels land on another part in the other image, as a
+  // part split from a region of two shows), that of the stereo pair the blob (or the blob it came
+  // from) was triangulated in; else from size, the view's box (mm at the origin's depth) against
+  // the blob's (px).
   const ShapeViewRecord& rec = views_.view(c.view);
   const float extent_mm = UQExtentMm::FromRaw(rec.extent_mm[0]).ToFloat() +
                           UQExtentMm::FromRaw(rec.extent_mm[1]).ToFloat();
   const float extent_px = static_cast<float>(blob.width() + blob.height());
   // The blob's surface lies in front of the model's origin: half its radius, on average.
-  const float known_depth =
-      seed.surface_mm > 0 ? seed.surface_mm + 0.5f * views_.shape_model(c.model).radius_mm : 0.0f;
+  const float known_depth = seed.surface_mm > 0
+                                ? seed.surface_mm + 0.5f * views_.shape_model(c.model).radius_mm
+                                : seed.pair_depth_mm;
   float depth = known_depth > 0 ? known_depth : static_cast<float>(ci.fx) * extent_mm / extent_px;
   const Eigen::Matrix3f cam_R_left = view.cam_T_left.R;
   // ray_R_model in this camera's ray frame at the blob's centroid.
@@ -950,6 +954,7 @@ Status ShapeRecognizer::Process(const FrameView& left, const FrameView& right,
         Seed seed;
         seed.blob[cam] = static_cast<int>(b);
         seed.surface_mm = BlobDepth(cam, blobs_[cam][b]);
+        if (seed.surface_mm == 0.0f) seed.pair_depth_mm = blob_depth_[cam][b];
         TrySeed(seed, out, st);
         if (st.objects_full) break;
       }

@@ -205,6 +205,8 @@ class ShapeRecognizer {
     bool stereo = false;
     Eigen::Vector3f centroid_mm = Eigen::Vector3f::Zero();  // triangulated (stereo)
     float surface_mm = 0;  // mono: depth of the blob's surface (BlobDepth), 0 unknown
+    // mono, surface unknown: depth of the stereo pair the blob or its parent was part of
+    float pair_depth_mm = 0;
   };
 
   void ResetBlobs();
