@@ -427,15 +427,19 @@ bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c,
   const ColourRegion& blob = blobs_[cam][seed.blob[cam]];
   const ViewCamera view = Camera(calib_, cam);
   const CameraIntrinsics& ci = view.intrinsics;
-  // Depth: that of the stereo pair the blob (or the blob it came from) was part of, else from
-  // size, the view's box (mm at the origin's depth) against the blob's (px).
+  // Depth: that of the blob's surface (matched in the other image) plus half the model's radius;
+  // else, when nothing matched there (the pixels land on another part in the other image, as a
+  // part split from a region of two shows), that of the stereo pair the blob (or the blob it came
+  // from) was triangulated in; else from size, the view's box (mm at the origin's depth) against
+  // the blob's (px).
   const ShapeViewRecord& rec = views_.view(c.view);
   const float extent_mm = UQExtentMm::FromRaw(rec.extent_mm[0]).ToFloat() +
                           UQExtentMm::FromRaw(rec.extent_mm[1]).ToFloat();
   const float extent_px = static_cast<float>(blob.width() + blob.height());
   // The blob's surface lies in front of the model's origin: half its radius, on average.
-  const float known_depth =
-      seed.surface_mm > 0 ? seed.surface_mm + 0.5f * views_.shape_model(c.model).radius_mm : 0.0f;
+  const float known_depth = seed.surface_mm > 0
+                                ? seed.surface_mm + 0.5f * views_.shape_model(c.model).radius_mm
+                                : seed.pair_depth_mm;
   float depth = known_depth > 0 ? known_depth : static_cast<float>(ci.fx) * extent_mm / extent_px;
   const Eigen::Matrix3f cam_R_left = view.cam_T_left.R;
   // ray_R_model in this camera's ray frame at the blob's centroid.
@@ -548,6 +552,17 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
     const size_t first = n_starts;
     const size_t added = choose(static_cast<size_t>(config_.second_pass_starts));
     RefineStarts(colour, starts + first, added, &best, &best_verdict, &weak, &weak_verdict, st);
+    // A part with a near symmetry (the bracket) whose every start settled half a turn from the
+    // truth confirms too few edges there to verify: the weak result's turned poses are refined
+    // too before it is restarted.
+    if (best.model == nullptr && weak.model != nullptr && config_.near_symmetries) {
+      PosedModel turned[kMaxNearSymmetries];
+      const int n_turned = TurnedPoses(weak, turned);
+      RefineStarts(colour, turned, static_cast<size_t>(n_turned), &best, &best_verdict, &weak,
+                   &weak_verdict, st);
+      st.weak_turned += n_turned > 0;
+      st.weak_turned_kept += best.model != nullptr;
+    }
     if (best.model == nullptr && weak.model != nullptr) {
       best = weak;
       best_verdict = weak_verdict;
@@ -558,13 +573,10 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
   if (best.model == nullptr) return false;
   // A part with a near symmetry (the bracket) may have settled half a turn from the truth: the
   // turned pose, refined the same way, replaces it when the images explain it better.
-  const NearSymmetries& near = near_[best.model - &views_.model(0)];
-  const PosedModel found = best;
-  for (int k = 0; k < (config_.near_symmetries ? near.n : 0); ++k) {
-    PosedModel turned = found;
-    // x -> R (S x + s) + t: rotation R S, translation t + R s.
-    turned.cam_T_model.R = found.cam_T_model.R * near.R[k];
-    turned.cam_T_model.t_mm = found.cam_T_model.t_mm + found.cam_T_model.R * near.t_mm[k];
+  PosedModel turned_poses[kMaxNearSymmetries];
+  const int n_turned = config_.near_symmetries ? TurnedPoses(best, turned_poses) : 0;
+  for (int k = 0; k < n_turned; ++k) {
+    PosedModel& turned = turned_poses[k];
     Verdict v;
     StageNs ns;
     const bool refined = RefineAndEvaluate(colour, scratch_[0], &turned, &v, &ns);
@@ -592,6 +604,17 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
   if (n_occluders_ < kMaxOccluders) occluders_[n_occluders_++] = best;
   MarkExplained(best);
   return true;
+}
+
+int ShapeRecognizer::TurnedPoses(const PosedModel& found, PosedModel* turned) const {
+  const NearSymmetries& near = near_[found.model - &views_.model(0)];
+  for (int k = 0; k < near.n; ++k) {
+    turned[k] = found;
+    // x -> R (S x + s) + t: rotation R S, translation t + R s.
+    turned[k].cam_T_model.R = found.cam_T_model.R * near.R[k];
+    turned[k].cam_T_model.t_mm = found.cam_T_model.t_mm + found.cam_T_model.R * near.t_mm[k];
+  }
+  return near.n;
 }
 
 void ShapeRecognizer::RefineStarts(uint8_t colour, const PosedModel* starts, size_t n,
@@ -931,6 +954,7 @@ Status ShapeRecognizer::Process(const FrameView& left, const FrameView& right,
         Seed seed;
         seed.blob[cam] = static_cast<int>(b);
         seed.surface_mm = BlobDepth(cam, blobs_[cam][b]);
+        if (seed.surface_mm == 0.0f) seed.pair_depth_mm = blob_depth_[cam][b];
         TrySeed(seed, out, st);
         if (st.objects_full) break;
       }

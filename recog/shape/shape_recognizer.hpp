@@ -125,6 +125,9 @@ struct ShapeStats {
   uint32_t turned = 0, turned_kept = 0;
   // Weak winners refined again from turned starts, and how often one of those replaced them.
   uint32_t restarted = 0, restart_kept = 0;
+  // Seeds with no verified start whose weak result (the unverified one with the most edges
+  // confirmed) was refined from its near symmetries' turned poses, and how often one verified.
+  uint32_t weak_turned = 0, weak_turned_kept = 0;
   bool runs_truncated = false, regions_truncated = false, pairs_truncated = false;
   bool blobs_full = false;
   bool objects_full = false;
@@ -202,6 +205,8 @@ class ShapeRecognizer {
     bool stereo = false;
     Eigen::Vector3f centroid_mm = Eigen::Vector3f::Zero();  // triangulated (stereo)
     float surface_mm = 0;  // mono: depth of the blob's surface (BlobDepth), 0 unknown
+    // mono, surface unknown: depth of the stereo pair the blob or its parent was part of
+    float pair_depth_mm = 0;
   };
 
   void ResetBlobs();
@@ -218,6 +223,9 @@ class ShapeRecognizer {
   float BlobDepth(int camera, const ColourRegion& blob) const;
   // Refines the candidates, verifies the best and accepts the winner; true if one was accepted.
   bool TrySeed(const Seed& seed, Vector<RecognizedObject>& out, ShapeStats& st);
+  // `found` turned by each near symmetry of its model (near_symmetry.hpp) into turned[0..n);
+  // returns n (at most kMaxNearSymmetries).
+  int TurnedPoses(const PosedModel& found, PosedModel* turned) const;
   // A weak winner refined again from turned starts (ShapeConfig::restart_deg); replaces *best
   // and *verdict when a start verifies with more evidence.
   void RestartWeak(uint8_t colour, PosedModel* best, Verdict* verdict, ShapeStats& st);

@@ -14,8 +14,7 @@
 #include <vector>
 
 #include "recog/shape/view_database.hpp"
-#include "tables/model_files.hpp"
-#include "tables/shape_view_builder.hpp"
+#include "tests/shape/colour_view_blob.hpp"
 #include "tests/shape/flat_scene.hpp"
 #include "tests/support/counting_allocator.hpp"
 
@@ -97,22 +96,9 @@ class ShapeRecognizerTest : public ::testing::Test {
  protected:
   // One view database for every test (building it is the slow part).
   static void SetUpTestSuite() {
-    std::vector<ShapeModelInput> inputs;
-    for (const char* name : kNames) {
-      const std::string path = std::string("models/colour/") + name + ".obj";
-      Result<Model> m = LoadModelFile(path);
-      ASSERT_TRUE(m.ok()) << m.status().message();
-      ShapeModelInput in;
-      in.model = *m;
-      ASSERT_TRUE(LoadModelColour(path, in.model, in.kd).ok());
-      inputs.push_back(in);
-    }
-    ShapeViewBuildOptions options;
-    options.n_components = 60;
-    options.pca_views = 1500;
-    Result<std::vector<uint8_t>> blob = BuildShapeViewBlob(inputs, options);
-    ASSERT_TRUE(blob.ok()) << blob.status().message();
-    blob_ = new std::vector<uint8_t>(std::move(*blob));
+    blob_ = new std::vector<uint8_t>();
+    ASSERT_NO_FATAL_FAILURE(
+        testing::BuildColourViewBlob(std::vector<std::string>(kNames, kNames + kParts), blob_));
   }
   static void TearDownTestSuite() {
     delete blob_;
