@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -117,19 +118,26 @@ void ShapeRecognizer::SetParallel(const ParallelFor& parallel, int threads) {
 
 template <typename Fn>
 void ShapeRecognizer::Spread(int n, Fn&& fn) const {
-  const int stride = std::max(1, std::min(threads_, n));
+  // Each slot takes the next k not yet taken, so a thread that ends early (a candidate given up
+  // at its first pass, a worker woken late) takes over the rest instead of waiting for a fixed
+  // share. Which slot takes which k varies; every k writes its own output and a slot's scratch
+  // is written before it is read, so the results do not.
+  const int slots = std::max(1, std::min(threads_, n));
   struct Context {
-    Fn* fn;
-    int n, stride;
-  } context{&fn, n, stride};
+    Fn* fn = nullptr;
+    int n = 0;
+    std::atomic<int> next{0};
+  } context{&fn, n};
   auto run_slot = [](void* c, int slot) {
-    const auto* ctx = static_cast<const Context*>(c);
-    for (int k = slot; k < ctx->n; k += ctx->stride) (*ctx->fn)(slot, k);
+    auto* ctx = static_cast<Context*>(c);
+    for (int k = ctx->next.fetch_add(1); k < ctx->n; k = ctx->next.fetch_add(1)) {
+      (*ctx->fn)(slot, k);
+    }
   };
-  if (stride == 1) {
+  if (slots == 1) {
     run_slot(&context, 0);
   } else {
-    parallel_(stride, run_slot, &context);
+    parallel_(slots, run_slot, &context);
   }
 }
 

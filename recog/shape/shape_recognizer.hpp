@@ -239,8 +239,8 @@ class ShapeRecognizer {
   // The fine refinement of *object, then Evaluate(); false when refinement fails.
   bool RefineAndEvaluate(uint8_t colour, ThreadScratch& scratch, PosedModel* object,
                          Verdict* verdict, StageNs* ns) const;
-  // Calls fn(slot, k) for every k in [0, n): slot s (one thread's ThreadScratch) takes
-  // k = s, s + stride, ...
+  // Calls fn(slot, k) for every k in [0, n) on up to threads_ slots (a slot: one thread and its
+  // ThreadScratch), each slot taking the next k not yet taken.
   template <typename Fn>
   void Spread(int n, Fn&& fn) const;
   void AddStageTimes(int64_t wall_ns, const StageNs& sum);

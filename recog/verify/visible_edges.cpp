@@ -68,6 +68,26 @@ bool RayBlocked(const Model& m, uint64_t mask, const Eigen::Vector3d& c, const E
   return false;
 }
 
+// Whether every corner lies behind or on every face's plane (within kConvexToleranceMm): a
+// convex solid. Such a model hides none of its own edges that have a face turned to the camera:
+// the ray to a point of that face comes from the outer side of the face's plane, behind which
+// the whole solid lies, so it meets the solid nowhere before the point. Self-occlusion is then
+// not tested (the test would find nothing: the same samples, without its cost).
+constexpr double kConvexToleranceMm = 1e-3;
+
+bool IsConvex(const Model& m) {
+  for (int f = 0; f < m.n_faces; ++f) {
+    const ModelFace& face = m.faces[f];
+    for (int k = 0; k < m.n_corners; ++k) {
+      const float* p = m.corners_mm[k];
+      const double side = double{face.normal[0]} * p[0] + double{face.normal[1]} * p[1] +
+                          double{face.normal[2]} * p[2] - face.offset_mm;
+      if (side > kConvexToleranceMm) return false;
+    }
+  }
+  return true;
+}
+
 // Extent of something as seen from the camera: the box of its rays in normalised image
 // coordinates (x/z, y/z) and its nearest depth. A face can hide part of an edge only if their
 // boxes overlap and the face comes nearer than the edge's far end (along one ray, nearer means
@@ -265,6 +285,8 @@ Status ComputeVisibleEdges(const ViewCamera& camera, const PosedModel& object,
   }
 
   *out = VisibleEdgeSet{};
+  // Whether the model is convex, found when an edge first has faces that may hide it.
+  enum class Shape { kUnknown, kConvex, kOther } shape = Shape::kUnknown;
   for (int e = 0; e < m.n_edges; ++e) {
     const ModelEdge& edge = m.edges[e];
     const uint64_t adjacent = (uint64_t{1} << edge.face0) | (uint64_t{1} << edge.face1);
@@ -298,6 +320,10 @@ Status ComputeVisibleEdges(const ViewCamera& camera, const PosedModel& object,
         self_mask |= uint64_t{1} << f;
       }
     }
+    if (self_mask != 0 && shape == Shape::kUnknown) {
+      shape = IsConvex(m) ? Shape::kConvex : Shape::kOther;
+    }
+    if (shape == Shape::kConvex) self_mask = 0;
     uint32_t relevant_occluders = 0;
     for (size_t i = 0; i < n_occluders; ++i) {
       if (occ[i].box.MayHide(edge_box, edge_far_z)) relevant_occluders |= 1u << i;
