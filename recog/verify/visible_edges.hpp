@@ -51,6 +51,7 @@ struct VisibleEdge {
 };
 
 // The visible edges of one posed model in one camera.
+// NOLINTNEXTLINE(bugprone-reserved-identifier): clang-tidy 14 names the implicit array copy's index
 struct VisibleEdgeSet {
   uint16_t n_edges = 0;  // edges with at least one visible sample
   VisibleEdge edges[kMaxModelEdges] = {};
