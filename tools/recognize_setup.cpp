@@ -214,6 +214,8 @@ namespace {
 constexpr Setting<PipelineConfig> kPipelineSettings[] = {
     {"shape.neck_ratio", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.shape.neck_ratio = v; }},
+    {"shape.merger_area_ratio", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.shape.merger_area_ratio = v; }},
     {"shape.min_edge_score", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.shape.min_edge_score = v; }},
     {"shape.max_background_share", SettingKind::kReal,

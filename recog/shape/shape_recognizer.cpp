@@ -8,10 +8,14 @@
 #include <limits>
 
 #include "recog/camera/calibration_check.hpp"
+#include "recog/shape/silhouette_placement.hpp"
 #include "recog/stereo/triangulation.hpp"
 
 namespace sh {
 namespace {
+
+// Coarse hypotheses of a seed: each candidate from the centroids, and placed in a merger.
+constexpr size_t kMaxCoarse = 2 * kMaxShapeCandidates;
 
 constexpr size_t kNearestPerImage = 32;  // raw nearest views before size check and diversity
 // Two coarse results this close (modulo the model's symmetries) are one start for the fine stage.
@@ -67,9 +71,9 @@ Status CheckShapeConfig(const ShapeConfig& c) {
                   c.corrective_iterations >= 0 && c.corrective_iterations <= 20 &&
                   c.min_edge_score >= 0 && c.min_edge_score <= 1 && c.max_background_share >= 0 &&
                   c.max_background_share <= 1 && c.explained_share > 0 && c.explained_share <= 1 &&
-                  c.rounds >= 1 && c.rounds <= kShapeRounds && c.weak_edge_score >= 0 &&
-                  c.weak_edge_score <= 1 && c.restart_deg >= 0 && c.restart_deg <= 90 &&
-                  c.second_pass_starts >= 0 &&
+                  c.rounds >= 1 && c.rounds <= kShapeRounds && c.merger_area_ratio >= 0 &&
+                  c.merger_area_ratio <= 1 && c.weak_edge_score >= 0 && c.weak_edge_score <= 1 &&
+                  c.restart_deg >= 0 && c.restart_deg <= 90 && c.second_pass_starts >= 0 &&
                   static_cast<size_t>(c.second_pass_starts) <= kMaxShapeCandidates &&
                   c.second_pass_min_score >= 0 && c.second_pass_min_score <= 1;
   if (!ok) {
@@ -285,13 +289,14 @@ void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
   }
 }
 
-bool ShapeRecognizer::InitialPoseStereo(const Seed& seed, SilhouetteScratch& scratch,
+bool ShapeRecognizer::InitialPoseStereo(const Seed& seed, bool place, SilhouetteScratch& scratch,
                                         PosedModel* object) const {
   // Orientation relative to the viewing ray stays as the view gave it while the position moves.
   const Eigen::Matrix3f ray_R_model =
       RayFrame(seed.centroid_mm).transpose() * object->cam_T_model.R;
   object->cam_T_model.t_mm = seed.centroid_mm;
   const ColourRegion* blobs[2] = {&blobs_[0][seed.blob[0]], &blobs_[1][seed.blob[1]]};
+  bool placed = false;
   for (int it = 0; it < config_.corrective_iterations; ++it) {
     object->cam_T_model.R = RayFrame(object->cam_T_model.t_mm) * ray_R_model;
     Eigen::Vector2d target[2];
@@ -304,8 +309,15 @@ bool ShapeRecognizer::InitialPoseStereo(const Seed& seed, SilhouetteScratch& scr
            ProjectToPixel(view.intrinsics,
                           (view.cam_T_left * object->cam_T_model.t_mm).cast<double>(), &origin);
       if (!ok) break;
+      const ColourRegion& blob = *blobs[cam];
+      Eigen::Vector2d shift;
+      if (place && PlaceInMerger(cam, seed.blob[cam], mask, &shift)) {
+        target[cam] = origin + shift;
+        placed = true;
+        continue;
+      }
       // Where the origin must project for the predicted centroid to meet the observed one.
-      target[cam] = origin + Eigen::Vector2d(blobs[cam]->cx - mask.cx, blobs[cam]->cy - mask.cy);
+      target[cam] = origin + Eigen::Vector2d(blob.cx - mask.cx, blob.cy - mask.cy);
     }
     RayMidpoint mid;
     if (!ok || !TriangulatePixels(calib_, target[0], target[1], &mid) || !(mid.depth_a_mm > 0)) {
@@ -314,7 +326,7 @@ bool ShapeRecognizer::InitialPoseStereo(const Seed& seed, SilhouetteScratch& scr
     object->cam_T_model.t_mm = mid.p_mm.cast<float>();
   }
   object->cam_T_model.R = RayFrame(object->cam_T_model.t_mm) * ray_R_model;
-  return true;
+  return !place || placed;
 }
 
 float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
@@ -429,7 +441,7 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
   return first.depth;
 }
 
-bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c,
+bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c, bool place,
                                       SilhouetteScratch& scratch, PosedModel* object) const {
   const int cam = c.camera;
   const ColourRegion& blob = blobs_[cam][seed.blob[cam]];
@@ -456,6 +468,7 @@ bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c,
   const Eigen::Matrix3f ray_R_model = RayFrame(ray0).transpose() * cam_R_left * c.cam_R_model;
   const RigidTransform left_T_cam = view.cam_T_left.Inverse();
   Eigen::Vector2d target(blob.cx, blob.cy);
+  bool placed = false;
   for (int it = 0; it <= config_.corrective_iterations; ++it) {
     xy = UndistortPixel(ci, target);
     const Eigen::Vector3f t_cam =
@@ -482,8 +495,38 @@ bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c,
     }
     if (x1 < x0) return false;
     if (known_depth <= 0) depth *= static_cast<float>(x1 - x0 + 1 + y1 - y0 + 1) / extent_px;
-    target = origin + Eigen::Vector2d(blob.cx - mask.cx, blob.cy - mask.cy);
+    Eigen::Vector2d shift;
+    if (place && PlaceInMerger(cam, seed.blob[cam], mask, &shift)) {
+      target = origin + shift;
+      placed = true;
+    } else {
+      target = origin + Eigen::Vector2d(blob.cx - mask.cx, blob.cy - mask.cy);
+    }
   }
+  return !place || placed;
+}
+
+bool ShapeRecognizer::PlaceInMerger(int camera, int blob_index, const SilhouetteMask& silhouette,
+                                    Eigen::Vector2d* shift) const {
+  // A blob much larger than the predicted silhouette merges this part with another of its
+  // colour (one region). Pixels of accepted parts count as fitting (the part may lie behind
+  // them); half the silhouette at least must fit at the best shift (a blob of an earlier round
+  // whose pixels later blobs took has no say).
+  constexpr float kMinOverlap = 0.5f;
+  const ColourRegion& blob = blobs_[camera][static_cast<size_t>(blob_index)];
+  if (!(static_cast<float>(silhouette.area_px) <
+        config_.merger_area_ratio * static_cast<float>(blob.area_px))) {
+    return false;
+  }
+  const int w = segmentation_[camera].width(), h = segmentation_[camera].height();
+  const ConstGrayView hidden{explained_[camera], w, h, w};
+  Placement placed;
+  if (!PlaceSilhouette(silhouette, BlobIds(camera), static_cast<uint8_t>(blob_index + 1), hidden,
+                       {blob.x0, blob.y0, blob.x1, blob.y1}, &placed) ||
+      placed.overlap < kMinOverlap) {
+    return false;
+  }
+  *shift = Eigen::Vector2d(placed.dx, placed.dy);
   return true;
 }
 
@@ -501,43 +544,55 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
     float found = 0;
     bool posed = false, refined = false;
   };
-  Coarse coarse[kMaxShapeCandidates];
-  t = Now();
-  Spread(static_cast<int>(candidates.size()), [&](int slot, int k) {
-    const Candidate& c = candidates[static_cast<size_t>(k)];
-    Coarse& r = coarse[k];
-    r.object = {&views_.model(c.model), {c.cam_R_model, seed.centroid_mm}};
-    SilhouetteScratch& silhouette = scratch_[slot].silhouette;
-    r.posed = seed.stereo ? InitialPoseStereo(seed, silhouette, &r.object)
-                          : InitialPoseMono(seed, c, silhouette, &r.object);
-    if (!r.posed) return;
-    ShapeRefineResult fit;
-    r.refined = scratch_[slot]
-                    .refiner
-                    .Refine(calib_, images_, colour, &r.object, occluders_, n_occluders_,
-                            config_.coarse, &fit)
-                    .ok();
-    const int samples = fit.fit[0].samples + fit.fit[1].samples;
-    r.found = samples ? static_cast<float>(fit.fit[0].found + fit.fit[1].found) / samples : 0.0f;
-  });
-  // In candidate order, as one thread would have left them.
+  // Each candidate from the blobs' centroids; for a seed none of whose first starts verified,
+  // where a blob merges the part with another of its colour, each candidate again from where
+  // its silhouette fits the blob best (PlaceInMerger). Each run appends its refined results,
+  // ranked among themselves, and returns where they start.
+  Coarse coarse[kMaxCoarse];
   size_t n_coarse = 0;
-  for (size_t k = 0; k < candidates.size(); ++k) {
-    st.hypotheses += coarse[k].posed;
-    if (coarse[k].refined) coarse[n_coarse++] = coarse[k];
-  }
-  std::sort(coarse, coarse + n_coarse,
-            [](const Coarse& a, const Coarse& b) { return a.found > b.found; });
-  refine_ns_ += Now() - t;
+  const int n_candidates = static_cast<int>(candidates.size());
+  const auto run_coarse = [&](bool place) {
+    const size_t first = n_coarse;
+    Coarse* jobs = coarse + first;
+    const int64_t t_run = Now();
+    Spread(n_candidates, [&](int slot, int k) {
+      const Candidate& c = candidates[static_cast<size_t>(k)];
+      Coarse& r = jobs[k];
+      r = Coarse{};
+      r.object = {&views_.model(c.model), {c.cam_R_model, seed.centroid_mm}};
+      SilhouetteScratch& silhouette = scratch_[slot].silhouette;
+      r.posed = seed.stereo ? InitialPoseStereo(seed, place, silhouette, &r.object)
+                            : InitialPoseMono(seed, c, place, silhouette, &r.object);
+      if (!r.posed) return;
+      ShapeRefineResult fit;
+      r.refined = scratch_[slot]
+                      .refiner
+                      .Refine(calib_, images_, colour, &r.object, occluders_, n_occluders_,
+                              config_.coarse, &fit)
+                      .ok();
+      const int samples = fit.fit[0].samples + fit.fit[1].samples;
+      r.found = samples ? static_cast<float>(fit.fit[0].found + fit.fit[1].found) / samples : 0.0f;
+    });
+    // In candidate order, as one thread would have left them.
+    for (int k = 0; k < n_candidates; ++k) {
+      st.hypotheses += jobs[k].posed;
+      if (jobs[k].refined) coarse[n_coarse++] = jobs[k];
+    }
+    std::sort(coarse + first, coarse + n_coarse,
+              [](const Coarse& a, const Coarse& b) { return a.found > b.found; });
+    refine_ns_ += Now() - t_run;
+    return first;
+  };
+  run_coarse(false);
   // Fine stage and verification of the best. Two views that the coarse stage took to one pose:
   // the fine stage would repeat itself (compared with the starts it does refine, not with those
   // it skips), so the starts are chosen before any is refined.
-  PosedModel starts[kMaxShapeCandidates];
-  bool chosen[kMaxShapeCandidates] = {};
+  PosedModel starts[kMaxCoarse];
+  bool chosen[kMaxCoarse] = {};
   size_t n_starts = 0;
-  const auto choose = [&](size_t limit) {
+  const auto choose = [&](size_t limit, size_t from) {
     const size_t first_new = n_starts;
-    for (size_t i = 0; i < n_coarse && n_starts - first_new < limit; ++i) {
+    for (size_t i = from; i < n_coarse && n_starts - first_new < limit; ++i) {
       if (chosen[i]) continue;
       chosen[i] = true;
       bool repeat = false;
@@ -548,17 +603,28 @@ bool ShapeRecognizer::TrySeed(const Seed& seed, Vector<RecognizedObject>& out, S
     }
     return n_starts - first_new;
   };
-  choose(static_cast<size_t>(config_.fine_hypotheses));
+  choose(static_cast<size_t>(config_.fine_hypotheses), 0);
   PosedModel best{nullptr, {}};
   Verdict best_verdict;
   PosedModel weak{nullptr, {}};  // the unverified fine result with the most edges confirmed
   Verdict weak_verdict;
   RefineStarts(colour, starts, n_starts, &best, &best_verdict, &weak, &weak_verdict, st);
+  // A blob that merges two parts of one colour: its centroid lies between them.
+  if (best.model == nullptr && config_.merger_area_ratio > 0) {
+    const size_t placed = run_coarse(true);
+    if (n_coarse > placed) {
+      ++st.merger_seeds;
+      const size_t first = n_starts;
+      const size_t added = choose(static_cast<size_t>(config_.fine_hypotheses), placed);
+      RefineStarts(colour, starts + first, added, &best, &best_verdict, &weak, &weak_verdict, st);
+      st.merger_found += best.model != nullptr;
+    }
+  }
   // Second, wider pass for a seed none of whose first starts verified: the coarse results not
   // refined yet, then the unverified result nearest to verifying from turned starts.
   if (best.model == nullptr && config_.second_pass) {
     const size_t first = n_starts;
-    const size_t added = choose(static_cast<size_t>(config_.second_pass_starts));
+    const size_t added = choose(static_cast<size_t>(config_.second_pass_starts), 0);
     RefineStarts(colour, starts + first, added, &best, &best_verdict, &weak, &weak_verdict, st);
     // A part with a near symmetry (the bracket) whose every start settled half a turn from the
     // truth confirms too few edges there to verify: the weak result's turned poses are refined

@@ -73,6 +73,13 @@ struct ShapeConfig {
   // of the region's.
   float max_extent_ratio = 1.3f;
   int corrective_iterations = 3;
+  // A stereo seed's blob larger than a candidate's predicted silhouette by more than this share
+  // (silhouette area under merger_area_ratio times the blob's) merges the part with another of
+  // its colour: when none of a seed's first fine starts verified, its candidates are started
+  // again where their silhouettes fit the blobs best (silhouette_placement.hpp; the corrective
+  // iterations move them there instead of matching centroids), coarse and fine stages as
+  // before. 0: never.
+  float merger_area_ratio = 0.7f;
   // Parts with a near symmetry (near_symmetry.hpp: the bracket) are refined half a turn from
   // where they were found too, and the pose the images explain better is kept.
   bool near_symmetries = true;
@@ -128,6 +135,9 @@ struct ShapeStats {
   // Seeds with no verified start whose weak result (the unverified one with the most edges
   // confirmed) was refined from its near symmetries' turned poses, and how often one verified.
   uint32_t weak_turned = 0, weak_turned_kept = 0;
+  // Seeds with no verified start whose candidates were started again placed in a blob that
+  // merges two parts (ShapeConfig::merger_area_ratio), and how often one of those verified.
+  uint32_t merger_seeds = 0, merger_found = 0;
   bool runs_truncated = false, regions_truncated = false, pairs_truncated = false;
   bool blobs_full = false;
   bool objects_full = false;
@@ -212,10 +222,19 @@ class ShapeRecognizer {
   void ResetBlobs();
   bool AddBlob(int camera, const ColourRegion& blob, uint8_t round, const uint8_t* mask,
                int mask_stride);
+  ConstGrayView BlobIds(int camera) const {
+    return {blob_ids_[camera], segmentation_[camera].width(), segmentation_[camera].height(),
+            segmentation_[camera].width()};
+  }
   bool BlobWindow(int camera, const ColourRegion& blob, ShapeWindow* window);
   void Candidates(const Seed& seed, Vector<Candidate>& out);
-  bool InitialPoseStereo(const Seed& seed, SilhouetteScratch& scratch, PosedModel* object) const;
-  bool InitialPoseMono(const Seed& seed, const Candidate& c, SilhouetteScratch& scratch,
+  // The shift that places `silhouette` where it fits a blob that merges its part with another
+  // (the blob larger than it by config_.merger_area_ratio); false: not a merger, or no fit.
+  bool PlaceInMerger(int camera, int blob_index, const SilhouetteMask& silhouette,
+                     Eigen::Vector2d* shift) const;
+  bool InitialPoseStereo(const Seed& seed, bool place, SilhouetteScratch& scratch,
+                         PosedModel* object) const;
+  bool InitialPoseMono(const Seed& seed, const Candidate& c, bool place, SilhouetteScratch& scratch,
                        PosedModel* object) const;
   // Depth (z in `camera`) of a blob's surface by matching its pixels along the epipolar line in
   // the other image: the colours a blob shows (its faces' shading and the creases between them)
