@@ -67,6 +67,18 @@ Status MonoRecognizer::SetTable(const RigidTransform* left_T_table) {
   return Status::Ok();
 }
 
+Status MonoRecognizer::SetParallel(const ParallelFor& parallel, int threads) {
+  if (!initialised_) {
+    return Status::Error(StatusCode::kFailedPrecondition, "mono: Init() has not succeeded");
+  }
+  if (threads < 1) {
+    return Status::Error(StatusCode::kInvalidArgument, "mono: %d threads", threads);
+  }
+  parallel_ = parallel;
+  slots_used_ = parallel.concurrent() ? std::min(threads, kMonoEvaluationSlots) : 1;
+  return Status::Ok();
+}
+
 Status MonoRecognizer::SetCamera(const ViewCamera& camera) {
   if (!initialised_) {
     return Status::Error(StatusCode::kFailedPrecondition, "mono: Init() has not succeeded");
@@ -479,8 +491,8 @@ bool MonoRecognizer::RestingStart(const AspectBasis& basis, const AspectRecord& 
 }
 
 bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_frame,
-                              const Vector<RecognizedObject>& accepted, MonoStats* stats,
-                              Candidate* out) {
+                              const Vector<RecognizedObject>& accepted, SlotScratch& scratch,
+                              MonoStats* stats, Candidate* out) {
   const AspectBasis& basis = table_.basis(h.basis);
   const AspectRecord& aspect = table_.aspect(basis.aspect);
   const Model& model = table_.model(basis.model);
@@ -504,7 +516,7 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
   const ViewCamera own{cam, RigidTransform::Identity()};
   const PoseScene scene{pose_corners_, corner_active_, n_corners_,
                         pose_lines_,   line_active_,   n_lines_};
-  VisibleEdgeSet& visible = visible_;
+  VisibleEdgeSet& visible = scratch.visible;
   MatchConfig match = config_.match;
   FitResult fit;
   constexpr int kRounds = sizeof(config_.round_gates_px) / sizeof(config_.round_gates_px[0]);
@@ -534,11 +546,11 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
       return false;
     }
     if (has_table_) {
-      fit = FitRestingPose(cam, c.matches, plane_, stable_[basis.model], config_.fit, &fit_scratch_,
+      fit = FitRestingPose(cam, c.matches, plane_, stable_[basis.model], config_.fit, &scratch.fit,
                            &c.rest);
       c.cam_T_model = RestingTransform(plane_, stable_[basis.model], c.rest);
     } else {
-      fit = FitPose(cam, c.matches, config_.fit, &fit_scratch_, &c.cam_T_model);
+      fit = FitPose(cam, c.matches, config_.fit, &scratch.fit, &c.cam_T_model);
     }
   }
   // Final matches at the refined pose, for the counts and the features the object takes.
@@ -706,6 +718,20 @@ bool MonoRecognizer::BasisActive(const SceneBasis2d& sb) const {
   return true;
 }
 
+namespace {
+
+// The counts one slot's evaluations add.
+void AddEvaluationCounts(const MonoStats& from, MonoStats* to) {
+  to->rejected_tilt += from.rejected_tilt;
+  to->rejected_depth += from.rejected_depth;
+  to->rejected_matches += from.rejected_matches;
+  to->rejected_overlap += from.rejected_overlap;
+  to->verifications += from.verifications;
+  to->rejected_verify += from.rejected_verify;
+}
+
+}  // namespace
+
 bool MonoRecognizer::TryBasis(uint32_t k, const Vector<RecognizedObject>& objects, MonoStats* stats,
                               Candidate* best) {
   tried_[k] = 2;
@@ -723,14 +749,48 @@ bool MonoRecognizer::TryBasis(uint32_t k, const Vector<RecognizedObject>& object
   AspectHypothesis hyps[kMaxMonoHypotheses];
   const int n = voter_.Vote(scene, request, hyps, config_.hypotheses_per_basis);
   stats->hypotheses += static_cast<uint32_t>(n);
-  bool found = false;
-  for (int i = 0; i < n; ++i) {
-    if (!Evaluate(hyps[i], request.frame, objects, stats, &candidate_)) continue;
-    if (!found || candidate_.evidence > best->evidence) *best = candidate_;
-    found = true;
+  // The hypotheses are evaluated in slots (hypothesis i in slot i % slots, each slot's best the
+  // first of most evidence in its order), then the slots' bests compared: the most evidence,
+  // the lower index on a tie, as the serial loop keeps the first of most evidence.
+  const int slots = std::max(1, std::min(slots_used_, n));
+  job_ = {hyps, n, slots, &request.frame, &objects, best};
+  if (slots > 1) {
+    parallel_(slots, &MonoRecognizer::EvaluateSlot, this);
+  } else {
+    EvaluateSlot(this, 0);
   }
-  if (!found) tried_[k] = 1;  // failed: may be retried near objects found later
-  return found;
+  const auto evidence = [&](int s) { return s == 0 ? best->evidence : slots_[s].best.evidence; };
+  int winner = -1;
+  for (int s = 0; s < slots; ++s) {
+    AddEvaluationCounts(slots_[s].stats, stats);
+    if (slots_[s].best_index < 0) continue;
+    if (winner < 0 || evidence(s) > evidence(winner) ||
+        (evidence(s) == evidence(winner) && slots_[s].best_index < slots_[winner].best_index)) {
+      winner = s;
+    }
+  }
+  if (winner > 0) *best = slots_[winner].best;
+  if (winner < 0) tried_[k] = 1;  // failed: may be retried near objects found later
+  return winner >= 0;
+}
+
+void MonoRecognizer::EvaluateSlot(void* self, int s) {
+  auto& m = *static_cast<MonoRecognizer*>(self);
+  const EvaluationJob& job = m.job_;
+  SlotScratch& slot = m.slots_[s];
+  slot.stats = MonoStats{};
+  slot.best_index = -1;
+  // Slot 0 keeps its best in the caller's candidate.
+  Candidate* best = s == 0 ? job.best : &slot.best;
+  for (int i = s; i < job.n; i += job.slots) {
+    if (!m.Evaluate(job.hyps[i], *job.frame, *job.objects, slot, &slot.stats, &slot.candidate)) {
+      continue;
+    }
+    if (slot.best_index < 0 || slot.candidate.evidence > best->evidence) {
+      *best = slot.candidate;
+      slot.best_index = i;
+    }
+  }
 }
 
 bool MonoRecognizer::NearLaterObject(uint32_t k, size_t n_objects) const {
@@ -1004,7 +1064,7 @@ Status MonoRecognizer::Diagnose(const ImageFeatures& features, int model_index,
       if (table_.basis(hyps[i].basis).model != model_index) continue;
       has_model = true;
       ++stats.hypotheses;
-      if (!Evaluate(hyps[i], frame, none, &stats, &candidate)) continue;
+      if (!Evaluate(hyps[i], frame, none, slots_[0], &stats, &candidate)) continue;
       const float dt = (candidate.cam_T_model.t_mm - cam_T_model.t_mm).norm();
       found = found || dt < 5.0f;
     }

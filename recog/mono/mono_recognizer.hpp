@@ -16,6 +16,7 @@
 
 #include <cstdint>
 
+#include "recog/base/parallel_for.hpp"
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
 #include "recog/hashing/recognizer.hpp"
@@ -33,6 +34,9 @@ namespace sh {
 // Capacities (compile-time; docs/architecture.md).
 inline constexpr size_t kMaxMonoSceneBases = 16384;  // candidate scene bases per frame
 inline constexpr int kMaxMonoHypotheses = 8;         // model bases tried per scene basis
+// With a ParallelFor (MonoRecognizer::SetParallel): the most threads that evaluate a scene
+// basis's hypotheses, each in its slot of scratch.
+inline constexpr int kMonoEvaluationSlots = 2;
 
 // Edge-pixel verification in the one image: samples confirmed within 3 px (thesis 4 px) and at
 // least half of them (thesis 40 %), as there is no second image to reject a wrong model.
@@ -157,6 +161,16 @@ class MonoRecognizer {
   Status SetCamera(const ViewCamera& camera);
   const ViewCamera& camera() const { return camera_; }
 
+  // A scene basis's hypotheses evaluated over `threads` threads (kMonoEvaluationSlots at most
+  // are used) of `parallel` (the pipeline's worker pool), each thread in its slot of scratch,
+  // then the best taken as the serial loop takes it (most evidence, the first on a tie), so the
+  // results equal those on the calling thread alone (threads 1, or a ParallelFor without a
+  // pool). The voting stays on the caller: a second voter would take its counters (0.66 MiB for
+  // the reference table). No allocation; a later Init() keeps the setting. Errors: Init() has
+  // not succeeded, threads below 1.
+  Status SetParallel(const ParallelFor& parallel, int threads);
+  int evaluation_threads() const { return slots_used_; }
+
   // Recognises objects in one image's features (corners, lines and the edge map of that
   // image). `objects` is cleared first; poses are left-camera frame; verify_score[0] is the
   // confirmed fraction in this image, verify_score[1] the fraction of the model's visible
@@ -211,6 +225,27 @@ class MonoRecognizer {
   // Votes for candidate k and evaluates its hypotheses; the best verified one goes to *best.
   bool TryBasis(uint32_t k, const Vector<RecognizedObject>& objects, MonoStats* stats,
                 Candidate* best);
+  // Scratch of one evaluation slot (slot 0: the caller's); written before it is read, as the
+  // class's.
+  // NOLINTNEXTLINE(cppcoreguidelines-pro-type-member-init)
+  struct SlotScratch {
+    Candidate candidate;
+    VisibleEdgeSet visible;
+    FitScratch fit;
+    Candidate best;       // the slot's best (slot 0 keeps it in the caller's candidate)
+    int best_index = -1;  // its hypothesis, -1: none verified
+    MonoStats stats;      // the slot's evaluations' counts
+  };
+  // The hypotheses of the scene basis being evaluated (TryBasis), read by the slots.
+  struct EvaluationJob {
+    const AspectHypothesis* hyps = nullptr;
+    int n = 0;
+    int slots = 1;  // hypothesis i goes to slot i % slots
+    const Frame2d* frame = nullptr;
+    const Vector<RecognizedObject>* objects = nullptr;
+    Candidate* best = nullptr;
+  };
+  static void EvaluateSlot(void* self, int slot);
   // Image features (matched corners and lines) both candidates claim.
   static int SharedFeatures(const Candidate& a, const Candidate& b);
   // Replaces best_ (found from candidate k) by a competitor for the same image features that
@@ -222,7 +257,8 @@ class MonoRecognizer {
   bool RestingStart(const AspectBasis& basis, const AspectRecord& aspect, const Frame2d& frame,
                     const RigidTransform& hypothesis, MonoStats* stats, RestingPose* out) const;
   bool Evaluate(const AspectHypothesis& h, const Frame2d& scene_frame,
-                const Vector<RecognizedObject>& accepted, MonoStats* stats, Candidate* out);
+                const Vector<RecognizedObject>& accepted, SlotScratch& scratch, MonoStats* stats,
+                Candidate* out);
   void Accept(const Candidate& c, Vector<RecognizedObject>& objects);
   // An object's image circle (ideal pixels: centre and reach) in this camera's frame.
   Eigen::Vector3f ImageCircle(const Model& model, const RigidTransform& cam_T_model) const;
@@ -267,10 +303,13 @@ class MonoRecognizer {
   uint8_t tried_[kMaxMonoSceneBases];           // 0 untried, 1 failed, 2 done
   uint8_t tried_at_[kMaxMonoSceneBases];        // objects found when it was tried
   Eigen::Vector3f object_circle_[kMaxObjects];  // image centre and reach of each object found
-  // Scratch of the search (large: kept off the stack).
-  Candidate candidate_, best_, other_;
-  VisibleEdgeSet visible_;
-  FitScratch fit_scratch_;
+  // Scratch of the search (large: kept off the stack): slot 0 the caller's, the others for the
+  // hypotheses evaluated on other threads (SetParallel).
+  Candidate best_, other_;
+  SlotScratch slots_[kMonoEvaluationSlots];
+  ParallelFor parallel_;
+  int slots_used_ = 1;
+  EvaluationJob job_;
   uint32_t n_candidates_ = 0;
   // Corners near each line (ideal for connected pairs), at most kMaxLineCorners per line.
   static constexpr int kMaxLineCorners = 16;

@@ -499,6 +499,8 @@ void Pipeline::KeepOverFrameTable(PipelineResult* out) {
 }
 
 Status Pipeline::LendRescue(MonoRecognizer* mono) {
+  // The one taken back searches on its caller's thread alone again.
+  if (rescue_ != nullptr) (void)rescue_->SetParallel(ParallelFor{}, 1);  // cannot fail
   rescue_ = nullptr;
   if (mono == nullptr) return Status::Ok();
   if (!initialised_) {
@@ -515,6 +517,8 @@ Status Pipeline::LendRescue(MonoRecognizer* mono) {
                          "pipeline: the rescue's aspect table lists other models than the hash "
                          "tables");
   }
+  // While lent it evaluates hypotheses on the pool's threads (MonoRecognizer::SetParallel).
+  SH_RETURN_IF_ERROR(mono->SetParallel(ParallelOn(&pool_), pool_.threads()));
   rescue_ = mono;
   return Status::Ok();
 }

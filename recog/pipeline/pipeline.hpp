@@ -282,7 +282,9 @@ class Pipeline {
   // back (null). It must be initialised for the left camera of this calibration with the hash
   // tables' models in their order (the table pose, if any, that of PipelineConfig::table), and
   // stay unused elsewhere while Process() runs: the firmware lends its one-camera fallback's.
-  // Init() takes it back.
+  // While lent, it evaluates a scene basis's hypotheses on the pool's threads
+  // (MonoRecognizer::SetParallel); taken back, on its caller's alone. Init() takes it back (lend
+  // it again after Init).
   Status LendRescue(MonoRecognizer* mono);
   // Diagnosis only (bench tools): sees every hypothesis of the following frames' searches.
   void SetSearchObserver(SearchObserver* observer) { recognizer_.SetObserver(observer); }

@@ -4,12 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <memory>
+#include <thread>
 
 #include "recog/mono/mono_pipeline.hpp"
 #include "recog/verify/inside_object.hpp"
 #include "recog/verify/view_camera.hpp"
 #include "tests/mono/mono_render.hpp"
+#include "tests/support/same_objects.hpp"
 #include "tools/eval/synthetic_scene.hpp"
 
 namespace sh {
@@ -161,6 +165,18 @@ class DiscMask final : public FeatureMask {
   float radius_;
 };
 
+// Sets the pipeline up for the scene's left camera and table, and processes its left image.
+template <typename Workspace>
+bool ProcessLeftWithTable(const RenderedPair& pair, MonoPipeline* pipeline, Workspace& workspace,
+                          MonoResult* result) {
+  const RigidTransform left_T_table = pair.generated.scene.left_T_table;
+  return pipeline
+             ->Init(pair.generated.calib, 0, MonoScenes().table, &left_T_table,
+                    MonoPipelineConfig::Automatic(), FakeClock)
+             .ok() &&
+         pipeline->Process(pair.left_view(), 0, workspace, result).ok();
+}
+
 // The stereo pipeline's rescue: objects known before the search keep their place (never
 // displaced, never found again), the others are found around them, and features the mask hides
 // take no part.
@@ -171,12 +187,7 @@ TEST(MonoPipeline, RecognizeRestKeepsTheKnownObjectsAndFindsTheOthers) {
   auto result = std::make_unique<MonoResult>();
   const RenderedPair& pair = MonoScene(0);
   ASSERT_GE(pair.truth.size(), 2u);
-  const RigidTransform left_T_table = pair.generated.scene.left_T_table;
-  ASSERT_TRUE(pipeline
-                  ->Init(pair.generated.calib, 0, f.table, &left_T_table,
-                         MonoPipelineConfig::Automatic(), FakeClock)
-                  .ok());
-  ASSERT_TRUE(pipeline->Process(pair.left_view(), 0, *workspace, result.get()).ok());
+  ASSERT_TRUE(ProcessLeftWithTable(pair, pipeline.get(), *workspace, result.get()));
   const TruthObject& known_truth = pair.truth[0];
   RecognizedObject known;
   known.model = static_cast<uint16_t>(known_truth.model);
@@ -271,6 +282,89 @@ TEST(MonoPipeline, SetCameraSearchesTheOtherImageAndSetsBack) {
       1e-6f);
   ASSERT_TRUE(recognizer.Recognize(left->features(), Budget{}, objects).ok());
   expect_same(objects, in_left);
+}
+
+// A ParallelFor whose calls beyond the first run on another thread, which counts them: the
+// hypotheses of the slots beyond the first must be evaluated there, not on the caller.
+struct OtherThread {
+  std::atomic<int> calls{0};
+
+  ParallelFor Parallel() {
+    ParallelFor parallel;
+    parallel.pool = this;
+    parallel.run = [](void* self, int n, void (*fn)(void*, int), void* context) {
+      auto* other = static_cast<OtherThread*>(self);
+      std::thread worker([&] {
+        for (int i = 1; i < n; ++i) {
+          fn(context, i);
+          other->calls.fetch_add(1);
+        }
+      });
+      if (n > 0) fn(context, 0);
+      worker.join();
+    };
+    return parallel;
+  }
+};
+
+// A search's counts, in one array to compare.
+std::array<uint32_t, 12> Counts(const MonoStats& s) {
+  return {s.scene_bases_available, s.scene_bases_tried, s.hypotheses,       s.rejected_tilt,
+          s.rejected_depth,        s.rejected_matches,  s.rejected_overlap, s.verifications,
+          s.rejected_verify,       s.accepted,          s.budget_exhausted, s.objects_full};
+}
+
+// The stereo pipeline's rescue evaluates a scene basis's hypotheses on the pool's threads: with
+// two threads, the search (whole, and around a known object) finds the same objects with the
+// same counts as on the caller alone, and part of the work ran on the other thread.
+TEST(MonoPipeline, HypothesesEvaluatedOnAnotherThreadChangeNothing) {
+  auto pipeline = std::make_unique<MonoPipeline>();
+  auto workspace = MakeWorkspace<FeatureWorkspace>();
+  auto result = std::make_unique<MonoResult>();
+  OtherThread other;
+  int found = 0;
+  for (int i = 0; i < testing::kMonoScenes; ++i) {
+    const RenderedPair& pair = MonoScene(i);
+    ASSERT_TRUE(ProcessLeftWithTable(pair, pipeline.get(), *workspace, result.get()));
+    MonoRecognizer& recognizer = pipeline->recognizer();
+    ASSERT_EQ(recognizer.evaluation_threads(), 1);
+    ASSERT_GE(pair.truth.size(), 1u);
+    RecognizedObject known;
+    known.model = static_cast<uint16_t>(pair.truth[0].model);
+    known.cam_T_model = pair.truth[0].cam_T_model;
+    known.verify_evidence = 1e9f;
+    const DiscMask nothing_hidden(Eigen::Vector2f(-1e4f, -1e4f), 1.0f);
+    for (const size_t n_known : {size_t{0}, size_t{1}}) {
+      Vector<RecognizedObject, kMaxObjects> serial, spread;
+      MonoStats serial_stats, spread_stats;
+      ASSERT_TRUE(recognizer.SetParallel(ParallelFor{}, 1).ok());
+      if (n_known > 0) {
+        ASSERT_TRUE(serial.push_back(known));
+      }
+      ASSERT_TRUE(recognizer
+                      .RecognizeRest(pipeline->features(), nothing_hidden, Budget{}, serial,
+                                     n_known, &serial_stats)
+                      .ok());
+      ASSERT_TRUE(recognizer.SetParallel(other.Parallel(), 2).ok());
+      ASSERT_EQ(recognizer.evaluation_threads(), 2);
+      if (n_known > 0) {
+        ASSERT_TRUE(spread.push_back(known));
+      }
+      ASSERT_TRUE(recognizer
+                      .RecognizeRest(pipeline->features(), nothing_hidden, Budget{}, spread,
+                                     n_known, &spread_stats)
+                      .ok());
+      testing::ExpectSameObjects(serial, spread, static_cast<uint64_t>(i));
+      EXPECT_EQ(Counts(serial_stats), Counts(spread_stats)) << "scene " << i;
+      found += static_cast<int>(serial.size() - n_known);
+    }
+    // A ParallelFor without a pool: the caller alone.
+    ASSERT_TRUE(recognizer.SetParallel(ParallelFor{}, 2).ok());
+    EXPECT_EQ(recognizer.evaluation_threads(), 1);
+    EXPECT_FALSE(recognizer.SetParallel(ParallelFor{}, 0).ok());
+  }
+  EXPECT_GT(found, 0);
+  EXPECT_GT(other.calls.load(), 0);
 }
 
 }  // namespace
