@@ -169,7 +169,8 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
                       const PipelineConfig& config, ClockFn now_ns,
                       const ShapeViewsView* shape_views) {
   initialised_ = false;
-  rescue_ = nullptr;  // lent for one calibration and table: lent again after Init
+  // Lent for one calibration and table: taken back (its pool too), lent again after Init.
+  (void)LendRescue(nullptr);  // with no recogniser it cannot fail
   SH_RETURN_IF_ERROR(ValidateStereoCalibration(calib));
   if (calib.left.width > kMaxImageWidth || calib.left.height > kMaxImageHeight ||
       calib.right.width > kMaxImageWidth || calib.right.height > kMaxImageHeight) {

@@ -239,6 +239,23 @@ TEST_F(PipelineRescue, RefusesARecogniserOfOtherModels) {
   EXPECT_TRUE(pipeline_->LendRescue(nullptr).ok());
 }
 
+TEST_F(PipelineRescue, LentItSharesThePoolAndInitTakesItBack) {
+  const RenderedPair& pair = *(*pairs_)[0];
+  SetUp(pair, false, false);
+  PipelineConfig config = pipeline_->config();
+  config.threads = 2;
+  ASSERT_TRUE(pipeline_->Init(pair.generated.calib, *table_, config, FakeClock).ok());
+  ASSERT_TRUE(pipeline_->LendRescue(mono_).ok());
+  EXPECT_EQ(mono_->evaluation_threads(), 2);
+  // A pipeline set up again no longer holds the recogniser: it searches on its caller alone.
+  ASSERT_TRUE(pipeline_->Init(pair.generated.calib, *table_, config, FakeClock).ok());
+  EXPECT_EQ(mono_->evaluation_threads(), 1);
+  ASSERT_TRUE(pipeline_->LendRescue(mono_).ok());
+  EXPECT_EQ(mono_->evaluation_threads(), 2);
+  EXPECT_TRUE(pipeline_->LendRescue(nullptr).ok());
+  EXPECT_EQ(mono_->evaluation_threads(), 1);
+}
+
 TEST_F(PipelineRescue, NoAllocationWhileRescuing) {
   size_t rescued = 0;
   for (const auto& pair : *pairs_) {
