@@ -303,13 +303,16 @@ int Recognizer::VoteInTurn(uint32_t index, const SceneBasis& b, uint32_t most,
     if (BasisActive(candidates_[j])) ahead_[ahead_count_++].index = j;
   }
   if (ahead_count_ == 1) return Vote(b, scratch_, out, nullptr);
+  // Each thread takes the next unvoted basis until none is left: votes differ in cost (the
+  // number of features near the basis), and a fixed share would leave a thread idle.
+  ahead_taken_.store(0, std::memory_order_relaxed);
   parallel_(
       std::min(vote_threads_, int(ahead_count_)),
       [](void* self, int thread) {
         auto* r = static_cast<Recognizer*>(self);
         VoteScratch& scratch = r->ScratchOf(thread);
-        const uint32_t stride = std::min(uint32_t(r->vote_threads_), r->ahead_count_);
-        for (uint32_t k = uint32_t(thread); k < r->ahead_count_; k += stride) {
+        for (uint32_t k = r->ahead_taken_.fetch_add(1, std::memory_order_relaxed);
+             k < r->ahead_count_; k = r->ahead_taken_.fetch_add(1, std::memory_order_relaxed)) {
           AheadVote& a = r->ahead_[k];
           (void)r->Vote(r->candidates_[a.index], scratch, a.hypotheses, nullptr);
         }

@@ -17,6 +17,7 @@
 // policy), and here the voting and the search with refinement and verification.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 
 #include "recog/base/parallel_for.hpp"
@@ -330,6 +331,8 @@ class Recognizer {
   // ahead_count_).
   AheadVote ahead_[kVoteAheadBases];
   uint32_t ahead_count_ = 0, ahead_next_ = 0;
+  // While they are voted: the next of ahead_[0 .. ahead_count_) that no thread has taken yet.
+  std::atomic<uint32_t> ahead_taken_{0};
   // The hypotheses of one scene basis evaluated at once, in parallel (EvaluateAhead).
   Evaluated evaluated_[kMaxHypothesesPerBasis];
 };
