@@ -6,6 +6,7 @@
 // operator new).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdio>
 #include <memory>
 #include <vector>
@@ -22,8 +23,9 @@
 namespace sh {
 namespace {
 
+// Atomic: with two threads the verifier reads the clock on the pool's threads too.
 int64_t FakeClock() {
-  static int64_t t = 0;
+  static std::atomic<int64_t> t{0};
   return t += 1000;  // 1 us per call: the budget is never reached
 }
 
