@@ -39,13 +39,20 @@ class InitBlock {
   // caller reserved PieceBytes<T>(count) per piece, so this means a sizing error).
   template <typename T>
   T* Take(size_t count) {
+    return CarvePiece<T>(data_.get(), bytes_, &used_, count);
+  }
+
+  // The next `count` objects of T from `data` (`bytes` long, `*used` of it taken), aligned to
+  // kAlign; null when it is too small. For blocks another owner lends as well as for this one.
+  template <typename T>
+  static T* CarvePiece(uint8_t* data, size_t bytes, size_t* used, size_t count) {
     static_assert(alignof(T) <= kAlign, "piece alignment too small for T");
-    if (data_ == nullptr) return nullptr;
-    const uintptr_t at = reinterpret_cast<uintptr_t>(data_.get()) + used_;
-    const size_t start = used_ + (kAlign - at % kAlign) % kAlign;
-    if (start > bytes_ || count > (bytes_ - start) / sizeof(T)) return nullptr;
-    used_ = start + count * sizeof(T);
-    return reinterpret_cast<T*>(data_.get() + start);
+    if (data == nullptr) return nullptr;
+    const uintptr_t at = reinterpret_cast<uintptr_t>(data) + *used;
+    const size_t start = *used + (kAlign - at % kAlign) % kAlign;
+    if (start > bytes || count > (bytes - start) / sizeof(T)) return nullptr;
+    *used = start + count * sizeof(T);
+    return reinterpret_cast<T*>(data + start);
   }
 
   size_t bytes() const { return bytes_; }

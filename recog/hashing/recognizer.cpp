@@ -131,8 +131,15 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
     std::memset(v->basis_line_sum, 0, sizeof(v->basis_line_sum));
     std::memset(v->basis_touched, 0, sizeof(v->basis_touched));
   }
+  scratch_lent_ = false;
   ahead_count_ = ahead_next_ = 0;
   return Status::Ok();
+}
+
+Recognizer::LentMemory Recognizer::LendVoteScratch() {
+  if (other_scratch_[0] == nullptr) return {};
+  scratch_lent_ = true;
+  return {reinterpret_cast<uint8_t*>(other_scratch_[0].get()), sizeof(VoteScratch)};
 }
 
 Status Recognizer::SetParallel(const ParallelFor& parallel, int threads) {
@@ -750,6 +757,11 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
                              Vector<RecognizedObject>& objects, RecognitionStats* stats_out) {
   RecognitionStats stats;
   objects.clear();
+  if (scratch_lent_) {
+    // Written by a borrower: back to the all-zero state the votes rely on.
+    std::memset(static_cast<void*>(other_scratch_[0].get()), 0, sizeof(VoteScratch));
+    scratch_lent_ = false;
+  }
   PrepareScene(scene);
   ahead_count_ = ahead_next_ = 0;
   kept_used_ = kept_mismatches_ = 0;

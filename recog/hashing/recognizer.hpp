@@ -197,6 +197,16 @@ class Recognizer {
   // (about 0.9 MB each) when first asked for them: at start-up, never per frame. Errors: memory.
   Status SetParallel(const ParallelFor& parallel, int threads);
   const RecognizerConfig& config() const { return config_; }
+
+  // The second voting thread's arrays as raw memory, lent while this recogniser is idle (the
+  // stereo pipeline's rescue votes in them): {null, 0} when there are none (fewer than two
+  // vote threads allocated). The borrower may write anything there until the next Recognize(),
+  // which clears them first (the vote arrays are all zero between rounds), as Init() does.
+  struct LentMemory {
+    uint8_t* bytes = nullptr;
+    size_t size = 0;
+  };
+  LentMemory LendVoteScratch();
   // Diagnosis only: `observer` (may be null) sees every hypothesis of later searches.
   void SetObserver(SearchObserver* observer) { observer_ = observer; }
   const TableView& table() const { return table_; }
@@ -342,6 +352,7 @@ class Recognizer {
   }
   VoteScratch scratch_;
   ZeroedPtr<VoteScratch> other_scratch_[kMaxVoteThreads - 1];
+  bool scratch_lent_ = false;  // other_scratch_[0] lent (LendVoteScratch): clear before use
   ParallelFor parallel_;
   int vote_threads_ = 1;
   // Bases voted ahead (valid while the scene and the pass are unchanged): ahead_[ahead_next_ ..

@@ -60,37 +60,81 @@ size_t AspectVoter::BytesFor(uint32_t point_entries, uint32_t line_entries, uint
          InitBlock::PieceBytes<uint16_t>(bases) + 3 * InitBlock::PieceBytes<uint32_t>(bases);
 }
 
+size_t AspectVoter::CounterBytes(const AspectTableView& table) {
+  return BytesFor(table.point_entry_count(), table.line_entry_count(), table.basis_count());
+}
+
+bool AspectVoter::CarveCounters(uint8_t* data, size_t bytes) {
+  const uint32_t points = table_.point_entry_count();
+  const uint32_t lines = table_.line_entry_count();
+  const uint32_t bases = table_.basis_count();
+  size_t used = 0;
+  point_stamp_ = InitBlock::CarvePiece<uint16_t>(data, bytes, &used, points);
+  point_best_ = InitBlock::CarvePiece<uint16_t>(data, bytes, &used, points);
+  line_stamp_ = InitBlock::CarvePiece<uint16_t>(data, bytes, &used, lines);
+  line_best_ = InitBlock::CarvePiece<uint16_t>(data, bytes, &used, lines);
+  basis_stamp_ = InitBlock::CarvePiece<uint16_t>(data, bytes, &used, bases);
+  basis_point_sum_ = InitBlock::CarvePiece<uint32_t>(data, bytes, &used, bases);
+  basis_line_sum_ = InitBlock::CarvePiece<uint32_t>(data, bytes, &used, bases);
+  touched_ = InitBlock::CarvePiece<uint32_t>(data, bytes, &used, bases);
+  if (touched_ == nullptr) {
+    point_stamp_ = nullptr;  // not ready
+    return false;
+  }
+  carved_points_ = points;
+  carved_lines_ = lines;
+  carved_bases_ = bases;
+  return true;
+}
+
+Status AspectVoter::BorrowCounters(const AspectVoter& like, uint8_t* bytes, size_t size) {
+  point_stamp_ = nullptr;
+  borrowed_ = true;
+  carved_points_ = carved_lines_ = carved_bases_ = 0;
+  if (!like.ready()) {
+    return Status::Error(StatusCode::kFailedPrecondition, "aspect voter: nothing to vote like");
+  }
+  const size_t need = CounterBytes(like.table_);
+  if (bytes == nullptr || size < need) {
+    return Status::Error(StatusCode::kResourceExhausted,
+                         "aspect voter: %zu bytes lent for %zu bytes of counters", size, need);
+  }
+  table_ = like.table_;
+  config_ = like.config_;
+  basis_keys_ = like.basis_keys_;
+  inv_sigma2_point_ = like.inv_sigma2_point_;
+  inv_sigma2_line_ = like.inv_sigma2_line_;
+  (void)CarveCounters(bytes, size);  // cannot fail: the block holds `need` bytes
+  // The block's old contents mean nothing here: no stamp may match a later one.
+  std::memset(point_stamp_, 0, size_t{carved_points_} * sizeof(uint16_t));
+  std::memset(line_stamp_, 0, size_t{carved_lines_} * sizeof(uint16_t));
+  std::memset(basis_stamp_, 0, size_t{carved_bases_} * sizeof(uint16_t));
+  stamp_ = 0;
+  NextStamp();
+  return Status::Ok();
+}
+
 Status AspectVoter::AllocateCounters() {
   const uint32_t points = table_.point_entry_count();
   const uint32_t lines = table_.line_entry_count();
   const uint32_t bases = table_.basis_count();
   const size_t bytes = BytesFor(points, lines, bases);
   // The same block serves only the same layout: another table of the same total size would
-  // overlap the arrays.
-  if (point_stamp_ != nullptr && points == carved_points_ && lines == carved_lines_ &&
+  // overlap the arrays. A lent block is never kept.
+  if (!borrowed_ && point_stamp_ != nullptr && points == carved_points_ && lines == carved_lines_ &&
       bases == carved_bases_) {
     std::memset(point_stamp_, 0, size_t{points} * sizeof(uint16_t));
     std::memset(line_stamp_, 0, size_t{lines} * sizeof(uint16_t));
     std::memset(basis_stamp_, 0, size_t{bases} * sizeof(uint16_t));
     return Status::Ok();
   }
-  point_stamp_ = point_best_ = line_stamp_ = line_best_ = basis_stamp_ = nullptr;
-  basis_point_sum_ = basis_line_sum_ = touched_ = nullptr;
+  point_stamp_ = nullptr;
+  borrowed_ = false;
   if (!block_.Allocate(bytes)) {
     return Status::Error(StatusCode::kResourceExhausted,
                          "aspect voter: cannot allocate %zu bytes of counters", bytes);
   }
-  point_stamp_ = block_.Take<uint16_t>(points);
-  point_best_ = block_.Take<uint16_t>(points);
-  line_stamp_ = block_.Take<uint16_t>(lines);
-  line_best_ = block_.Take<uint16_t>(lines);
-  basis_stamp_ = block_.Take<uint16_t>(bases);
-  basis_point_sum_ = block_.Take<uint32_t>(bases);
-  basis_line_sum_ = block_.Take<uint32_t>(bases);
-  touched_ = block_.Take<uint32_t>(bases);
-  carved_points_ = points;
-  carved_lines_ = lines;
-  carved_bases_ = bases;
+  (void)CarveCounters(block_.data(), block_.bytes());  // cannot fail: sized by BytesFor
   return Status::Ok();
 }
 

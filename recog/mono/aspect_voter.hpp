@@ -102,6 +102,18 @@ class AspectVoter {
   // The normalised vote a basis received in the last Vote() (0 if none).
   float LastVote(uint32_t basis) const;
 
+  // Bytes of counters a voter needs for `table` (any alignment of the block).
+  static size_t CounterBytes(const AspectTableView& table);
+  // Sets this voter up as `like` (its table, configuration and basis keys) with its counters
+  // carved from `size` bytes at `bytes`, memory that another stage lends while it is idle: it
+  // is neither allocated nor freed here, and may hold anything (the stamps are cleared). Until
+  // the next Init() or BorrowCounters(), the block must stay lent and `like`'s table and keys
+  // valid. Errors (this voter cannot vote then, ready() false): `like` cannot vote, the block is
+  // smaller than CounterBytes(like.table()).
+  Status BorrowCounters(const AspectVoter& like, uint8_t* bytes, size_t size);
+  // Whether Vote() may be called: Init() or BorrowCounters() succeeded.
+  bool ready() const { return point_stamp_ != nullptr; }
+
  private:
   int StripRows(const Grid2d& g, const Eigen::Vector2f& n, float lo, float hi,
                 const Eigen::Vector2f& u, float a0, float a1);
@@ -119,6 +131,9 @@ class AspectVoter {
   static size_t BytesFor(uint32_t point_entries, uint32_t line_entries, uint32_t bases);
   // Takes (or, at the same size, clears) the counters' block for the table's counts.
   Status AllocateCounters();
+  // Points the counters into `data` (`bytes` long), in the layout BytesFor sizes; false when it
+  // is too small.
+  bool CarveCounters(uint8_t* data, size_t bytes);
 
   uint16_t stamp_ = 0;
   // Carved from block_ at Init: table_.point_entry_count(), line_entry_count() and
@@ -135,6 +150,8 @@ class AspectVoter {
   uint32_t n_touched_ = 0;
   // The entry and basis counts the block was carved for: reused only for the same three.
   uint32_t carved_points_ = 0, carved_lines_ = 0, carved_bases_ = 0;
+  // The counters lie in a block lent by another stage (BorrowCounters), not in block_.
+  bool borrowed_ = false;
   // Rows of line-centre bins crossed by the current scene line's strip.
   uint16_t row_y_[kMaxAspectGridSide], row_x0_[kMaxAspectGridSide], row_x1_[kMaxAspectGridSide];
 };

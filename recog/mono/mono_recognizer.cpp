@@ -36,6 +36,8 @@ Status MonoRecognizer::Init(const ViewCamera& camera, const AspectTableView& tab
                          kMaxMonoHypotheses);
   }
   SH_RETURN_IF_ERROR(CheckVerifyConfig(config.verify));
+  lent_voter_ready_ = false;  // its counters were laid out for the old table
+  ahead_count_ = 0;
   SH_RETURN_IF_ERROR(voter_.Init(table, config.voter));
   for (uint32_t m = 0; m < table.model_count(); ++m) {
     SH_RETURN_IF_ERROR(ComputeStableFaces(table.model(m), 0.5f, &stable_[m]));
@@ -76,6 +78,18 @@ Status MonoRecognizer::SetParallel(const ParallelFor& parallel, int threads) {
   }
   parallel_ = parallel;
   slots_used_ = parallel.concurrent() ? std::min(threads, kMonoEvaluationSlots) : 1;
+  return Status::Ok();
+}
+
+Status MonoRecognizer::LendVoteCounters(uint8_t* bytes, size_t size) {
+  lent_voter_ready_ = false;
+  ahead_count_ = 0;
+  if (!initialised_) {
+    return Status::Error(StatusCode::kFailedPrecondition, "mono: Init() has not succeeded");
+  }
+  if (bytes == nullptr) return Status::Ok();
+  SH_RETURN_IF_ERROR(lent_voter_.BorrowCounters(voter_, bytes, size));
+  lent_voter_ready_ = true;
   return Status::Ok();
 }
 
@@ -632,6 +646,7 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
 }
 
 void MonoRecognizer::Remove(size_t index, Vector<RecognizedObject>& objects) {
+  ahead_count_ = 0;  // its features vote again
   for (int i = 0; i < n_claimed_points_[index]; ++i) corner_active_[claimed_points_[index][i]] = 1;
   for (int i = 0; i < n_claimed_lines_[index]; ++i) line_active_[claimed_lines_[index][i]] = 1;
   for (size_t o = index; o + 1 < objects.size(); ++o) {
@@ -661,6 +676,7 @@ void MonoRecognizer::Remove(size_t index, Vector<RecognizedObject>& objects) {
 }
 
 void MonoRecognizer::Accept(const Candidate& c, Vector<RecognizedObject>& objects) {
+  ahead_count_ = 0;  // its features no longer vote
   if (c.displaces >= 0) Remove(static_cast<size_t>(c.displaces), objects);
   RecognizedObject o;
   o.model = c.model;
@@ -732,10 +748,7 @@ void AddEvaluationCounts(const MonoStats& from, MonoStats* to) {
 
 }  // namespace
 
-bool MonoRecognizer::TryBasis(uint32_t k, const Vector<RecognizedObject>& objects, MonoStats* stats,
-                              Candidate* best) {
-  tried_[k] = 2;
-  ++stats->scene_bases_tried;
+int MonoRecognizer::VoteBasis(AspectVoter& voter, uint32_t k, AspectHypothesis* out) const {
   const SceneBasis2d& sb = candidates_[k];
   VoteRequest request;
   request.frame = BasisFrame(sb);
@@ -746,14 +759,62 @@ bool MonoRecognizer::TryBasis(uint32_t k, const Vector<RecognizedObject>& object
   KeyRange(request.frame, &request);
   const VoteScene scene{ideal_points_, corner_active_, n_corners_,
                         ideal_lines_,  line_active_,   n_lines_};
+  return voter.Vote(scene, request, out, config_.hypotheses_per_basis);
+}
+
+bool MonoRecognizer::PassTries(uint32_t k, size_t n_objects) const {
+  if (!BasisActive(candidates_[k])) return false;
+  return pass_ == 0 ? tried_[k] == 0 : tried_[k] == 1 && NearLaterObject(k, n_objects);
+}
+
+int MonoRecognizer::VoteInTurn(uint32_t k, size_t n_objects, uint32_t most, AspectHypothesis* out) {
+  for (uint32_t a = 0; a < ahead_count_; ++a) {
+    if (ahead_[a].index != k) continue;
+    std::copy_n(ahead_[a].hyps, ahead_[a].n, out);
+    return ahead_[a].n;
+  }
+  ahead_count_ = 0;
+  if (!votes_in_parallel()) return VoteBasis(voter_, k, out);
+  // This basis and the next ones the pass tries, voted on the scene as it is now; the search
+  // only takes those votes while the scene stays so (Accept and Remove throw them away). No
+  // more than the budget lets the search try.
+  const uint32_t batch = std::min(kMonoVoteAheadBases, std::max(most, 1u));
+  ahead_[ahead_count_++].index = k;
+  for (uint32_t j = k + 1; j < n_candidates_ && ahead_count_ < batch; ++j) {
+    if (PassTries(j, n_objects)) ahead_[ahead_count_++].index = j;
+  }
+  if (ahead_count_ == 1) {
+    ahead_count_ = 0;
+    return VoteBasis(voter_, k, out);
+  }
+  parallel_(2, &MonoRecognizer::VoteAheadSlot, this);
+  std::copy_n(ahead_[0].hyps, ahead_[0].n, out);
+  return ahead_[0].n;
+}
+
+void MonoRecognizer::VoteAheadSlot(void* self, int slot) {
+  auto& m = *static_cast<MonoRecognizer*>(self);
+  AspectVoter& voter = slot == 0 ? m.voter_ : m.lent_voter_;
+  for (uint32_t a = static_cast<uint32_t>(slot); a < m.ahead_count_; a += 2) {
+    m.ahead_[a].n = m.VoteBasis(voter, m.ahead_[a].index, m.ahead_[a].hyps);
+  }
+}
+
+bool MonoRecognizer::TryBasis(uint32_t k, const Vector<RecognizedObject>& objects, MonoStats* stats,
+                              Candidate* best) {
+  tried_[k] = 2;
+  ++stats->scene_bases_tried;
+  const Frame2d frame = BasisFrame(candidates_[k]);
   AspectHypothesis hyps[kMaxMonoHypotheses];
-  const int n = voter_.Vote(scene, request, hyps, config_.hypotheses_per_basis);
+  // This basis counts as tried already: the budget allows `most` bases from it on.
+  const uint32_t most = max_scene_bases_ - std::min(max_scene_bases_, stats->scene_bases_tried) + 1;
+  const int n = VoteInTurn(k, objects.size(), most, hyps);
   stats->hypotheses += static_cast<uint32_t>(n);
   // The hypotheses are evaluated in slots (hypothesis i in slot i % slots, each slot's best the
   // first of most evidence in its order), then the slots' bests compared: the most evidence,
   // the lower index on a tie, as the serial loop keeps the first of most evidence.
   const int slots = std::max(1, std::min(slots_used_, n));
-  job_ = {hyps, n, slots, &request.frame, &objects, best};
+  job_ = {hyps, n, slots, &frame, &objects, best};
   if (slots > 1) {
     parallel_(slots, &MonoRecognizer::EvaluateSlot, this);
   } else {
@@ -929,9 +990,13 @@ void MonoRecognizer::Search(const Budget& budget, Vector<RecognizedObject>& obje
     object_circle_[o] = ImageCircle(table_.model(objects[o].model), cam_T_model);
   }
   for (uint32_t k = 0; k < n_candidates_; ++k) tried_[k] = 0;
+  ahead_count_ = 0;
+  max_scene_bases_ = budget.max_scene_bases;
   // Two passes: every scene basis in order, then the bases that failed before an object was
   // found near them (that object hides parts of theirs, which verification now knows).
   for (int pass = 0; pass < 2; ++pass) {
+    pass_ = pass;
+    ahead_count_ = 0;
     uint32_t fruitless = 0;
     for (uint32_t k = 0; k < n_candidates_; ++k) {
       if (stats.scene_bases_tried >= budget.max_scene_bases || DeadlinePassed(budget)) {
@@ -942,10 +1007,7 @@ void MonoRecognizer::Search(const Budget& budget, Vector<RecognizedObject>& obje
         stats.objects_full = true;
         return;
       }
-      if (!BasisActive(candidates_[k])) continue;
-      if (pass == 0 ? tried_[k] != 0 : !(tried_[k] == 1 && NearLaterObject(k, objects.size()))) {
-        continue;
-      }
+      if (!PassTries(k, objects.size())) continue;
       tried_at_[k] = static_cast<uint8_t>(objects.size());
       if (!TryBasis(k, objects, stats_ptr, &best_)) {
         if (pass == 1) tried_[k] = 2;  // one retry only

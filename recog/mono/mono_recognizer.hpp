@@ -37,6 +37,9 @@ inline constexpr int kMaxMonoHypotheses = 8;         // model bases tried per sc
 // With a ParallelFor (MonoRecognizer::SetParallel): the most threads that evaluate a scene
 // basis's hypotheses, each in its slot of scratch.
 inline constexpr int kMonoEvaluationSlots = 2;
+// With lent vote counters as well (MonoRecognizer::LendVoteCounters): the scene bases voted at
+// once, in turn on the two voters, ahead of their turn in the search.
+inline constexpr uint32_t kMonoVoteAheadBases = 4;
 
 // Edge-pixel verification in the one image: samples confirmed within 3 px (thesis 4 px) and at
 // least half of them (thesis 40 %), as there is no second image to reject a wrong model.
@@ -165,11 +168,24 @@ class MonoRecognizer {
   // are used) of `parallel` (the pipeline's worker pool), each thread in its slot of scratch,
   // then the best taken as the serial loop takes it (most evidence, the first on a tie), so the
   // results equal those on the calling thread alone (threads 1, or a ParallelFor without a
-  // pool). The voting stays on the caller: a second voter would take its counters (0.66 MiB for
-  // the reference table). No allocation; a later Init() keeps the setting. Errors: Init() has
-  // not succeeded, threads below 1.
+  // pool). The voting stays on the caller unless vote counters are lent (LendVoteCounters). No
+  // allocation; a later Init() keeps the setting. Errors: Init() has not succeeded, threads
+  // below 1.
   Status SetParallel(const ParallelFor& parallel, int threads);
   int evaluation_threads() const { return slots_used_; }
+
+  // Memory another stage lends while it is idle (the stereo pipeline's rescue: the stereo
+  // recogniser's second vote scratch), `size` bytes at `bytes`, for a second voter's counters
+  // (AspectVoter::CounterBytes of the table): with two evaluation threads the search then votes
+  // the next scene bases it will try, kMonoVoteAheadBases at once over both voters, and takes
+  // each basis's votes in its turn (votes taken before the scene changed are thrown away), so
+  // the results equal those on the calling thread alone. The block may hold anything and is
+  // overwritten; it must stay lent until LendVoteCounters(nullptr, 0) or Init(). A block too
+  // small is refused (kResourceExhausted) and the votes stay on the caller, as with none.
+  // Errors: Init() has not succeeded.
+  Status LendVoteCounters(uint8_t* bytes, size_t size);
+  // Whether the search votes over two voters (lent counters and two evaluation threads).
+  bool votes_in_parallel() const { return lent_voter_ready_ && slots_used_ > 1; }
 
   // Recognises objects in one image's features (corners, lines and the edge map of that
   // image). `objects` is cleared first; poses are left-camera frame; verify_score[0] is the
@@ -225,6 +241,15 @@ class MonoRecognizer {
   // Votes for candidate k and evaluates its hypotheses; the best verified one goes to *best.
   bool TryBasis(uint32_t k, const Vector<RecognizedObject>& objects, MonoStats* stats,
                 Candidate* best);
+  // Whether the search's current pass tries candidate k when it comes to it (the scene as now).
+  bool PassTries(uint32_t k, size_t n_objects) const;
+  // The votes of candidate k (hypotheses into `out`, their number returned) on the scene as it
+  // is now: voted ahead, or voted now (with the next bases of the pass when votes_in_parallel,
+  // `most` in all at the most).
+  int VoteInTurn(uint32_t k, size_t n_objects, uint32_t most, AspectHypothesis* out);
+  // Candidate k's votes with `voter`.
+  int VoteBasis(AspectVoter& voter, uint32_t k, AspectHypothesis* out) const;
+  static void VoteAheadSlot(void* self, int slot);
   // Scratch of one evaluation slot (slot 0: the caller's); written before it is read, as the
   // class's.
   // NOLINTNEXTLINE(cppcoreguidelines-pro-type-member-init)
@@ -277,6 +302,9 @@ class MonoRecognizer {
   TablePlane plane_;  // in this camera's frame
   StableFaces stable_[kMaxAspectModels];
   AspectVoter voter_;
+  // The second voter, its counters in lent memory (LendVoteCounters).
+  AspectVoter lent_voter_;
+  bool lent_voter_ready_ = false;
   // Per model basis: its apparent size, millimetres at the virtual camera's distance (the image
   // size is ideal_focal * key / depth); NaN for bases of aspects a resting object cannot show.
   float basis_key_[kMaxAspectBases];
@@ -310,6 +338,17 @@ class MonoRecognizer {
   ParallelFor parallel_;
   int slots_used_ = 1;
   EvaluationJob job_;
+  // Scene bases voted ahead of their turn (VoteInTurn): valid until the scene's active
+  // features change (Accept, Remove) or the search starts again.
+  struct AheadVote {
+    uint32_t index = 0;
+    int n = 0;
+    AspectHypothesis hyps[kMaxMonoHypotheses];
+  };
+  AheadVote ahead_[kMonoVoteAheadBases];
+  uint32_t ahead_count_ = 0;
+  int pass_ = 0;                  // the search's pass
+  uint32_t max_scene_bases_ = 0;  // the search's budget
   uint32_t n_candidates_ = 0;
   // Corners near each line (ideal for connected pairs), at most kMaxLineCorners per line.
   static constexpr int kMaxLineCorners = 16;

@@ -525,6 +525,20 @@ Status Pipeline::LendRescue(MonoRecognizer* mono) {
 }
 
 Status Pipeline::Rescue(const Budget& budget, PipelineResult* out) {
+  // The stereo recogniser is idle until the next frame: its second vote scratch holds the
+  // rescue's second voter's counters meanwhile (when too small, the rescue votes on this thread
+  // alone; the stereo recogniser clears it before its next search).
+  const bool lent = rescue_->evaluation_threads() > 1;
+  if (lent) {
+    const Recognizer::LentMemory scratch = recognizer_.LendVoteScratch();
+    (void)rescue_->LendVoteCounters(scratch.bytes, scratch.size);
+  }
+  const Status s = RescueInBothImages(budget, out);
+  if (lent) (void)rescue_->LendVoteCounters(nullptr, 0);  // initialised: cannot fail
+  return s;
+}
+
+Status Pipeline::RescueInBothImages(const Budget& budget, PipelineResult* out) {
   SH_RETURN_IF_ERROR(RescueInImage(0, budget, out));
   if (!config_.rescue.right_image) return Status::Ok();
   // The lent recogniser is set up for the left camera: the right one for this search, then back

@@ -329,6 +329,8 @@ class Pipeline {
   Status Rescue(const Budget& budget, PipelineResult* out);
   // One image's part of it (0 left, 1 right; the recogniser set up for that camera).
   Status RescueInImage(int side, const Budget& budget, PipelineResult* out);
+  // The rescue's searches: the left image, then the right one when configured.
+  Status RescueInBothImages(const Budget& budget, PipelineResult* out);
   // Drops the objects whose centre lies inside a hidden object (after the edge fit moved them).
   void DropInsideHidden(const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
   // The masks of both images from the hidden objects (counts into out).

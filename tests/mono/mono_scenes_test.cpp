@@ -8,6 +8,7 @@
 #include <atomic>
 #include <memory>
 #include <thread>
+#include <vector>
 
 #include "recog/mono/mono_pipeline.hpp"
 #include "recog/verify/inside_object.hpp"
@@ -314,57 +315,121 @@ std::array<uint32_t, 12> Counts(const MonoStats& s) {
           s.rejected_verify,       s.accepted,          s.budget_exhausted, s.objects_full};
 }
 
+// One search of the rest (nothing hidden) after the known objects given: its objects and counts.
+struct RestSearch {
+  Vector<RecognizedObject, kMaxObjects> objects;
+  MonoStats stats;
+};
+void SearchRest(MonoRecognizer& recognizer, const ImageFeatures& features,
+                const RecognizedObject* known, RestSearch* out) {
+  const DiscMask nothing_hidden(Eigen::Vector2f(-1e4f, -1e4f), 1.0f);
+  out->objects.clear();
+  if (known != nullptr) {
+    ASSERT_TRUE(out->objects.push_back(*known));
+  }
+  const size_t n_known = known != nullptr ? 1 : 0;
+  ASSERT_TRUE(
+      recognizer
+          .RecognizeRest(features, nothing_hidden, Budget{}, out->objects, n_known, &out->stats)
+          .ok());
+}
+
+// Two searches' objects and counts compared exactly.
+void ExpectSameSearch(const RestSearch& a, const RestSearch& b, int scene) {
+  testing::ExpectSameObjects(a.objects, b.objects, static_cast<uint64_t>(scene));
+  EXPECT_EQ(Counts(a.stats), Counts(b.stats)) << "scene " << scene;
+}
+
+// Runs `body(scene, pair, pipeline)` after the one-camera pipeline processed each test scene's
+// left image with the table.
+template <typename Body>
+void ForEachLeftScene(Body&& body) {
+  auto pipeline = std::make_unique<MonoPipeline>();
+  auto workspace = MakeWorkspace<FeatureWorkspace>();
+  auto result = std::make_unique<MonoResult>();
+  for (int i = 0; i < testing::kMonoScenes; ++i) {
+    const RenderedPair& pair = MonoScene(i);
+    ASSERT_TRUE(ProcessLeftWithTable(pair, pipeline.get(), *workspace, result.get()));
+    body(i, pair, *pipeline);
+  }
+}
+
 // The stereo pipeline's rescue evaluates a scene basis's hypotheses on the pool's threads: with
 // two threads, the search (whole, and around a known object) finds the same objects with the
 // same counts as on the caller alone, and part of the work ran on the other thread.
 TEST(MonoPipeline, HypothesesEvaluatedOnAnotherThreadChangeNothing) {
-  auto pipeline = std::make_unique<MonoPipeline>();
-  auto workspace = MakeWorkspace<FeatureWorkspace>();
-  auto result = std::make_unique<MonoResult>();
   OtherThread other;
   int found = 0;
-  for (int i = 0; i < testing::kMonoScenes; ++i) {
-    const RenderedPair& pair = MonoScene(i);
-    ASSERT_TRUE(ProcessLeftWithTable(pair, pipeline.get(), *workspace, result.get()));
-    MonoRecognizer& recognizer = pipeline->recognizer();
+  ForEachLeftScene([&](int i, const RenderedPair& pair, MonoPipeline& pipeline) {
+    MonoRecognizer& recognizer = pipeline.recognizer();
     ASSERT_EQ(recognizer.evaluation_threads(), 1);
     ASSERT_GE(pair.truth.size(), 1u);
     RecognizedObject known;
     known.model = static_cast<uint16_t>(pair.truth[0].model);
     known.cam_T_model = pair.truth[0].cam_T_model;
     known.verify_evidence = 1e9f;
-    const DiscMask nothing_hidden(Eigen::Vector2f(-1e4f, -1e4f), 1.0f);
-    for (const size_t n_known : {size_t{0}, size_t{1}}) {
-      Vector<RecognizedObject, kMaxObjects> serial, spread;
-      MonoStats serial_stats, spread_stats;
+    const RecognizedObject* const knowns[] = {nullptr, &known};
+    for (const RecognizedObject* k : knowns) {
+      RestSearch serial, spread;
       ASSERT_TRUE(recognizer.SetParallel(ParallelFor{}, 1).ok());
-      if (n_known > 0) {
-        ASSERT_TRUE(serial.push_back(known));
-      }
-      ASSERT_TRUE(recognizer
-                      .RecognizeRest(pipeline->features(), nothing_hidden, Budget{}, serial,
-                                     n_known, &serial_stats)
-                      .ok());
+      SearchRest(recognizer, pipeline.features(), k, &serial);
       ASSERT_TRUE(recognizer.SetParallel(other.Parallel(), 2).ok());
       ASSERT_EQ(recognizer.evaluation_threads(), 2);
-      if (n_known > 0) {
-        ASSERT_TRUE(spread.push_back(known));
-      }
-      ASSERT_TRUE(recognizer
-                      .RecognizeRest(pipeline->features(), nothing_hidden, Budget{}, spread,
-                                     n_known, &spread_stats)
-                      .ok());
-      testing::ExpectSameObjects(serial, spread, static_cast<uint64_t>(i));
-      EXPECT_EQ(Counts(serial_stats), Counts(spread_stats)) << "scene " << i;
-      found += static_cast<int>(serial.size() - n_known);
+      SearchRest(recognizer, pipeline.features(), k, &spread);
+      ExpectSameSearch(serial, spread, i);
+      found += static_cast<int>(serial.objects.size()) - (k != nullptr ? 1 : 0);
     }
     // A ParallelFor without a pool: the caller alone.
     ASSERT_TRUE(recognizer.SetParallel(ParallelFor{}, 2).ok());
     EXPECT_EQ(recognizer.evaluation_threads(), 1);
     EXPECT_FALSE(recognizer.SetParallel(ParallelFor{}, 0).ok());
-  }
+  });
   EXPECT_GT(found, 0);
   EXPECT_GT(other.calls.load(), 0);
+}
+
+// With a second voter's counters lent (the stereo recogniser's idle vote scratch in the
+// pipeline), the search votes the next scene bases over both voters: the same objects and counts
+// as on the caller alone, with votes written into the lent block (filled with a pattern that
+// only votes overwrite there), and a block too small refused with the votes left on the caller.
+TEST(MonoPipeline, VotesInLentCountersChangeNothing) {
+  OtherThread other;
+  int found = 0;
+  ForEachLeftScene([&](int i, const RenderedPair&, MonoPipeline& pipeline) {
+    MonoRecognizer& recognizer = pipeline.recognizer();
+    const size_t need = AspectVoter::CounterBytes(recognizer.table());
+    std::vector<uint8_t> lent(need, 0xA5), small(need - 1, 0xA5);
+    RestSearch serial, spread, refused;
+    ASSERT_TRUE(recognizer.SetParallel(ParallelFor{}, 1).ok());
+    ASSERT_TRUE(recognizer.LendVoteCounters(lent.data(), lent.size()).ok());
+    EXPECT_FALSE(recognizer.votes_in_parallel());  // one evaluation thread: votes on the caller
+    // Lending clears the stamps: the pattern left is what only votes overwrite.
+    const auto pattern_left = [&] { return std::count(lent.begin(), lent.end(), uint8_t{0xA5}); };
+    const auto after_lending = pattern_left();
+    EXPECT_GT(after_lending, 0);
+    SearchRest(recognizer, pipeline.features(), nullptr, &serial);
+    EXPECT_EQ(pattern_left(), after_lending);
+
+    ASSERT_TRUE(recognizer.SetParallel(other.Parallel(), 2).ok());
+    ASSERT_TRUE(recognizer.LendVoteCounters(lent.data(), lent.size()).ok());
+    EXPECT_TRUE(recognizer.votes_in_parallel());
+    SearchRest(recognizer, pipeline.features(), nullptr, &spread);
+    ExpectSameSearch(serial, spread, i);
+    EXPECT_LT(pattern_left(), after_lending) << "scene " << i << ": the lent counters unused";
+
+    EXPECT_EQ(recognizer.LendVoteCounters(small.data(), small.size()).code(),
+              StatusCode::kResourceExhausted);
+    EXPECT_FALSE(recognizer.votes_in_parallel());
+    SearchRest(recognizer, pipeline.features(), nullptr, &refused);
+    ExpectSameSearch(serial, refused, i);
+    EXPECT_EQ(std::count(small.begin(), small.end(), uint8_t{0xA5}), static_cast<long>(need - 1));
+
+    ASSERT_TRUE(recognizer.LendVoteCounters(nullptr, 0).ok());  // taken back
+    EXPECT_FALSE(recognizer.votes_in_parallel());
+    ASSERT_TRUE(recognizer.SetParallel(ParallelFor{}, 1).ok());
+    found += static_cast<int>(serial.objects.size());
+  });
+  EXPECT_GT(found, 0);
 }
 
 }  // namespace

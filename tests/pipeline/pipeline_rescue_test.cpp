@@ -6,6 +6,7 @@
 // operator new).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdio>
 #include <memory>
 #include <vector>
@@ -16,13 +17,15 @@
 #include "tables/aspect_file.hpp"
 #include "tables/table_file.hpp"
 #include "tests/support/counting_allocator.hpp"
+#include "tests/support/same_objects.hpp"
 #include "tools/eval/rendered_eval.hpp"
 
 namespace sh {
 namespace {
 
+// Atomic: with two threads the verifier reads the clock on the pool's threads too.
 int64_t FakeClock() {
-  static int64_t t = 0;
+  static std::atomic<int64_t> t{0};
   return t += 1000;  // 1 us per call: the budget is never reached
 }
 
@@ -67,13 +70,13 @@ class PipelineRescue : public ::testing::Test {
   // The pipeline for one scene's calibration and table, its 3-D features taken away when asked,
   // and the rescue's recogniser lent (rescue on) or not.
   static void SetUp(const RenderedPair& pair, bool lose_stereo, bool rescue, bool table = true,
-                    bool right_image = true, bool gate_open = false) {
+                    bool right_image = true, bool gate_open = false, int threads = 1) {
     PipelineConfig config = PipelineConfig::Automatic();
     config.rescue.right_image = right_image;
     if (gate_open) config.rescue.min_free_corners = 0;
     config.table.known = table;
     config.table.left_T_table = pair.generated.scene.left_T_table;
-    config.threads = 1;
+    config.threads = threads;
     if (lose_stereo) {
       config.stereo.min_plane_angle_deg = 89.9f;
       config.stereo.max_ray_gap_mm = 0.01f;
@@ -254,6 +257,54 @@ TEST_F(PipelineRescue, LentItSharesThePoolAndInitTakesItBack) {
   EXPECT_EQ(mono_->evaluation_threads(), 2);
   EXPECT_TRUE(pipeline_->LendRescue(nullptr).ok());
   EXPECT_EQ(mono_->evaluation_threads(), 1);
+}
+
+// The stereo search's and the rescue's counts, in one array to compare.
+std::vector<uint32_t> SearchCounts(const PipelineResult& r) {
+  const RecognitionStats& s = r.recognition;
+  const MonoStats& m = r.rescue.search;
+  const MonoStats& mr = r.rescue.search_right;
+  return {s.scene_bases_tried, s.scene_bases_available,
+          s.hypotheses,        s.verifications,
+          s.accepted,          r.rescue.ran,
+          r.rescue.ran_right,  r.rescue.found,
+          r.rescue.added,      m.scene_bases_tried,
+          m.hypotheses,        m.verifications,
+          m.accepted,          mr.scene_bases_tried,
+          mr.hypotheses,       mr.accepted};
+}
+
+// With two threads the rescue votes in the stereo recogniser's second vote scratch: the same
+// objects and counts as on one thread, in two frames in a row (the stereo search of the second
+// runs in the scratch the first frame's rescue wrote; the second frame starts from what the
+// first carried over, on either thread count).
+TEST_F(PipelineRescue, VotingInTheStereoScratchChangesNothing) {
+  int rescued = 0;
+  for (const auto& pair : *pairs_) {
+    for (const bool lose_stereo : {false, true}) {
+      Vector<RecognizedObject, kMaxObjects> serial[2];
+      std::vector<uint32_t> serial_counts[2];
+      SetUp(*pair, lose_stereo, /*rescue=*/true, true, true, /*gate_open=*/true, /*threads=*/1);
+      for (int frame = 0; frame < 2; ++frame) {
+        ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+        ASSERT_TRUE(result_->rescue.ran);
+        for (const RecognizedObject& o : result_->objects) {
+          ASSERT_TRUE(serial[frame].push_back(o));
+        }
+        serial_counts[frame] = SearchCounts(*result_);
+        rescued += static_cast<int>(result_->rescue.found);
+      }
+      SetUp(*pair, lose_stereo, /*rescue=*/true, true, true, /*gate_open=*/true, /*threads=*/2);
+      ASSERT_EQ(mono_->evaluation_threads(), 2);
+      for (int frame = 0; frame < 2; ++frame) {
+        ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, result_).ok());
+        testing::ExpectSameObjects(serial[frame], result_->objects, static_cast<uint64_t>(frame));
+        EXPECT_EQ(SearchCounts(*result_), serial_counts[frame]) << "frame " << frame;
+      }
+      EXPECT_FALSE(mono_->votes_in_parallel());  // the scratch is given back after the rescue
+    }
+  }
+  EXPECT_GT(rescued, 0);
 }
 
 TEST_F(PipelineRescue, NoAllocationWhileRescuing) {
