@@ -205,17 +205,27 @@ void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
   out.clear();
   const int first = seed.blob[0] >= 0 ? 0 : 1;
   const uint8_t colour = blobs_[first][seed.blob[first]].colour;
-  // The window of each image, then the nearest views of each image and model of the colour on
-  // the worker threads (the searches only read; each writes its own list), then the candidates
-  // from the lists in image and model order.
+  // The window of each image, its projection and then the nearest views of each image and model
+  // of the colour on the worker threads (the projections and searches only read; each writes
+  // its own coefficients or list), then the candidates from the lists in image and model order.
   ShapeCoefficients coefficients[2];
   bool windowed[2] = {false, false};
+  int projected[2];  // the windowed images
+  int n_projected = 0;
   for (int cam = 0; cam < 2; ++cam) {
-    ShapeWindow window{};
-    if (seed.blob[cam] < 0 || !BlobWindow(cam, blobs_[cam][seed.blob[cam]], &window)) continue;
-    views_.Project(window, &coefficients[cam]);
+    if (seed.blob[cam] < 0 || !BlobWindow(cam, blobs_[cam][seed.blob[cam]], &windows_[cam])) {
+      continue;
+    }
     windowed[cam] = true;
+    projected[n_projected++] = cam;
   }
+  // The projection (half of the candidates' time on one thread) in a share per thread and
+  // image: a mono seed's too is spread.
+  const int shares = threads_;
+  Spread(n_projected * shares, [&](int /*slot*/, int k) {
+    const int cam = projected[k / shares];
+    views_.ProjectShare(windows_[cam], k % shares, shares, &coefficients[cam]);
+  });
   struct Search {
     int camera = 0;
     uint32_t model = 0;
@@ -231,9 +241,18 @@ void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
     }
   }
   // The nearest views of each model of the colour on its own: models with many views (no
-  // symmetry) would otherwise crowd out the others.
-  Spread(n_searches, [&](int /*slot*/, int k) {
-    Search& search = searches[k];
+  // symmetry) would otherwise crowd out the others. The threads take the searches with the most
+  // views first (a search's time grows with its views), so that no long one is left to the end.
+  // (An insertion sort: stable, and no buffer from the heap as std::stable_sort takes.)
+  int order[2 * kMaxShapeModels];
+  const auto n_views = [&](int k) { return views_.shape_model(searches[k].model).n_views; };
+  for (int k = 0; k < n_searches; ++k) {
+    int j = k;
+    for (; j > 0 && n_views(order[j - 1]) < n_views(k); --j) order[j] = order[j - 1];
+    order[j] = k;
+  }
+  Spread(n_searches, [&](int /*slot*/, int j) {
+    Search& search = searches[order[j]];
     views_.Nearest(coefficients[search.camera], 1u << search.model, kNearestPerImage,
                    search.nearest);
   });
