@@ -205,17 +205,27 @@ void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
   out.clear();
   const int first = seed.blob[0] >= 0 ? 0 : 1;
   const uint8_t colour = blobs_[first][seed.blob[first]].colour;
-  // The window of each image, then the nearest views of each image and model of the colour on
-  // the worker threads (the searches only read; each writes its own list), then the candidates
-  // from the lists in image and model order.
+  // The window of each image, its projection and then the nearest views of each image and model
+  // of the colour on the worker threads (the projections and searches only read; each writes
+  // its own coefficients or list), then the candidates from the lists in image and model order.
   ShapeCoefficients coefficients[2];
   bool windowed[2] = {false, false};
+  int projected[2];  // the windowed images
+  int n_projected = 0;
   for (int cam = 0; cam < 2; ++cam) {
-    ShapeWindow window{};
-    if (seed.blob[cam] < 0 || !BlobWindow(cam, blobs_[cam][seed.blob[cam]], &window)) continue;
-    views_.Project(window, &coefficients[cam]);
+    if (seed.blob[cam] < 0 || !BlobWindow(cam, blobs_[cam][seed.blob[cam]], &windows_[cam])) {
+      continue;
+    }
     windowed[cam] = true;
+    projected[n_projected++] = cam;
   }
+  // The projection (half of the candidates' time on one thread) in a share per thread and
+  // image: a mono seed's too is spread.
+  const int shares = threads_;
+  Spread(n_projected * shares, [&](int /*slot*/, int k) {
+    const int cam = projected[k / shares];
+    views_.ProjectShare(windows_[cam], k % shares, shares, &coefficients[cam]);
+  });
   struct Search {
     int camera = 0;
     uint32_t model = 0;
@@ -231,9 +241,18 @@ void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
     }
   }
   // The nearest views of each model of the colour on its own: models with many views (no
-  // symmetry) would otherwise crowd out the others.
-  Spread(n_searches, [&](int /*slot*/, int k) {
-    Search& search = searches[k];
+  // symmetry) would otherwise crowd out the others. The threads take the searches with the most
+  // views first (a search's time grows with its views), so that no long one is left to the end.
+  // (An insertion sort: stable, and no buffer from the heap as std::stable_sort takes.)
+  int order[2 * kMaxShapeModels];
+  const auto n_views = [&](int k) { return views_.shape_model(searches[k].model).n_views; };
+  for (int k = 0; k < n_searches; ++k) {
+    int j = k;
+    for (; j > 0 && n_views(order[j - 1]) < n_views(k); --j) order[j] = order[j - 1];
+    order[j] = k;
+  }
+  Spread(n_searches, [&](int /*slot*/, int j) {
+    Search& search = searches[order[j]];
     views_.Nearest(coefficients[search.camera], 1u << search.model, kNearestPerImage,
                    search.nearest);
   });
@@ -372,29 +391,34 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
     spans[r] = {static_cast<int16_t>(first), static_cast<int16_t>(last)};
   }
   if (n_blob == 0) return 0.0f;
-  // The depth steps in one contiguous range per thread, each range with its own best; the bests
-  // compared in range order, so that of equal costs the first wins, as on one thread (a
-  // range's early drops only skip depths that cannot beat its own best).
+  // The depth steps in contiguous ranges the threads take in turn, with one best for all: a step
+  // is dropped once its cost cannot beat the best any range has found (a cost known to be larger,
+  // or equal at a later step), so the depth is the least cost's and, of equal costs, the first
+  // step's, as a scan in order finds it, whichever thread finds it when. Several ranges per
+  // thread, so that one with few early drops does not keep the others waiting.
   //
   // Within a range every kCoarseEvery-th step comes first, then the others: a cost near the
-  // least found early drops most of the remaining steps after a few rows. The best is the least
-  // cost and, of equal costs, the first step, whatever the order they are tried in (a step
-  // before the best is dropped only when it must cost more), so the depth is the one a scan in
-  // order finds.
+  // least found early drops most of the remaining steps after a few rows.
   constexpr int kCoarseEvery = 8;
-  struct Best {
-    float cost = 1e30f, depth = 0.0f;
-    int step = std::numeric_limits<int>::max();
+  constexpr int kRangesPerThread = 4;
+  // (cost, step) as one number ordered as the pairs are (a non-negative float's bits grow with
+  // it): the best is the least.
+  const auto pack = [](float cost, int k) {
+    uint32_t bits;
+    std::memcpy(&bits, &cost, sizeof bits);
+    return (static_cast<uint64_t>(bits) << 32) | static_cast<uint32_t>(k);
   };
-  Best best[kMaxShapeThreads];
-  const int ranges = std::max(1, std::min(threads_, steps));
+  const auto depth_at = [&](int k) {
+    const float inv = (1.0f / kMaxDepthMm) + (1.0f / kMinDepthMm - 1.0f / kMaxDepthMm) *
+                                                 static_cast<float>(k) / (steps - 1);
+    return 1.0f / inv;
+  };
+  std::atomic<uint64_t> best{pack(1e30f, std::numeric_limits<int>::max())};
+  const int ranges = threads_ > 1 ? std::min(kRangesPerThread * threads_, steps) : 1;
   Spread(ranges, [&](int /*slot*/, int range) {
-    Best& b = best[range];
     const int begin = steps * range / ranges, end = steps * (range + 1) / ranges;
     auto try_step = [&](int k) {
-      const float inv = (1.0f / kMaxDepthMm) + (1.0f / kMinDepthMm - 1.0f / kMaxDepthMm) *
-                                                   static_cast<float>(k) / (steps - 1);
-      const float depth = 1.0f / inv;
+      const float depth = depth_at(k);
       Eigen::Vector2d centre_other;
       if (!ProjectToPixel(co, (other_T_cam * (depth * ray)).cast<double>(), &centre_other)) {
         return;
@@ -422,23 +446,22 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
                                        std::abs(s_row[x].b - d_row[xo].b));
         }
         const float least = static_cast<float>(sad) / static_cast<float>(n_blob);
-        beaten = least > b.cost || (least == b.cost && k > b.step);
+        beaten = pack(least, k) > best.load(std::memory_order_relaxed);
       }
       // Most of the blob must land on its colour in the other image.
       if (beaten || n == 0 || same * 10 < n * 7) return;
-      const float cost = static_cast<float>(sad) / n;
-      if (cost < b.cost || (cost == b.cost && k < b.step)) b = {cost, depth, k};
+      const uint64_t mine = pack(static_cast<float>(sad) / n, k);
+      uint64_t seen = best.load(std::memory_order_relaxed);
+      while (mine < seen && !best.compare_exchange_weak(seen, mine, std::memory_order_relaxed)) {
+      }
     };
     for (int k = begin; k < end; k += kCoarseEvery) try_step(k);
     for (int k = begin; k < end; ++k) {
       if ((k - begin) % kCoarseEvery != 0) try_step(k);
     }
   });
-  Best first;
-  for (int range = 0; range < ranges; ++range) {
-    if (best[range].cost < first.cost) first = best[range];
-  }
-  return first.depth;
+  const int step = static_cast<int>(best.load() & 0xffffffffu);
+  return step == std::numeric_limits<int>::max() ? 0.0f : depth_at(step);
 }
 
 bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c, bool place,

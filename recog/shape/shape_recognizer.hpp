@@ -293,6 +293,7 @@ class ShapeRecognizer {
   uint8_t part_labels_[kMaxSplitPixels];
   int64_t search_ns_ = 0, refine_ns_ = 0, verify_ns_ = 0;
   ShapeWindowScratch window_scratch_;
+  ShapeWindow windows_[2];  // a seed's window in each image
   uint8_t region_mask_[kMaxImagePixels];
   uint8_t explained_[2][kMaxImagePixels];  // pixels covered by accepted objects' silhouettes
   // Per refining thread; [0] is the calling thread's, also of the const diagnostics.

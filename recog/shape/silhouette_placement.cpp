@@ -16,10 +16,21 @@ void ShiftRange(int lo, int size, int box_lo, int box_hi, int* first, int* last)
   }
 }
 
-// Silhouette pixels sampled every `step` pixels that land on the blob at shift (dx, dy), and
-// how many were sampled.
-void Overlap(const SilhouetteMask& s, ConstGrayView ids, uint8_t id, ConstGrayView hidden, int dx,
-             int dy, int step, uint32_t* hits, uint32_t* samples) {
+// Silhouette pixels sampled every `step` pixels: as many at every shift.
+uint32_t Samples(const SilhouetteMask& s, int step) {
+  uint32_t n = 0;
+  for (int y = 0; y < s.height; y += step) {
+    const uint8_t* m = s.mask + static_cast<size_t>(y) * s.width;
+    for (int x = 0; x < s.width; x += step) n += m[x] != 0;
+  }
+  return n;
+}
+
+// Of the `samples` silhouette pixels sampled every `step` pixels, those that land on the blob
+// at shift (dx, dy). Given up after a row once the pixels left cannot take the count past
+// `beat` (what it has counted then is returned, at most `beat`), unless `must_finish`.
+uint32_t Hits(const SilhouetteMask& s, ConstGrayView ids, uint8_t id, ConstGrayView hidden, int dx,
+              int dy, int step, uint32_t samples, uint32_t beat, bool must_finish) {
   uint32_t h = 0, n = 0;
   for (int y = 0; y < s.height; y += step) {
     const int iy = s.y0 + y + dy;
@@ -34,9 +45,9 @@ void Overlap(const SilhouetteMask& s, ConstGrayView ids, uint8_t id, ConstGrayVi
       h += row != nullptr && ix >= 0 && ix < ids.width &&
            (row[ix] == id || (hid != nullptr && hid[ix] != 0));
     }
+    if (!must_finish && h + (samples - n) <= beat) break;
   }
-  *hits = h;
-  *samples = n;
+  return h;
 }
 
 struct ShiftBox {
@@ -44,16 +55,19 @@ struct ShiftBox {
 };
 
 // The shift of `range`, every `shift_step` pixels, whose sampled pixels (every `sample_step`)
-// land on the blob most often; the first of equals in row-major order. Returns the hits.
+// land on the blob most often; the first of equals in row-major order. Returns the hits. A
+// shift is given up once it cannot have more hits than the best before it: it would not be
+// chosen.
 uint32_t BestShift(const SilhouetteMask& s, ConstGrayView ids, uint8_t id, ConstGrayView hidden,
                    const ShiftBox& range, int shift_step, int sample_step, int* best_dx,
                    int* best_dy, uint32_t* samples) {
+  *samples = Samples(s, sample_step);
   uint32_t best_hits = 0;
   bool any = false;
   for (int dy = range.y_first; dy <= range.y_last; dy += shift_step) {
     for (int dx = range.x_first; dx <= range.x_last; dx += shift_step) {
-      uint32_t hits = 0;
-      Overlap(s, ids, id, hidden, dx, dy, sample_step, &hits, samples);
+      const uint32_t hits =
+          Hits(s, ids, id, hidden, dx, dy, sample_step, *samples, best_hits, !any);
       if (!any || hits > best_hits) {
         best_hits = hits;
         *best_dx = dx;

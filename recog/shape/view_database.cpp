@@ -194,34 +194,57 @@ Eigen::Matrix3f ShapeViewsView::ViewRotation(uint32_t i) const {
   return q.normalized().toRotationMatrix();
 }
 
-void ProjectShapeWindow(const float* mean, const QBasis::Raw* basis, int n_components, int stride,
-                        const ShapeWindow& window, ShapeCoefficients* out) {
+namespace {
+
+// Components of the blocks [first_block, end_block) of eight (the last block may be shorter).
+void ProjectBlocks(const float* mean, const QBasis::Raw* basis, int n_components,
+                   const ShapeWindow& window, int first_block, int end_block,
+                   ShapeCoefficients* out) {
   float centred[kWindowPixels];
   for (int i = 0; i < kWindowPixels; ++i) centred[i] = window.v[i] - mean[i];
   // Each component's sum runs over the pixels in order, as one loop per component would; a few
   // components at once make independent sums the processor overlaps (and the compiler puts in
   // the lanes of one vector), the same values bit for bit.
-  constexpr int kTogether = 8;
-  for (int k0 = 0; k0 < n_components; k0 += kTogether) {
-    const int n = std::min(kTogether, n_components - k0);
-    const QBasis::Raw* b[kTogether];
-    for (int j = 0; j < kTogether; ++j) {
+  for (int k0 = first_block * kProjectBlock; k0 < std::min(n_components, end_block * kProjectBlock);
+       k0 += kProjectBlock) {
+    const int n = std::min(kProjectBlock, n_components - k0);
+    const QBasis::Raw* b[kProjectBlock];
+    for (int j = 0; j < kProjectBlock; ++j) {
       b[j] = basis + static_cast<size_t>(k0 + std::min(j, n - 1)) * kWindowPixels;
     }
-    float sum[kTogether] = {};
+    float sum[kProjectBlock] = {};
     for (int i = 0; i < kWindowPixels; ++i) {
-      for (int j = 0; j < kTogether; ++j) sum[j] += centred[i] * static_cast<float>(b[j][i]);
+      for (int j = 0; j < kProjectBlock; ++j) sum[j] += centred[i] * static_cast<float>(b[j][i]);
     }
     // Basis raw units -> value: divide by 2^14; value -> coefficient raw (saturating).
     for (int j = 0; j < n; ++j) {
       out->c[k0 + j] = QCoefficient::FromDouble(double(sum[j]) / QBasis::kScale).raw();
     }
   }
+}
+
+}  // namespace
+
+void ProjectShapeWindow(const float* mean, const QBasis::Raw* basis, int n_components, int stride,
+                        const ShapeWindow& window, ShapeCoefficients* out) {
+  const int blocks = (n_components + kProjectBlock - 1) / kProjectBlock;
+  ProjectBlocks(mean, basis, n_components, window, 0, blocks, out);
   for (int k = n_components; k < stride; ++k) out->c[k] = 0;
 }
 
 void ShapeViewsView::Project(const ShapeWindow& window, ShapeCoefficients* out) const {
   ProjectShapeWindow(mean_, basis_, header_->n_components, header_->component_stride, window, out);
+}
+
+void ShapeViewsView::ProjectShare(const ShapeWindow& window, int share, int shares,
+                                  ShapeCoefficients* out) const {
+  const int n_components = header_->n_components;
+  const int blocks = (n_components + kProjectBlock - 1) / kProjectBlock;
+  ProjectBlocks(mean_, basis_, n_components, window, blocks * share / shares,
+                blocks * (share + 1) / shares, out);
+  if (share + 1 == shares) {
+    for (int k = n_components; k < header_->component_stride; ++k) out->c[k] = 0;
+  }
 }
 
 void ShapeViewsView::Nearest(const ShapeCoefficients& query, uint32_t model_mask, size_t k,

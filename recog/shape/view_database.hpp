@@ -115,6 +115,9 @@ struct ShapeCoefficients {
 void ProjectShapeWindow(const float* mean, const QBasis::Raw* basis, int n_components, int stride,
                         const ShapeWindow& window, ShapeCoefficients* out);
 
+// Components summed together by the projection; a share of the projection is whole blocks.
+inline constexpr int kProjectBlock = 8;
+
 class ShapeViewsView {
  public:
   ShapeViewsView() = default;
@@ -139,6 +142,10 @@ class ShapeViewsView {
 
   // PCA coefficients of a window.
   void Project(const ShapeWindow& window, ShapeCoefficients* out) const;
+  // Share `share` of `shares` of Project's coefficients (contiguous blocks of kProjectBlock
+  // components; the last share writes the padding): the same values bit for bit, so that
+  // `shares` threads together write what Project writes.
+  void ProjectShare(const ShapeWindow& window, int share, int shares, ShapeCoefficients* out) const;
 
   // The `k` nearest views among the models whose bit is set in `model_mask`, nearest first
   // (exhaustive, with partial-distance early exit: views go in groups of four, and a group is

@@ -147,6 +147,30 @@ TEST(ViewDatabase, ProjectingAViewsOwnWindowGivesItsStoredCoefficients) {
   }
 }
 
+// The shares of a projection, whatever their number (some with no block when there are more
+// shares than blocks), write together what one projection writes, bit for bit, padding included.
+TEST(ViewDatabase, SharesOfAProjectionTogetherGiveTheWholeProjection) {
+  Blob blob(TestBlob());
+  Result<ShapeViewsView> v = ShapeViewsView::Open(blob.data(), blob.size);
+  ASSERT_TRUE(v.ok());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> pixel(0.0f, 0.03f);
+  auto window = std::make_unique<ShapeWindow>();
+  for (float& x : window->v) x = pixel(rng);
+  ShapeCoefficients whole;
+  v->Project(*window, &whole);
+  const int stride = v->header().component_stride;
+  int nonzero = 0;
+  for (int k = 0; k < stride; ++k) nonzero += whole.c[k] != 0;
+  EXPECT_GT(nonzero, stride / 2);
+  for (const int shares : {1, 2, 3, 7}) {
+    ShapeCoefficients c;
+    for (QCoefficient::Raw& x : c.c) x = 77;  // every entry must be written
+    for (int share = 0; share < shares; ++share) v->ProjectShare(*window, share, shares, &c);
+    for (int k = 0; k < stride; ++k) EXPECT_EQ(c.c[k], whole.c[k]) << shares << " " << k;
+  }
+}
+
 TEST(ViewDatabase, OrientationsBetweenTheSamplesFindANeighbouringView) {
   Blob blob(TestBlob());
   Result<ShapeViewsView> v = ShapeViewsView::Open(blob.data(), blob.size);
