@@ -44,19 +44,6 @@ inline bool RowRangeInBall(const GridGeometry& g, const Eigen::Vector3f& c, floa
   return BinRange(g, 0, c.x(), std::sqrt(rest), x_lo, x_hi);
 }
 
-// Whether two votes gave the same hypotheses, bit for bit.
-bool SameHypotheses(const Vector<Hypothesis>& a, const Vector<Hypothesis>& b) {
-  if (a.size() != b.size()) return false;
-  for (size_t i = 0; i < a.size(); ++i) {
-    const Hypothesis &x = a[i], &y = b[i];
-    if (x.model != y.model || x.model_basis != y.model_basis || x.vote != y.vote ||
-        x.cam_T_model.R != y.cam_T_model.R || x.cam_T_model.t_mm != y.cam_T_model.t_mm) {
-      return false;
-    }
-  }
-  return true;
-}
-
 }  // namespace
 
 bool SceneSupportVerifier::Verify(const Model& model, const Vector<RecognizedObject>& accepted,
@@ -304,120 +291,42 @@ int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out, float
   return Vote(b, scratch_, out, best_per_model);
 }
 
-int Recognizer::TakeAhead(uint32_t k, Vector<Hypothesis>& out) {
-  const AheadVote& a = ahead_[k];
-  out = a.hypotheses;
-  if (a.kept) {
-    ++kept_used_;
-    if (check_kept_) {
-      Vector<Hypothesis, kMaxHypothesesPerBasis> fresh;
-      (void)Vote(candidates_[a.index], scratch_, fresh, nullptr);
-      if (!SameHypotheses(fresh, a.hypotheses)) ++kept_mismatches_;
-    }
-  }
-  return int(out.size());
-}
-
 int Recognizer::VoteInTurn(uint32_t index, const SceneBasis& b, uint32_t most,
                            Vector<Hypothesis>& out) {
   while (ahead_next_ < ahead_count_ && ahead_[ahead_next_].index < index) ++ahead_next_;
-  if (ahead_next_ < ahead_count_ && ahead_[ahead_next_].index == index &&
-      ahead_[ahead_next_].voted) {
-    return TakeAhead(ahead_next_, out);
+  if (ahead_next_ < ahead_count_ && ahead_[ahead_next_].index == index) {
+    out = ahead_[ahead_next_].hypotheses;
+    return int(out.size());
   }
-  if (!parallel_.concurrent()) {
-    ahead_count_ = ahead_next_ = 0;
-    return Vote(b, scratch_, out, nullptr);
-  }
+  ahead_count_ = ahead_next_ = 0;
+  if (!parallel_.concurrent()) return Vote(b, scratch_, out, nullptr);
   // This basis and the next active ones of the pass, voted on the scene as it is now; the
   // search only removes features, so the bases skipped here stay inactive until they come. No
   // more than the search may still try (its budget and fruitless limit), so that it stops where
-  // the one-thread search stops, without votes thrown away. The bases still held from the batch
-  // before (this one on) stay in order at the front; those whose votes outlived an acceptance
-  // (KeepAheadVotesClearOfRemoved) are not voted again.
+  // the one-thread search stops, without votes thrown away.
   const uint32_t batch = std::min(kVoteAheadBases, std::max(most, 1u));
-  uint32_t n = 0;
-  for (uint32_t k = ahead_next_; k < ahead_count_; ++k) {
-    if (!BasisActive(candidates_[ahead_[k].index])) continue;
-    if (n != k) ahead_[n] = ahead_[k];
-    ++n;
+  ahead_[ahead_count_++].index = index;
+  for (uint32_t j = index + 1; j < candidates_.count() && ahead_count_ < batch; ++j) {
+    if (BasisActive(candidates_[j])) ahead_[ahead_count_++].index = j;
   }
-  auto unvoted = [this](uint32_t slot, uint32_t j) {
-    ahead_[slot].index = j;
-    ahead_[slot].voted = ahead_[slot].kept = false;
-  };
-  if (n == 0 || ahead_[0].index != index) {
-    n = 0;
-    unvoted(n++, index);
-  }
-  ahead_count_ = n;
-  ahead_next_ = 0;
-  for (uint32_t j = ahead_[n - 1].index + 1; j < candidates_.count() && ahead_count_ < batch; ++j) {
-    if (BasisActive(candidates_[j])) unvoted(ahead_count_++, j);
-  }
-  ahead_todo_count_ = 0;
-  for (uint32_t k = 0; k < ahead_count_; ++k) {
-    if (!ahead_[k].voted) ahead_todo_[ahead_todo_count_++] = k;
-  }
-  if (ahead_todo_count_ == 1) {
-    AheadVote& a = ahead_[ahead_todo_[0]];
-    (void)Vote(candidates_[a.index], scratch_, a.hypotheses, nullptr);
-  } else {
-    // Each thread takes the next unvoted basis until none is left: votes differ in cost (the
-    // number of features near the basis), and a fixed share would leave a thread idle.
-    ahead_taken_.store(0, std::memory_order_relaxed);
-    parallel_(
-        std::min(vote_threads_, int(ahead_todo_count_)),
-        [](void* self, int thread) {
-          auto* r = static_cast<Recognizer*>(self);
-          VoteScratch& scratch = r->ScratchOf(thread);
-          for (uint32_t k = r->ahead_taken_.fetch_add(1, std::memory_order_relaxed);
-               k < r->ahead_todo_count_;
-               k = r->ahead_taken_.fetch_add(1, std::memory_order_relaxed)) {
-            AheadVote& a = r->ahead_[r->ahead_todo_[k]];
-            (void)r->Vote(r->candidates_[a.index], scratch, a.hypotheses, nullptr);
-          }
-        },
-        this);
-  }
-  for (uint32_t k = 0; k < ahead_todo_count_; ++k) ahead_[ahead_todo_[k]].voted = true;
-  return TakeAhead(0, out);
-}
-
-void Recognizer::KeepAheadVotesClearOfRemoved() {
-  // A vote reads the active flags of the points within point_reach_mm_ of its basis origin and
-  // of the lines whose segment comes within line_reach_mm_ of it (Vote), and nothing else that
-  // an acceptance changes. A basis farther than that (with a margin far above the rounding of
-  // the distances) from every removed feature votes exactly as before.
-  constexpr float kMarginMm = 1.0f;
-  const float point_keep2 = (point_reach_mm_ + kMarginMm) * (point_reach_mm_ + kMarginMm);
-  const float line_keep2 = (line_reach_mm_ + kMarginMm) * (line_reach_mm_ + kMarginMm);
-  const Scene& s = *scene_;
-  for (uint32_t k = ahead_next_; k < ahead_count_; ++k) {
-    AheadVote& a = ahead_[k];
-    if (!a.voted) continue;
-    const SceneBasis& b = candidates_[a.index];
-    a.voted = false;
-    if (!BasisActive(b)) continue;  // never tried now
-    RigidTransform basis_T_cam;
-    Eigen::Vector3f shape_point;
-    bool reads = false;
-    // A basis without a frame votes nothing, whatever the scene holds.
-    if (SceneBasisFrame(b, &basis_T_cam, &shape_point)) {
-      const Eigen::Vector3f origin = basis_T_cam.Inverse().t_mm;
-      for (uint32_t i = 0; i < n_removed_points_ && !reads; ++i) {
-        reads = (s.points[removed_points_[i]].p_mm - origin).squaredNorm() <= point_keep2;
-      }
-      for (uint32_t i = 0; i < n_removed_lines_ && !reads; ++i) {
-        const uint16_t j = removed_lines_[i];
-        const SceneLine& l = s.lines[j];
-        const Eigen::Vector3f ao = origin - l.a_mm;
-        const float t = std::clamp(ao.dot(line_dir_[j]), 0.0f, l.length_mm());
-        reads = (ao - t * line_dir_[j]).squaredNorm() <= line_keep2;
-      }
-    }
-    a.voted = a.kept = !reads;
-  }
+  if (ahead_count_ == 1) return Vote(b, scratch_, out, nullptr);
+  // Each thread takes the next unvoted basis until none is left: votes differ in cost (the
+  // number of features near the basis), and a fixed share would leave a thread idle.
+  ahead_taken_.store(0, std::memory_order_relaxed);
+  parallel_(
+      std::min(vote_threads_, int(ahead_count_)),
+      [](void* self, int thread) {
+        auto* r = static_cast<Recognizer*>(self);
+        VoteScratch& scratch = r->ScratchOf(thread);
+        for (uint32_t k = r->ahead_taken_.fetch_add(1, std::memory_order_relaxed);
+             k < r->ahead_count_; k = r->ahead_taken_.fetch_add(1, std::memory_order_relaxed)) {
+          AheadVote& a = r->ahead_[k];
+          (void)r->Vote(r->candidates_[a.index], scratch, a.hypotheses, nullptr);
+        }
+      },
+      this);
+  out = ahead_[0].hypotheses;
+  return int(out.size());
 }
 
 int Recognizer::Vote(const SceneBasis& b, VoteScratch& v, Vector<Hypothesis>& out,
@@ -538,31 +447,20 @@ bool Recognizer::BasisActive(const SceneBasis& b) const {
 
 void Recognizer::RemoveObjectFeatures(const Model& model, const Correspondences& c) {
   const Scene& s = *scene_;
-  n_removed_points_ = n_removed_lines_ = 0;
-  auto drop_point = [this](size_t j) {
-    if (!point_active_[j]) return;
-    point_active_[j] = 0;
-    removed_points_[n_removed_points_++] = uint16_t(j);
-  };
-  auto drop_line = [this](size_t j) {
-    if (!line_active_[j]) return;
-    line_active_[j] = 0;
-    removed_lines_[n_removed_lines_++] = uint16_t(j);
-  };
   auto mark = [](uint8_t* bits, uint16_t id) {
     if (id != kNoFeature2d) SetBit(bits, id);
   };
   for (int i = 0; i < model.n_corners; ++i) {
     const int j = c.point_of_corner[i];
     if (j < 0) continue;
-    drop_point(size_t(j));
+    point_active_[j] = 0;
     mark(used_left_point_, s.points[j].source.left);
     mark(used_right_point_, s.points[j].source.right);
   }
   for (int e = 0; e < model.n_edges; ++e) {
     const int j = c.line_of_edge[e];
     if (j < 0) continue;
-    drop_line(size_t(j));
+    line_active_[j] = 0;
     mark(used_left_line_, s.lines[j].source.left);
     mark(used_right_line_, s.lines[j].source.right);
   }
@@ -572,11 +470,11 @@ void Recognizer::RemoveObjectFeatures(const Model& model, const Correspondences&
   };
   for (size_t j = 0; j < s.points.size(); ++j) {
     if (point_active_[j] && shares(used_left_point_, used_right_point_, s.points[j].source))
-      drop_point(j);
+      point_active_[j] = 0;
   }
   for (size_t j = 0; j < s.lines.size(); ++j) {
     if (line_active_[j] && shares(used_left_line_, used_right_line_, s.lines[j].source))
-      drop_line(j);
+      line_active_[j] = 0;
   }
 }
 
@@ -715,8 +613,8 @@ void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInpu
     // With two threads or more the next bases were mostly voted ahead, on this same scene.
     uint32_t k = ahead_next_;
     while (k < ahead_count_ && ahead_[k].index < j) ++k;
-    if (k < ahead_count_ && ahead_[k].index == j && ahead_[k].voted) {
-      (void)TakeAhead(k, hypotheses);
+    if (k < ahead_count_ && ahead_[k].index == j) {
+      hypotheses = ahead_[k].hypotheses;
     } else {
       (void)Vote(b, scratch_, hypotheses, nullptr);
     }
@@ -764,7 +662,6 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
   }
   PrepareScene(scene);
   ahead_count_ = ahead_next_ = 0;
-  kept_used_ = kept_mismatches_ = 0;
   uint32_t cursor = 0;
   uint32_t fruitless = 0;
   uint32_t generated = candidates_.count();
@@ -837,9 +734,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
       if (observer_) observer_->OnAccepted(basis_number, best);
       fruitless = 0;
       RemoveObjectFeatures(table_.model(best.model), best_matches);
-      // Voted on the scene before this object left it: kept where they read none of its
-      // features, voted again when their turn comes otherwise.
-      KeepAheadVotesClearOfRemoved();
+      ahead_count_ = ahead_next_ = 0;  // voted on the scene before this object left it
     }
     if (stats.objects_full) break;
   }

@@ -190,8 +190,7 @@ class Recognizer {
   // at most kMaxVoteThreads are used) or on the caller alone (threads 1, or a ParallelFor
   // without a pool). With two or more, Recognize votes the next kVoteAheadBases active scene
   // bases at once, spread over the threads, then takes them in order; an accepted object
-  // changes the scene, and the bases voted ahead of it that read any of its removed features
-  // (within the reach of a vote) are voted again when their turn comes.
+  // changes the scene, and the bases voted ahead of it are voted again when their turn comes.
   // Each vote is thus made on the scene the sequential search would see, and the results are
   // the same for any thread count. Allocates the vote arrays of the threads beyond the caller
   // (about 0.9 MB each) when first asked for them: at start-up, never per frame. Errors: memory.
@@ -210,13 +209,6 @@ class Recognizer {
   // Diagnosis only: `observer` (may be null) sees every hypothesis of later searches.
   void SetObserver(SearchObserver* observer) { observer_ = observer; }
   const TableView& table() const { return table_; }
-  // Diagnosis and tests: how many votes the last Recognize used that were made before an
-  // acceptance and kept (their bases read none of the removed features). With `check`, each is
-  // voted again when used and compared, and KeptAheadVoteMismatches counts those that differ
-  // (0 unless keeping them is wrong).
-  void SetCheckKeptAheadVotes(bool check) { check_kept_ = check; }
-  uint32_t KeptAheadVotesUsed() const { return kept_used_; }
-  uint32_t KeptAheadVoteMismatches() const { return kept_mismatches_; }
 
   // Recognises objects in `scene`; `objects` is cleared first. No heap allocation.
   Status Recognize(const Scene& scene, HypothesisVerifier& verifier, const Budget& budget,
@@ -252,8 +244,6 @@ class Recognizer {
   // A scene basis voted ahead: its index in the current pass and its hypotheses.
   struct AheadVote {
     uint32_t index = 0;
-    bool voted = false;  // `hypotheses` hold its vote on the scene as it is now
-    bool kept = false;   // voted before an acceptance that removed none of the features it reads
     Vector<Hypothesis, kMaxHypothesesPerBasis> hypotheses;
   };
 
@@ -267,13 +257,6 @@ class Recognizer {
   // ahead when it is among them, else voted now (with two threads or more: together with the
   // next active bases, `most` bases in all at the most, this one included).
   int VoteInTurn(uint32_t index, const SceneBasis& b, uint32_t most, Vector<Hypothesis>& out);
-  // The hypotheses of ahead_[k] (voted), counted (and checked) when kept.
-  int TakeAhead(uint32_t k, Vector<Hypothesis>& out);
-  // After an acceptance (RemoveObjectFeatures): the ahead votes whose bases lie farther from
-  // every removed feature than a vote reads stay voted (kept); the others are voted again.
-  void KeepAheadVotesClearOfRemoved();
-  // Deactivates the object's features and those sharing a 2-D feature with them; lists them in
-  // removed_points_ and removed_lines_.
   void RemoveObjectFeatures(const Model& model, const Correspondences& c);
   int ActiveFeatureCount() const;
   bool BasisActive(const SceneBasis& b) const;
@@ -359,19 +342,8 @@ class Recognizer {
   // ahead_count_).
   AheadVote ahead_[kVoteAheadBases];
   uint32_t ahead_count_ = 0, ahead_next_ = 0;
-  // While they are voted: the slots of ahead_ to vote, and the next of them that no thread has
-  // taken yet.
-  uint32_t ahead_todo_[kVoteAheadBases];
-  uint32_t ahead_todo_count_ = 0;
+  // While they are voted: the next of ahead_[0 .. ahead_count_) that no thread has taken yet.
   std::atomic<uint32_t> ahead_taken_{0};
-  // The features the last acceptance removed.
-  uint16_t removed_points_[kMaxScenePoints];
-  uint16_t removed_lines_[kMaxSceneLines];
-  uint32_t n_removed_points_ = 0, n_removed_lines_ = 0;
-  // Kept ahead votes used in the last search, and (when checked) how many differed from a
-  // fresh vote.
-  bool check_kept_ = false;
-  uint32_t kept_used_ = 0, kept_mismatches_ = 0;
   // The hypotheses of one scene basis evaluated at once, in parallel (EvaluateAhead).
   Evaluated evaluated_[kMaxHypothesesPerBasis];
 };

@@ -1,7 +1,6 @@
 // The search on several threads (Recognizer::SetParallel) against the search on one: the
 // hypotheses of a scene basis are refined and verified together when the verifier allows it,
-// then taken in order, so the search sees the same outcomes and finds the same objects; votes
-// made ahead and kept past an acceptance equal fresh ones.
+// then taken in order, so the search sees the same outcomes and finds the same objects.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -135,44 +134,6 @@ TEST(RecognizerThreads, VerifiesTheHypothesesOfABasisTogetherAndFindsWhatOneThre
   }
   EXPECT_GT(compared, 6);    // the scenes held objects to compare
   EXPECT_GT(off_caller, 0);  // and the other thread verified some of the hypotheses
-}
-
-// After an acceptance the search keeps the ahead votes of bases that read none of the removed
-// features: each kept vote must equal a fresh vote on the scene as it is then, and the search
-// must still find what one thread finds.
-TEST(RecognizerThreads, VotesKeptPastAnAcceptanceEqualFreshVotes) {
-  auto view = OpenDefaultTable();
-  ASSERT_TRUE(view.ok());
-  const std::vector<Model> models = ModelsOf(*view);
-  // Crowded scenes and weak hypotheses kept: removed features then often count in the votes
-  // of the bases near them, so that keeping one of those would show.
-  RecognizerConfig config;
-  config.hypotheses_per_basis = int(kMaxHypothesesPerBasis);
-  config.vote_threshold = 0.05f;
-  auto one = MakeRecognizer(*view, config);
-  auto two = MakeRecognizer(*view, config);
-  int threads = 2;
-  ASSERT_TRUE(two->SetParallel(OnThreads(&threads), threads).ok());
-  two->SetCheckKeptAheadVotes(true);
-  auto synthetic = std::make_unique<SyntheticScene>();
-  SyntheticSceneParams p;
-  p.min_objects = 4;
-  p.max_objects = 5;
-  p.total_features = 400;
-  p.volume_min_mm = {-100.0f, -100.0f, 500.0f};
-  p.volume_max_mm = {100.0f, 100.0f, 570.0f};
-  uint32_t kept = 0;
-  for (uint64_t seed = 11; seed <= 16; ++seed) {
-    GenerateSyntheticScene(models, p, seed, synthetic.get());
-    SearchRun alone, spread;
-    Search(*one, synthetic->scene, true, &alone);
-    Search(*two, synthetic->scene, true, &spread);
-    EXPECT_EQ(two->KeptAheadVoteMismatches(), 0u) << "seed " << seed;
-    EXPECT_EQ(one->KeptAheadVotesUsed(), 0u);  // one thread votes nothing ahead
-    ExpectSame(alone, spread, seed);
-    kept += two->KeptAheadVotesUsed();
-  }
-  EXPECT_GT(kept, 0u);  // some votes outlived an acceptance and were checked
 }
 
 }  // namespace
