@@ -119,7 +119,7 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
     std::memset(v->basis_touched, 0, sizeof(v->basis_touched));
   }
   scratch_lent_ = false;
-  ahead_count_ = ahead_next_ = 0;
+  ahead_.Clear();
   return Status::Ok();
 }
 
@@ -132,7 +132,7 @@ Recognizer::LentMemory Recognizer::LendVoteScratch() {
 Status Recognizer::SetParallel(const ParallelFor& parallel, int threads) {
   parallel_ = {};
   vote_threads_ = 1;
-  ahead_count_ = ahead_next_ = 0;
+  ahead_.Clear();
   if (!parallel.concurrent() || threads < 2) return Status::Ok();
   threads = std::min(threads, kMaxVoteThreads);
   for (int t = 1; t < threads; ++t) {
@@ -293,39 +293,25 @@ int Recognizer::VoteForBasis(const SceneBasis& b, Vector<Hypothesis>& out, float
 
 int Recognizer::VoteInTurn(uint32_t index, const SceneBasis& b, uint32_t most,
                            Vector<Hypothesis>& out) {
-  while (ahead_next_ < ahead_count_ && ahead_[ahead_next_].index < index) ++ahead_next_;
-  if (ahead_next_ < ahead_count_ && ahead_[ahead_next_].index == index) {
-    out = ahead_[ahead_next_].hypotheses;
+  if (const auto* voted = ahead_.Find(index)) {
+    out = *voted;
     return int(out.size());
   }
-  ahead_count_ = ahead_next_ = 0;
   if (!parallel_.concurrent()) return Vote(b, scratch_, out, nullptr);
   // This basis and the next active ones of the pass, voted on the scene as it is now; the
   // search only removes features, so the bases skipped here stay inactive until they come. No
   // more than the search may still try (its budget and fruitless limit), so that it stops where
   // the one-thread search stops, without votes thrown away.
-  const uint32_t batch = std::min(kVoteAheadBases, std::max(most, 1u));
-  ahead_[ahead_count_++].index = index;
-  for (uint32_t j = index + 1; j < candidates_.count() && ahead_count_ < batch; ++j) {
-    if (BasisActive(candidates_[j])) ahead_[ahead_count_++].index = j;
-  }
-  if (ahead_count_ == 1) return Vote(b, scratch_, out, nullptr);
-  // Each thread takes the next unvoted basis until none is left: votes differ in cost (the
-  // number of features near the basis), and a fixed share would leave a thread idle.
-  ahead_taken_.store(0, std::memory_order_relaxed);
-  parallel_(
-      std::min(vote_threads_, int(ahead_count_)),
-      [](void* self, int thread) {
+  const uint32_t gathered = ahead_.Gather(
+      index, candidates_.count(), most, [this](uint32_t j) { return BasisActive(candidates_[j]); });
+  if (gathered == 1) return Vote(b, scratch_, out, nullptr);
+  out = ahead_.ComputeAll(
+      parallel_, vote_threads_,
+      [](void* self, int thread, AheadVotes::Entry& e) {
         auto* r = static_cast<Recognizer*>(self);
-        VoteScratch& scratch = r->ScratchOf(thread);
-        for (uint32_t k = r->ahead_taken_.fetch_add(1, std::memory_order_relaxed);
-             k < r->ahead_count_; k = r->ahead_taken_.fetch_add(1, std::memory_order_relaxed)) {
-          AheadVote& a = r->ahead_[k];
-          (void)r->Vote(r->candidates_[a.index], scratch, a.hypotheses, nullptr);
-        }
+        (void)r->Vote(r->candidates_[e.index], r->ScratchOf(thread), e.result, nullptr);
       },
       this);
-  out = ahead_[0].hypotheses;
   return int(out.size());
 }
 
@@ -610,11 +596,10 @@ void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInpu
     if (!SceneBasisFrame(b, &basis_T_cam, &shape_point)) continue;
     if ((basis_T_cam.Inverse().t_mm - centre_mm).squaredNorm() > radius2_mm2) continue;
     ++voted;
-    // With two threads or more the next bases were mostly voted ahead, on this same scene.
-    uint32_t k = ahead_next_;
-    while (k < ahead_count_ && ahead_[k].index < j) ++k;
-    if (k < ahead_count_ && ahead_[k].index == j) {
-      hypotheses = ahead_[k].hypotheses;
+    // With two threads or more the next bases were mostly voted ahead, on this same scene (an
+    // acceptance follows, which drops them all).
+    if (const auto* voted = ahead_.Find(j)) {
+      hypotheses = *voted;
     } else {
       (void)Vote(b, scratch_, hypotheses, nullptr);
     }
@@ -661,7 +646,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     scratch_lent_ = false;
   }
   PrepareScene(scene);
-  ahead_count_ = ahead_next_ = 0;
+  ahead_.Clear();
   uint32_t cursor = 0;
   uint32_t fruitless = 0;
   uint32_t generated = candidates_.count();
@@ -683,7 +668,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     if (cursor == candidates_.count()) {
       if (!candidates_.NextPass()) break;
       cursor = 0;
-      ahead_count_ = ahead_next_ = 0;  // indices of the pass before
+      ahead_.Clear();  // indices of the pass before
       generated += candidates_.count();
       if (candidates_.count() == 0) break;
     }
@@ -734,7 +719,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
       if (observer_) observer_->OnAccepted(basis_number, best);
       fruitless = 0;
       RemoveObjectFeatures(table_.model(best.model), best_matches);
-      ahead_count_ = ahead_next_ = 0;  // voted on the scene before this object left it
+      ahead_.Clear();  // voted on the scene before this object left it
     }
     if (stats.objects_full) break;
   }

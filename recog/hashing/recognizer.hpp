@@ -17,9 +17,9 @@
 // policy), and here the voting and the search with refinement and verification.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 
+#include "recog/base/ahead_batch.hpp"
 #include "recog/base/parallel_for.hpp"
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
@@ -241,11 +241,8 @@ class Recognizer {
     uint8_t basis_touched[kMaxTableBases];
     uint32_t n_touched_bases = 0;
   };
-  // A scene basis voted ahead: its index in the current pass and its hypotheses.
-  struct AheadVote {
-    uint32_t index = 0;
-    Vector<Hypothesis, kMaxHypothesesPerBasis> hypotheses;
-  };
+  // The hypotheses of a scene basis voted ahead of its turn.
+  using AheadVotes = AheadBatch<Vector<Hypothesis, kMaxHypothesesPerBasis>, kVoteAheadBases>;
 
   int Vote(const SceneBasis& b, VoteScratch& scratch, Vector<Hypothesis>& out,
            float* best_per_model) const;
@@ -338,12 +335,9 @@ class Recognizer {
   bool scratch_lent_ = false;  // other_scratch_[0] lent (LendVoteScratch): clear before use
   ParallelFor parallel_;
   int vote_threads_ = 1;
-  // Bases voted ahead (valid while the scene and the pass are unchanged): ahead_[ahead_next_ ..
-  // ahead_count_).
-  AheadVote ahead_[kVoteAheadBases];
-  uint32_t ahead_count_ = 0, ahead_next_ = 0;
-  // While they are voted: the next of ahead_[0 .. ahead_count_) that no thread has taken yet.
-  std::atomic<uint32_t> ahead_taken_{0};
+  // Bases voted ahead, by their index in the current pass (valid while the scene and the pass
+  // are unchanged).
+  AheadVotes ahead_;
   // The hypotheses of one scene basis evaluated at once, in parallel (EvaluateAhead).
   Evaluated evaluated_[kMaxHypothesesPerBasis];
 };

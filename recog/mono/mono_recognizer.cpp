@@ -37,7 +37,7 @@ Status MonoRecognizer::Init(const ViewCamera& camera, const AspectTableView& tab
   }
   SH_RETURN_IF_ERROR(CheckVerifyConfig(config.verify));
   lent_voter_ready_ = false;  // its counters were laid out for the old table
-  ahead_count_ = 0;
+  ahead_.Clear();
   SH_RETURN_IF_ERROR(voter_.Init(table, config.voter));
   for (uint32_t m = 0; m < table.model_count(); ++m) {
     SH_RETURN_IF_ERROR(ComputeStableFaces(table.model(m), 0.5f, &stable_[m]));
@@ -83,7 +83,7 @@ Status MonoRecognizer::SetParallel(const ParallelFor& parallel, int threads) {
 
 Status MonoRecognizer::LendVoteCounters(uint8_t* bytes, size_t size) {
   lent_voter_ready_ = false;
-  ahead_count_ = 0;
+  ahead_.Clear();
   if (!initialised_) {
     return Status::Error(StatusCode::kFailedPrecondition, "mono: Init() has not succeeded");
   }
@@ -646,7 +646,7 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
 }
 
 void MonoRecognizer::Remove(size_t index, Vector<RecognizedObject>& objects) {
-  ahead_count_ = 0;  // its features vote again
+  ahead_.Clear();  // its features vote again
   for (int i = 0; i < n_claimed_points_[index]; ++i) corner_active_[claimed_points_[index][i]] = 1;
   for (int i = 0; i < n_claimed_lines_[index]; ++i) line_active_[claimed_lines_[index][i]] = 1;
   for (size_t o = index; o + 1 < objects.size(); ++o) {
@@ -676,7 +676,7 @@ void MonoRecognizer::Remove(size_t index, Vector<RecognizedObject>& objects) {
 }
 
 void MonoRecognizer::Accept(const Candidate& c, Vector<RecognizedObject>& objects) {
-  ahead_count_ = 0;  // its features no longer vote
+  ahead_.Clear();  // its features no longer vote
   if (c.displaces >= 0) Remove(static_cast<size_t>(c.displaces), objects);
   RecognizedObject o;
   o.model = c.model;
@@ -768,36 +768,28 @@ bool MonoRecognizer::PassTries(uint32_t k, size_t n_objects) const {
 }
 
 int MonoRecognizer::VoteInTurn(uint32_t k, size_t n_objects, uint32_t most, AspectHypothesis* out) {
-  for (uint32_t a = 0; a < ahead_count_; ++a) {
-    if (ahead_[a].index != k) continue;
-    std::copy_n(ahead_[a].hyps, ahead_[a].n, out);
-    return ahead_[a].n;
+  if (const BasisVotes* voted = ahead_.Find(k)) {
+    std::copy_n(voted->hyps, voted->n, out);
+    return voted->n;
   }
-  ahead_count_ = 0;
   if (!votes_in_parallel()) return VoteBasis(voter_, k, out);
   // This basis and the next ones the pass tries, voted on the scene as it is now; the search
   // only takes those votes while the scene stays so (Accept and Remove throw them away). No
   // more than the budget lets the search try.
-  const uint32_t batch = std::min(kMonoVoteAheadBases, std::max(most, 1u));
-  ahead_[ahead_count_++].index = k;
-  for (uint32_t j = k + 1; j < n_candidates_ && ahead_count_ < batch; ++j) {
-    if (PassTries(j, n_objects)) ahead_[ahead_count_++].index = j;
-  }
-  if (ahead_count_ == 1) {
-    ahead_count_ = 0;
-    return VoteBasis(voter_, k, out);
-  }
-  parallel_(2, &MonoRecognizer::VoteAheadSlot, this);
-  std::copy_n(ahead_[0].hyps, ahead_[0].n, out);
-  return ahead_[0].n;
-}
-
-void MonoRecognizer::VoteAheadSlot(void* self, int slot) {
-  auto& m = *static_cast<MonoRecognizer*>(self);
-  AspectVoter& voter = slot == 0 ? m.voter_ : m.lent_voter_;
-  for (uint32_t a = static_cast<uint32_t>(slot); a < m.ahead_count_; a += 2) {
-    m.ahead_[a].n = m.VoteBasis(voter, m.ahead_[a].index, m.ahead_[a].hyps);
-  }
+  const uint32_t gathered = ahead_.Gather(
+      k, n_candidates_, most, [this, n_objects](uint32_t j) { return PassTries(j, n_objects); });
+  if (gathered == 1) return VoteBasis(voter_, k, out);
+  // Two calls, each with a voter of its own: the caller's, and the one in lent counters.
+  const BasisVotes& first = ahead_.ComputeAll(
+      parallel_, 2,
+      [](void* self, int thread, AheadVotes::Entry& e) {
+        auto& m = *static_cast<MonoRecognizer*>(self);
+        AspectVoter& voter = thread == 0 ? m.voter_ : m.lent_voter_;
+        e.result.n = m.VoteBasis(voter, e.index, e.result.hyps);
+      },
+      this);
+  std::copy_n(first.hyps, first.n, out);
+  return first.n;
 }
 
 bool MonoRecognizer::TryBasis(uint32_t k, const Vector<RecognizedObject>& objects, MonoStats* stats,
@@ -990,13 +982,13 @@ void MonoRecognizer::Search(const Budget& budget, Vector<RecognizedObject>& obje
     object_circle_[o] = ImageCircle(table_.model(objects[o].model), cam_T_model);
   }
   for (uint32_t k = 0; k < n_candidates_; ++k) tried_[k] = 0;
-  ahead_count_ = 0;
+  ahead_.Clear();
   max_scene_bases_ = budget.max_scene_bases;
   // Two passes: every scene basis in order, then the bases that failed before an object was
   // found near them (that object hides parts of theirs, which verification now knows).
   for (int pass = 0; pass < 2; ++pass) {
     pass_ = pass;
-    ahead_count_ = 0;
+    ahead_.Clear();
     uint32_t fruitless = 0;
     for (uint32_t k = 0; k < n_candidates_; ++k) {
       if (stats.scene_bases_tried >= budget.max_scene_bases || DeadlinePassed(budget)) {

@@ -16,6 +16,7 @@
 
 #include <cstdint>
 
+#include "recog/base/ahead_batch.hpp"
 #include "recog/base/parallel_for.hpp"
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
@@ -249,7 +250,6 @@ class MonoRecognizer {
   int VoteInTurn(uint32_t k, size_t n_objects, uint32_t most, AspectHypothesis* out);
   // Candidate k's votes with `voter`.
   int VoteBasis(AspectVoter& voter, uint32_t k, AspectHypothesis* out) const;
-  static void VoteAheadSlot(void* self, int slot);
   // Scratch of one evaluation slot (slot 0: the caller's); written before it is read, as the
   // class's.
   // NOLINTNEXTLINE(cppcoreguidelines-pro-type-member-init)
@@ -340,13 +340,12 @@ class MonoRecognizer {
   EvaluationJob job_;
   // Scene bases voted ahead of their turn (VoteInTurn): valid until the scene's active
   // features change (Accept, Remove) or the search starts again.
-  struct AheadVote {
-    uint32_t index = 0;
+  struct BasisVotes {
     int n = 0;
     AspectHypothesis hyps[kMaxMonoHypotheses];
   };
-  AheadVote ahead_[kMonoVoteAheadBases];
-  uint32_t ahead_count_ = 0;
+  using AheadVotes = AheadBatch<BasisVotes, kMonoVoteAheadBases>;
+  AheadVotes ahead_;
   int pass_ = 0;                  // the search's pass
   uint32_t max_scene_bases_ = 0;  // the search's budget
   uint32_t n_candidates_ = 0;
