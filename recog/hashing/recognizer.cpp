@@ -118,15 +118,16 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
     std::memset(v->basis_line_sum, 0, sizeof(v->basis_line_sum));
     std::memset(v->basis_touched, 0, sizeof(v->basis_touched));
   }
-  scratch_lent_ = false;
+  scratch_lent_bytes_ = 0;
   ahead_.Clear();
   return Status::Ok();
 }
 
-Recognizer::LentMemory Recognizer::LendVoteScratch() {
-  if (other_scratch_[0] == nullptr) return {};
-  scratch_lent_ = true;
-  return {reinterpret_cast<uint8_t*>(other_scratch_[0].get()), sizeof(VoteScratch)};
+Recognizer::LentMemory Recognizer::LendVoteScratch(size_t bytes) {
+  if (other_scratch_[0] == nullptr || bytes > sizeof(VoteScratch)) return {};
+  // Lent again before a search: the bytes written under the first loan are cleared too.
+  scratch_lent_bytes_ = std::max(scratch_lent_bytes_, bytes);
+  return {reinterpret_cast<uint8_t*>(other_scratch_[0].get()), bytes};
 }
 
 Status Recognizer::SetParallel(const ParallelFor& parallel, int threads) {
@@ -640,10 +641,10 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
                              Vector<RecognizedObject>& objects, RecognitionStats* stats_out) {
   RecognitionStats stats;
   objects.clear();
-  if (scratch_lent_) {
+  if (scratch_lent_bytes_ > 0) {
     // Written by a borrower: back to the all-zero state the votes rely on.
-    std::memset(static_cast<void*>(other_scratch_[0].get()), 0, sizeof(VoteScratch));
-    scratch_lent_ = false;
+    std::memset(static_cast<void*>(other_scratch_[0].get()), 0, scratch_lent_bytes_);
+    scratch_lent_bytes_ = 0;
   }
   PrepareScene(scene);
   ahead_.Clear();

@@ -197,15 +197,16 @@ class Recognizer {
   Status SetParallel(const ParallelFor& parallel, int threads);
   const RecognizerConfig& config() const { return config_; }
 
-  // The second voting thread's arrays as raw memory, lent while this recogniser is idle (the
-  // stereo pipeline's rescue votes in them): {null, 0} when there are none (fewer than two
-  // vote threads allocated). The borrower may write anything there until the next Recognize(),
-  // which clears them first (the vote arrays are all zero between rounds), as Init() does.
+  // The first `bytes` bytes of the second voting thread's arrays as raw memory, lent while this
+  // recogniser is idle (the stereo pipeline's rescue votes in them): {null, 0} when there are
+  // none (fewer than two vote threads allocated) or they are smaller. The borrower may write
+  // anything there until the next Recognize(), which clears those bytes first (the vote arrays
+  // are all zero between rounds), as Init() does.
   struct LentMemory {
     uint8_t* bytes = nullptr;
     size_t size = 0;
   };
-  LentMemory LendVoteScratch();
+  LentMemory LendVoteScratch(size_t bytes);
   // Diagnosis only: `observer` (may be null) sees every hypothesis of later searches.
   void SetObserver(SearchObserver* observer) { observer_ = observer; }
   const TableView& table() const { return table_; }
@@ -332,7 +333,8 @@ class Recognizer {
   }
   VoteScratch scratch_;
   ZeroedPtr<VoteScratch> other_scratch_[kMaxVoteThreads - 1];
-  bool scratch_lent_ = false;  // other_scratch_[0] lent (LendVoteScratch): clear before use
+  // Bytes at the start of other_scratch_[0] lent (LendVoteScratch): cleared before its next use.
+  size_t scratch_lent_bytes_ = 0;
   ParallelFor parallel_;
   int vote_threads_ = 1;
   // Bases voted ahead, by their index in the current pass (valid while the scene and the pass

@@ -525,12 +525,14 @@ Status Pipeline::LendRescue(MonoRecognizer* mono) {
 }
 
 Status Pipeline::Rescue(const Budget& budget, PipelineResult* out) {
-  // The stereo recogniser is idle until the next frame: its second vote scratch holds the
-  // rescue's second voter's counters meanwhile (when too small, the rescue votes on this thread
-  // alone; the stereo recogniser clears it before its next search).
+  // The stereo recogniser is idle until the next frame: the start of its second vote scratch
+  // holds the rescue's second voter's counters meanwhile (when the scratch is smaller, the rescue
+  // votes on this thread alone; the stereo recogniser clears what it lent before its next
+  // search).
   const bool lent = rescue_->evaluation_threads() > 1;
   if (lent) {
-    const Recognizer::LentMemory scratch = recognizer_.LendVoteScratch();
+    const Recognizer::LentMemory scratch =
+        recognizer_.LendVoteScratch(AspectVoter::CounterBytes(rescue_->table()));
     (void)rescue_->LendVoteCounters(scratch.bytes, scratch.size);
   }
   const Status s = RescueInBothImages(budget, out);

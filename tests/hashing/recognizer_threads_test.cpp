@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cstdint>
+#include <cstring>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -134,6 +136,42 @@ TEST(RecognizerThreads, VerifiesTheHypothesesOfABasisTogetherAndFindsWhatOneThre
   }
   EXPECT_GT(compared, 6);    // the scenes held objects to compare
   EXPECT_GT(off_caller, 0);  // and the other thread verified some of the hypotheses
+}
+
+// The second thread's vote arrays lent while the recogniser is idle (the rescue's counters in the
+// pipeline): what the borrower wrote is cleared before the next search, which then finds what one
+// thread finds; lent twice, the larger loan is cleared. More than the arrays hold is refused.
+TEST(RecognizerThreads, LentVoteScratchIsClearedBeforeTheNextSearch) {
+  auto view = OpenDefaultTable();
+  ASSERT_TRUE(view.ok());
+  const std::vector<Model> models = ModelsOf(*view);
+  RecognizerConfig config;
+  config.hypotheses_per_basis = 6;
+  auto one = MakeRecognizer(*view, config);
+  auto two = MakeRecognizer(*view, config);
+  EXPECT_EQ(two->LendVoteScratch(64).bytes, nullptr);  // one thread: no second arrays
+  int threads = 2;
+  ASSERT_TRUE(two->SetParallel(OnThreads(&threads), threads).ok());
+  EXPECT_EQ(two->LendVoteScratch(SIZE_MAX).bytes, nullptr);
+  auto synthetic = std::make_unique<SyntheticScene>();
+  SyntheticSceneParams p;
+  p.total_features = 400;
+  int compared = 0;
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    GenerateSyntheticScene(models, p, seed, synthetic.get());
+    const Recognizer::LentMemory big = two->LendVoteScratch(size_t{256} << 10);
+    const Recognizer::LentMemory small = two->LendVoteScratch(size_t{16} << 10);
+    ASSERT_NE(big.bytes, nullptr);
+    ASSERT_EQ(small.bytes, big.bytes);
+    EXPECT_EQ(small.size, size_t{16} << 10);
+    std::memset(big.bytes, 0x5A, big.size);
+    SearchRun alone, spread;
+    Search(*one, synthetic->scene, true, &alone);
+    Search(*two, synthetic->scene, true, &spread);
+    ExpectSame(alone, spread, seed);
+    compared += int(alone.objects.size());
+  }
+  EXPECT_GT(compared, 3);
 }
 
 }  // namespace
