@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "recog/verify/inside_object.hpp"
 
@@ -9,6 +10,18 @@ namespace sh {
 namespace {
 
 constexpr float kRadToDeg = 57.2957795f;
+
+// FNV-1a over the bytes of scene basis k and one of its hypotheses (MonoStats::votes_digest).
+uint32_t DigestVote(uint32_t digest, uint32_t k, const AspectHypothesis& h) {
+  uint32_t words[3] = {k, h.basis, 0};
+  std::memcpy(&words[2], &h.vote, sizeof(float));
+  for (const uint32_t w : words) {
+    for (int byte = 0; byte < 4; ++byte) {
+      digest = (digest ^ ((w >> (8 * byte)) & 0xffu)) * 16777619u;
+    }
+  }
+  return digest;
+}
 
 bool DeadlinePassed(const Budget& b) {
   return b.deadline_ns != 0 && b.now_ns != nullptr && b.now_ns() >= b.deadline_ns;
@@ -802,6 +815,7 @@ bool MonoRecognizer::TryBasis(uint32_t k, const Vector<RecognizedObject>& object
   const uint32_t most = max_scene_bases_ - std::min(max_scene_bases_, stats->scene_bases_tried) + 1;
   const int n = VoteInTurn(k, objects.size(), most, hyps);
   stats->hypotheses += static_cast<uint32_t>(n);
+  for (int i = 0; i < n; ++i) stats->votes_digest = DigestVote(stats->votes_digest, k, hyps[i]);
   // The hypotheses are evaluated in slots (hypothesis i in slot i % slots, each slot's best the
   // first of most evidence in its order), then the slots' bests compared: the most evidence,
   // the lower index on a tie, as the serial loop keeps the first of most evidence.

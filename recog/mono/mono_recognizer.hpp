@@ -122,6 +122,9 @@ struct MonoStats {
   uint32_t rejected_verify = 0;
   uint32_t accepted = 0;
   uint32_t aspects_enabled = 0;
+  // A fingerprint of the votes the search took, in order (each hypothesis's scene basis, model
+  // basis and vote; FNV-1a): equal searches give equal digests, on any number of threads.
+  uint32_t votes_digest = 2166136261u;
   bool budget_exhausted = false;
   bool objects_full = false;
 };
