@@ -65,7 +65,7 @@ bool LineDirectionIndex::Build(const TableView& table, float angle_cut_mm2) {
   for (uint32_t b = 0; b < bins; ++b) {
     for (uint32_t e = bin_offsets[b]; e < bin_offsets[b + 1]; ++e) {
       const Entry d = DecodeLineEntry(lines[e], e);
-      entries_[fill[ClassOf({d.ux, d.uy, d.uz})]++] = d;
+      Store(fill[ClassOf({d.ux, d.uy, d.uz})]++, d);
     }
   }
 
@@ -80,14 +80,13 @@ bool LineDirectionIndex::Build(const TableView& table, float angle_cut_mm2) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     double min_length = 1e30;
     for (uint32_t i = begin; i < end; ++i) {
-      sum += Aligned({entries_[i].ux, entries_[i].uy, entries_[i].uz}).normalized();
-      min_length = std::min(min_length, double(entries_[i].length_mm));
+      sum += Aligned({ux_[i], uy_[i], uz_[i]}).normalized();
+      min_length = std::min(min_length, double(length_mm_[i]));
     }
     const Eigen::Vector3d axis = sum.normalized();
     double spread = 0.0;
     for (uint32_t i = begin; i < end; ++i) {
-      const Eigen::Vector3d u =
-          Aligned({entries_[i].ux, entries_[i].uy, entries_[i].uz}).normalized();
+      const Eigen::Vector3d u = Aligned({ux_[i], uy_[i], uz_[i]}).normalized();
       spread = std::max(spread, std::acos(std::clamp(std::fabs(u.dot(axis)), 0.0, 1.0)));
     }
     const double cut = double(angle_cut_mm2);
@@ -99,6 +98,17 @@ bool LineDirectionIndex::Build(const TableView& table, float angle_cut_mm2) {
   }
   built_ = true;
   return true;
+}
+
+void LineDirectionIndex::Store(uint32_t i, const Entry& e) {
+  ux_[i] = e.ux;
+  uy_[i] = e.uy;
+  uz_[i] = e.uz;
+  length_mm_[i] = e.length_mm;
+  cx_[i] = e.cx;
+  cy_[i] = e.cy;
+  cz_[i] = e.cz;
+  table_index_[i] = e.table_index;
 }
 
 uint64_t LineDirectionIndex::LiveClasses(const Eigen::Vector3f& v) const {

@@ -13,11 +13,16 @@
 // holds, so a row of bins is visited only for the classes that have entries there. Tables with more
 // bins or entries than the capacities below are not indexed (built() is false) and are searched as
 // they are.
+//
+// The decoded entries are kept as columns (one array per field), so that a look-up tests four
+// consecutive entries at once (line_look_up.hpp); each column is padded by four so that the last
+// group of a range may be read whole.
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
 
+#include "recog/base/float4.hpp"
 #include "tables/table_view.hpp"
 
 namespace sh {
@@ -62,7 +67,20 @@ class LineDirectionIndex {
   // Entries of class c in bins [bin_lo, bin_hi] (bins of the table's line grid).
   uint32_t begin(int c, uint32_t bin_lo) const { return offsets_[c][bin_lo]; }
   uint32_t end(int c, uint32_t bin_hi) const { return offsets_[c][bin_hi + 1]; }
-  const Entry& entry(uint32_t i) const { return entries_[i]; }
+  Entry entry(uint32_t i) const {
+    return {ux_[i], uy_[i], uz_[i], length_mm_[i], cx_[i], cy_[i], cz_[i], table_index_[i]};
+  }
+
+  // Entries i .. i + 3 as four-lane columns (entries past the last read as zero-length at the
+  // origin; a range's caller masks the lanes past its end).
+  struct Lanes {
+    Float4 ux, uy, uz, length_mm, cx, cy, cz;
+  };
+  Lanes LanesAt(uint32_t i) const {
+    return {LoadFloat4(ux_ + i),        LoadFloat4(uy_ + i), LoadFloat4(uz_ + i),
+            LoadFloat4(length_mm_ + i), LoadFloat4(cx_ + i), LoadFloat4(cy_ + i),
+            LoadFloat4(cz_ + i)};
+  }
 
   // The class of a direction (either sign).
   static int ClassOf(const Eigen::Vector3f& u);
@@ -74,7 +92,12 @@ class LineDirectionIndex {
   float min_abs_cos_[kClasses] = {};          // live while |v . axis| >= this
   uint16_t offsets_[kClasses][kMaxBins + 1];  // per class: bin -> first entry
   uint64_t bin_classes_[kMaxBins] = {};       // per bin: the classes with entries in it
-  Entry entries_[kMaxEntries];
+  static constexpr uint32_t kPadded = kMaxEntries + kFloat4Lanes;
+  float ux_[kPadded] = {}, uy_[kPadded] = {}, uz_[kPadded] = {}, length_mm_[kPadded] = {};
+  float cx_[kPadded] = {}, cy_[kPadded] = {}, cz_[kPadded] = {};
+  uint32_t table_index_[kMaxEntries] = {};
+
+  void Store(uint32_t i, const Entry& e);
 };
 
 // A table line entry decoded to float (the values the vote computes with): Q10.6 mm and Q2.14

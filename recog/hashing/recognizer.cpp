@@ -231,10 +231,16 @@ void Recognizer::VotePoint(const Eigen::Vector3f& q, VoteScratch& scratch) const
   }
 }
 
-// One line entry's vote for the scene line, kept if it beats the entry's best so far.
+// One line entry's vote for the scene line, kept if it beats the entry's best so far; the
+// entries the look-up's tests rule out are skipped.
 inline void Recognizer::VoteLineEntry(const LineDirectionIndex::Entry& l, const LineLookUp& q,
                                       VoteScratch& scratch) const {
-  if (q.RulesOut(l)) return;
+  if (!q.RulesOut(l)) VoteKeptLineEntry(l, q, scratch);
+}
+
+// The vote of an entry the look-up's tests kept.
+inline void Recognizer::VoteKeptLineEntry(const LineDirectionIndex::Entry& l, const LineLookUp& q,
+                                          VoteScratch& scratch) const {
   const Eigen::Vector3f c(l.cx, l.cy, l.cz), u(l.ux, l.uy, l.uz);
   const uint16_t vote =
       votes_lut_.Vote(SegmentLineDistance2(c, u, l.length_mm, q.s, q.v), inv_sigma2_line_);
@@ -271,8 +277,12 @@ void Recognizer::VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v,
         for (uint64_t m = live & line_index_.ClassesIn(first, last); m != 0; m &= m - 1) {
           const int c = __builtin_ctzll(m);
           const uint32_t end = line_index_.end(c, last);
-          for (uint32_t i = line_index_.begin(c, first); i < end; ++i) {
-            VoteLineEntry(line_index_.entry(i), q, scratch);
+          for (uint32_t i = line_index_.begin(c, first); i < end; i += kFloat4Lanes) {
+            unsigned kept = q.KeptLanes(line_index_.LanesAt(i));
+            if (end - i < uint32_t(kFloat4Lanes)) kept &= (1u << (end - i)) - 1u;
+            for (; kept != 0; kept &= kept - 1) {
+              VoteKeptLineEntry(line_index_.entry(i + uint32_t(__builtin_ctz(kept))), q, scratch);
+            }
           }
         }
         continue;

@@ -251,6 +251,8 @@ class Recognizer {
   void VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v, VoteScratch& scratch) const;
   void VoteLineEntry(const LineDirectionIndex::Entry& l, const LineLookUp& q,
                      VoteScratch& scratch) const;
+  void VoteKeptLineEntry(const LineDirectionIndex::Entry& l, const LineLookUp& q,
+                         VoteScratch& scratch) const;
   // The hypotheses of candidate `index` (basis `b`) of the current pass: from the bases voted
   // ahead when it is among them, else voted now (with two threads or more: together with the
   // next active bases, `most` bases in all at the most, this one included).

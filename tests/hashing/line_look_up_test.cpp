@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <memory>
 #include <random>
 
 #include "recog/hashing/basis.hpp"
@@ -91,6 +92,63 @@ TEST(LineLookUp, EachTestRulesOutItsOwnCase) {
   const Eigen::Vector3f turned = (Eigen::AngleAxisf(0.5236f, q.n) * v).normalized();
   EXPECT_TRUE(q.RulesOut(entry(on_line, turned, 40.0f)));
   EXPECT_FALSE(q.RulesOut(entry(on_line, turned, 10.0f)));
+}
+
+// Four entries at once: each test still rules out its own case in its own lane, and on the
+// built-in table every entry that votes is kept, while most are not.
+TEST(LineLookUp, KeptLanesAreTheEntriesThatMayVote) {
+  const Eigen::Vector3f v = Eigen::Vector3f(1.0f, 0.2f, -0.1f).normalized();
+  const LineLookUp q =
+      LineLookUp::For(SupportVector(Eigen::Vector3f(10, 20, 30), v), v, kInvSigma2);
+  const Eigen::Vector3f on_line = q.s + 15.0f * v;
+  const Eigen::Vector3f turned = (Eigen::AngleAxisf(0.5236f, q.n) * v).normalized();
+  const Eigen::Vector3f centres[4] = {on_line + 0.5f * q.n, on_line + 6.0f * q.n,
+                                      on_line + 6.0f * q.m, on_line};
+  const Eigen::Vector3f directions[4] = {v, v, v, turned};
+  LineDirectionIndex::Lanes lanes{};
+  for (int k = 0; k < 4; ++k) {
+    lanes.cx[k] = centres[k].x();
+    lanes.cy[k] = centres[k].y();
+    lanes.cz[k] = centres[k].z();
+    lanes.ux[k] = directions[k].x();
+    lanes.uy[k] = directions[k].y();
+    lanes.uz[k] = directions[k].z();
+    lanes.length_mm[k] = k == 3 ? 40.0f : 30.0f;
+  }
+  EXPECT_EQ(q.KeptLanes(lanes), 1u);
+  lanes.length_mm[3] = 10.0f;  // short enough to vote though turned
+  EXPECT_EQ(q.KeptLanes(lanes), 9u);
+
+  auto view = OpenDefaultTable();
+  ASSERT_TRUE(view.ok());
+  auto index = std::make_unique<LineDirectionIndex>();
+  ASSERT_TRUE(index->Build(*view, 12.0f * float(kVoteCutoff) / kInvSigma2));
+  const uint32_t n = view->line_entry_count();
+  const VoteTable lut;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> offset_mm(-4.0f, 4.0f);
+  int kept = 0, visited = 0, voted = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const LineDirectionIndex::Entry e = index->entry(rng() % n);
+    const Eigen::Vector3f u =
+        (Eigen::Vector3f(e.ux, e.uy, e.uz) + 0.05f * RandomUnit(rng)).normalized();
+    const Eigen::Vector3f through = Eigen::Vector3f(e.cx, e.cy, e.cz) +
+                                    Eigen::Vector3f(offset_mm(rng), offset_mm(rng), offset_mm(rng));
+    const LineLookUp look = LineLookUp::For(SupportVector(through, u), u, kInvSigma2);
+    for (uint32_t i = 0; i < n; i += 4) {
+      const unsigned bits = look.KeptLanes(index->LanesAt(i));
+      for (uint32_t k = 0; k < 4 && i + k < n; ++k) {
+        const bool lane_kept = (bits >> k) & 1u;
+        const uint16_t vote = VoteOf(lut, look, index->entry(i + k));
+        ASSERT_TRUE(vote == 0 || lane_kept) << "entry " << i + k << " in trial " << trial;
+        kept += lane_kept;
+        voted += vote > 0;
+        ++visited;
+      }
+    }
+  }
+  EXPECT_GT(voted, 0);
+  EXPECT_LT(kept, visited / 10);
 }
 
 }  // namespace
