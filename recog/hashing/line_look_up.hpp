@@ -5,10 +5,10 @@
 // (support vector s, unit direction v) is the Gaussian of eq. 4.4, d^2 = |perpendicular part of
 // c - s|^2 + L^2/12 (1 - (u . v)^2), cut at d^2 >= kVoteCutoff sigma^2 (vote_lut.hpp). Each
 // term alone bounds d^2 from below, so an entry with a term at or over the cut cannot vote.
-// The tests, cheapest first: the centre's offset along n (one direction across v), then with
-// its offset along m (across v and n) the whole perpendicular distance, then the angle term.
-// The cuts carry a margin for rounding, so the tests only save work: an entry they rule out
-// would have voted 0.
+// The tests: the centre's whole perpendicular distance (its offsets along n and m, two unit
+// directions across v) and the angle term, for four entries at once (KeptLanes; RulesOut is
+// the same test for one entry). The cuts carry a margin for rounding, so the tests only save
+// work: an entry they rule out would have voted 0.
 #pragma once
 
 #include <Eigen/Core>
@@ -47,8 +47,8 @@ struct LineLookUp {
     return q;
   }
 
-  // The tests of RulesOut for four entries at once, all three for every lane (no branch to
-  // mispredict: most entries fail, in no order). Bit k set: entry k of the four may vote.
+  // The tests for four entries at once, both for every lane (no branch to mispredict: most
+  // entries fail, in no order). Bit k set: entry k of the four may vote.
   unsigned KeptLanes(const LineDirectionIndex::Lanes& l) const {
     const Float4 offset = SplatFloat4(n.x()) * l.cx + SplatFloat4(n.y()) * l.cy +
                           SplatFloat4(n.z()) * l.cz - SplatFloat4(n_dot_s);
@@ -63,18 +63,11 @@ struct LineLookUp {
     return LaneBits(near & parallel);
   }
 
-  // True when entry l cannot vote for the line.
+  // True when entry l cannot vote for the line: KeptLanes with l in its first lane.
   bool RulesOut(const LineDirectionIndex::Entry& l) const {
-    const Eigen::Vector3f c(l.cx, l.cy, l.cz);
-    // On thesis-camera about three in four of the entries visited fail the first test, and
-    // four in five of the rest the second.
-    const float offset = n.dot(c) - n_dot_s;
-    const float offset2 = offset * offset;
-    if (offset2 >= offset_cut_mm2) return true;
-    const float across = m.dot(c) - m_dot_s;
-    if (offset2 + across * across >= offset_cut_mm2) return true;
-    const float cos_angle = v.dot(Eigen::Vector3f(l.ux, l.uy, l.uz));
-    return l.length_mm * l.length_mm * (1.0f - cos_angle * cos_angle) >= angle_cut_mm2;
+    const LineDirectionIndex::Lanes one = {{l.ux}, {l.uy}, {l.uz}, {l.length_mm},
+                                           {l.cx}, {l.cy}, {l.cz}};
+    return (KeptLanes(one) & 1u) == 0;
   }
 };
 
