@@ -9,129 +9,12 @@ namespace sh {
 namespace {
 
 constexpr float kMinDepthMm = 1.0f;
-constexpr int kMaxSearchPx = 32;
 constexpr int kMinSolveSamples = 12;
 constexpr float kTangentStepMm = 0.5f;
 constexpr float kImageMarginPx = 1.0f;
 
 using Vec6 = Eigen::Matrix<float, 6, 1>;
 using Mat6 = Eigen::Matrix<float, 6, 6>;
-
-float ColourDistance(const float* a, const float* b) {
-  const float d0 = a[0] - b[0], d1 = a[1] - b[1], d2 = a[2] - b[2];
-  return std::sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-}
-
-// Peak offset of a parabola through (-1, a), (0, b), (1, c), clamped to [-0.5, 0.5].
-float ParabolaPeak(float a, float b, float c) {
-  const float den = a - 2.0f * b + c;
-  if (!(den < 0.0f)) return 0.0f;
-  return std::max(-0.5f, std::min(0.5f, 0.5f * (a - c) / den));
-}
-
-// The edge along p + s n (|s| <= range) nearest s = 0, as described in the header: a class
-// transition (inside -> outside along n) for a silhouette, a gradient peak inside the part for a
-// crease. Classes come from the segmentation's class image at the nearest pixel; colours are
-// interpolated only where a gradient is needed (around the transitions for silhouettes).
-// Returns false when there is none.
-//
-// Transitions are examined from s = 0 outwards and the search stops once no farther one can come
-// nearer than the edge found (the peak lies within a sample and a half of its transition), so a
-// pose near the image's edges reads a few pixels per sample, not the whole range. Of edges at the
-// same distance the one at the smaller s is kept, as a scan from -range would keep it.
-// Flattened: the lambdas below and the colour interpolation inlined into one body (the search
-// runs for every sample of every pass; 5 % fewer instructions in it than with the calls).
-[[gnu::flatten]] bool SearchEdge(ImageView<const Rgb8> image, ConstGrayView classes, uint8_t colour,
-                                 bool silhouette, const Eigen::Vector2f& p,
-                                 const Eigen::Vector2f& n, int range, float min_contrast,
-                                 float* s_out) {
-  constexpr int kMax = 2 * kMaxSearchPx + 3;
-  constexpr uint8_t kRead = 1, kValid = 2, kInside = 4, kSampled = 8, kGradient = 16;
-  float c[kMax][3];
-  float gradient[kMax];             // g(i), once kGradient is set in state[i]
-  uint8_t state[kMax] = {};         // per sample: which of kRead, kValid, kInside, kSampled hold
-  const int count = 2 * range + 3;  // s = -range - 1 .. range + 1
-  auto read = [&](int i) -> uint8_t {
-    if (!(state[i] & kRead)) {
-      const float s = static_cast<float>(i - range - 1);
-      const float x = p.x() + s * n.x(), y = p.y() + s * n.y();
-      const bool valid =
-          x >= 0.0f && y >= 0.0f && x <= image.width - 1.0f && y <= image.height - 1.0f;
-      // x, y >= 0 where read: adding a half and truncating is rounding to the nearest pixel.
-      const bool inside =
-          valid && classes.at(static_cast<int>(x + 0.5f),  // NOLINT(bugprone-incorrect-roundings)
-                              static_cast<int>(y + 0.5f))  // NOLINT(bugprone-incorrect-roundings)
-                       == colour;
-      state[i] = static_cast<uint8_t>(kRead | (valid ? kValid : 0) | (inside ? kInside : 0));
-    }
-    return state[i];
-  };
-  auto valid = [&](int i) { return (read(i) & kValid) != 0; };
-  auto inside = [&](int i) { return (read(i) & kInside) != 0; };
-  auto rgb = [&](int i) -> const float* {
-    if (!(state[i] & kSampled)) {
-      const float s = static_cast<float>(i - range - 1);
-      const bool ok = SampleRgb(image, p.x() + s * n.x(), p.y() + s * n.y(), c[i]);
-      state[i] = static_cast<uint8_t>((read(i) & ~kValid) | kSampled | (ok ? kValid : 0));
-    }
-    return c[i];
-  };
-  // Colour gradient between samples i and i + 1 (at s = i - range - 0.5); 0 where undefined.
-  // Kept once computed: an edge's test and its parabola read the same gradients again.
-  auto g = [&](int i) -> float {
-    if (i < 0 || i + 1 >= count || !valid(i) || !valid(i + 1)) return 0.0f;
-    if (state[i] & kGradient) return gradient[i];
-    const float* a = rgb(i);
-    const float* b = rgb(i + 1);
-    gradient[i] = valid(i) && valid(i + 1) ? ColourDistance(a, b) : 0.0f;
-    state[i] = static_cast<uint8_t>(state[i] | kGradient);
-    return gradient[i];
-  };
-  // The edge of the transition between samples i and i + 1, if there is one there.
-  auto edge_at = [&](int i, float* s) -> bool {
-    int peak = i;
-    float g_peak;
-    if (silhouette) {
-      // Part colour before, something else after; two samples on each side where they exist.
-      if (!valid(i) || !valid(i + 1) || !inside(i) || inside(i + 1)) return false;
-      if ((valid(i - 1) && !inside(i - 1)) || (valid(i + 2) && inside(i + 2))) return false;
-      // The classes switch where a blended pixel stops looking like the part, which for a dark
-      // background is well past the middle of the blend: the edge is the gradient's peak next
-      // to that switch.
-      g_peak = g(i);
-      const float before = g(i - 1), after = g(i + 1);
-      if (before > g_peak) peak = i - 1, g_peak = before;
-      if (after > g_peak) peak = i + 1, g_peak = after;
-      if (peak == 0 || peak + 1 >= count) return false;
-    } else {
-      if (!inside(i) || !inside(i + 1)) return false;
-      g_peak = g(i);
-      if (g_peak < g(i - 1) || g_peak < g(i + 1)) return false;
-    }
-    if (g_peak < min_contrast) return false;
-    *s = static_cast<float>(peak - range) - 0.5f + ParabolaPeak(g(peak - 1), g_peak, g(peak + 1));
-    return true;
-  };
-  float best = 1e30f;
-  int best_i = count;
-  // Transitions i = 1 .. 2 range lie at s = i - range - 0.5: the pair d is at |s| = d + 0.5, and
-  // an edge found there lies within 1.5 of it (peak one sample away, parabola half a sample).
-  for (int d = 0; d < range; ++d) {
-    if ((best_i < count) && (static_cast<float>(d) - 1.0f > std::fabs(best))) break;
-    const int pair[2] = {range + 1 + d, range - d};
-    for (const int i : pair) {
-      float s;
-      if (!edge_at(i, &s)) continue;
-      const float a = std::fabs(s), b = std::fabs(best);
-      if (a < b || (a == b && i < best_i)) {
-        best = s;
-        best_i = i;
-      }
-    }
-  }
-  *s_out = best;
-  return best_i < count;
-}
 
 // Rotation of a small rotation vector (exact, Rodrigues).
 Eigen::Matrix3f Exp(const Eigen::Vector3f& w) {
@@ -152,7 +35,7 @@ Status CheckShapeRefineConfig(const ShapeRefineConfig& c) {
   const bool ok = c.sample_step_px >= 0.5f && c.sample_step_px <= 50.0f &&
                   c.min_crease_angle_deg >= 0.0f && c.min_crease_angle_deg <= 180.0f &&
                   c.iterations >= 1 && c.iterations <= 100 && c.search_start_px >= 1.0f &&
-                  c.search_start_px <= kMaxSearchPx && c.search_end_px >= 1.0f &&
+                  c.search_start_px <= kMaxEdgeSearchPx && c.search_end_px >= 1.0f &&
                   c.search_end_px <= c.search_start_px && c.min_edge_contrast >= 0.0f &&
                   c.huber_px > 0.0f && c.confirm_px > 0.0f && c.converged_mm >= 0.0f &&
                   c.visibility_every >= 1 && c.min_start_share >= 0.0f && c.min_start_share <= 1.0f;
@@ -160,24 +43,9 @@ Status CheckShapeRefineConfig(const ShapeRefineConfig& c) {
     return Status::Error(StatusCode::kOutOfRange,
                          "shape refinement: settings out of range (step 0.5..50 px, iterations "
                          "1..100, search 1..%d px narrowing, positive tolerances)",
-                         kMaxSearchPx);
+                         kMaxEdgeSearchPx);
   }
   return Status::Ok();
-}
-
-bool SampleRgb(ImageView<const Rgb8> image, float x, float y, float rgb[3]) {
-  const int w = image.width, h = image.height;
-  if (!(x >= 0.0f && y >= 0.0f && x <= w - 1.0f && y <= h - 1.0f) || w < 2 || h < 2) return false;
-  const int x0 = std::min(static_cast<int>(x), w - 2);
-  const int y0 = std::min(static_cast<int>(y), h - 2);
-  const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
-  const Rgb8* r0 = image.row(y0) + x0;
-  const Rgb8* r1 = image.row(y0 + 1) + x0;
-  const float wa = (1 - fx) * (1 - fy), wb = fx * (1 - fy), wc = (1 - fx) * fy, wd = fx * fy;
-  rgb[0] = wa * r0[0].r + wb * r0[1].r + wc * r1[0].r + wd * r1[1].r;
-  rgb[1] = wa * r0[0].g + wb * r0[1].g + wc * r1[0].g + wd * r1[1].g;
-  rgb[2] = wa * r0[0].b + wb * r0[1].b + wc * r1[0].b + wd * r1[1].b;
-  return true;
 }
 
 Status ShapeRefiner::Collect(const ViewCamera& view, const PosedModel& object,

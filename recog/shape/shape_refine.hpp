@@ -31,6 +31,7 @@
 #include "recog/geometry/rigid_transform.hpp"
 #include "recog/image/frame.hpp"
 #include "recog/shape/colour_classes.hpp"
+#include "recog/shape/edge_search.hpp"
 #include "recog/verify/view_camera.hpp"
 #include "recog/verify/visible_edges.hpp"
 
@@ -111,9 +112,5 @@ class ShapeRefiner {
   Sample samples_[2][kMaxRefineSamples];
   int n_samples_[2] = {0, 0};
 };
-
-// Sub-pixel R'G'B' of an image at (x, y) (bilinear; pixel centres at integer coordinates).
-// False outside [0, w - 1] x [0, h - 1].
-bool SampleRgb(ImageView<const Rgb8> image, float x, float y, float rgb[3]);
 
 }  // namespace sh
