@@ -287,6 +287,11 @@ TEST(MonoPipeline, SetCameraSearchesTheOtherImageAndSetsBack) {
 
 // A ParallelFor whose calls beyond the first run on another thread, which counts them: the
 // hypotheses of the slots beyond the first must be evaluated there, not on the caller.
+//
+// The other thread's calls end before the caller's starts. Calls that take the next job not yet
+// taken would otherwise leave a worker that starts late (a loaded machine) nothing to do, and
+// what a test asserts of the other thread's work would depend on the load. No call waits for
+// another, so the order is one a pool may give too.
 struct OtherThread {
   std::atomic<int> calls{0};
 
@@ -301,8 +306,8 @@ struct OtherThread {
           other->calls.fetch_add(1);
         }
       });
-      if (n > 0) fn(context, 0);
       worker.join();
+      if (n > 0) fn(context, 0);
     };
     return parallel;
   }
