@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "recog/camera/calibration_check.hpp"
+#include "recog/shape/sampled_row_sad.hpp"
 #include "recog/shape/silhouette_placement.hpp"
 #include "recog/stereo/triangulation.hpp"
 
@@ -373,22 +374,27 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
   // The blob's sampled pixels: no shift maps more of them, so a sum of differences that already
   // reaches best_cost times their count cannot give a lower mean; the depth is dropped there.
   // Per sampled row, the first and last sampled columns that are the blob's: the shifts read
-  // between them only (the same pixels; an empty row has last < first).
+  // between them only (the same pixels; an empty row has last < first). A row whose sampled
+  // columns between them are all the blob's (most rows of a compact part) is compared in byte
+  // vectors (SampleRowSad).
   struct Span {
     int16_t first, last;
+    bool full;
   };
   Span spans[kMaxImageHeight / kSampleStride + 1];
   uint32_t n_blob = 0;
   for (int y = blob.y0, r = 0; y <= blob.y1; y += kSampleStride, ++r) {
     const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(y) * w;
-    int first = blob.x1 + 1, last = blob.x0 - 1;
+    int first = blob.x1 + 1, last = blob.x0 - 1, n_row = 0;
     for (int x = blob.x0; x <= blob.x1; x += kSampleStride) {
       if (ids[x] != id) continue;
-      ++n_blob;
+      ++n_row;
       first = std::min(first, x);
       last = x;
     }
-    spans[r] = {static_cast<int16_t>(first), static_cast<int16_t>(last)};
+    n_blob += static_cast<uint32_t>(n_row);
+    spans[r] = {static_cast<int16_t>(first), static_cast<int16_t>(last),
+                n_row > 0 && n_row == (last - first) / kSampleStride + 1};
   }
   if (n_blob == 0) return 0.0f;
   // The depth steps in contiguous ranges the threads take in turn, with one best for all: a step
@@ -436,14 +442,30 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
         const Rgb8* s_row = src.row(y);
         const Rgb8* d_row = dst.row(yo);
         const uint8_t* c_row = dst_classes.row(yo);
-        for (int x = spans[r].first; x <= spans[r].last; x += kSampleStride) {
-          const int xo = x + dx;
-          if (ids[x] != id || xo < 0 || xo >= co.width) continue;
-          ++n;
-          same += c_row[xo] == blob.colour;
-          sad += static_cast<uint32_t>(std::abs(s_row[x].r - d_row[xo].r) +
-                                       std::abs(s_row[x].g - d_row[xo].g) +
-                                       std::abs(s_row[x].b - d_row[xo].b));
+        if (spans[r].full) {
+          // The sampled columns whose shifted pixel lies in the other image.
+          const int first = spans[r].first;
+          const int lo = std::max(first, -dx), hi = std::min<int>(spans[r].last, co.width - 1 - dx);
+          const int lo_sampled = lo + (lo - first) % kSampleStride;
+          const int hi_sampled = hi - (hi - first) % kSampleStride;
+          if (hi >= first && lo_sampled <= hi_sampled) {
+            const int m = (hi_sampled - lo_sampled) / kSampleStride + 1;
+            const SampledRowSad row = SampleRowSad(s_row + lo_sampled, d_row + lo_sampled + dx,
+                                                   c_row + lo_sampled + dx, m, blob.colour);
+            n += static_cast<uint32_t>(m);
+            same += row.same;
+            sad += row.sad;
+          }
+        } else {
+          for (int x = spans[r].first; x <= spans[r].last; x += kSampleStride) {
+            const int xo = x + dx;
+            if (ids[x] != id || xo < 0 || xo >= co.width) continue;
+            ++n;
+            same += c_row[xo] == blob.colour;
+            sad += static_cast<uint32_t>(std::abs(s_row[x].r - d_row[xo].r) +
+                                         std::abs(s_row[x].g - d_row[xo].g) +
+                                         std::abs(s_row[x].b - d_row[xo].b));
+          }
         }
         const float least = static_cast<float>(sad) / static_cast<float>(n_blob);
         beaten = pack(least, k) > best.load(std::memory_order_relaxed);
