@@ -190,16 +190,19 @@ bool ShapeRecognizer::AddBlob(int camera, const ColourRegion& blob, uint8_t roun
   return true;
 }
 
-bool ShapeRecognizer::BlobWindow(int camera, const ColourRegion& blob, ShapeWindow* window) {
+bool ShapeRecognizer::BlobWindow(int camera, const ColourRegion& blob, ThreadScratch& scratch,
+                                 ShapeWindow* window) const {
+  // The blob's mask in the slot's silhouette raster, free while the candidates are sought.
+  uint8_t* const mask_px = scratch.silhouette.mask;
   const uint8_t id = static_cast<uint8_t>(&blob - blobs_[camera].data() + 1);
   const int w = segmentation_[camera].width();
   for (int y = 0; y < blob.height(); ++y) {
     const uint8_t* ids = blob_ids_[camera] + static_cast<size_t>(blob.y0 + y) * w + blob.x0;
-    uint8_t* m = region_mask_ + static_cast<size_t>(y) * blob.width();
+    uint8_t* m = mask_px + static_cast<size_t>(y) * blob.width();
     for (int x = 0; x < blob.width(); ++x) m[x] = ids[x] == id ? 255 : 0;
   }
-  const ConstGrayView mask{region_mask_, blob.width(), blob.height(), blob.width()};
-  return ComputeShapeWindow(mask, window_scratch_, window).ok();
+  const ConstGrayView mask{mask_px, blob.width(), blob.height(), blob.width()};
+  return ComputeShapeWindow(mask, scratch.window, window).ok();
 }
 
 void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
@@ -207,18 +210,24 @@ void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
   const int first = seed.blob[0] >= 0 ? 0 : 1;
   const uint8_t colour = blobs_[first][seed.blob[first]].colour;
   // The window of each image, its projection and then the nearest views of each image and model
-  // of the colour on the worker threads (the projections and searches only read; each writes
-  // its own coefficients or list), then the candidates from the lists in image and model order.
+  // of the colour on the worker threads (the windows, projections and searches only read; each
+  // writes its own window, coefficients or list), then the candidates from the lists in image
+  // and model order.
   ShapeCoefficients coefficients[2];
   bool windowed[2] = {false, false};
+  int with_blob[2];  // the images the seed has a blob in
+  int n_with_blob = 0;
+  for (int cam = 0; cam < 2; ++cam) {
+    if (seed.blob[cam] >= 0) with_blob[n_with_blob++] = cam;
+  }
+  Spread(n_with_blob, [&](int slot, int k) {
+    const int cam = with_blob[k];
+    windowed[cam] = BlobWindow(cam, blobs_[cam][seed.blob[cam]], scratch_[slot], &windows_[cam]);
+  });
   int projected[2];  // the windowed images
   int n_projected = 0;
   for (int cam = 0; cam < 2; ++cam) {
-    if (seed.blob[cam] < 0 || !BlobWindow(cam, blobs_[cam][seed.blob[cam]], &windows_[cam])) {
-      continue;
-    }
-    windowed[cam] = true;
-    projected[n_projected++] = cam;
+    if (windowed[cam]) projected[n_projected++] = cam;
   }
   // The projection (half of the candidates' time on one thread) in a share per thread and
   // image: a mono seed's too is spread.

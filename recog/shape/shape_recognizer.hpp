@@ -49,7 +49,8 @@ inline constexpr size_t kMaxShapeCandidates = 24;  // views tried per seed (both
 inline constexpr size_t kMaxBlobs = 192;
 inline constexpr int kShapeRounds = 3;
 // Threads that refine one seed's candidates at once (ShapeRecognizer::SetParallel); each has its
-// own refiner and silhouette raster (about 1.5 MB: pages a thread never uses stay unbacked).
+// own refiner, silhouette raster and window rows (about 1.7 MiB: pages a thread never uses stay
+// unbacked).
 inline constexpr int kMaxShapeThreads = 4;
 
 // The two stages of refinement: a few iterations over sparse samples with a wide search, then
@@ -197,12 +198,14 @@ class ShapeRecognizer {
     float edge_score[2] = {0, 0};
     float background_share[2] = {1, 1};
   };
-  // What one refining thread writes: its refiner's samples and a silhouette raster (written
-  // before read, like the class's other scratch).
+  // What one thread writes: its refiner's samples, a silhouette raster (a blob's mask while
+  // the windows are computed) and a window's rows (written before read, like the class's other
+  // scratch).
   // NOLINTNEXTLINE(cppcoreguidelines-pro-type-member-init)
   struct ThreadScratch {
     ShapeRefiner refiner;
     SilhouetteScratch silhouette;
+    ShapeWindowScratch window;
   };
   // Time one refinement and its verification took (the stage times share a parallel stage's
   // wall-clock time in these proportions).
@@ -226,7 +229,8 @@ class ShapeRecognizer {
     return {blob_ids_[camera], segmentation_[camera].width(), segmentation_[camera].height(),
             segmentation_[camera].width()};
   }
-  bool BlobWindow(int camera, const ColourRegion& blob, ShapeWindow* window);
+  bool BlobWindow(int camera, const ColourRegion& blob, ThreadScratch& scratch,
+                  ShapeWindow* window) const;
   void Candidates(const Seed& seed, Vector<Candidate>& out);
   // The shift that places `silhouette` where it fits a blob that merges its part with another
   // (the blob larger than it by config_.merger_area_ratio); false: not a merger, or no fit.
@@ -292,7 +296,6 @@ class ShapeRecognizer {
   MaskPartsScratch parts_scratch_;
   uint8_t part_labels_[kMaxSplitPixels];
   int64_t search_ns_ = 0, refine_ns_ = 0, verify_ns_ = 0;
-  ShapeWindowScratch window_scratch_;
   ShapeWindow windows_[2];  // a seed's window in each image
   uint8_t region_mask_[kMaxImagePixels];
   uint8_t explained_[2][kMaxImagePixels];  // pixels covered by accepted objects' silhouettes
