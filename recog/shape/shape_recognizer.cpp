@@ -70,7 +70,8 @@ Status CheckShapeConfig(const ShapeConfig& c) {
                   2 * static_cast<size_t>(c.views_per_image) <= kMaxShapeCandidates &&
                   c.diverse_deg >= 0 && c.diverse_deg <= 180 && c.max_extent_ratio >= 1 &&
                   c.corrective_iterations >= 0 && c.corrective_iterations <= 20 &&
-                  c.min_edge_score >= 0 && c.min_edge_score <= 1 && c.max_background_share >= 0 &&
+                  c.corrective_converged_mm >= 0 && c.min_edge_score >= 0 &&
+                  c.min_edge_score <= 1 && c.max_background_share >= 0 &&
                   c.max_background_share <= 1 && c.explained_share > 0 && c.explained_share <= 1 &&
                   c.rounds >= 1 && c.rounds <= kShapeRounds && c.merger_area_ratio >= 0 &&
                   c.merger_area_ratio <= 1 && c.weak_edge_score >= 0 && c.weak_edge_score <= 1 &&
@@ -352,7 +353,9 @@ bool ShapeRecognizer::InitialPoseStereo(const Seed& seed, bool place, Silhouette
     if (!ok || !TriangulatePixels(calib_, target[0], target[1], &mid) || !(mid.depth_a_mm > 0)) {
       break;
     }
+    const float moved_mm = (mid.p_mm.cast<float>() - object->cam_T_model.t_mm).norm();
     object->cam_T_model.t_mm = mid.p_mm.cast<float>();
+    if (moved_mm < config_.corrective_converged_mm) break;
   }
   object->cam_T_model.R = RayFrame(object->cam_T_model.t_mm) * ray_R_model;
   return !place || placed;
@@ -523,13 +526,18 @@ bool ShapeRecognizer::InitialPoseMono(const Seed& seed, const Candidate& c, bool
   const RigidTransform left_T_cam = view.cam_T_left.Inverse();
   Eigen::Vector2d target(blob.cx, blob.cy);
   bool placed = false;
+  Eigen::Vector3f previous_t_cam = Eigen::Vector3f::Zero();
   for (int it = 0; it <= config_.corrective_iterations; ++it) {
     xy = UndistortPixel(ci, target);
     const Eigen::Vector3f t_cam =
         depth * Eigen::Vector3f(static_cast<float>(xy.x()), static_cast<float>(xy.y()), 1.0f);
     RigidTransform cam_T_model{RayFrame(t_cam) * ray_R_model, t_cam};
     object->cam_T_model = left_T_cam * cam_T_model;
-    if (it == config_.corrective_iterations) break;
+    if (it == config_.corrective_iterations ||
+        (it > 0 && (t_cam - previous_t_cam).norm() < config_.corrective_converged_mm)) {
+      break;
+    }
+    previous_t_cam = t_cam;
     SilhouetteMask mask;
     Eigen::Vector2d origin;
     if (!RasterizeSilhouette(view, *object, scratch, &mask).ok() || mask.empty() ||

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <limits>
 #include <memory>
 #include <string>
 #include <thread>
@@ -208,6 +209,21 @@ TEST_F(ShapeRecognizerTest, WinnersRefinedAgainFromTurnedStartsKeepTheirPoseOnEv
   ExpectEveryPartAtItsPose(parts, found);
 }
 
+// Every corrective iteration run (no convergence test): the same parts at their poses, the
+// convergence test being what the default runs in the tests above.
+TEST_F(ShapeRecognizerTest, AllCorrectiveIterationsFindWhatTheConvergedOnesFind) {
+  ShapeConfig config;
+  config.corrective_converged_mm = 0.0f;
+  ASSERT_TRUE(recognizer_->Init(calib_, views_, config, 0).ok());
+  const std::vector<testing::FlatPart> parts = Scene();
+  testing::FlatImage left, right;
+  testing::RenderFlatPair(calib_, parts, 40, 2.0f, &left, &right);
+  Vector<RecognizedObject, kMaxObjects> found;
+  ASSERT_TRUE(recognizer_->Process(left.frame(), right.frame(), found, nullptr).ok());
+  ASSERT_EQ(found.size(), static_cast<size_t>(kParts));
+  ExpectEveryPartAtItsPose(parts, found);
+}
+
 TEST(ShapeConfigTest, RefusesRestartsAndSecondPassesOutOfRange) {
   EXPECT_TRUE(CheckShapeConfig(ShapeConfig{}).ok());
   ShapeConfig c;
@@ -221,6 +237,11 @@ TEST(ShapeConfigTest, RefusesRestartsAndSecondPassesOutOfRange) {
   EXPECT_FALSE(CheckShapeConfig(c).ok());
   c = ShapeConfig{};
   c.second_pass_min_score = -0.1f;
+  EXPECT_FALSE(CheckShapeConfig(c).ok());
+  c = ShapeConfig{};
+  c.corrective_converged_mm = -0.5f;
+  EXPECT_FALSE(CheckShapeConfig(c).ok());
+  c.corrective_converged_mm = std::numeric_limits<float>::quiet_NaN();
   EXPECT_FALSE(CheckShapeConfig(c).ok());
 }
 
