@@ -386,9 +386,9 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
   // The blob's sampled pixels: no shift maps more of them, so a sum of differences that already
   // reaches best_cost times their count cannot give a lower mean; the depth is dropped there.
   // Per sampled row, the first and last sampled columns that are the blob's: the shifts read
-  // between them only (the same pixels; an empty row has last < first). A row whose sampled
-  // columns between them are all the blob's (most rows of a compact part) is compared in byte
-  // vectors (SampleRowSad).
+  // between them only (the same pixels; an empty row has last < first), in runs of the blob's
+  // columns compared in byte vectors (SampleRowSad). A row whose sampled columns between them
+  // are all the blob's (most rows of a compact part) is one run, found without reading its ids.
   struct Span {
     int16_t first, last;
     bool full;
@@ -454,29 +454,31 @@ float ShapeRecognizer::BlobDepth(int camera, const ColourRegion& blob) const {
         const Rgb8* s_row = src.row(y);
         const Rgb8* d_row = dst.row(yo);
         const uint8_t* c_row = dst_classes.row(yo);
-        if (spans[r].full) {
-          // The sampled columns whose shifted pixel lies in the other image.
-          const int first = spans[r].first;
-          const int lo = std::max(first, -dx), hi = std::min<int>(spans[r].last, co.width - 1 - dx);
-          const int lo_sampled = lo + (lo - first) % kSampleStride;
-          const int hi_sampled = hi - (hi - first) % kSampleStride;
-          if (hi >= first && lo_sampled <= hi_sampled) {
-            const int m = (hi_sampled - lo_sampled) / kSampleStride + 1;
-            const SampledRowSad row = SampleRowSad(s_row + lo_sampled, d_row + lo_sampled + dx,
-                                                   c_row + lo_sampled + dx, m, blob.colour);
-            n += static_cast<uint32_t>(m);
-            same += row.same;
-            sad += row.sad;
-          }
-        } else {
-          for (int x = spans[r].first; x <= spans[r].last; x += kSampleStride) {
-            const int xo = x + dx;
-            if (ids[x] != id || xo < 0 || xo >= co.width) continue;
-            ++n;
-            same += c_row[xo] == blob.colour;
-            sad += static_cast<uint32_t>(std::abs(s_row[x].r - d_row[xo].r) +
-                                         std::abs(s_row[x].g - d_row[xo].g) +
-                                         std::abs(s_row[x].b - d_row[xo].b));
+        // The sampled columns whose shifted pixel lies in the other image, compared in runs of
+        // the blob's columns (a full row is one run).
+        const int first = spans[r].first;
+        const int lo = std::max(first, -dx), hi = std::min<int>(spans[r].last, co.width - 1 - dx);
+        const int lo_sampled = lo + (lo - first) % kSampleStride;
+        const int hi_sampled = hi - (hi - first) % kSampleStride;
+        const auto add_run = [&](int x0, int x1) {  // sampled columns x0..x1, the blob's
+          const int m = (x1 - x0) / kSampleStride + 1;
+          const SampledRowSad run =
+              SampleRowSad(s_row + x0, d_row + x0 + dx, c_row + x0 + dx, m, blob.colour);
+          n += static_cast<uint32_t>(m);
+          same += run.same;
+          sad += run.sad;
+        };
+        const bool lands = hi >= first && lo_sampled <= hi_sampled;
+        if (lands && spans[r].full) {
+          add_run(lo_sampled, hi_sampled);
+        } else if (lands) {
+          for (int x = lo_sampled; x <= hi_sampled; x += kSampleStride) {
+            if (ids[x] != id) continue;
+            const int run_first = x;
+            while (x + kSampleStride <= hi_sampled && ids[x + kSampleStride] == id) {
+              x += kSampleStride;
+            }
+            add_run(run_first, x);
           }
         }
         const float least = static_cast<float>(sad) / static_cast<float>(n_blob);

@@ -75,10 +75,10 @@ struct ShapeConfig {
   float max_extent_ratio = 1.3f;
   int corrective_iterations = 3;
   // The corrective iterations stop early once one moves the part by less than this (0: all
-  // run). A move converges by a factor of about 40 an iteration from centroids (2.7 mm, then
-  // 0.06 mm, then 0.02 mm, medians on the recorded colour set): under 0.5 mm the next would be
-  // hundredths of a millimetre, far inside the coarse refinement's reach. Placements in a merger
-  // can still jump, and keep iterating.
+  // run). From centroids the moves shrink fast (2.7 mm, then 0.06 mm, then 0.02 mm, medians on
+  // the recorded colour set): after a move under 0.5 mm the next is hundredths of a millimetre,
+  // far inside the coarse refinement's reach. Placements in a merger can still jump, and keep
+  // iterating.
   float corrective_converged_mm = 0.5f;
   // A stereo seed's blob larger than a candidate's predicted silhouette by more than this share
   // (silhouette area under merger_area_ratio times the blob's) merges the part with another of

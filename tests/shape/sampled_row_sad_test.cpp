@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <cstddef>
-#include <cstdlib>
 #include <random>
 #include <vector>
 
@@ -15,14 +14,17 @@ namespace {
 
 constexpr uint8_t kColour = 4;
 
+// The reference, byte by byte: pixel x occupies bytes 3 x .. 3 x + 2, and the even pixels
+// from 0 to 2 (n - 1) count.
 SampledRowSad PlainSad(const Rgb8* src, const Rgb8* dst, const uint8_t* classes, int n) {
+  const auto* s = reinterpret_cast<const uint8_t*>(src);
+  const auto* d = reinterpret_cast<const uint8_t*>(dst);
   SampledRowSad out;
-  for (ptrdiff_t i = 0; i < n; ++i) {
-    const Rgb8& a = src[2 * i];
-    const Rgb8& b = dst[2 * i];
-    out.sad +=
-        static_cast<uint32_t>(std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b));
-    out.same += classes[2 * i] == kColour;
+  for (ptrdiff_t x = 0; x <= 2 * (static_cast<ptrdiff_t>(n) - 1); x += 2) {
+    if (classes[x] == kColour) ++out.same;
+    for (ptrdiff_t byte = 3 * x; byte < 3 * x + 3; ++byte) {
+      out.sad += static_cast<uint32_t>(s[byte] > d[byte] ? s[byte] - d[byte] : d[byte] - s[byte]);
+    }
   }
   return out;
 }
