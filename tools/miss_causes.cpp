@@ -276,9 +276,9 @@ void ExplainMisses(const std::vector<Model>& models, const std::vector<TruthObje
                                 pipeline.left_features().edges.orientation};
     const ConstEdgeMapView right{pipeline.right_features().edges.edge,
                                  pipeline.right_features().edges.orientation};
-    const Result<VerifyResult> v =
-        VerifyHypothesis(pipeline.calibration(), left, right, {&model, truth[i].cam_T_model},
-                         occluders, n_occluders, pipeline.config().verify);
+    const Result<VerifyResult> v = VerifyHypothesis(
+        pipeline.calibration(), left, right, {&model, truth[i].cam_T_model}, occluders, n_occluders,
+        pipeline.config().verify, pipeline.grey_evidence(0), pipeline.grey_evidence(1));
     const TruthPoseFit fit = FitFromTruePose(model, truth[i].cam_T_model, pipeline.scene(),
                                              pipeline.config().recognizer);
     const bool verifiable = v.ok() && v->accepted;

@@ -59,6 +59,9 @@ Status ChooseDetection(const ConstGrayView& image, const FeatureConfig& config,
                        FeatureConfig* effective, DetectionChoice* chosen) {
   *effective = config;
   *chosen = DetectionChoice{};
+  // Measured with a preset too: the verifier's faint-edge test needs it (VerifyConfig).
+  const NoiseEstimate noise = EstimateNoise(image);
+  chosen->noise_sigma = noise.sigma;
   if (config.adaptive) {
     if (!(config.edge_snr > 0 && config.canny_low_floor > 0 && config.canny_high_ratio >= 1 &&
           config.corner_contrast_snr > 0 && config.corner_min_contrast > 0 &&
@@ -67,8 +70,6 @@ Status ChooseDetection(const ConstGrayView& image, const FeatureConfig& config,
                            "adaptive detection needs positive factors, a high/low ratio >= 1 and "
                            "a minimum corner contrast in (0, 256)");
     }
-    const NoiseEstimate noise = EstimateNoise(image);
-    chosen->noise_sigma = noise.sigma;
     const float gradient_noise = noise.sigma * GradientNoiseGain(config.canny.sigma_px);
     effective->canny.low_threshold =
         std::fmax(config.canny_low_floor, config.edge_snr * gradient_noise);

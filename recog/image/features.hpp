@@ -72,10 +72,11 @@ struct FeatureWorkspace {
   }
 };
 
-// What the detectors used on one image (with `adaptive`: what they measured and chose).
+// What the detectors used on one image: the noise measured, and the thresholds (with
+// `adaptive`: chosen from it).
 struct DetectionChoice {
   bool adaptive = false;
-  float noise_sigma = 0.0f;  // measured sensor noise, grey levels (adaptive only)
+  float noise_sigma = 0.0f;  // measured sensor noise, grey levels
   float canny_low = 0.0f, canny_high = 0.0f;
   float corner_threshold = 0.0f;
 };

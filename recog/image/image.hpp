@@ -43,4 +43,17 @@ struct Rgb8 {
 };
 static_assert(sizeof(Rgb8) == 3, "Rgb8 must match interleaved RGB memory");
 
+// Bilinear sample of an 8-bit image at (x, y), which the caller keeps within [0, width - 1) x
+// [0, height - 1) (no clamping: the inner loops of correlation and verification).
+inline float SampleGrayInside(const ConstGrayView& img, float x, float y) {
+  const int x0 = static_cast<int>(x);
+  const int y0 = static_cast<int>(y);
+  const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
+  const uint8_t* r0 = img.row(y0) + x0;
+  const uint8_t* r1 = img.row(y0 + 1) + x0;
+  const float top = r0[0] + fx * static_cast<float>(r0[1] - r0[0]);
+  const float bottom = r1[0] + fx * static_cast<float>(r1[1] - r1[0]);
+  return top + fy * (bottom - top);
+}
+
 }  // namespace sh

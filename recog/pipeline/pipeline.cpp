@@ -28,6 +28,9 @@ PipelineConfig CommonPreset() {
   c.features = FeatureConfig::LightBackground();
   c.verify.max_distance_px = 2.5f;
   c.verify.min_fraction = 0.55f;
+  // Light parts on a light table show creases and outlines a few grey levels deep: the whole
+  // edge's step confirms them (VerifyConfig::faint_edges).
+  c.verify.faint_edges = true;
   // Hypotheses just above the thesis's 0.2 were mostly parts of objects fitted by wrong models.
   c.recognizer.vote_threshold = 0.25f;
   // Real scenes order their scene bases less well than synthetic ones (many spurious 3-D lines
@@ -94,6 +97,7 @@ PipelineConfig PipelineConfig::Automatic() {
 
 void EdgeMapVerifier::Reset(const StereoCalibration* calib, const TableView* table,
                             ConstEdgeMapView left, ConstEdgeMapView right,
+                            const GreyEvidence& left_grey, const GreyEvidence& right_grey,
                             const VerifyConfig* config, const TableConstraint* support,
                             int64_t (*now_ns)(), const PosedModel* hidden, size_t n_hidden) {
   calib_ = calib;
@@ -105,6 +109,8 @@ void EdgeMapVerifier::Reset(const StereoCalibration* calib, const TableView* tab
   table_ = table;
   left_ = left;
   right_ = right;
+  left_grey_ = left_grey;
+  right_grey_ = right_grey;
   config_ = config;
   now_ns_ = now_ns;
   elapsed_ns_ = 0;
@@ -152,8 +158,8 @@ bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>&
     add_nearest({&table_->model(o.model), o.cam_T_model}, first_accepted);
   }
   const PosedModel hypothesis{&model, candidate.cam_T_model};
-  const Result<VerifyResult> r =
-      VerifyHypothesis(*calib_, left_, right_, hypothesis, occluders, n_occluders, *config_);
+  const Result<VerifyResult> r = VerifyHypothesis(*calib_, left_, right_, hypothesis, occluders,
+                                                  n_occluders, *config_, left_grey_, right_grey_);
   if (now_ns_) elapsed_ns_.fetch_add(now_ns_() - start, std::memory_order_relaxed);
   if (!r.ok()) {
     errors_.fetch_add(1, std::memory_order_relaxed);
@@ -655,7 +661,8 @@ void Pipeline::DropInsideHidden(const PosedModel* hidden, size_t n_hidden, Pipel
 Status Pipeline::Search(const Budget& budget, const PosedModel* hidden, size_t n_hidden,
                         PipelineResult* out, int64_t* verify_ns) {
   verifier_.Reset(&calib_, &table_, AsConst(features_[0].edges), AsConst(features_[1].edges),
-                  &config_.verify, &frame_table_, now_ns_, hidden, n_hidden);
+                  grey_evidence(0), grey_evidence(1), &config_.verify, &frame_table_, now_ns_,
+                  hidden, n_hidden);
   const Status s =
       recognizer_.Recognize(scene_, verifier_, budget, out->objects, &out->recognition);
   out->verify_errors += verifier_.errors();

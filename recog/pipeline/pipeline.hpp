@@ -197,9 +197,11 @@ class EdgeMapVerifier : public HypothesisVerifier {
  public:
   // `hidden` (n_hidden objects, may be null): objects of another path, occluders of every
   // candidate before the accepted ones.
+  // `left_grey`/`right_grey`: the images behind the edge maps, for the faint-edge test.
   void Reset(const StereoCalibration* calib, const TableView* table, ConstEdgeMapView left,
-             ConstEdgeMapView right, const VerifyConfig* config, const TableConstraint* support,
-             int64_t (*now_ns)(), const PosedModel* hidden = nullptr, size_t n_hidden = 0);
+             ConstEdgeMapView right, const GreyEvidence& left_grey, const GreyEvidence& right_grey,
+             const VerifyConfig* config, const TableConstraint* support, int64_t (*now_ns)(),
+             const PosedModel* hidden = nullptr, size_t n_hidden = 0);
   bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
               RecognizedObject& candidate) override;
   // The verdict depends on the arguments and the frame alone, and the counts are sums: the
@@ -216,6 +218,7 @@ class EdgeMapVerifier : public HypothesisVerifier {
   const StereoCalibration* calib_ = nullptr;
   const TableView* table_ = nullptr;
   ConstEdgeMapView left_{}, right_{};
+  GreyEvidence left_grey_{}, right_grey_{};
   const VerifyConfig* config_ = nullptr;
   const TableConstraint* support_ = nullptr;
   const PosedModel* hidden_ = nullptr;
@@ -290,6 +293,11 @@ class Pipeline {
   void SetSearchObserver(SearchObserver* observer) { recognizer_.SetObserver(observer); }
   const ImageFeatures& left_features() const { return features_[0]; }
   const ImageFeatures& right_features() const { return features_[1]; }
+  // The grey images of the last frame with their measured noise, as the verifier saw them
+  // (views of the caller's frame: valid while it is).
+  GreyEvidence grey_evidence(int image) const {
+    return {frame_images_[image], features_[image].chosen.noise_sigma};
+  }
   // The feature workspace of one image (0 left, 1 right), lent between frames to another
   // recogniser on the same thread (the one-camera fallback): its contents change.
   FeatureWorkspace& workspace(int image) { return workspace_[image == 0 ? 0 : 1]; }

@@ -12,6 +12,7 @@
 
 #include "recog/base/status.hpp"
 #include "recog/image/edge_map.hpp"
+#include "recog/image/image.hpp"
 #include "recog/verify/view_camera.hpp"
 #include "recog/verify/visible_edges.hpp"
 
@@ -32,6 +33,30 @@ struct VerifyConfig {
   float sample_step_px = 1.0f;
   // A model corner closer than this to a camera plane means the pose is behind the camera.
   float min_depth_mm = 1.0f;
+
+  // Faint edges (when the grey image is given, GreyEvidence): an edge between two faces of
+  // nearly the same brightness (a crease of a light part under diffuse light, a light part on
+  // a light table) steps by a few grey levels, below what an edge detector can tell from noise
+  // at one pixel, yet the step is there along the whole edge. A visible model edge of which at
+  // most half the samples are confirmed by edge pixels is confirmed whole when the grey levels
+  // faint_offset_px to either side of it differ, over all its samples, by a mean step that is
+  //   - at least faint_min_step_sigmas noise sigmas and faint_min_step grey levels,
+  //   - at least faint_snr times its standard error from the image's noise,
+  //   - of the same sign and at least half that size in each quarter of the edge,
+  // so that a wrong model's edge crossing a face (no step), a shadow's ramp (no sharp step) or a
+  // real edge across it (a step in one place only) stays unconfirmed. Off: only edge pixels.
+  bool faint_edges = false;
+  float faint_offset_px = 2.0f;
+  float faint_min_step_sigmas = 1.5f;
+  float faint_min_step = 3.0f;  // grey levels
+  float faint_snr = 8.0f;
+  int faint_min_samples = 16;  // shorter visible edges are not tested
+};
+
+// The grey image behind an edge map, for the faint-edge test. An empty image: no such test.
+struct GreyEvidence {
+  ConstGrayView image;
+  float noise_sigma = 0.0f;  // measured sensor noise, grey levels (0: unknown)
 };
 
 enum class VerifyReason : uint8_t {
@@ -53,6 +78,8 @@ struct VerifyResult {
   int samples_right = 0;
   int confirmed_left = 0;
   int confirmed_right = 0;
+  int faint_edges_left = 0;  // edges confirmed by the faint-edge test
+  int faint_edges_right = 0;
   VerifyReason reason = VerifyReason::kAccepted;
 };
 
@@ -60,6 +87,7 @@ struct VerifyResult {
 struct ImageScore {
   int samples = 0;
   int confirmed = 0;
+  int faint_edges = 0;  // edges confirmed by the faint-edge test (their samples are in confirmed)
 };
 
 // Checks the configuration ranges (distance 0..32 px, angle 0..90 degrees, fraction 0..1, ...).
@@ -68,9 +96,11 @@ Status CheckVerifyConfig(const VerifyConfig& config);
 // Checks that the edge map is non-null and matches the camera's image size.
 Status CheckEdgeMap(const CameraIntrinsics& cam, const ConstEdgeMapView& edges);
 
-// Scores already computed visible edges against one image's edge map.
+// Scores already computed visible edges against one image's edge map (and, with
+// config.faint_edges, its grey image).
 Result<ImageScore> ScoreVisibleEdges(const ViewCamera& camera, const VisibleEdgeSet& visible,
-                                     const ConstEdgeMapView& edges, const VerifyConfig& config);
+                                     const ConstEdgeMapView& edges, const VerifyConfig& config,
+                                     const GreyEvidence& grey = {});
 
 // Verifies `hypothesis` against both edge maps. `accepted` are objects recognised before, which
 // hide parts of the hypothesis (may be null when n_accepted is 0; at most kMaxOccluders).
@@ -81,6 +111,8 @@ Result<VerifyResult> VerifyHypothesis(const StereoCalibration& calib,
                                       const ConstEdgeMapView& left_edges,
                                       const ConstEdgeMapView& right_edges,
                                       const PosedModel& hypothesis, const PosedModel* accepted,
-                                      size_t n_accepted, const VerifyConfig& config);
+                                      size_t n_accepted, const VerifyConfig& config,
+                                      const GreyEvidence& left_grey = {},
+                                      const GreyEvidence& right_grey = {});
 
 }  // namespace sh

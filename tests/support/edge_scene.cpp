@@ -55,7 +55,49 @@ double NearestHit(const Model& m, const Eigen::Vector3d& c, const Eigen::Vector3
   return best;
 }
 
+// Region id (RenderRegions) seen through a pixel position.
+int RegionSeen(const CameraIntrinsics& cam, const std::vector<PosedModel>& objects,
+               const std::vector<RigidTransform>& model_T_cam, const Eigen::Vector2d& pixel) {
+  const Eigen::Vector3d ray = PixelRay(cam, pixel);
+  double best = std::numeric_limits<double>::infinity();
+  int region = 0;
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const Eigen::Vector3d c = model_T_cam[k].t_mm.cast<double>();
+    const Eigen::Vector3d d = model_T_cam[k].R.cast<double>() * ray;
+    int face = -1;
+    const double t = NearestHit(*objects[k].model, c, d, &face);
+    if (t < best) {
+      best = t;
+      region = static_cast<int>(k) * 64 + face + 1;
+    }
+  }
+  return region;
+}
+
+std::vector<RigidTransform> ModelsFromCamera(const ViewCamera& view,
+                                             const std::vector<PosedModel>& objects) {
+  std::vector<RigidTransform> model_T_cam;
+  model_T_cam.reserve(objects.size());
+  for (const PosedModel& o : objects) {
+    model_T_cam.push_back((view.cam_T_left * o.cam_T_model).Inverse());
+  }
+  return model_T_cam;
+}
+
 }  // namespace
+
+std::vector<int> RenderRegions(const ViewCamera& view, const std::vector<PosedModel>& objects) {
+  const CameraIntrinsics& cam = view.intrinsics;
+  const std::vector<RigidTransform> model_T_cam = ModelsFromCamera(view, objects);
+  std::vector<int> regions(static_cast<size_t>(cam.width) * cam.height, 0);
+  for (int y = 0; y < cam.height; ++y) {
+    for (int x = 0; x < cam.width; ++x) {
+      regions[static_cast<size_t>(y) * cam.width + x] =
+          RegionSeen(cam, objects, model_T_cam, Eigen::Vector2d(x, y));
+    }
+  }
+  return regions;
+}
 
 EdgeMapBuffer RenderEdgeMap(const ViewCamera& view, const std::vector<PosedModel>& objects) {
   const CameraIntrinsics& cam = view.intrinsics;
@@ -85,30 +127,17 @@ EdgeMapBuffer RenderEdgeMap(const ViewCamera& view, const std::vector<PosedModel
   // the orientation is measured (aliased binary boundaries bias it by 10 degrees and more).
   const int bw = x1 - x0 + 1, bh = y1 - y0 + 1;
   std::vector<int> sub(static_cast<size_t>(9) * bw * bh, 0);
-  std::vector<RigidTransform> model_T_cam;
-  for (const PosedModel& o : objects) {
-    model_T_cam.push_back((view.cam_T_left * o.cam_T_model).Inverse());
-  }
+  const std::vector<RigidTransform> model_T_cam = ModelsFromCamera(view, objects);
   for (int sy = 0; sy < 3 * bh; ++sy) {
     for (int sx = 0; sx < 3 * bw; ++sx) {
       const Eigen::Vector2d pixel(x0 + (sx - 1) / 3.0, y0 + (sy - 1) / 3.0);  // centre at sx%3 == 1
-      const Eigen::Vector3d ray = PixelRay(cam, pixel);
-      double best = std::numeric_limits<double>::infinity();
-      for (size_t k = 0; k < objects.size(); ++k) {
-        const Eigen::Vector3d c = model_T_cam[k].t_mm.cast<double>();
-        const Eigen::Vector3d d = model_T_cam[k].R.cast<double>() * ray;
-        int face = -1;
-        const double t = NearestHit(*objects[k].model, c, d, &face);
-        if (t < best) {
-          best = t;
-          sub[static_cast<size_t>(sy) * 3 * bw + sx] = static_cast<int>(k) * 64 + face + 1;
-        }
-      }
+      sub[static_cast<size_t>(sy) * 3 * bw + sx] = RegionSeen(cam, objects, model_T_cam, pixel);
     }
   }
   auto sub_region = [&](int x, int y, int i, int j) {    // sub-sample (i, j) of pixel (x, y)
     if (x < x0 || y < y0 || x > x1 || y > y1) return 0;  // outside the box: background
-    return sub[static_cast<size_t>(3 * (y - y0) + j) * 3 * bw + 3 * (x - x0) + i];
+    return sub[static_cast<size_t>(3 * (y - y0) + j) * 3 * bw + static_cast<size_t>(3 * (x - x0)) +
+               i];
   };
   auto region = [&](int x, int y) { return sub_region(x, y, 1, 1); };
   for (int y = std::max(y0 - 1, 0); y <= y1; ++y) {

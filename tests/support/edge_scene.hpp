@@ -51,6 +51,10 @@ struct CubeAndStarScene {
 // intensities.
 EdgeMapBuffer RenderEdgeMap(const ViewCamera& view, const std::vector<PosedModel>& objects);
 
+// The region seen through each pixel centre (row-major, width x height of the camera): 0 for
+// the background, 64 k + f + 1 for face f of objects[k].
+std::vector<int> RenderRegions(const ViewCamera& view, const std::vector<PosedModel>& objects);
+
 // True if nothing in `objects` lies on the segment from the camera centre to x_cam (a point in
 // the camera's frame) more than tolerance_mm before x_cam. Tests every face of every object
 // with a winding-angle point-in-polygon test.
