@@ -50,9 +50,9 @@ Projected Project(const CameraIntrinsics& cam, const Eigen::Vector3f& x_cam) {
 
 // Calls visit(px, py, pixel, dir) for each sample of `ve` that projects inside the image, in
 // order along the edge, until it returns false: its nearest pixel, its sub-pixel position and
-// the unit direction of the projected edge there (distortion
-// bends edges), or a zero direction where it cannot be told (the edge seen end-on, or its
-// neighbour folded back by the distortion polynomial from far outside the field).
+// the unit direction of the projected edge there (distortion bends edges), or a zero direction
+// where it cannot be told (the edge seen end-on, or its neighbour folded back by the distortion
+// polynomial from far outside the field).
 template <typename Visit>
 void ForEachInImageSample(const CameraIntrinsics& cam, double max_r2, const VisibleEdge& ve,
                           Visit&& visit) {
@@ -146,8 +146,10 @@ bool FaintEdgeConfirmed(const CameraIntrinsics& cam, double max_r2, const Visibl
   const double sense = mean >= 0.0 ? 1.0 : -1.0;
   const double size = sense * mean;
   if (size < min_step) return false;
-  // The noise of one sample's step is that of two pixels' difference, sqrt(2) sigma (less
-  // with bilinear weights: the bound is on the safe side); the mean's is 1 / sqrt(n) of it.
+  // The noise of one sample's step is about that of two pixels' difference, sqrt(2) sigma
+  // (bilinear weights make it smaller, neighbouring samples sharing pixels make the mean's
+  // larger), and the mean's 1 / sqrt(n) of it. With the defaults this bound is the larger of the
+  // two under 57 samples.
   if (size < config.faint_snr * std::sqrt(2.0 / all.n) * grey.noise_sigma) return false;
   // The step stands alone: at most half of it continues beyond either side.
   if (sense * all.plus / all.n > 0.5 * size || sense * all.minus / all.n > 0.5 * size) {
