@@ -118,6 +118,29 @@ TEST_F(PipelineTest, RecognisesRenderedScenes) {
   EXPECT_LT(Median(r_err), 2.0f);
 }
 
+// The verifier's faint-edge test reads the frame's grey images with their measured noise: the
+// views it is given are the frame's own, and the noise is measured with a preset too (the
+// renderer adds 1.5 grey levels).
+TEST_F(PipelineTest, VerifierSeesTheFrameAndItsNoise) {
+  const std::unique_ptr<RenderedPair> pair = RenderDark(14);
+  ASSERT_NE(pair, nullptr);
+  const PipelineConfig config = PipelineConfig::DarkBackground();
+  ASSERT_FALSE(config.features.adaptive);
+  ASSERT_TRUE(config.verify.faint_edges);
+  ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, config, NowNs).ok());
+  PipelineResult result;
+  ASSERT_TRUE(pipeline_->Process(pair->left_view(), pair->right_view(), 0, &result).ok());
+  const ConstGrayView frames[2] = {pair->left_view(), pair->right_view()};
+  for (int i = 0; i < 2; ++i) {
+    const GreyEvidence grey = pipeline_->grey_evidence(i);
+    EXPECT_EQ(grey.image.data, frames[i].data) << "image " << i;
+    EXPECT_EQ(grey.image.width, frames[i].width);
+    EXPECT_EQ(grey.image.height, frames[i].height);
+    EXPECT_NEAR(grey.noise_sigma, 1.5f, 0.3f) << "image " << i;
+    EXPECT_EQ(result.detection[i].noise_sigma, grey.noise_sigma);
+  }
+}
+
 // A wedge fits a cube's 40 x 30 side face and the edges beside it, and verifies at a good
 // fraction of its own edges: the whole cube must win because it explains more edge pixels
 // (`stereohash bench scenes --seed-offset 100000`, dark row with some occlusion, scene 102001,
