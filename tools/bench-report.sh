@@ -13,6 +13,8 @@
 #   rendered      stereohash bench scenes --json OUT (our renderer, thesis table 5.4 grid)
 #   noise         one rendered recorded set per sensor noise level (0.5, 1.5, 3, 5 grey levels),
 #                 each scored by bench recorded: sets noise-0.5 ... noise-5
+#   memory        resident memory of stereohash recognize on a thesis-camera pair and of the
+#                 firmware simulator's demo, unlocked and with mlock (needs ../shared/scenes)
 #   micro         the Google Benchmark programs build/host-release/tests/**/*_bench
 #                 (or name one, e.g. image_bench), --benchmark_format=json
 #
@@ -122,7 +124,9 @@ run_part() {
   local count="" tool="" rc=0 start end
   echo "== $name: $(shown "$@")"
   start=$(date +%s.%N)
-  if ((perf_ok)); then
+  if [[ $kind == memory ]]; then
+    "$@" >"$work/$name.out" 2>&1 || rc=$?
+  elif ((perf_ok)); then
     perf stat -x, -e instructions:u -o "$work/$name.perf" -- "$@" >"$work/$name.out" 2>&1 || rc=$?
     count=$(awk -F, '/instructions/ && $1 ~ /^[0-9]+$/ {print $1}' "$work/$name.perf" | head -1)
     tool=perf
@@ -216,6 +220,12 @@ if ((!quick)); then
         "$sh_bin" bench recorded "$work/noise-$sigma" ${thread_opts[@]+"${thread_opts[@]}"} \
         --json "$work/noise-$sigma.json"
     done
+  fi
+  if wanted memory && [[ -d $scenes_root/thesis-camera ]]; then
+    run_part memory memory "$work/memory.json" -- \
+      python3 tools/bench_report.py memory --work "$work" --out "$work/memory.json" \
+      --stereohash "$sh_bin" --firmware "$build/firmware/stereohash-fw-sim" \
+      --scene-set "$scenes_root/thesis-camera"
   fi
   while IFS= read -r prog; do
     name=$(basename "$prog")

@@ -50,6 +50,55 @@ def note(args):
     return 0
 
 
+def status_kib(pid):
+    """VmRSS, VmHWM and VmLck of a running process, KiB."""
+    out = {}
+    try:
+        with open(f"/proc/{pid}/status", encoding="utf-8") as f:
+            for line in f:
+                key = line.split(":", 1)[0]
+                if key in ("VmRSS", "VmHWM", "VmLck"):
+                    out[key] = int(line.split()[1])
+    except OSError:
+        pass
+    return out
+
+
+def memory(args):
+    """Resident memory of `recognize` on one recorded pair and of the firmware simulator's demo
+    (rendered world) unlocked and with mlock, sampled from /proc while it runs."""
+    import resource
+    import time
+    result = {"commands": []}
+    scene = os.path.join(args.scene_set, "scene00")
+    cmd = [args.stereohash, "recognize", "--calib", os.path.join(args.scene_set, "calib.yaml"),
+           "--left", os.path.join(scene, "left.png"), "--right", os.path.join(scene, "right.png")]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    rc = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).returncode
+    after = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    result["recognize"] = {"exit": rc, "max_rss_kib": after if after > before else None,
+                           "pair": os.path.relpath(scene, REPO)}
+    result["commands"].append(" ".join(cmd))
+    if args.firmware and os.access(args.firmware, os.X_OK):
+        for lock in ("false", "true"):
+            conf = os.path.join(args.work, f"memory-mlock-{lock}.conf")
+            with open(conf, "w", encoding="utf-8") as f:
+                f.write(f"mlock = {lock}\n")
+            fw = [args.firmware, "--config", conf, "--demo", "--run-seconds", "8"]
+            proc = subprocess.Popen(fw, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            time.sleep(6)
+            sample = status_kib(proc.pid)
+            rc = proc.wait()
+            result[f"firmware_sim_mlock_{lock}"] = {
+                "exit": rc, "rss_kib_at_6s": sample.get("VmRSS"), "hwm_kib_at_6s": sample.get("VmHWM"),
+                "locked_kib_at_6s": sample.get("VmLck")}
+            result["commands"].append(f"printf 'mlock = {lock}\\n' > memory.conf; "
+                                      f"{' '.join(fw[:2])} memory.conf --demo --run-seconds 8")
+    with open(args.out, "w", encoding="utf-8") as f:
+        json.dump(result, f)
+    return 0
+
+
 def read_json(path):
     try:
         with open(path, encoding="utf-8") as f:
@@ -240,6 +289,8 @@ def append(args):
             figures = recorded_set(e, data)
         elif e["kind"] == "scenes":
             figures = rendered_bench(data)
+        elif e["kind"] == "memory":
+            figures = dict(data)
         elif e["kind"] == "textured":
             figures = texture_score(data.get("texture"), data.get("scenes"))
             peer = texture_score(data.get("opencv"), data.get("scenes"))
@@ -539,6 +590,8 @@ def render(args):
     w("| set | correct | false alarms | recall by visibility (< 40 / 40-70 / >= 70 %) | median "
       "error | frame median / p95 / worst | instructions | measured |")
     w("|---|---|---|---|---|---|---|---|")
+    mem = latest.get("memory")
+    names = [n for n in names if n != "memory"]
     for name in names:
         r, s = latest[name]
         if s.get("error"):
@@ -647,6 +700,28 @@ def render(args):
             w(f"![recall history]({rel}/history-recall.svg)")
             w("")
 
+    if mem and not mem[1].get("error"):
+        r, m = mem
+        w("## Memory")
+        w("")
+        w("Resident memory (KiB, as /proc and getrusage give it; docs/memory.md explains each "
+          f"buffer), measured {when(r)} by these commands:")
+        w("")
+        for c in m.get("commands", []):
+            w(f"- `{c}`")
+        w("")
+        w("| program | resident | peak | locked |")
+        w("|---|---|---|---|")
+        rec = m.get("recognize") or {}
+        w(f"| `stereohash recognize` on `{rec.get('pair')}` | | {fmt(rec.get('max_rss_kib'))} | |")
+        for lock in ("false", "true"):
+            fw = m.get(f"firmware_sim_mlock_{lock}")
+            if fw:
+                w(f"| `stereohash-fw-sim --demo` (rendered world), `mlock = {lock}`, 6 s in | "
+                  f"{fmt(fw.get('rss_kib_at_6s'))} | {fmt(fw.get('hwm_kib_at_6s'))} | "
+                  f"{fmt(fw.get('locked_kib_at_6s'))} |")
+        w("")
+
     micro = latest_micro(records)
     if micro:
         w("## Micro-benchmarks")
@@ -706,12 +781,18 @@ def main():
     a.add_argument("--log", required=True)
     a.add_argument("--mode", default="full")
     a.add_argument("--load-start", default="")
+    m = sub.add_parser("memory")
+    m.add_argument("--work", required=True)
+    m.add_argument("--out", required=True)
+    m.add_argument("--stereohash", required=True)
+    m.add_argument("--firmware", default="")
+    m.add_argument("--scene-set", required=True)
     r = sub.add_parser("render")
     r.add_argument("--log", required=True)
     r.add_argument("--md", required=True)
     r.add_argument("--plots", required=True)
     args = p.parse_args()
-    return {"note": note, "append": append, "render": render}[args.cmd](args)
+    return {"note": note, "append": append, "memory": memory, "render": render}[args.cmd](args)
 
 
 if __name__ == "__main__":
