@@ -591,7 +591,9 @@ def render(args):
       "error | frame median / p95 / worst | instructions | measured |")
     w("|---|---|---|---|---|---|---|---|")
     mem = latest.get("memory")
-    names = [n for n in names if n != "memory"]
+    noise_sets = sorted((latest[n][1]["noise_sigma"], n) for n in names
+                        if latest[n][1].get("kind") == "noise" and "noise_sigma" in latest[n][1])
+    names = [n for n in names if n != "memory" and latest[n][1].get("kind") != "noise"]
     for name in names:
         r, s = latest[name]
         if s.get("error"):
@@ -640,6 +642,7 @@ def render(args):
         w("")
 
     ordered = [(n, latest[n][1]) for n in names]
+    noise_ordered = [(n, latest[n][1]) for _, n in noise_sets]
     if plot_visibility(ordered, os.path.join(args.plots, "recall-visibility.svg")):
         w("## Recall against visibility")
         w("")
@@ -647,7 +650,7 @@ def render(args):
         w("")
     noise_series = []
     sweep = sorted((s["noise_sigma"], 100.0 * s["correct"] / s["objects"])
-                   for n, s in ordered if s.get("kind") == "noise" and s.get("objects"))
+                   for n, s in noise_ordered if s.get("objects"))
     if sweep:
         noise_series.append(("our renderer, sensor noise sweep", sweep))
     centres = {"under 2.5": 2.0, "2.5-3.5": 3.0, "3.5 and more": 4.25}
@@ -667,6 +670,24 @@ def render(args):
         w("")
         w(f"![recall against noise]({rel}/recall-noise.svg)")
         w("")
+        if noise_ordered:
+            first = noise_ordered[0][1]
+            w("| sensor noise sigma | " + " | ".join(f"{x['noise_sigma']:g}" for _, x in
+                                                      noise_ordered) + " |")
+            w("|---" * (len(noise_ordered) + 1) + "|")
+            w("| correct (false alarms) | " + " | ".join(
+                f"{x.get('correct')}/{x.get('objects')} ({x.get('false_alarms')})"
+                for _, x in noise_ordered) + " |")
+            w("")
+            level = f"{first['noise_sigma']:g}"
+
+            def generic(text):
+                return (text or "").replace(f"noise-{level}", "noise-S").replace(
+                    f"--noise {level}", "--noise S")
+
+            w(f"Each level S: `{generic(first.get('prepare'))}`, then "
+              f"`{generic(first.get('command'))}` ({when(latest[noise_ordered[0][0]][0])}).")
+            w("")
 
     history = records[-20:]
     labels = [r["date"][5:10] for r in history]
@@ -729,21 +750,22 @@ def render(args):
         w("Google Benchmark programs under `build/host-release/tests` (built when Google "
           "Benchmark is installed), run with `--benchmark_format=json`:")
         w("")
-        w("| program | benchmark | real time | CPU time | measured |")
-        w("|---|---|---|---|---|")
+        w("| program | CPU time per iteration of each benchmark | measured |")
+        w("|---|---|---|")
         for prog in sorted(micro):
             r, m = micro[prog]
-            for b in m.get("benchmarks", []):
-                unit = b.get("time_unit") or "ns"
-                w(f"| {prog} | `{b.get('name')}` | {duration(b.get('real_time'), unit)} | "
-                  f"{duration(b.get('cpu_time'), unit)} | {r['date'][:10]} |")
+            items = "; ".join(f"`{b.get('name')}` {duration(b.get('cpu_time'), b.get('time_unit') or 'ns')}"
+                              for b in m.get("benchmarks", []))
+            w(f"| {prog} | {items or m.get('error', '-')} | {when(r)} |")
         w("")
 
     w("## Records")
     w("")
+    w(f"The last {min(len(records), 8)} of {len(records)} records:")
+    w("")
     w("| record | date (UTC) | mode | machine | load average at start / end | parts |")
     w("|---|---|---|---|---|---|")
-    for r in records[-20:]:
+    for r in records[-8:]:
         m = r.get("machine", {})
         parts = ", ".join(sorted(r.get("sets", {}), key=set_key) + sorted(r.get("micro", {})))
         w(f"| {r['_n']}{' (modified tree)' if r.get('dirty') else ''} | "
