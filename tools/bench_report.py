@@ -363,8 +363,22 @@ def instructions(s):
     return f"{n / 1e9:.2f} G ({s.get('instructions_tool')})"
 
 
+def loaded(r):
+    """True when the machine was busy with other work during the record (1-minute load average
+    of at least half the cores at its start or end): its wall-clock times are upper bounds."""
+    m = r.get("machine", {})
+    cores = m.get("cores") or 1
+    loads = [x[0] for x in (m.get("loadavg_start"), m.get("loadavg_end")) if x]
+    return bool(loads) and max(loads) >= 0.5 * cores
+
+
 def when(r):
-    return f"{r['date'][:10]} (record {r['_n']}{', modified tree' if r.get('dirty') else ''})"
+    notes = [f"record {r['_n']}"]
+    if r.get("dirty"):
+        notes.append("modified tree")
+    if loaded(r):
+        notes.append("loaded machine")
+    return f"{r['date'][:10]} ({', '.join(notes)})"
 
 
 PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
@@ -614,8 +628,11 @@ def render(args):
     w("")
     for name in names:
         r, s = latest[name]
-        threads = (f"{s['threads']} thread(s)" if s.get("threads")
-                   else "the program's default threads (all cores)")
+        if s.get("kind") == "textured":
+            threads = "one thread"
+        else:
+            threads = (f"{s['threads']} thread(s)" if s.get("threads")
+                       else "the program's default threads (all cores)")
         prep = s.get("prepare") or PREPARE_DEFAULTS.get(s.get("kind"), "")
         prepare = f"`{prep}`, then " if prep else ""
         w(f"- {name}: {prepare}`{s.get('command')}`; {threads}")
@@ -664,9 +681,17 @@ def render(args):
                   ymax=100):
         w("## Recall against noise")
         w("")
-        w("The sweep renders the same scenes at several sensor noise levels (`noise-S` sets); "
-          "the factory-floor sets (`hard-*`) bin their scenes by the read noise of each scene's "
-          "camera (truth.json `look.read`: 1.5-5 grey levels, shot noise on top).")
+        text = []
+        if sweep:
+            text.append("The sweep renders the same scenes at several sensor noise levels "
+                        "(`noise-S` sets).")
+        if len(noise_series) > (1 if sweep else 0):
+            text.append("The factory-floor sets (`hard-*`) bin their scenes by the read noise of "
+                        "each scene's camera (truth.json `look.read`: 1.5-5 grey levels, with "
+                        "shot noise, blur, vignetting and other lamps on top; bins under 2.5, "
+                        "2.5-3.5 and from 3.5, plotted at 2, 3 and 4.25), so their bins differ "
+                        "in more than noise.")
+        w(" ".join(text))
         w("")
         w(f"![recall against noise]({rel}/recall-noise.svg)")
         w("")
@@ -762,6 +787,9 @@ def render(args):
     w("## Records")
     w("")
     w(f"The last {min(len(records), 8)} of {len(records)} records:")
+    w("")
+    w("A record is marked *loaded machine* when the 1-minute load average reached half the "
+      "cores at its start or end: its frame times are upper bounds.")
     w("")
     w("| record | date (UTC) | mode | machine | load average at start / end | parts |")
     w("|---|---|---|---|---|---|")
