@@ -28,6 +28,8 @@
 #   --render-only   render docs/benchmarks.md from the existing log, run nothing
 #   --build DIR     the build folder (default build/host-release)
 #   --log FILE      the log (default docs/benchmarks/log.jsonl)
+#   --md FILE       the page rendered from it (default docs/benchmarks.md; its plots go into the
+#                   folder of the same name without .md)
 #   --keep DIR      keep the working files (JSON of every part) in DIR instead of a temporary folder
 #
 # Run it on an otherwise idle machine for frame times that mean something; the record names the
@@ -39,7 +41,6 @@ root=$PWD
 build=build/host-release
 log=docs/benchmarks/log.jsonl
 md=docs/benchmarks.md
-plots=docs/benchmarks
 scenes_root=${STEREOHASH_SCENES:-../shared/scenes}
 quick=0
 render_only=0
@@ -60,6 +61,7 @@ while (($#)); do
     --threads) threads=${2:?--threads needs a number}; shift ;;
     --build) build=${2:?}; shift ;;
     --log) log=${2:?}; shift ;;
+    --md) md=${2:?}; shift ;;
     --keep) keep=${2:?}; shift ;;
     -h|--help) usage; exit 0 ;;
     -*) echo "bench-report: unknown option $1 (see --help)" >&2; exit 2 ;;
@@ -69,6 +71,7 @@ while (($#)); do
   shift
 done
 
+plots=${md%.md}
 render() { python3 tools/bench_report.py render --log "$log" --md "$md" --plots "$plots"; }
 if ((render_only)); then
   render

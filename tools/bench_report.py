@@ -810,7 +810,8 @@ def render(args):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p = argparse.ArgumentParser(description="The benchmark log of tools/bench-report.sh and "
+                                "docs/benchmarks.md rendered from it.")
     sub = p.add_subparsers(dest="cmd", required=True)
     n = sub.add_parser("note")
     n.add_argument("--work", required=True)
