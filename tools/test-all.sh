@@ -16,7 +16,7 @@
 #   STEREOHASH_FUZZ_SECONDS=S     how long each fuzz target extends its corpus (default 10; the
 #                                 committed corpus is replayed in full first)
 #   STEREOHASH_GUARD_S=S          the run fails, naming the stage it was in, once the whole run has
-#                                 passed S seconds (default 3000, 50 minutes; CI allows 90)
+#                                 passed S seconds (default 4200, 70 minutes; CI allows 90)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -32,7 +32,7 @@ jobs=$(nproc)
 if [ "$mode" = all ]; then tools/ci/install-deps.sh --cross; else tools/ci/install-deps.sh; fi
 
 run_start=$(date +%s)
-guard_s=${STEREOHASH_GUARD_S:-3000}
+guard_s=${STEREOHASH_GUARD_S:-4200}
 durations=()
 over_guard=""
 stage=""
@@ -83,6 +83,23 @@ strict_default=1
 STEREOHASH_TIDY_STRICT=${STEREOHASH_TIDY_STRICT:-$strict_default} \
   tools/ci/clang-tidy.sh build/host-release $tidy_base
 
+# The sanitizer builds run the gtest suites: ASan+UBSan every one (label unit: unit, pipeline and
+# firmware tests), TSan those that run threads (label ...-threads; the host build's thread guard
+# fails a test that starts a thread without that mark). Each builds only the test programs it
+# runs (aggregate targets in tests/CMakeLists.txt). They come right after the host stages, so
+# that a race or a memory error shows early in a long run.
+stage "TSan build"
+cmake --preset host-tsan >/dev/null
+cmake --build --preset host-tsan -j "$jobs" --target stereohash_threaded_tests
+stage "TSan tests"
+ctest --preset host-tsan -j "$jobs" --timeout 1800
+
+stage "ASan+UBSan build"
+cmake --preset host-asan >/dev/null
+cmake --build --preset host-asan -j "$jobs" --target stereohash_unit_tests
+stage "ASan+UBSan tests"
+ctest --preset host-asan -j "$jobs" --timeout 1800
+
 stage "fuzzers"
 tools/ci/fuzz.sh "${STEREOHASH_FUZZ_SECONDS:-10}"
 
@@ -98,21 +115,5 @@ if [ "$mode" = all ]; then
   done
   [ -f build/aarch64-release/firmware/stereohash-fw ] && aarch64-linux-gnu-size build/aarch64-release/firmware/stereohash-fw
 fi
-
-# The sanitizer builds run the gtest suites: ASan+UBSan every one (label unit: unit, pipeline and
-# firmware tests), TSan those that run threads (label ...-threads; the host build's thread guard
-# fails a test that starts a thread without that mark). Each builds only the test programs it
-# runs (aggregate targets in tests/CMakeLists.txt).
-stage "ASan+UBSan build"
-cmake --preset host-asan >/dev/null
-cmake --build --preset host-asan -j "$jobs" --target stereohash_unit_tests
-stage "ASan+UBSan tests"
-ctest --preset host-asan -j "$jobs" --timeout 1800
-
-stage "TSan build"
-cmake --preset host-tsan >/dev/null
-cmake --build --preset host-tsan -j "$jobs" --target stereohash_threaded_tests
-stage "TSan tests"
-ctest --preset host-tsan -j "$jobs" --timeout 1800
 
 finish

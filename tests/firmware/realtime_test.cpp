@@ -14,9 +14,25 @@
 namespace sh::fw {
 namespace {
 
+// Which sanitizer this build has: GCC defines __SANITIZE_*__, clang answers __has_feature.
+#if defined(__SANITIZE_THREAD__)
+#define SH_THREAD_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define SH_THREAD_SANITIZER 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define SH_ADDRESS_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SH_ADDRESS_SANITIZER 1
+#endif
+#endif
+
 // ThreadSanitizer replaces thread creation and keeps part of each stack: it refuses stacks below
 // about 1 MiB and the pre-fault overflows the firmware's. The stack tests say so and skip there.
-#if defined(__SANITIZE_THREAD__)
+#if defined(SH_THREAD_SANITIZER)
 #define SH_SKIP_UNDER_THREAD_SANITIZER() \
   GTEST_SKIP() << "ThreadSanitizer changes thread stacks; this test runs in the other builds"
 #else
@@ -25,7 +41,7 @@ namespace {
 
 // AddressSanitizer and ThreadSanitizer intercept mlock and mlockall and make them no-ops that
 // report success (locking would pin their shadow memory): what is locked cannot be checked there.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if defined(SH_ADDRESS_SANITIZER) || defined(SH_THREAD_SANITIZER)
 #define SH_SKIP_UNDER_SANITIZER_LOCKS() \
   GTEST_SKIP() << "the sanitizer's mlockall locks nothing; this test runs in the other builds"
 #else

@@ -150,7 +150,6 @@ TEST(ShapeRefine, RefusesBadSettingsAndMismatchedImages) {
   EXPECT_FALSE(CheckShapeRefineConfig(c).ok());
   const Part part = Load("cube");
   ShapeImages images;  // empty frames
-  ColourClassifier classifier;
   PosedModel object{&part.model, {Eigen::Matrix3f::Identity(), {0, 0, 400}}};
   ShapeRefineResult r;
   auto refiner = std::make_unique<ShapeRefiner>();
