@@ -9,18 +9,14 @@
 #include <cstring>
 
 #include "firmware/can_protocol.hpp"
+#include "tables/input_file.hpp"
 
 namespace sh::fw {
 
 Result<uint8_t> ReadNodeIdFile(const char* path) {
-  std::FILE* f = std::fopen(path, "r");
-  if (f == nullptr) {
-    return Status::Error(errno == ENOENT ? StatusCode::kNotFound : StatusCode::kUnavailable,
-                         "node id file %s: %s", path, std::strerror(errno));
-  }
   char text[16] = {};
-  const size_t n = std::fread(text, 1, sizeof(text) - 1, f);
-  std::fclose(f);
+  size_t n = 0;
+  SH_RETURN_IF_ERROR(ReadInputFile(path, "node id file", text, sizeof(text) - 1, &n));
   text[n] = '\0';
   char* end = nullptr;
   const long id = std::strtol(text, &end, 10);

@@ -3,6 +3,7 @@
 // model order, and so the same model ids, to everything that reads it.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,8 @@ inline constexpr const char* kModelManifestName = "models.txt";
 // Most models one folder may hold, and the largest OBJ file read.
 inline constexpr int kMaxFolderModels = 32;
 inline constexpr long kMaxObjFileBytes = 1 << 20;
+// A folder's models.txt.
+inline constexpr size_t kMaxModelManifestBytes = size_t{1} << 16;
 
 // Reads one OBJ file; the model is named after the file stem.
 Result<Model> LoadModelFile(const std::string& path);

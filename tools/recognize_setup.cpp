@@ -14,6 +14,7 @@
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "recog/stereo/working_volume.hpp"
+#include "tables/input_file.hpp"
 #include "tools/command.hpp"
 #include "tools/setting_table.hpp"
 
@@ -90,20 +91,9 @@ namespace {
 
 // Reads a whole small text file; kOutOfRange past `limit` bytes.
 Status ReadSmallFile(const char* path, const char* what, size_t limit, std::vector<char>* text) {
-  std::FILE* f = std::fopen(path, "rb");
-  if (f == nullptr) {
-    return Status::Error(StatusCode::kNotFound, "cannot open %s %s: %s", what, path,
-                         std::strerror(errno));
-  }
-  text->assign(limit + 1, 0);
-  const size_t n = std::fread(text->data(), 1, text->size(), f);
-  const bool read_error = std::ferror(f) != 0;
-  std::fclose(f);
-  if (read_error) return Status::Error(StatusCode::kDataLoss, "cannot read %s %s", what, path);
-  if (n > limit) {
-    return Status::Error(StatusCode::kOutOfRange, "%s %s is larger than %zu bytes", what, path,
-                         limit);
-  }
+  text->assign(limit, 0);
+  size_t n = 0;
+  SH_RETURN_IF_ERROR(ReadInputFile(path, what, text->data(), text->size(), &n));
   text->resize(n);
   return Status::Ok();
 }

@@ -236,7 +236,7 @@ TEST_F(RecognizeToolTest, MalformedYamlIsAClearError) {
   // A directory where an image belongs.
   r = RunTool(Inputs(Path("calib.yaml"), *dir_, Path("right.png")));
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_NE(r.output.find("is a directory, not an image file"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("is a directory, not a regular file"), std::string::npos) << r.output;
 
   r = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) + " --budget-ms nan");
   EXPECT_EQ(r.exit_code, 2) << r.output;
