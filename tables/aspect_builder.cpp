@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 
@@ -376,7 +377,10 @@ Result<std::vector<uint8_t>> Serialise(const std::vector<Model>& models,
   Put(blob, h.point_entries, points_sorted.data(), points_sorted.size());
   Put(blob, h.line_bins, line_offsets.data(), line_offsets.size());
   Put(blob, h.line_entries, lines_sorted.data(), lines_sorted.size());
-  h.payload_crc32 = Crc32(blob.data() + sizeof(AspectHeader), blob.size() - sizeof(AspectHeader));
+  // The CRC covers the header too, read with its own field as zero.
+  h.blob_crc32 = 0;
+  std::memcpy(blob.data(), &h, sizeof(h));
+  h.blob_crc32 = BlobCrc32(blob.data(), blob.size(), offsetof(AspectHeader, blob_crc32));
   std::memcpy(blob.data(), &h, sizeof(h));
   return blob;
 }

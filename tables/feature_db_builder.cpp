@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 #include <numeric>
@@ -488,8 +489,10 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
   Put(blob, h.descriptors, descriptors.data(), descriptors.size());
   Put(blob, h.nodes, nodes.data(), nodes.size());
   Put(blob, h.texels, texels.data(), texels.size());
-  h.payload_crc32 =
-      Crc32(blob.data() + sizeof(FeatureDbHeader), blob.size() - sizeof(FeatureDbHeader));
+  // The CRC covers the header too, read with its own field as zero.
+  h.blob_crc32 = 0;
+  std::memcpy(blob.data(), &h, sizeof(h));
+  h.blob_crc32 = BlobCrc32(blob.data(), blob.size(), offsetof(FeatureDbHeader, blob_crc32));
   std::memcpy(blob.data(), &h, sizeof(h));
   rep.views = h.n_views;
   rep.features = h.n_features;

@@ -5,6 +5,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 
@@ -326,7 +327,10 @@ Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> mod
       ++v;
     }
   }
-  h.payload_crc32 = Crc32(blob.data() + sizeof(ShapeViewsHeader), blob.size() - sizeof(h));
+  // The CRC covers the header too, read with its own field as zero.
+  h.blob_crc32 = 0;
+  std::memcpy(blob.data(), &h, sizeof(h));
+  h.blob_crc32 = BlobCrc32(blob.data(), blob.size(), offsetof(ShapeViewsHeader, blob_crc32));
   std::memcpy(blob.data(), &h, sizeof(h));
 
   if (report != nullptr) {

@@ -117,7 +117,7 @@ void DescribeShapeViews(const ShapeViewsView& v, size_t size) {
   std::printf(
       "view database, format version %u, %zu bytes, CRC-32 %08x\n  %u colour parts, %u views "
       "every %.1f deg, %u PCA dimensions keeping %.1f %% of the views' variance\n",
-      h.format_version, size, h.payload_crc32, h.n_models, h.n_views, double(h.view_spacing_deg),
+      h.format_version, size, h.blob_crc32, h.n_models, h.n_views, double(h.view_spacing_deg),
       h.n_components, 100.0 * double(h.explained_energy));
   for (uint32_t m = 0; m < v.model_count(); ++m) {
     const ShapeModelRecord& r = v.shape_model(m);

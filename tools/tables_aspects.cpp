@@ -37,7 +37,7 @@ void DescribeAspects(const AspectTableView& v, size_t size) {
       "aspect table, %s bases%s, format version %u, %zu bytes, CRC-32 %08x\n",
       v.basis_kind() == AspectBasisKind::kSimilarity ? "similarity (2-point)" : "affine (3-point)",
       (h.build.flags & kAspectEdgeBasesOnly) ? " over corners joined by edges" : "",
-      h.format_version, size, h.payload_crc32);
+      h.format_version, size, h.blob_crc32);
   std::printf(
       "  %u models, %u aspects, %u model bases, %u point entries (largest bin %u), %u line "
       "entries (largest bin %u)\n",

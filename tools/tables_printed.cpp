@@ -37,7 +37,7 @@ Status ClassifyModelFolder(const std::string& dir, std::vector<std::string>* pri
 void DescribeFeatureDb(const FeatureDbView& db, size_t size) {
   const FeatureDbHeader& h = db.header();
   std::printf("feature database, format version %u, %zu bytes, CRC-32 %08x\n", h.format_version,
-              size, h.payload_crc32);
+              size, h.blob_crc32);
   std::printf(
       "  %u printed models, %u faces, %u views, %u features (%u kd-tree nodes); features learnt "
       "at %.1f px/mm, textures at %.1f px/mm\n",

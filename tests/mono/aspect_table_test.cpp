@@ -2,6 +2,7 @@
 // truncated, corrupt and foreign blobs with a message.
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <cstring>
 
 #include "recog/base/crc32.hpp"
@@ -34,7 +35,7 @@ struct Aligned {
   uint8_t* bytes() { return reinterpret_cast<uint8_t*>(words.data()); }
   AspectHeader& header() { return *reinterpret_cast<AspectHeader*>(words.data()); }
   void FixCrc() {
-    header().payload_crc32 = Crc32(bytes() + sizeof(AspectHeader), size - sizeof(AspectHeader));
+    header().blob_crc32 = BlobCrc32(bytes(), size, offsetof(AspectHeader, blob_crc32));
   }
   Status Open() { return AspectTableView::Open(words.data(), size).status(); }
 };
@@ -114,6 +115,29 @@ TEST(AspectTable, RefinementAddsViewsWhereTestViewsFail) {
   EXPECT_GT(report.per_model[0].aspects_per_level[1], 0u);
   EXPECT_EQ(report.per_model[0].aspects,
             report.per_model[0].aspects_per_level[0] + report.per_model[0].aspects_per_level[1]);
+}
+
+TEST(AspectTable, EveryHeaderBitFlipIsRefused) {
+  const std::vector<uint8_t> blob = SmallBlob();
+  for (size_t bit = 0; bit < sizeof(AspectHeader) * 8; ++bit) {
+    Aligned a(blob);
+    a.bytes()[bit / 8] ^= static_cast<uint8_t>(1u << (bit % 8));
+    EXPECT_FALSE(a.Open().ok()) << "bit " << bit;
+  }
+}
+
+TEST(AspectTable, ReservedHeaderBitsMustBeZero) {
+  const std::vector<uint8_t> blob = SmallBlob();
+  const size_t build = offsetof(AspectHeader, build);
+  for (size_t offset :
+       {offsetof(AspectHeader, reserved0), build + offsetof(AspectBuildParams, reserved),
+        build + offsetof(AspectBuildParams, flags)}) {
+    Aligned a(blob);
+    a.bytes()[offset] |= 0x80;
+    a.FixCrc();
+    const Status s = a.Open();
+    EXPECT_NE(std::string(s.message()).find("reserved"), std::string::npos) << s.message();
+  }
 }
 
 TEST(AspectTable, ReaderRefusesDamagedBlobs) {

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -26,7 +27,8 @@ struct AlignedBlob : testing::AlignedBlob {
   using testing::AlignedBlob::AlignedBlob;
   FeatureDbHeader& header() { return *reinterpret_cast<FeatureDbHeader*>(data); }
   void Reseal() {
-    header().payload_crc32 = Crc32(data + sizeof(FeatureDbHeader), size - sizeof(FeatureDbHeader));
+    header().blob_crc32 = 0;
+    header().blob_crc32 = BlobCrc32(data, size, offsetof(FeatureDbHeader, blob_crc32));
   }
 };
 
@@ -171,6 +173,22 @@ void ExpectRefused(AlignedBlob& blob, const char* fragment) {
   Result<FeatureDbView> v = FeatureDbView::Open(blob.data, blob.size);
   ASSERT_FALSE(v.ok()) << "accepted (expected: " << fragment << ")";
   EXPECT_NE(std::strstr(v.status().message(), fragment), nullptr) << v.status().message();
+}
+
+TEST(FeatureDb, EveryHeaderBitFlipIsRefused) {
+  for (size_t bit = 0; bit < sizeof(FeatureDbHeader) * 8; ++bit) {
+    AlignedBlob b(PillsBlob());
+    b.data[bit / 8] ^= static_cast<uint8_t>(1u << (bit % 8));
+    EXPECT_FALSE(FeatureDbView::Open(b.data, b.size).ok()) << "bit " << bit;
+  }
+}
+
+TEST(FeatureDb, ReservedHeaderBytesMustBeZero) {
+  AlignedBlob b(PillsBlob());
+  b.header().reserved[7] = 1;
+  b.Reseal();
+  const Status s = FeatureDbView::Open(b.data, b.size).status();
+  EXPECT_NE(std::string(s.message()).find("reserved"), std::string::npos) << s.message();
 }
 
 TEST(FeatureDb, RefusesDamageWithAReason) {
