@@ -98,6 +98,7 @@ bool CanopenNode::HandleFrame(const hal::CanFrame& frame, protocol::NmtState nmt
   if (nmt == protocol::NmtState::kStopped) return false;
   pending_ = events;
   pending_out_ = &out;
+  pending_nmt_ = nmt;
   bool handled = false;
   hal::CanFrame reply;
   if (sdo_.Handle(frame, now_ns, &reply)) {
@@ -163,6 +164,12 @@ SdoAbort CanopenNode::OnWrite(const OdEntry& e, uint32_t value) {
       }
       return SdoAbort::kNone;
     case kIdxCommand:
+      // As by RPDO1, a command runs only when operational: a confirmed write that then does
+      // nothing would leave the client believing it ran. The idle code 0 runs nothing anywhere.
+      if (e.sub == kSubCommandCode && value != protocol::kCommandIdle &&
+          pending_nmt_ != protocol::NmtState::kOperational) {
+        return SdoAbort::kDeviceState;
+      }
       if (e.sub == kSubCommandCode && pending_ != nullptr) {
         hal::CanFrame& c = pending_->command;
         c = hal::CanFrame();

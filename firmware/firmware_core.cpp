@@ -806,6 +806,7 @@ void FirmwareCore::SendIfValid(int tpdo, const CanFrame& frame) {
 }
 
 void FirmwareCore::HandleCommand(const CanFrame& frame) {
+  if (frame.len > 0 && frame.data[0] == kCommandIdle) return;
   const Result<Command> cmd = DecodeCommand(frame, node_);
   if (!cmd.ok()) {
     SendAck(frame, cmd.status());

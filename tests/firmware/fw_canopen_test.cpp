@@ -253,6 +253,29 @@ TEST(FirmwareCanopen, ResultModeAndSettingsBySdoReachTheCore) {
   EXPECT_EQ(sdo.Upload(0x2021, 3).value & 0xFFFF, 55u) << "the ack is in the dictionary";
 }
 
+TEST(FirmwareCanopen, CommandsBySdoRunOnlyWhenOperational) {
+  Rig rig;
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  SdoClient sdo(&rig, Rig::kNode);
+  const uint16_t budget = rig.core.budget_ms();
+  rig.Nmt(NmtCommand::kEnterPreOperational);
+  // The SDO server answers in pre-operational; its reply also shows the NMT command was taken.
+  ASSERT_EQ(sdo.Upload(0x1000, 0).abort, 0u);
+  ASSERT_EQ(sdo.Download(0x2020, 2, 500, 4).abort, 0u) << "the argument waits for its code";
+  EXPECT_EQ(sdo.Download(0x2020, 1, 0x03, 1).abort, 0x08000022u) << "not in this NMT state";
+  EXPECT_EQ(sdo.Download(0x2020, 1, 0x00, 1).abort, 0u) << "the idle code is no command";
+  EXPECT_EQ(rig.core.budget_ms(), budget);
+  rig.Nmt(NmtCommand::kStart);
+  ASSERT_EQ(sdo.Upload(0x1000, 0).abort, 0u);
+  ASSERT_EQ(sdo.Download(0x2020, 1, 0x03, 1).abort, 0u);
+  std::optional<CommandAck> ack = rig.WaitAck(0x03);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->value, 500u);
+  EXPECT_EQ(rig.core.budget_ms(), 500);
+  EXPECT_EQ(sdo.Upload(0x2021, 4).value, 500u) << "the ack is in the dictionary";
+}
+
 TEST(FirmwareCanopen, LssSetsANewNodeIdThatResetCommunicationApplies) {
   char path[] = "/tmp/stereohash_node_id_XXXXXX";
   const int fd = mkstemp(path);
