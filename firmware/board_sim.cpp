@@ -29,6 +29,7 @@
 #include "hal/sim/sim_camera.hpp"
 #include "hal/sim/socketcand_server.hpp"
 #include "hal/sim/world/sim_world.hpp"
+#include "recog/base/printable.hpp"
 
 namespace sh::fw {
 namespace {
@@ -70,7 +71,12 @@ class Reporter final : public CoreObserver {
     if (!print_) return;
     const uint32_t n = models.count();
     std::printf("MODELS {\"names\": [");
-    for (uint32_t m = 0; m < n; ++m) std::printf("%s\"%s\"", m ? ", " : "", models.model(m).name);
+    for (uint32_t m = 0; m < n; ++m) {
+      char name[kJsonNameBytes];
+      const char* raw = models.model(m).name;
+      std::printf("%s\"%s\"", m ? ", " : "",
+                  JsonEscaped(raw, sizeof(Model::name), name, sizeof(name)));
+    }
     std::printf("], \"symmetries\": [");
     for (uint32_t m = 0; m < n; ++m) {
       const Model& model = models.model(m);

@@ -13,6 +13,7 @@
 #include <new>
 
 #include "hal/sim/image_files.hpp"
+#include "recog/base/printable.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "recog/image/image.hpp"
@@ -91,8 +92,10 @@ size_t FormatResultJson(const protocol::ResultSet& set, const char* output_frame
       output_frame, timestamp_ns[0], timestamp_ns[1]);
   for (int i = 0; i < set.object_count; ++i) {
     const protocol::ObjectPose& p = set.objects[i];
-    const char* name =
+    const char* raw =
         p.model_id < model_count && model_names != nullptr ? model_names[p.model_id] : "";
+    char name[kJsonNameBytes];
+    JsonEscaped(raw, kJsonNameBytes, name, sizeof(name));
     append(
         "%s{\"model_id\": %u, \"model\": \"%s\", \"instance\": %u, \"score\": %.4f, "
         "\"t_mm\": [%.4f, %.4f, %.4f], \"q_wxyz\": [%.7f, %.7f, %.7f, %.7f]}",

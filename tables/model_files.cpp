@@ -76,11 +76,38 @@ Status LoadModelColour(const std::string& obj_path, const Model& model, float kd
   return Status::Ok();
 }
 
+Result<std::string> ModelNameOfFile(const std::string& path) {
+  std::string stem = path.substr(path.find_last_of('/') + 1);
+  stem = stem.substr(0, stem.find_last_of('.'));
+  if (stem.size() > size_t(kMaxModelNameLength)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "%s: the model name (file stem) has %zu characters, at most %d",
+                         path.c_str(), stem.size(), kMaxModelNameLength);
+  }
+  return stem;
+}
+
+Status CheckModelNames(const std::vector<std::string>& names, const char* source) {
+  for (size_t i = 0; i < names.size(); ++i) {
+    const std::string& name = names[i];
+    if (name.empty() || name.find_first_of(" \t/") != std::string::npos ||
+        name.size() > size_t(kMaxModelNameLength)) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "%s: '%s' is not a model name (no spaces or '/', 1..%d characters)",
+                           source, name.c_str(), kMaxModelNameLength);
+    }
+    if (std::find(names.begin(), names.begin() + long(i), name) != names.begin() + long(i)) {
+      return Status::Error(StatusCode::kInvalidArgument, "%s: model '%s' given twice", source,
+                           name.c_str());
+    }
+  }
+  return Status::Ok();
+}
+
 Result<Model> LoadModelFile(const std::string& path) {
   std::string text;
   SH_RETURN_IF_ERROR(ReadInputFile(path, "OBJ", size_t(kMaxObjFileBytes), &text));
-  std::string stem = path.substr(path.find_last_of('/') + 1);
-  stem = stem.substr(0, stem.find_last_of('.'));
+  SH_ASSIGN_OR_RETURN(const std::string stem, ModelNameOfFile(path));
   Result<Model> model = ParseObjModel(text.data(), text.size(), stem.c_str());
   if (!model.ok()) return model.status().WithContext("%s", path.c_str());
   return model;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "recog/base/printable.hpp"
 #include "tables/aspect_file.hpp"
 #include "tables/model_files.hpp"
 #include "tables/model_set.hpp"
@@ -91,10 +92,12 @@ void PrintModels(const TableView& view) {
   for (uint32_t b = 0; b < view.basis_count(); ++b) ++bases[view.basis(b).model];
   for (uint32_t m = 0; m < view.model_count(); ++m) {
     const Model& model = view.model(m);
+    char shown[kPrintableNameBytes];  // names come from the blob: no raw control bytes
     std::printf(
         "  model %u %-10s %2u corners %2u edges %2u faces, symmetry group of order %2u, "
         "%4u bases\n",
-        m, model.name, model.n_corners, model.n_edges, model.n_faces, model.n_symmetries, bases[m]);
+        m, Printable(model.name, sizeof(model.name), shown, sizeof(shown)), model.n_corners,
+        model.n_edges, model.n_faces, model.n_symmetries, bases[m]);
   }
 }
 
@@ -121,8 +124,10 @@ void DescribeShapeViews(const ShapeViewsView& v, size_t size) {
       h.n_components, 100.0 * double(h.explained_energy));
   for (uint32_t m = 0; m < v.model_count(); ++m) {
     const ShapeModelRecord& r = v.shape_model(m);
-    std::printf("  model %u %-10s %6u views, colour (%.2f, %.2f, %.2f)\n", m, v.model(m).name,
-                r.n_views, double(r.kd[0]), double(r.kd[1]), double(r.kd[2]));
+    char shown[kPrintableNameBytes];  // names come from the blob: no raw control bytes
+    std::printf("  model %u %-10s %6u views, colour (%.2f, %.2f, %.2f)\n", m,
+                Printable(v.model(m).name, sizeof(Model::name), shown, sizeof(shown)), r.n_views,
+                double(r.kd[0]), double(r.kd[1]), double(r.kd[2]));
   }
 }
 
@@ -316,6 +321,11 @@ int RunBuild(int argc, char** argv) {
   std::vector<std::string> list;
   if (!names.empty()) {
     list = Split(names);
+    const Status checked = CheckModelNames(list, "--names");
+    if (!checked.ok()) {
+      std::fprintf(stderr, "stereohash tables build: %s\n", checked.message());
+      return 2;
+    }
   } else if (!models_given || !plain.empty()) {
     const Status named = ModelFolderNames(models_dir, &list);
     if (!named.ok()) {

@@ -11,6 +11,7 @@
 #include <ctime>
 
 #include "hal/sim/image_files.hpp"
+#include "recog/base/printable.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "recog/stereo/working_volume.hpp"
@@ -101,19 +102,9 @@ Status ReadSmallFile(const char* path, const char* what, size_t limit, std::vect
 // A string as a JSON string literal's contents: quotes, backslashes and control characters
 // escaped.
 std::string JsonEscape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char code[8];
-      std::snprintf(code, sizeof(code), "\\u%04x", c);
-      out += code;
-    } else {
-      out += c;
-    }
-  }
+  std::string out(6 * text.size() + 1, '\0');
+  JsonEscaped(text.data(), text.size(), &out[0], out.size());
+  out.resize(std::strlen(out.c_str()));
   return out;
 }
 
@@ -349,11 +340,12 @@ std::string PoseJsonFields(const char* model_name, const RigidTransform& cam_T_m
   const Eigen::Matrix3f& R = cam_T_model.R;
   const Eigen::Vector3f& t = cam_T_model.t_mm;
   char buffer[512];
+  char name[kJsonNameBytes];
   std::snprintf(buffer, sizeof(buffer),
                 "\"model\": \"%s\", \"R\": [[%.7f, %.7f, %.7f], [%.7f, %.7f, %.7f], [%.7f, "
                 "%.7f, %.7f]], \"t\": [%.4f, %.4f, %.4f]",
-                model_name, R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1),
-                R(2, 2), t.x(), t.y(), t.z());
+                JsonEscaped(model_name, kJsonNameBytes, name, sizeof(name)), R(0, 0), R(0, 1),
+                R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z());
   return buffer;
 }
 

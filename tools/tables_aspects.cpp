@@ -6,9 +6,11 @@
 #include <cstring>
 #include <vector>
 
+#include "recog/base/printable.hpp"
 #include "tables/aspect_builder.hpp"
 #include "tables/aspect_file.hpp"
 #include "tables/model_files.hpp"
+#include "tools/command.hpp"
 
 namespace sh::tools {
 namespace {
@@ -54,7 +56,9 @@ void DescribeAspects(const AspectTableView& v, size_t size) {
     bases[v.aspect(a).model] += v.aspect(a).n_bases;
   }
   for (uint32_t m = 0; m < v.model_count(); ++m) {
-    std::printf("  model %u %-10s %4u aspects %6u bases\n", m, v.model(m).name, aspects[m],
+    char shown[kPrintableNameBytes];  // names come from the blob: no raw control bytes
+    std::printf("  model %u %-10s %4u aspects %6u bases\n", m,
+                Printable(v.model(m).name, sizeof(Model::name), shown, sizeof(shown)), aspects[m],
                 bases[m]);
   }
 }

@@ -60,8 +60,7 @@ Status LoadMaterials(const std::string& path, TexturedModel* model) {
 Result<TexturedModel> LoadTexturedModelFile(const std::string& path) {
   Result<std::string> obj = ReadText(path, "model file");
   if (!obj.ok()) return obj.status();
-  std::string stem = path.substr(path.find_last_of('/') + 1);
-  stem = stem.substr(0, stem.find_last_of('.'));
+  SH_ASSIGN_OR_RETURN(const std::string stem, ModelNameOfFile(path));
   TexturedModel out;
   Result<Model> model = ParseObjModel(obj->data(), obj->size(), stem.c_str());
   if (!model.ok())

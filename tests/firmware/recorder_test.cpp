@@ -200,5 +200,17 @@ TEST_F(RecorderTest, UnwritableDirectoryIsAnErrorNamingIt) {
   EXPECT_NE(std::string(s.message()).find("file/record"), std::string::npos) << s.message();
 }
 
+TEST(ResultJson, ModelNamesAreEscaped) {
+  protocol::ResultSet set;
+  set.object_count = 1;
+  set.objects[0].model_id = 0;
+  const char* names[] = {"cu\"be\\x\x01"};
+  const int64_t stamps[2] = {0, 0};
+  char out[1024];
+  ASSERT_GT(FormatResultJson(set, "camera", names, 1, stamps, out, sizeof(out)), 0u);
+  EXPECT_NE(std::string(out).find("\"model\": \"cu\\\"be\\\\x\\u0001\""), std::string::npos)
+      << out;
+}
+
 }  // namespace
 }  // namespace sh::fw

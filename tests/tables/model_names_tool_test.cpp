@@ -1,0 +1,64 @@
+// Model names through `stereohash tables build`: kept whole or refused, given once, and the
+// folder's models.txt deciding which OBJ files are read, printed ones included.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "tests/support/temp_dir.hpp"
+#include "tests/support/tool_run.hpp"
+
+namespace sh {
+namespace {
+
+using testing::TempDir;
+using testing::ToolRun;
+
+ToolRun RunTool(const std::string& args) { return testing::RunTool(STEREOHASH_EXE, args); }
+
+void Copy(const std::string& from, const std::string& to) {
+  std::filesystem::copy_file(from, to, std::filesystem::copy_options::overwrite_existing);
+}
+
+TEST(ModelNamesTool, LongFileStemsAreRefusedNotCut) {
+  TempDir dir("names");
+  const std::string d = dir.Mkdir("models");
+  const std::string stem(40, 'a');
+  Copy("models/cube.obj", d + "/" + stem + "1.obj");
+  Copy("models/wedge.obj", d + "/" + stem + "2.obj");
+  const ToolRun r = RunTool("tables build --models " + d + " --out " + dir.Sub("t.bin"));
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("the model name (file stem) has 41 characters, at most 31"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.Sub("t.bin")));
+}
+
+TEST(ModelNamesTool, NamesGivenTwiceAreRefused) {
+  TempDir dir("names");
+  const ToolRun r =
+      RunTool("tables build --models models --names cube,cube --out " + dir.Sub("t.bin"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--names: model 'cube' given twice"), std::string::npos) << r.output;
+}
+
+TEST(ModelNamesTool, ModelsTxtGovernsPrintedModelsToo) {
+  TempDir dir("names");
+  const std::string d = dir.Mkdir("models");
+  Copy("models/cube.obj", d + "/cube.obj");
+  for (const char* f : {"tea.obj", "tea.mtl", "tea.png"}) {
+    Copy(std::string("models/textured/") + f, d + "/" + f);
+  }
+  std::ofstream(d + "/broken.obj") << "this is no OBJ\n";
+  std::ofstream(d + "/models.txt") << "cube\n";
+  const ToolRun r = RunTool("tables build --models " + d + " --out " + dir.Sub("t.bin"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const ToolRun info = RunTool("tables info " + dir.Sub("t.bin"));
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("cube"), std::string::npos) << info.output;
+  EXPECT_EQ(info.output.find("tea"), std::string::npos) << "not listed: " << info.output;
+}
+
+}  // namespace
+}  // namespace sh
