@@ -112,7 +112,7 @@ int RunMonocular(const char* calib_path, const char* image_path, int camera,
   if (!loaded_table.ok()) return Fail("%s", loaded_table.status().message());
   const TableChoice& table = *loaded_table;
   LoadedAspects aspects;
-  Status s = LoadAspects(options, &aspects);
+  Status s = LoadAspects(options, &aspects, /*required=*/true);
   if (!s.ok()) return Fail("%s", s.message());
   LoadedImage image;
   s = LoadImage(image_path, camera == 0 ? "left" : "right", &image);

@@ -406,6 +406,20 @@ TEST_F(RecognizeToolTest, OneCameraWithTheTableFindsRestingObjects) {
   EXPECT_NE(missing.output.find("needs the right image"), std::string::npos) << missing.output;
 }
 
+// A model set given to one camera is used or refused: never the built-in table in its place.
+TEST_F(RecognizeToolTest, OneCameraRefusesAModelSetWithoutAnAspectTable) {
+  const std::string set = Path("cube_only.bin");
+  const ToolRun built = RunTool("tables build --models models --names cube --out " + set);
+  ASSERT_EQ(built.exit_code, 0) << built.output;
+  for (const std::string& tables : {set, std::string("/etc/passwd")}) {
+    const ToolRun r = RunTool("recognize --tables " + tables + " --calib " + Path("calib.yaml") +
+                              " --left " + Path("left.png"));
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("--tables " + tables + " holds no aspect table"), std::string::npos)
+        << r.output;
+  }
+}
+
 // The poses of a JSON result, in order, as text (model and translation to the printed digits).
 std::string PosesText(const std::string& path) {
   Json out;
