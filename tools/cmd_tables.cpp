@@ -261,6 +261,8 @@ bool WriteSections(const std::string& path, const std::vector<BuiltSection>& sec
   return true;
 }
 
+constexpr const char* kBuild = "tables build";
+
 int RunBuild(int argc, char** argv) {
   std::string out, models_dir = "models", names, views_out;
   bool models_given = false, bare = false, want_aspects = false;
@@ -285,16 +287,22 @@ int RunBuild(int argc, char** argv) {
     } else if (a == "--out") {
       out = value();
     } else if (a == "--hash-fn") {
-      hf = std::atoi(value().c_str());
+      long n = 0;
+      if (!OptionInteger(kBuild, "--hash-fn", value().c_str(), 1, 5, &n)) return 2;
+      hf = int(n);
     } else if (a == "--models") {
       models_dir = value();
       models_given = true;
     } else if (a == "--views-out") {
       views_out = value();
     } else if (a == "--spacing-deg") {
-      view_options.view_spacing_deg = static_cast<float>(std::atof(value().c_str()));
+      double deg = 0;
+      if (!OptionNumber(kBuild, "--spacing-deg", value().c_str(), 0.1, 180, &deg)) return 2;
+      view_options.view_spacing_deg = static_cast<float>(deg);
     } else if (a == "--components") {
-      view_options.n_components = std::atoi(value().c_str());
+      long n = 0;
+      if (!OptionInteger(kBuild, "--components", value().c_str(), 1, 1000000, &n)) return 2;
+      view_options.n_components = int(n);
     } else if (a == "--names") {
       names = value();
     } else if (a == "--bare") {

@@ -80,4 +80,27 @@ bool ParseNumber(const char* text, double min, double max, double* out) {
   return true;
 }
 
+bool ParseInteger(const char* text, long min, long max, long* out) {
+  double v = 0;
+  if (!ParseNumber(text, double(min), double(max), &v) || v != std::floor(v)) return false;
+  *out = long(v);
+  return true;
+}
+
+bool OptionNumber(const char* command, const char* option, const char* text, double min, double max,
+                  double* out) {
+  if (ParseNumber(text, min, max, out)) return true;
+  std::fprintf(stderr, "stereohash %s: %s '%s' is not a number in %g..%g\n", command, option, text,
+               min, max);
+  return false;
+}
+
+bool OptionInteger(const char* command, const char* option, const char* text, long min, long max,
+                   long* out) {
+  if (ParseInteger(text, min, max, out)) return true;
+  std::fprintf(stderr, "stereohash %s: %s '%s' is not a whole number in %ld..%ld\n", command,
+               option, text, min, max);
+  return false;
+}
+
 }  // namespace sh::tools

@@ -101,9 +101,13 @@ int ParseAspectOption(int argc, char** argv, int* i, AspectBuildOptions* options
       return -1;
     }
   } else if (a == "--spacing") {
-    options->initial_spacing_deg = static_cast<float>(std::atof(value));
+    double deg = 0;
+    if (!OptionNumber("tables build", "--spacing", value, 0.1, 180, &deg)) return -1;
+    options->initial_spacing_deg = static_cast<float>(deg);
   } else {
-    options->max_levels = std::atoi(value);
+    long levels = 0;
+    if (!OptionInteger("tables build", "--levels", value, 0, 100, &levels)) return -1;
+    options->max_levels = int(levels);
     options->refine = options->max_levels > 0;
   }
   return 1;
@@ -114,7 +118,7 @@ Result<std::vector<uint8_t>> BuildAspectSection(const std::vector<Model>& models
   const auto start = std::chrono::steady_clock::now();
   AspectBuildReport report;
   Result<std::vector<uint8_t>> blob = BuildAspectBlob(models, options, &report);
-  if (!blob.ok()) return blob.status().WithContext("aspect table");
+  if (!blob.ok()) return blob.status();  // the builder's messages name the aspect table
   std::printf(
       "  ASPECTS_2D: %s aspect table, %zu bytes, %u aspects, %u bases, %u point and %u line "
       "entries (%.1f s)\n",

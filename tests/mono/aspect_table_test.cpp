@@ -196,8 +196,15 @@ TEST(AspectTable, ReaderRefusesDamagedBlobs) {
 TEST(AspectTable, BuilderRefusesBadOptions) {
   AspectBuildOptions o;
   o.initial_spacing_deg = 0.5f;
-  EXPECT_EQ(BuildAspectBlob({ReferenceModel("cube")}, o).status().code(),
-            StatusCode::kInvalidArgument);
+  const Status s = BuildAspectBlob({ReferenceModel("cube")}, o).status();
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_STREQ(s.message(),
+               "aspect table: initial spacing (--spacing, degrees) is 0.5, outside 2..90");
+  o = AspectBuildOptions{};
+  o.size_slices = 0;
+  EXPECT_STREQ(BuildAspectBlob({ReferenceModel("cube")}, o).status().message(),
+               "aspect table: size slices (--slices D,S: S) is 0, outside 1..64")
+      << "the option is named";
   EXPECT_EQ(BuildAspectBlob({}, AspectBuildOptions{}).status().code(),
             StatusCode::kInvalidArgument);
 }

@@ -1,5 +1,5 @@
-// Model names through `stereohash tables build`: kept whole or refused, given once, and the
-// folder's models.txt deciding which OBJ files are read, printed ones included.
+// `stereohash tables build` inputs: model names kept whole or refused, given once, the folder's
+// models.txt deciding which OBJ files are read (printed ones included), numbers read whole.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -58,6 +58,24 @@ TEST(ModelNamesTool, ModelsTxtGovernsPrintedModelsToo) {
   ASSERT_EQ(info.exit_code, 0) << info.output;
   EXPECT_NE(info.output.find("cube"), std::string::npos) << info.output;
   EXPECT_EQ(info.output.find("tea"), std::string::npos) << "not listed: " << info.output;
+}
+
+TEST(ModelNamesTool, OptionNumbersAreReadWholeAndNamed) {
+  TempDir dir("names");
+  const std::string out = " --out " + dir.Sub("t.bin");
+  ToolRun r = RunTool("tables build --models models --hash-fn 5x" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--hash-fn '5x' is not a whole number in 1..5"), std::string::npos)
+      << r.output;
+  r = RunTool("tables build --models models/colour --spacing-deg abc" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--spacing-deg 'abc' is not a number"), std::string::npos) << r.output;
+  r = RunTool("tables build --models models --hash-2d similarity --spacing 1" + out);
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("initial spacing (--spacing, degrees) is 1, outside 2..90"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("aspect table: aspect table"), std::string::npos) << r.output;
 }
 
 }  // namespace
