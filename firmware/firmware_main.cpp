@@ -429,7 +429,7 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   }
   const Status started = core.Start(cc, core_devices);
   if (!started.ok()) return Fail(*board, "start", started);
-  if (!recording.ok()) core.OnRecordFailed(EIO);
+  if (!recording.ok()) core.OnRecordFailed(recorder.start_error() != 0 ? recorder.start_error() : EIO);
   board->AfterStart(config, core, *data);
   (void)notifier.Notify(core.state() == FirmwareState::kFault ? "READY=1\nSTATUS=fault"
                                                               : "READY=1\nSTATUS=ready");

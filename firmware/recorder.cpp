@@ -33,7 +33,10 @@ bool MakeDirectories(const std::string& path) {
     if (mkdir(part.c_str(), 0755) != 0 && errno != EEXIST) return false;
   }
   struct stat st {};
-  return stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+  if (stat(path.c_str(), &st) != 0) return false;
+  // An existing file or device (/dev/null) where the directory should be: say so by errno.
+  if (!S_ISDIR(st.st_mode)) errno = ENOTDIR;
+  return S_ISDIR(st.st_mode);
 }
 
 // Paths built without the heap: the writer thread allocates nothing either.
@@ -111,6 +114,15 @@ Status Recorder::Start(const RecorderConfig& config, const StereoCalibration& ca
                        const RigidTransform* left_T_table, RecorderObserver* observer) {
   config_ = config;
   observer_ = observer;
+  errno = 0;
+  const Status s = StartWriting(calibration, left_T_table);
+  // The EMCY detail names the real cause (ENOTDIR under a file, ENOENT under /proc, ...).
+  start_error_ = s.ok() ? 0 : errno != 0 ? errno : EIO;
+  return s;
+}
+
+Status Recorder::StartWriting(const StereoCalibration& calibration,
+                              const RigidTransform* left_T_table) {
   if (config_.max_pairs < 1) {
     return Status::Error(StatusCode::kInvalidArgument, "record_max %d: at least 1",
                          config_.max_pairs);

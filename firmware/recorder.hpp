@@ -80,8 +80,14 @@ class Recorder {
 
   RecorderCounters counters() const;
   uint64_t next_index() const { return next_index_; }
+  // The errno of the last failed Start() (ENOTDIR, EACCES, ...), for the EMCY detail; EIO when
+  // the failure had none.
+  int start_error() const { return start_error_; }
 
  private:
+  Status StartWriting(const StereoCalibration& calibration, const RigidTransform* left_T_table);
+
+  int start_error_ = 0;
   struct Slot {
     std::unique_ptr<uint8_t[]> pixels[2];
     int width = 0, height = 0;

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -198,6 +199,14 @@ TEST_F(RecorderTest, UnwritableDirectoryIsAnErrorNamingIt) {
   const Status s = r.Start(c, calib_, nullptr, &observer_);
   EXPECT_FALSE(s.ok());
   EXPECT_NE(std::string(s.message()).find("file/record"), std::string::npos) << s.message();
+  EXPECT_EQ(r.start_error(), ENOTDIR) << "the EMCY detail is the real errno";
+  for (const char* path : {"/dev/null", "/proc/stereohash-record"}) {
+    c.directory = path;
+    Recorder other;
+    EXPECT_FALSE(other.Start(c, calib_, nullptr, &observer_).ok()) << path;
+    EXPECT_NE(other.start_error(), EIO) << path;
+    EXPECT_NE(other.start_error(), 0) << path;
+  }
 }
 
 TEST(ResultJson, ModelNamesAreEscaped) {
