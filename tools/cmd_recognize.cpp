@@ -195,6 +195,9 @@ int RunRecognize(int argc, char** argv) {
     // A pair recorded on one camera holds that camera's image alone: recognised from it.
     if (!recorded.left.empty()) left_path = recorded.left.c_str();
     if (!recorded.right.empty()) right_path = recorded.right.c_str();
+    if (calib_path == nullptr && recorded.calib.empty()) {
+      return Fail("no calib.yaml beside %s (give the calibration with --calib)", scene_dir);
+    }
     if (calib_path == nullptr) calib_path = recorded.calib.c_str();
     if (options.table_path == nullptr && !recorded.table.empty()) {
       options.table_path = recorded.table.c_str();

@@ -13,11 +13,11 @@ struct RecordedPair {
   // DIR/left.png or .pgm, DIR/right.png or .pgm; one of them "" for a folder recorded while on
   // one camera (then recognised from the other image alone).
   std::string left, right;
-  std::string calib;  // DIR/../calib.yaml (must exist)
+  std::string calib;  // DIR/../calib.yaml, "" if there is none (then --calib must give it)
   std::string table;  // DIR/../table.yaml, "" if there is none
 };
 
-// kNotFound naming what is missing (both images, or the calibration).
+// kNotFound when the folder holds neither image.
 Status FindRecordedPair(const char* scene_dir, RecordedPair* out);
 
 }  // namespace sh::tools

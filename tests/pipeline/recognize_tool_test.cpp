@@ -622,6 +622,13 @@ TEST_F(RecognizeToolTest, ReadsARecordedPairWithTheSetsCalibrationAndTable) {
   r = RunTool("recognize --scene " + set + "/scene1");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("no calib.yaml beside"), std::string::npos) << r.output;
+  // ... and then is used.
+  r = RunTool("recognize --scene " + set + "/scene1 --calib " + Path("calib.yaml") + " --json " +
+              Path("scene_calib.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  Json given;
+  ASSERT_TRUE(JsonReader(ReadText(Path("scene_calib.json"))).Parse(&given));
+  EXPECT_EQ(given["objects"].size(), scene["objects"].size());
   r = RunTool("recognize --scene " + set + "/missing");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("has neither left nor right"), std::string::npos) << r.output;
