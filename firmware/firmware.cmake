@@ -54,7 +54,7 @@ endif()
 add_executable(stereohash-fw-sim board_sim.cpp demo_client.cpp)
 target_link_libraries(stereohash-fw-sim PRIVATE stereohash_fw_main stereohash_fw_sim
                       stereohash_hal_can_sim stereohash_hal_gpio_sim stereohash_hal_camera_sim
-                      stereohash_sim_world stereohash_can_protocol stereohash_model
+                      stereohash_sim_world stereohash_can_protocol stereohash_model stereohash_base
                       stereohash_warnings)
 stereohash_headers(stereohash-fw-sim PRIVATE demo_client.hpp)
 stereohash_register(stereohash-fw-sim program)
