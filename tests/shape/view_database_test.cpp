@@ -369,5 +369,19 @@ TEST(ViewDatabase, BuilderRefusesBadSettings) {
   EXPECT_FALSE(BuildShapeViewBlob({}, ShapeViewBuildOptions{}).ok());
 }
 
+TEST(ViewDatabase, BuilderRefusesColoursSegmentationCannotTake) {
+  // Grey, white (a material the MTL does not define reads as white) and black parts would build
+  // a set that recognize refuses: refused here, naming the part.
+  const float colours[][3] = {{0.5f, 0.5f, 0.5f}, {1.0f, 1.0f, 1.0f}, {0.0f, 0.0f, 0.0f}};
+  for (const auto& kd : colours) {
+    ShapeModelInput can = Input("can");
+    for (int k = 0; k < 3; ++k) can.kd[k] = kd[k];
+    const Status s = BuildShapeViewBlob({Input("bracket"), can}, ShapeViewBuildOptions{}).status();
+    EXPECT_FALSE(s.ok());
+    EXPECT_NE(std::string(s.message()).find("colour part 'can'"), std::string::npos)
+        << s.message();
+  }
+}
+
 }  // namespace
 }  // namespace sh
