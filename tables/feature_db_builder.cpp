@@ -379,6 +379,7 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
                            "feature database: model '%s' has no printed face", tm.model.name);
     }
     db_models.push_back(tm.model);
+    const size_t first_feature = learnt.size();
     for (int fi = 0; fi < tm.model.n_faces; ++fi) {
       if (tm.texturing.faces[fi].material < 0) continue;
       if (faces.size() >= kMaxFeatureDbFaces) {
@@ -437,6 +438,13 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
       face.n_features = face_features;
       faces.push_back(face);
       rep.faces.push_back({tm.model.name, fi, face.texel_width, face.texel_height, face_features});
+    }
+    // A carton without features is never found: refused when built, not written to fail later.
+    if (learnt.size() == first_feature) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "feature database: model '%s' gives no features: its print is too "
+                           "small or too flat (1 x 1, one grey level)",
+                           tm.model.name);
     }
   }
 

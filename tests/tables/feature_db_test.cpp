@@ -269,5 +269,26 @@ TEST(FeatureDb, ModelsWithoutPrintAreRefused) {
   EXPECT_NE(std::strstr(b.status().message(), "no printed face"), nullptr);
 }
 
+TEST(FeatureDb, PrintWithoutFeaturesIsRefusedNamingTheModel) {
+  // A 1 x 1 texture, and a texture of one grey level (a 1-bit image of one colour): no corner
+  // to learn, so the carton could never be found.
+  for (const int side : {1, 64}) {
+    Result<TexturedModel> pills = LoadTexturedModelFile("models/textured/pills.obj");
+    ASSERT_TRUE(pills.ok()) << pills.status().message();
+    for (GreyImage& t : pills->textures) {
+      if (t.pixels.empty()) continue;
+      t.width = side;
+      t.height = side;
+      t.pixels.assign(size_t(side) * side, 128);
+    }
+    FeatureDbBuildOptions options;
+    options.tilts.clear();
+    const Result<std::vector<uint8_t>> b = BuildFeatureDb({*pills}, options);
+    ASSERT_FALSE(b.ok()) << side;
+    EXPECT_NE(std::strstr(b.status().message(), "model 'pills' gives no features"), nullptr)
+        << b.status().message();
+  }
+}
+
 }  // namespace
 }  // namespace sh
