@@ -274,6 +274,15 @@ int RunRecognize(int argc, char** argv) {
   auto pipeline = MakeZeroed<Pipeline>();  // ~118 MiB, resident as used (docs/memory.md)
   s = pipeline->Init(*calib, tables.view, config, NowNs, tables.shape());
   if (!s.ok()) return Fail("%s", s.message());
+  // Colour parts are found by their colour alone: in grey images the path finds nothing, which
+  // would read as "0 objects" with nothing said.
+  if (tables.shape() != nullptr &&
+      (left.frame.format == FrameFormat::kGray8 || right.frame.format == FrameFormat::kGray8)) {
+    std::fprintf(stderr,
+                 "stereohash recognize: warning: the model set holds %u colour parts, but the "
+                 "images are grey: colour parts cannot be found in them\n",
+                 tables.shape()->model_count());
+  }
   // The one-image rescue, with the monocular mode's aspect table when it lists the same models.
   LoadedAspects aspects;
   ZeroedPtr<MonoRecognizer> rescue;

@@ -478,6 +478,16 @@ TEST_F(RecognizeToolTest, OneModelSetGivesEveryPathItsSection) {
   EXPECT_NE(r.output.find("no SHAPE_VIEWS section"), std::string::npos) << r.output;
 }
 
+// Colour parts given grey images: said, not a silent "0 objects".
+TEST_F(RecognizeToolTest, ColourPartsInGreyImagesAreWarnedAbout) {
+  const std::string stereo = Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png"));
+  const ToolRun r = RunTool(stereo + " --views tests/fuzz/corpus/shape_views/wedge_30deg.bin");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: the model set holds 1 colour parts, but the images are grey"),
+            std::string::npos)
+      << r.output;
+}
+
 // `bench recorded` on a folder in the recorded-set layout made of two rendered scenes.
 TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
   const std::string set = Path("set");
