@@ -25,7 +25,10 @@ bool NextOption(const char* command, int argc, char** argv, void (*print_help)()
     return false;
   }
   if (*i + 1 >= argc) {
-    std::fprintf(stderr, "stereohash %s: %s needs a value (see --help)\n", command, *option);
+    // Every option of these commands takes a value: a last word without one is either a
+    // misspelt option or a value left out, and the message says both.
+    std::fprintf(stderr, "stereohash %s: %s is not an option, or needs a value (see --help)\n",
+                 command, *option);
     *exit_code = 2;
     return false;
   }

@@ -76,6 +76,11 @@ TEST(ModelNamesTool, OptionNumbersAreReadWholeAndNamed) {
             std::string::npos)
       << r.output;
   EXPECT_EQ(r.output.find("aspect table: aspect table"), std::string::npos) << r.output;
+  // A misspelt last option is not only "missing its value".
+  r = RunTool("recognize --frobnicate");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--frobnicate is not an option, or needs a value"), std::string::npos)
+      << r.output;
 }
 
 }  // namespace
