@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "tests/support/temp_dir.hpp"
@@ -58,6 +59,19 @@ TEST(ModelNamesTool, ModelsTxtGovernsPrintedModelsToo) {
   ASSERT_EQ(info.exit_code, 0) << info.output;
   EXPECT_NE(info.output.find("cube"), std::string::npos) << info.output;
   EXPECT_EQ(info.output.find("tea"), std::string::npos) << "not listed: " << info.output;
+}
+
+// A rendered scene's truth.json names its models as JSON strings: a stem with a quote or a
+// backslash must not end the string early, or the truth cannot be read back.
+TEST(ModelNamesTool, RenderTruthEscapesModelNames) {
+  TempDir dir("names");
+  const std::string d = dir.Mkdir("models");
+  Copy("models/cube.obj", d + "/cu\"be\\x.obj");
+  const ToolRun r = RunTool("render --objects 1 --models " + d + " --out " + dir.Sub("scene"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(dir.Sub("scene/truth.json"));
+  const std::string truth((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(truth.find("\"model\": \"cu\\\"be\\\\x\""), std::string::npos) << truth;
 }
 
 TEST(ModelNamesTool, OptionNumbersAreReadWholeAndNamed) {
