@@ -275,6 +275,9 @@ Status StartRecorder(const FwConfig& config, const TablePoseSource& table,
   rc.max_pairs = config.record_max;
   rc.pgm = config.record_format == RecordFormat::kPgm;
   rc.output_frame = canopen::OutputFrameName(output_frame);
+  rc.background = config.background == BackgroundKey::kAuto    ? "auto"
+                  : config.background == BackgroundKey::kLight ? "light"
+                                                               : "dark";
   rc.model_names = names;
   rc.model_count = n_names;
   // table.yaml only for a configured table: recognition checks hypotheses against it, so a
@@ -429,7 +432,8 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   }
   const Status started = core.Start(cc, core_devices);
   if (!started.ok()) return Fail(*board, "start", started);
-  if (!recording.ok()) core.OnRecordFailed(recorder.start_error() != 0 ? recorder.start_error() : EIO);
+  if (!recording.ok())
+    core.OnRecordFailed(recorder.start_error() != 0 ? recorder.start_error() : EIO);
   board->AfterStart(config, core, *data);
   (void)notifier.Notify(core.state() == FirmwareState::kFault ? "READY=1\nSTATUS=fault"
                                                               : "READY=1\nSTATUS=ready");

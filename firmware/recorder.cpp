@@ -80,7 +80,7 @@ bool IsPairName(const char* name, uint64_t* index) {
 }  // namespace
 
 size_t FormatResultJson(const protocol::ResultSet& set, const char* output_frame,
-                        const char* const* model_names, int model_count,
+                        const char* background, const char* const* model_names, int model_count,
                         const int64_t timestamp_ns[2], char* out, size_t capacity) {
   size_t used = 0;
   const auto append = [&](const char* fmt, auto... args) {
@@ -90,9 +90,10 @@ size_t FormatResultJson(const protocol::ResultSet& set, const char* output_frame
   };
   append(
       "{\"sequence\": %u, \"request_id\": %u, \"status\": %u, \"processing_time_us\": %u, "
-      "\"output_frame\": \"%s\", \"timestamps_ns\": [%" PRId64 ", %" PRId64 "], \"objects\": [",
+      "\"output_frame\": \"%s\", \"background\": \"%s\", \"timestamps_ns\": [%" PRId64 ", %" PRId64
+      "], \"objects\": [",
       set.sequence, set.request_id, static_cast<unsigned>(set.status), set.processing_time_us,
-      output_frame, timestamp_ns[0], timestamp_ns[1]);
+      output_frame, background, timestamp_ns[0], timestamp_ns[1]);
   for (int i = 0; i < set.object_count; ++i) {
     const protocol::ObjectPose& p = set.objects[i];
     const char* raw =
@@ -137,6 +138,17 @@ Status Recorder::StartWriting(const StereoCalibration& calibration,
   if (!n.ok()) return n.status();
   if (!WriteFile(Path(config_.directory.c_str(), "calib.yaml").c_str(), yaml, *n)) {
     return Status::Error(StatusCode::kUnavailable, "record_dir %s: cannot write calib.yaml: %s",
+                         config_.directory.c_str(), std::strerror(errno));
+  }
+  // The settings beside the calibration, in the configuration's own syntax, so that a replay
+  // (camera = directory, recognize --scene) reads them as the firmware reads its file.
+  const int length = std::snprintf(yaml, sizeof(yaml),
+                                   "# the recognition settings of this recording\n"
+                                   "background = %s\n",
+                                   config_.background);
+  if (!WriteFile(Path(config_.directory.c_str(), "settings.conf").c_str(), yaml,
+                 static_cast<size_t>(length))) {
+    return Status::Error(StatusCode::kUnavailable, "record_dir %s: cannot write settings.conf: %s",
                          config_.directory.c_str(), std::strerror(errno));
   }
   if (left_T_table != nullptr) {
@@ -300,8 +312,9 @@ Status Recorder::WritePair(const Slot& slot) {
     return Status::Error(StatusCode::kUnavailable, "%s: %s", dir, std::strerror(errno));
   }
   static char json[kResultJsonBytes];  // writer thread only
-  const size_t n = FormatResultJson(slot.set, config_.output_frame, config_.model_names,
-                                    config_.model_count, slot.timestamp_ns, json, sizeof(json));
+  const size_t n =
+      FormatResultJson(slot.set, config_.output_frame, config_.background, config_.model_names,
+                       config_.model_count, slot.timestamp_ns, json, sizeof(json));
   Status s = Status::Ok();
   for (int side = 0; side < 2 && s.ok(); ++side) {
     if (!slot.present[side]) continue;

@@ -40,8 +40,9 @@ void PrintHelp() {
       "                (blue), line segments (yellow), corners (green: paired into a 3-D point)\n"
       "  --scene DIR   a recorded pair instead of --left/--right: DIR/left.png and right.png (or\n"
       "                .pgm) of a recorded-scenes set or a firmware recording; --calib and\n"
-      "                --table default to calib.yaml and table.yaml beside DIR; a folder\n"
-      "                recorded on one camera holds one image and is recognised from it\n"
+      "                --table default to calib.yaml and table.yaml beside DIR, --background\n"
+      "                to a recording's settings.conf; a folder recorded on one camera\n"
+      "                holds one image and is recognised from it\n"
       "  --monocular left|right  one camera only (2-D aspect hashing; with --table, objects\n"
       "                rest on the table); also chosen by giving only --left or only --right\n"
       "%s",
@@ -201,6 +202,10 @@ int RunRecognize(int argc, char** argv) {
     if (calib_path == nullptr) calib_path = recorded.calib.c_str();
     if (options.table_path == nullptr && !recorded.table.empty()) {
       options.table_path = recorded.table.c_str();
+    }
+    // The recording's preset unless --background gives one: the poses as recorded.
+    if (options.background == nullptr && !recorded.background.empty()) {
+      options.background = recorded.background.c_str();
     }
   }
   if (monocular == nullptr && calib_path != nullptr &&

@@ -15,9 +15,13 @@ struct RecordedPair {
   std::string left, right;
   std::string calib;  // DIR/../calib.yaml, "" if there is none (then --calib must give it)
   std::string table;  // DIR/../table.yaml, "" if there is none
+  // The detector preset of a firmware recording (DIR/../settings.conf, `background = dark` or
+  // `light`), "" when the recording was recognised automatically or names no preset.
+  std::string background;
 };
 
-// kNotFound when the folder holds neither image.
+// kNotFound when the folder holds neither image; kInvalidArgument for a settings.conf whose
+// background is none of auto, dark and light.
 Status FindRecordedPair(const char* scene_dir, RecordedPair* out);
 
 }  // namespace sh::tools
