@@ -29,6 +29,7 @@
 #include "hal/sim/sim_camera.hpp"
 #include "hal/sim/socketcand_server.hpp"
 #include "hal/sim/world/sim_world.hpp"
+#include "recog/base/printable.hpp"
 
 namespace sh::fw {
 namespace {
@@ -70,7 +71,12 @@ class Reporter final : public CoreObserver {
     if (!print_) return;
     const uint32_t n = models.count();
     std::printf("MODELS {\"names\": [");
-    for (uint32_t m = 0; m < n; ++m) std::printf("%s\"%s\"", m ? ", " : "", models.model(m).name);
+    for (uint32_t m = 0; m < n; ++m) {
+      char name[kJsonNameBytes];
+      const char* raw = models.model(m).name;
+      std::printf("%s\"%s\"", m ? ", " : "",
+                  JsonEscaped(raw, sizeof(Model::name), name, sizeof(name)));
+    }
     std::printf("], \"symmetries\": [");
     for (uint32_t m = 0; m < n; ++m) {
       const Model& model = models.model(m);
@@ -172,9 +178,10 @@ class SimBoard final : public Board {
   }
 
   Status AdjustConfig(FwConfig* config) const override {
-    // The pipeline preset follows the rendered table unless the file sets it; a replayed set is
-    // recognised as the board (and `stereohash recognize`) would, automatically.
-    if (config->background == BackgroundKey::kAuto && config->camera != CameraSource::kDirectory) {
+    // The pipeline preset follows the rendered table unless the file sets it (`background = auto`
+    // too: the board's automatic detection on rendered scenes); a replayed set is recognised as
+    // its recording was (settings.conf), or as the board would, automatically.
+    if (!config->Given(ConfigKeyId::background) && config->camera != CameraSource::kDirectory) {
       config->background = config->sim_background == TableSurface::kLight ? BackgroundKey::kLight
                                                                           : BackgroundKey::kDark;
     }
@@ -321,6 +328,23 @@ class SimBoard final : public Board {
       std::memcpy(config->table_file, table_yaml, sizeof(config->table_file));
     }
     if (config->volume_is_sim_default()) config->sim_volume_box = false;
+    return ApplyRecordedSettings(config);
+  }
+
+  // A recording's settings.conf names the preset its results were recognised with: without a
+  // `background` line of its own the replay takes it, or its edges and poses differ from the
+  // recorded ones.
+  static Status ApplyRecordedSettings(FwConfig* config) {
+    char path[kConfigPathMax];
+    if (!JoinPath(path, sizeof(path), config->camera_directory, "settings.conf")) {
+      return Status::Error(StatusCode::kInvalidArgument, "camera_directory %s is too long",
+                           config->camera_directory);
+    }
+    if (config->Given(ConfigKeyId::background) || access(path, R_OK) != 0) return Status::Ok();
+    static FwConfig recorded;  // large: kept off the stack, read once at boot
+    recorded = SimDefaults();
+    SH_RETURN_IF_ERROR(LoadConfigFile(path, &recorded));
+    config->background = recorded.background;
     return Status::Ok();
   }
 

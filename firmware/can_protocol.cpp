@@ -402,11 +402,13 @@ ObjectPose MakeObjectPose(const RigidTransform& cam_T_model, uint8_t model_id, u
   // Double precision for the conversion: the float matrix is only approximately orthonormal and
   // Eigen's quaternion-from-matrix is well conditioned for every rotation.
   const Eigen::Quaterniond q(cam_T_model.R.cast<double>());
+  // The sign the bus sends (w >= 0), so that result.json and the stdout lines say the same.
   const Eigen::Quaterniond n = q.normalized();
-  pose.cam_q_model[0] = n.w();
-  pose.cam_q_model[1] = n.x();
-  pose.cam_q_model[2] = n.y();
-  pose.cam_q_model[3] = n.z();
+  const double sign = n.w() < 0 ? -1.0 : 1.0;
+  pose.cam_q_model[0] = sign * n.w();
+  pose.cam_q_model[1] = sign * n.x();
+  pose.cam_q_model[2] = sign * n.y();
+  pose.cam_q_model[3] = sign * n.z();
   for (int i = 0; i < 3; ++i) pose.cam_t_model_mm[i] = cam_T_model.t_mm[i];
   return pose;
 }

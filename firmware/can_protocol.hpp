@@ -125,6 +125,10 @@ Result<CanFrame> EncodeNmt(NmtCommand command, uint8_t target_node);
 // Commands (0x200 + id). Byte 0 is the command code; arguments follow. Encoded frames are always
 // 8 bytes (unused bytes 0); decoding accepts any length that holds the arguments.
 
+// Code 0 is the idle value of the command RPDO: a PLC that clears its output after each command
+// sends it ("on change"); it runs nothing, gets no ack and raises no EMCY.
+inline constexpr uint8_t kCommandIdle = 0x00;
+
 enum class CommandCode : uint8_t {
   kTrigger = 0x01,         // u16 request id (1..65535) at byte 1
   kSelectModels = 0x02,    // u32 model mask at byte 1 (non-zero; bit n = model id n)

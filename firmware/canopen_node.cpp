@@ -60,8 +60,16 @@ uint8_t CanopenNode::node_id() const {
 uint8_t CanopenNode::ResetCommunication() {
   std::lock_guard<std::mutex> lock(mutex_);
   const uint8_t pending = lss_.pending_node_id();
-  if (pending >= protocol::kNodeIdMin && pending <= protocol::kNodeIdMax) node_id_ = pending;
+  // 0xFF makes the node unconfigured (CiA 305): LSS only, so that fastscan can find it.
+  if ((pending >= protocol::kNodeIdMin && pending <= protocol::kNodeIdMax) ||
+      pending == kNodeIdUnconfigured) {
+    node_id_ = pending;
+  }
   lss_.set_active_node_id(node_id_);
+  if (node_id_ == kNodeIdUnconfigured) {
+    sdo_.Reset();
+    return node_id_;
+  }
   // Communication parameters return to their power-on values (the heartbeat time of the
   // configuration); the PDO valid bits follow the result mode, an application setting that a
   // reset communication keeps.
@@ -95,9 +103,12 @@ bool CanopenNode::HandleFrame(const hal::CanFrame& frame, protocol::NmtState nmt
     }
     return true;
   }
+  // An unconfigured node answers nothing but LSS; the frame is taken so the core ignores it too.
+  if (node_id_ == kNodeIdUnconfigured) return true;
   if (nmt == protocol::NmtState::kStopped) return false;
   pending_ = events;
   pending_out_ = &out;
+  pending_nmt_ = nmt;
   bool handled = false;
   hal::CanFrame reply;
   if (sdo_.Handle(frame, now_ns, &reply)) {
@@ -163,6 +174,12 @@ SdoAbort CanopenNode::OnWrite(const OdEntry& e, uint32_t value) {
       }
       return SdoAbort::kNone;
     case kIdxCommand:
+      // As by RPDO1, a command runs only when operational: a confirmed write that then does
+      // nothing would leave the client believing it ran. The idle code 0 runs nothing anywhere.
+      if (e.sub == kSubCommandCode && value != protocol::kCommandIdle &&
+          pending_nmt_ != protocol::NmtState::kOperational) {
+        return SdoAbort::kDeviceState;
+      }
       if (e.sub == kSubCommandCode && pending_ != nullptr) {
         hal::CanFrame& c = pending_->command;
         c = hal::CanFrame();

@@ -119,6 +119,8 @@ class CanopenNode final : private canopen::WriteHandler {
   uint16_t power_on_heartbeat_ms_ = 200;
   // Set by OnWrite during a frame's handling, returned through CanopenEvents.
   CanopenEvents* pending_ = nullptr;
+  // The NMT state of the frame being handled: commands by SDO run only when operational.
+  protocol::NmtState pending_nmt_ = protocol::NmtState::kPreOperational;
   Vector<hal::CanFrame>* pending_out_ = nullptr;
 };
 

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "recog/camera/calibration_yaml.hpp"
+#include "tables/input_file.hpp"
 
 namespace sh::fw {
 
@@ -104,18 +105,8 @@ Result<StereoCalibration> FileDataSource::LoadCalibration() {
     return *fallback_;
   }
   static char text[kMaxCalibrationYamlBytes];
-  std::FILE* f = std::fopen(calibration_path_, "rb");
-  if (f == nullptr) {
-    return Status::Error(StatusCode::kNotFound, "cannot open calibration %s: %s", calibration_path_,
-                         std::strerror(errno));
-  }
-  const size_t n = std::fread(text, 1, sizeof(text), f);
-  const bool more = std::fgetc(f) != EOF;
-  std::fclose(f);
-  if (more) {
-    return Status::Error(StatusCode::kOutOfRange, "calibration %s is larger than %zu bytes",
-                         calibration_path_, kMaxCalibrationYamlBytes);
-  }
+  size_t n = 0;
+  SH_RETURN_IF_ERROR(ReadInputFile(calibration_path_, "calibration", text, sizeof(text), &n));
   Result<StereoCalibration> calib = ParseCalibrationYaml(text, n);
   if (!calib.ok()) {
     return calib.status().WithContext("%s", calibration_path_);

@@ -14,7 +14,7 @@ stereohash_module(stereohash_fw_core
          stereohash_hal_camera stereohash_tables stereohash_default_tables stereohash_camera
          stereohash_geometry stereohash_base stereohash_embedded_flags Threads::Threads
          stereohash_pipeline stereohash_feature_db stereohash_shape_views_file stereohash_shape
-  PRIVATE stereohash_image_files stereohash_image)
+  PRIVATE stereohash_image_files stereohash_image stereohash_input_file)
 
 stereohash_module(stereohash_fw_pipeline
   SOURCES pipeline_recognition.cpp
@@ -28,7 +28,7 @@ stereohash_module(stereohash_fw_main
   HEADERS board.hpp
   PUBLIC stereohash_fw_core stereohash_canopen stereohash_hal_camera stereohash_hal_can
          stereohash_hal_gpio stereohash_camera stereohash_geometry stereohash_base
-  PRIVATE stereohash_fw_pipeline stereohash_mono stereohash_can_protocol)
+  PRIVATE stereohash_fw_pipeline stereohash_mono stereohash_can_protocol stereohash_input_file)
 
 # The simulator's pieces of the firmware: ground-truth recognition and the simulator's defaults.
 stereohash_module(stereohash_fw_sim
@@ -54,7 +54,7 @@ endif()
 add_executable(stereohash-fw-sim board_sim.cpp demo_client.cpp)
 target_link_libraries(stereohash-fw-sim PRIVATE stereohash_fw_main stereohash_fw_sim
                       stereohash_hal_can_sim stereohash_hal_gpio_sim stereohash_hal_camera_sim
-                      stereohash_sim_world stereohash_can_protocol stereohash_model
+                      stereohash_sim_world stereohash_can_protocol stereohash_model stereohash_base
                       stereohash_warnings)
 stereohash_headers(stereohash-fw-sim PRIVATE demo_client.hpp)
 stereohash_register(stereohash-fw-sim program)

@@ -52,7 +52,9 @@ Status FirmwareCore::Start(const CoreConfig& config, const CoreDevices& devices)
     return Status::Error(StatusCode::kInvalidArgument,
                          "firmware core needs a CAN bus, a camera, a recognition and data");
   }
-  SH_RETURN_IF_ERROR(CheckNodeId(config.node_id));
+  // 0xFF (stored by LSS): the node starts unconfigured and waits for an id from LSS.
+  if (config.node_id != canopen::kNodeIdUnconfigured)
+    SH_RETURN_IF_ERROR(CheckNodeId(config.node_id));
   if ((config.heartbeat_ms != 0 && config.heartbeat_ms < 10) || config.heartbeat_ms > 10000 ||
       config.capture_timeout_ms <= 0) {
     return Status::Error(StatusCode::kInvalidArgument,
@@ -282,6 +284,10 @@ void FirmwareCore::ClearConditions(uint32_t bits) {
 // CAN output
 
 Status FirmwareCore::SendFrame(const CanFrame& frame) {
+  // Unconfigured (node id 0xFF, CiA 305): no boot-up, heartbeat, EMCY or PDO; only LSS answers.
+  if (node_.load() == canopen::kNodeIdUnconfigured && frame.id != canopen::kLssSlaveCobId) {
+    return Status::Error(StatusCode::kFailedPrecondition, "node unconfigured: LSS only");
+  }
   std::lock_guard<std::mutex> lock(send_mutex_);
   const Status s = dev_.can->Send(frame);
   NoteSendError(s);
@@ -798,6 +804,11 @@ void FirmwareCore::ResetCommunication(bool reset_node) {
   const Result<CanFrame> boot = EncodeBootUp(node_);
   if (boot.ok()) (void)SendFrame(*boot);
   nmt_ = NmtState::kOperational;  // self-starting
+  if (node_.load() == canopen::kNodeIdUnconfigured) {
+    Log("%s: node unconfigured (id 0xFF): LSS only until an id is configured",
+        reset_node ? "reset node" : "reset communication");
+    return;
+  }
   Log("%s: node id %u", reset_node ? "reset node" : "reset communication", node_.load());
 }
 
@@ -806,6 +817,7 @@ void FirmwareCore::SendIfValid(int tpdo, const CanFrame& frame) {
 }
 
 void FirmwareCore::HandleCommand(const CanFrame& frame) {
+  if (frame.len > 0 && frame.data[0] == kCommandIdle) return;
   const Result<Command> cmd = DecodeCommand(frame, node_);
   if (!cmd.ok()) {
     SendAck(frame, cmd.status());

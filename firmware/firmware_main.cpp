@@ -23,6 +23,7 @@
 #include "recog/camera/handeye_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "recog/mono/mono_pipeline.hpp"
+#include "tables/input_file.hpp"
 
 namespace sh::fw {
 namespace {
@@ -72,29 +73,12 @@ class MainObserver final : public CoreObserver {
   CoreObserver* board_;
 };
 
-// A small text file (table pose, hand-eye, machine id) into `text`; kOutOfRange if it does not
-// fit.
-Status ReadTextFile(const char* path, char* text, size_t capacity, size_t* length) {
-  std::FILE* f = std::fopen(path, "rb");
-  if (f == nullptr) {
-    return Status::Error(StatusCode::kNotFound, "cannot open %s: %s", path, std::strerror(errno));
-  }
-  const size_t n = std::fread(text, 1, capacity, f);
-  const bool more = std::fgetc(f) != EOF;
-  std::fclose(f);
-  if (more) {
-    return Status::Error(StatusCode::kOutOfRange, "%s is larger than %zu bytes", path, capacity);
-  }
-  *length = n;
-  return Status::Ok();
-}
-
 // A small YAML file (table pose, hand-eye) read and parsed; errors name the file. Boot only.
 template <typename T, size_t kBytes>
 Result<T> LoadYamlFile(const char* path, Result<T> (*parse)(const char*, size_t)) {
   static char text[kBytes];
   size_t n = 0;
-  SH_RETURN_IF_ERROR(ReadTextFile(path, text, sizeof(text), &n));
+  SH_RETURN_IF_ERROR(ReadInputFile(path, "file", text, sizeof(text), &n));
   Result<T> parsed = parse(text, n);
   if (!parsed.ok()) return parsed.status().WithContext("%s", path);
   return parsed;
@@ -105,7 +89,7 @@ Result<T> LoadYamlFile(const char* path, Result<T> (*parse)(const char*, size_t)
 uint32_t MachineSerial() {
   char id[64] = {};
   size_t n = 0;
-  if (!ReadTextFile("/etc/machine-id", id, sizeof(id) - 1, &n).ok()) return 0;
+  if (!ReadInputFile("/etc/machine-id", "machine id", id, sizeof(id) - 1, &n).ok()) return 0;
   while (n > 0 && (id[n - 1] == '\n' || id[n - 1] == ' ')) --n;
   return n > 0 ? Crc32(id, n) : 0;
 }
@@ -291,6 +275,9 @@ Status StartRecorder(const FwConfig& config, const TablePoseSource& table,
   rc.max_pairs = config.record_max;
   rc.pgm = config.record_format == RecordFormat::kPgm;
   rc.output_frame = canopen::OutputFrameName(output_frame);
+  rc.background = config.background == BackgroundKey::kAuto    ? "auto"
+                  : config.background == BackgroundKey::kLight ? "light"
+                                                               : "dark";
   rc.model_names = names;
   rc.model_count = n_names;
   // table.yaml only for a configured table: recognition checks hypotheses against it, so a
@@ -445,7 +432,8 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   }
   const Status started = core.Start(cc, core_devices);
   if (!started.ok()) return Fail(*board, "start", started);
-  if (!recording.ok()) core.OnRecordFailed(EIO);
+  if (!recording.ok())
+    core.OnRecordFailed(recorder.start_error() != 0 ? recorder.start_error() : EIO);
   board->AfterStart(config, core, *data);
   (void)notifier.Notify(core.state() == FirmwareState::kFault ? "READY=1\nSTATUS=fault"
                                                               : "READY=1\nSTATUS=ready");

@@ -8,6 +8,7 @@
 
 #include "firmware/config_keys.hpp"
 #include "recog/base/printable.hpp"
+#include "tables/input_file.hpp"
 
 namespace sh::fw {
 namespace {
@@ -170,20 +171,8 @@ Status ValidateConfig(const FwConfig& c) {
 
 Status LoadConfigFile(const char* path, FwConfig* config) {
   static char text[kMaxConfigFileBytes];
-  std::FILE* f = std::fopen(path, "rb");
-  if (f == nullptr) {
-    return Status::Error(StatusCode::kNotFound, "cannot open config %s: %s", path,
-                         std::strerror(errno));
-  }
-  const size_t n = std::fread(text, 1, sizeof(text), f);
-  const bool more = std::fgetc(f) != EOF;
-  const bool error = std::ferror(f) != 0;
-  std::fclose(f);
-  if (error) return Status::Error(StatusCode::kUnavailable, "cannot read config %s", path);
-  if (more) {
-    return Status::Error(StatusCode::kOutOfRange, "config %s is larger than %zu bytes", path,
-                         kMaxConfigFileBytes);
-  }
+  size_t n = 0;
+  SH_RETURN_IF_ERROR(ReadInputFile(path, "config", text, sizeof(text), &n));
   SH_RETURN_IF_ERROR(ParseConfig(text, n, config).WithContext("%s", path));
   return ValidateConfig(*config);
 }

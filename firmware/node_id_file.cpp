@@ -9,26 +9,27 @@
 #include <cstring>
 
 #include "firmware/can_protocol.hpp"
+#include "recog/base/printable.hpp"
+#include "tables/input_file.hpp"
 
 namespace sh::fw {
 
 Result<uint8_t> ReadNodeIdFile(const char* path) {
-  std::FILE* f = std::fopen(path, "r");
-  if (f == nullptr) {
-    return Status::Error(errno == ENOENT ? StatusCode::kNotFound : StatusCode::kUnavailable,
-                         "node id file %s: %s", path, std::strerror(errno));
-  }
   char text[16] = {};
-  const size_t n = std::fread(text, 1, sizeof(text) - 1, f);
-  std::fclose(f);
+  size_t n = 0;
+  SH_RETURN_IF_ERROR(ReadInputFile(path, "node id file", text, sizeof(text) - 1, &n));
+  // The line end is no part of the value, in the check or in the message.
+  while (n > 0 && (text[n - 1] == '\n' || text[n - 1] == '\r' || text[n - 1] == ' ')) --n;
   text[n] = '\0';
   char* end = nullptr;
   const long id = std::strtol(text, &end, 10);
-  while (end != nullptr && (*end == '\n' || *end == ' ' || *end == '\r')) ++end;
-  if (end == text || end == nullptr || *end != '\0' || id < protocol::kNodeIdMin ||
-      id > protocol::kNodeIdMax) {
+  const bool in_range = (id >= protocol::kNodeIdMin && id <= protocol::kNodeIdMax) ||
+                        id == canopen::kNodeIdUnconfigured;
+  if (end == text || end == nullptr || *end != '\0' || !in_range) {
+    char shown[4 * sizeof(text) + 4];
     return Status::Error(StatusCode::kInvalidArgument,
-                         "node id file %s holds '%s', not a node id 1..127", path, text);
+                         "node id file %s holds '%s', not a node id 1..127 or 255 (unconfigured)",
+                         path, Printable(text, n, shown, sizeof(shown)));
   }
   return static_cast<uint8_t>(id);
 }
@@ -36,7 +37,8 @@ Result<uint8_t> ReadNodeIdFile(const char* path) {
 NodeIdFile::NodeIdFile(const char* path) { std::snprintf(path_, sizeof(path_), "%s", path); }
 
 Status NodeIdFile::StoreNodeId(uint8_t node_id) {
-  if (node_id < protocol::kNodeIdMin || node_id > protocol::kNodeIdMax) {
+  if ((node_id < protocol::kNodeIdMin || node_id > protocol::kNodeIdMax) &&
+      node_id != canopen::kNodeIdUnconfigured) {
     return Status::Error(StatusCode::kOutOfRange, "node id %u cannot be stored", node_id);
   }
   char tmp[kConfigPathMax + 8];

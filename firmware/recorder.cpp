@@ -13,6 +13,7 @@
 #include <new>
 
 #include "hal/sim/image_files.hpp"
+#include "recog/base/printable.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "recog/image/image.hpp"
@@ -32,7 +33,10 @@ bool MakeDirectories(const std::string& path) {
     if (mkdir(part.c_str(), 0755) != 0 && errno != EEXIST) return false;
   }
   struct stat st {};
-  return stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+  if (stat(path.c_str(), &st) != 0) return false;
+  // An existing file or device (/dev/null) where the directory should be: say so by errno.
+  if (!S_ISDIR(st.st_mode)) errno = ENOTDIR;
+  return S_ISDIR(st.st_mode);
 }
 
 // Paths built without the heap: the writer thread allocates nothing either.
@@ -76,7 +80,7 @@ bool IsPairName(const char* name, uint64_t* index) {
 }  // namespace
 
 size_t FormatResultJson(const protocol::ResultSet& set, const char* output_frame,
-                        const char* const* model_names, int model_count,
+                        const char* background, const char* const* model_names, int model_count,
                         const int64_t timestamp_ns[2], char* out, size_t capacity) {
   size_t used = 0;
   const auto append = [&](const char* fmt, auto... args) {
@@ -86,13 +90,16 @@ size_t FormatResultJson(const protocol::ResultSet& set, const char* output_frame
   };
   append(
       "{\"sequence\": %u, \"request_id\": %u, \"status\": %u, \"processing_time_us\": %u, "
-      "\"output_frame\": \"%s\", \"timestamps_ns\": [%" PRId64 ", %" PRId64 "], \"objects\": [",
+      "\"output_frame\": \"%s\", \"background\": \"%s\", \"timestamps_ns\": [%" PRId64 ", %" PRId64
+      "], \"objects\": [",
       set.sequence, set.request_id, static_cast<unsigned>(set.status), set.processing_time_us,
-      output_frame, timestamp_ns[0], timestamp_ns[1]);
+      output_frame, background, timestamp_ns[0], timestamp_ns[1]);
   for (int i = 0; i < set.object_count; ++i) {
     const protocol::ObjectPose& p = set.objects[i];
-    const char* name =
+    const char* raw =
         p.model_id < model_count && model_names != nullptr ? model_names[p.model_id] : "";
+    char name[kJsonNameBytes];
+    JsonEscaped(raw, kJsonNameBytes, name, sizeof(name));
     append(
         "%s{\"model_id\": %u, \"model\": \"%s\", \"instance\": %u, \"score\": %.4f, "
         "\"t_mm\": [%.4f, %.4f, %.4f], \"q_wxyz\": [%.7f, %.7f, %.7f, %.7f]}",
@@ -108,6 +115,15 @@ Status Recorder::Start(const RecorderConfig& config, const StereoCalibration& ca
                        const RigidTransform* left_T_table, RecorderObserver* observer) {
   config_ = config;
   observer_ = observer;
+  errno = 0;
+  const Status s = StartWriting(calibration, left_T_table);
+  // The EMCY detail names the real cause (ENOTDIR under a file, ENOENT under /proc, ...).
+  start_error_ = s.ok() ? 0 : errno != 0 ? errno : EIO;
+  return s;
+}
+
+Status Recorder::StartWriting(const StereoCalibration& calibration,
+                              const RigidTransform* left_T_table) {
   if (config_.max_pairs < 1) {
     return Status::Error(StatusCode::kInvalidArgument, "record_max %d: at least 1",
                          config_.max_pairs);
@@ -122,6 +138,17 @@ Status Recorder::Start(const RecorderConfig& config, const StereoCalibration& ca
   if (!n.ok()) return n.status();
   if (!WriteFile(Path(config_.directory.c_str(), "calib.yaml").c_str(), yaml, *n)) {
     return Status::Error(StatusCode::kUnavailable, "record_dir %s: cannot write calib.yaml: %s",
+                         config_.directory.c_str(), std::strerror(errno));
+  }
+  // The settings beside the calibration, in the configuration's own syntax, so that a replay
+  // (camera = directory, recognize --scene) reads them as the firmware reads its file.
+  const int length = std::snprintf(yaml, sizeof(yaml),
+                                   "# the recognition settings of this recording\n"
+                                   "background = %s\n",
+                                   config_.background);
+  if (!WriteFile(Path(config_.directory.c_str(), "settings.conf").c_str(), yaml,
+                 static_cast<size_t>(length))) {
+    return Status::Error(StatusCode::kUnavailable, "record_dir %s: cannot write settings.conf: %s",
                          config_.directory.c_str(), std::strerror(errno));
   }
   if (left_T_table != nullptr) {
@@ -285,8 +312,9 @@ Status Recorder::WritePair(const Slot& slot) {
     return Status::Error(StatusCode::kUnavailable, "%s: %s", dir, std::strerror(errno));
   }
   static char json[kResultJsonBytes];  // writer thread only
-  const size_t n = FormatResultJson(slot.set, config_.output_frame, config_.model_names,
-                                    config_.model_count, slot.timestamp_ns, json, sizeof(json));
+  const size_t n =
+      FormatResultJson(slot.set, config_.output_frame, config_.background, config_.model_names,
+                       config_.model_count, slot.timestamp_ns, json, sizeof(json));
   Status s = Status::Ok();
   for (int side = 0; side < 2 && s.ok(); ++side) {
     if (!slot.present[side]) continue;

@@ -4,11 +4,14 @@
 //
 //   DIR/calib.yaml           the calibration in use (written at start)
 //   DIR/table.yaml           the table pose, if one is known
+//   DIR/settings.conf        the recognition settings in use, as firmware configuration lines
+//                            (background = auto|dark|light): the replays recognise with them
 //   DIR/<n>/left.png         n: 8 digits, counting up across restarts; the last record_max kept
 //   DIR/<n>/right.png        (.pgm with record_format = pgm: 30 times faster to write, 3 times
 //                            larger); on one camera only the image of the camera in use
 //   DIR/<n>/result.json      the result set as sent (sequence, request id, status, time, frame,
-//                            objects with model, pose, score), image timestamps
+//                            objects with model, pose, score), image timestamps, the
+//                            detector preset (background)
 //
 // The worker only copies the pair and the set into one of kRecordSlots preallocated slots
 // (Submit: no heap, no I/O, never waits); a writer thread at the lowest priority (nice 19)
@@ -49,6 +52,9 @@ struct RecorderConfig {
   int max_pairs = 100;
   bool pgm = false;                     // raw PGM instead of PNG
   const char* output_frame = "camera";  // name written into result.json
+  // The detector preset the results were recognised with, as the `background` key's value: a
+  // replay with another preset finds other edges and so other poses.
+  const char* background = "auto";
   const char* const* model_names = nullptr;
   int model_count = 0;
 };
@@ -80,8 +86,14 @@ class Recorder {
 
   RecorderCounters counters() const;
   uint64_t next_index() const { return next_index_; }
+  // The errno of the last failed Start() (ENOTDIR, EACCES, ...), for the EMCY detail; EIO when
+  // the failure had none.
+  int start_error() const { return start_error_; }
 
  private:
+  Status StartWriting(const StereoCalibration& calibration, const RigidTransform* left_T_table);
+
+  int start_error_ = 0;
   struct Slot {
     std::unique_ptr<uint8_t[]> pixels[2];
     int width = 0, height = 0;
@@ -115,10 +127,10 @@ class Recorder {
 };
 
 // result.json of a set into out[0..capacity): sequence, request id, status, processing time,
-// output frame, objects (model id and name, instance, score, t_mm, q_wxyz), image timestamps.
-// Returns the length, or 0 if it did not fit.
+// output frame, detector preset (`background`), objects (model id and name, instance, score,
+// t_mm, q_wxyz), image timestamps. Returns the length, or 0 if it did not fit.
 size_t FormatResultJson(const protocol::ResultSet& set, const char* output_frame,
-                        const char* const* model_names, int model_count,
+                        const char* background, const char* const* model_names, int model_count,
                         const int64_t timestamp_ns[2], char* out, size_t capacity);
 
 }  // namespace sh::fw

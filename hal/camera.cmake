@@ -12,7 +12,7 @@ stereohash_module(stereohash_hal_camera_sim
   SOURCES sim/sim_camera.cpp sim/directory_camera.cpp
   HEADERS sim/sim_camera.hpp sim/sim_camera_source.hpp sim/directory_camera.hpp
   PUBLIC stereohash_hal_camera stereohash_image stereohash_base
-  PRIVATE stereohash_image_files)
+  PRIVATE stereohash_image_files stereohash_input_file)
 
 # The board backend builds wherever libcamera's pkg-config file is found (native or aarch64).
 if(LIBCAMERA_FOUND)

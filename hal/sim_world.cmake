@@ -4,7 +4,7 @@ stereohash_module(stereohash_image_files
   SOURCES sim/image_files.cpp
   HEADERS sim/image_files.hpp
   PUBLIC stereohash_image stereohash_base
-  PRIVATE PNG::PNG)
+  PRIVATE PNG::PNG stereohash_input_file)
 
 # Printed models from disk (OBJ, MTL and texture images) for the database builder's callers: the
 # tools, the tests and the simulated world.
@@ -12,7 +12,8 @@ stereohash_module(stereohash_textured_model_files
   SOURCES sim/textured_model_files.cpp
   HEADERS sim/textured_model_files.hpp
   PUBLIC stereohash_feature_db_builder stereohash_base
-  PRIVATE stereohash_image_files stereohash_model stereohash_image)
+  PRIVATE stereohash_image_files stereohash_model stereohash_image stereohash_input_file
+          stereohash_model_files)
 
 # The simulated world (hal/sim/world): ray caster, renderer, scene generator and the scenes the
 # simulator's camera plays. Linked by the simulator backends, the simulator program, the tools

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 
@@ -376,7 +377,10 @@ Result<std::vector<uint8_t>> Serialise(const std::vector<Model>& models,
   Put(blob, h.point_entries, points_sorted.data(), points_sorted.size());
   Put(blob, h.line_bins, line_offsets.data(), line_offsets.size());
   Put(blob, h.line_entries, lines_sorted.data(), lines_sorted.size());
-  h.payload_crc32 = Crc32(blob.data() + sizeof(AspectHeader), blob.size() - sizeof(AspectHeader));
+  // The CRC covers the header too, read with its own field as zero.
+  h.blob_crc32 = 0;
+  std::memcpy(blob.data(), &h, sizeof(h));
+  h.blob_crc32 = BlobCrc32(blob.data(), blob.size(), offsetof(AspectHeader, blob_crc32));
   std::memcpy(blob.data(), &h, sizeof(h));
   return blob;
 }
@@ -446,6 +450,32 @@ bool TestViewPasses(const Model& m, const AspectView& view, AspectVoter& voter,
   return bases == 0 || static_cast<float>(passed) >= o.test_pass_fraction * bases;
 }
 
+// The first option outside its range, named with its range, so that the user knows which to fix.
+Status CheckBuildOptions(const AspectBuildOptions& o) {
+  struct Range {
+    const char* name;
+    double value, min, max;
+  };
+  const double slices = kMaxAspectAngleSlices;
+  const Range ranges[] = {
+      {"initial spacing (--spacing, degrees)", o.initial_spacing_deg, 2, 90},
+      {"refinement levels (--levels)", double(o.max_levels), 0, 6},
+      {"direction slices (--slices D,S: D)", double(o.line_angle_slices), 1, slices},
+      {"size slices (--slices D,S: S)", double(o.size_slices), 1, slices},
+      {"basis fraction", o.min_basis_fraction, 1e-9, 1e9},
+      {"test scale (px)", o.test_scale_px, 1.000001, 1e9},
+      {"point bin", o.point_bin, 1e-9, 1e9},
+      {"line bin", o.line_bin, 1e-9, 1e9},
+  };
+  for (const Range& r : ranges) {
+    if (!(r.value >= r.min && r.value <= r.max)) {
+      return Status::Error(StatusCode::kInvalidArgument, "aspect table: %s is %g, outside %g..%g",
+                           r.name, r.value, r.min, r.max);
+    }
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 Result<std::vector<uint8_t>> BuildAspectBlob(std::vector<Model> models, const AspectBuildOptions& o,
@@ -454,13 +484,7 @@ Result<std::vector<uint8_t>> BuildAspectBlob(std::vector<Model> models, const As
     return Status::Error(StatusCode::kInvalidArgument, "aspect table: need 1..%u models, got %zu",
                          kMaxAspectModels, models.size());
   }
-  if (!(o.initial_spacing_deg >= 2.0f && o.initial_spacing_deg <= 90.0f) || o.max_levels < 0 ||
-      o.max_levels > 6 || !(o.min_basis_fraction > 0.0f) || !(o.test_scale_px > 1.0f) ||
-      !(o.point_bin > 0.0f) || !(o.line_bin > 0.0f) || o.line_angle_slices < 1 ||
-      o.line_angle_slices > static_cast<int>(kMaxAspectAngleSlices) || o.size_slices < 1 ||
-      o.size_slices > static_cast<int>(kMaxAspectAngleSlices)) {
-    return Status::Error(StatusCode::kInvalidArgument, "aspect table: build options out of range");
-  }
+  SH_RETURN_IF_ERROR(CheckBuildOptions(o));
   AspectBuildReport local;
   AspectBuildReport& rep = report ? *report : local;
   rep = {};

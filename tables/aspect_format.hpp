@@ -12,7 +12,8 @@
 //   uint32 line_bin_offsets[line bins + 1]
 //   AspectLineEntry[n_line_entries]   grouped by bin: size slice, direction slice, centre
 //
-// The CRC-32 covers every byte after the header. See docs/tables.md ("Aspect tables").
+// The CRC-32 covers every byte of the blob, its own field read as zero (BlobCrc32). See
+// docs/tables.md ("Aspect tables").
 #pragma once
 
 #include <algorithm>
@@ -28,7 +29,8 @@
 namespace sh {
 
 inline constexpr char kAspectMagic[8] = {'S', 'H', 'A', 'S', 'P', 'E', 'C', 'T'};
-inline constexpr uint16_t kAspectFormatVersion = 1;
+// Version 2: the CRC covers the header too, reserved fields must be zero.
+inline constexpr uint16_t kAspectFormatVersion = 2;
 
 // Capacities the monocular recogniser's scratch memory is sized for; larger tables are refused
 // at load (and by the builder).
@@ -93,9 +95,9 @@ struct AspectHeader {
   uint16_t format_version;
   uint8_t basis_kind;  // AspectBasisKind
   uint8_t reserved0;
-  uint32_t header_size;    // sizeof(AspectHeader)
-  uint64_t total_size;     // whole blob in bytes
-  uint32_t payload_crc32;  // CRC-32 of bytes [header_size, total_size)
+  uint32_t header_size;  // sizeof(AspectHeader)
+  uint64_t total_size;   // whole blob in bytes
+  uint32_t blob_crc32;   // BlobCrc32 of bytes [0, total_size)
   uint32_t n_models;
   uint32_t n_aspects;
   uint32_t n_bases;

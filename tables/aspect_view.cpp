@@ -1,6 +1,7 @@
 #include "tables/aspect_view.hpp"
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #include "recog/base/blob_start.hpp"
@@ -52,11 +53,14 @@ Result<AspectTableView> AspectTableView::Open(const void* blob, size_t size) {
                          static_cast<unsigned long long>(h->total_size), size);
   }
   if (!IsValidAspectBasisKind(h->basis_kind)) return Corrupt("basis kind not 1 or 2");
-  const uint32_t crc = Crc32(bytes + sizeof(AspectHeader), size - sizeof(AspectHeader));
-  if (crc != h->payload_crc32) {
+  const uint32_t crc = BlobCrc32(bytes, size, offsetof(AspectHeader, blob_crc32));
+  if (crc != h->blob_crc32) {
     return Status::Error(StatusCode::kDataLoss,
-                         "aspect table corrupt: payload CRC-32 %08x, header says %08x", crc,
-                         h->payload_crc32);
+                         "aspect table corrupt: CRC-32 %08x, header says %08x", crc, h->blob_crc32);
+  }
+  if (h->reserved0 != 0 || !AllZero(h->build.reserved, sizeof(h->build.reserved)) ||
+      (h->build.flags & ~kAspectEdgeBasesOnly) != 0) {
+    return Corrupt("reserved header bits not zero");
   }
   if (h->n_models == 0 || h->n_models > kMaxAspectModels) {
     return Status::Error(StatusCode::kOutOfRange, "aspect table has %u models (1..%u supported)",

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 #include <numeric>
@@ -378,6 +379,7 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
                            "feature database: model '%s' has no printed face", tm.model.name);
     }
     db_models.push_back(tm.model);
+    const size_t first_feature = learnt.size();
     for (int fi = 0; fi < tm.model.n_faces; ++fi) {
       if (tm.texturing.faces[fi].material < 0) continue;
       if (faces.size() >= kMaxFeatureDbFaces) {
@@ -437,6 +439,13 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
       faces.push_back(face);
       rep.faces.push_back({tm.model.name, fi, face.texel_width, face.texel_height, face_features});
     }
+    // A carton without features is never found: refused when built, not written to fail later.
+    if (learnt.size() == first_feature) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "feature database: model '%s' gives no features: its print is too "
+                           "small or too flat (1 x 1, one grey level)",
+                           tm.model.name);
+    }
   }
 
   // Kd-tree, and the features in its leaf order.
@@ -488,8 +497,10 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
   Put(blob, h.descriptors, descriptors.data(), descriptors.size());
   Put(blob, h.nodes, nodes.data(), nodes.size());
   Put(blob, h.texels, texels.data(), texels.size());
-  h.payload_crc32 =
-      Crc32(blob.data() + sizeof(FeatureDbHeader), blob.size() - sizeof(FeatureDbHeader));
+  // The CRC covers the header too, read with its own field as zero.
+  h.blob_crc32 = 0;
+  std::memcpy(blob.data(), &h, sizeof(h));
+  h.blob_crc32 = BlobCrc32(blob.data(), blob.size(), offsetof(FeatureDbHeader, blob_crc32));
   std::memcpy(blob.data(), &h, sizeof(h));
   rep.views = h.n_views;
   rep.features = h.n_features;

@@ -13,7 +13,7 @@
 //   KdNode[n_nodes]                      kd-tree over the descriptors (recog/texture/kd_tree.hpp)
 //   uint8 texels[n_texel_bytes]          grey face textures for verification, row-major
 //
-// The CRC-32 covers every byte after the header.
+// The CRC-32 covers every byte of the blob, its own field read as zero (BlobCrc32).
 #pragma once
 
 #include <cstddef>
@@ -28,7 +28,8 @@
 namespace sh {
 
 inline constexpr char kFeatureDbMagic[8] = {'S', 'H', 'T', 'E', 'X', 'D', 'B', '\0'};
-inline constexpr uint16_t kFeatureDbFormatVersion = 1;
+// Version 2: the CRC covers the header too, reserved fields must be zero.
+inline constexpr uint16_t kFeatureDbFormatVersion = 2;
 
 // Capacities the recogniser's memory is sized for; the reader refuses larger databases.
 inline constexpr uint32_t kMaxFeatureDbModels = 16;
@@ -56,7 +57,7 @@ struct FeatureDbHeader {
   uint16_t descriptor_size;  // kDescriptorSize
   uint32_t header_size;      // sizeof(FeatureDbHeader)
   uint64_t total_size;       // whole blob in bytes
-  uint32_t payload_crc32;    // CRC-32 of bytes [header_size, total_size)
+  uint32_t blob_crc32;       // BlobCrc32 of bytes [0, total_size)
   uint32_t n_models;
   uint32_t n_faces;
   uint32_t n_views;

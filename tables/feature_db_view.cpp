@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #include "recog/base/blob_start.hpp"
@@ -87,10 +88,14 @@ Result<FeatureDbView> FeatureDbView::Open(const void* blob, size_t size) {
                          "%s truncated or padded: header says %llu bytes, got %zu", kBlob,
                          static_cast<unsigned long long>(h->total_size), size);
   }
-  const uint32_t crc = Crc32(bytes + sizeof(FeatureDbHeader), size - sizeof(FeatureDbHeader));
-  if (crc != h->payload_crc32) {
-    return Status::Error(StatusCode::kDataLoss, "%s corrupt: payload CRC-32 %08x, header says %08x",
-                         kBlob, crc, h->payload_crc32);
+  const uint32_t crc = BlobCrc32(bytes, size, offsetof(FeatureDbHeader, blob_crc32));
+  if (crc != h->blob_crc32) {
+    return Status::Error(StatusCode::kDataLoss, "%s corrupt: CRC-32 %08x, header says %08x", kBlob,
+                         crc, h->blob_crc32);
+  }
+  if (!AllZero(h->reserved, sizeof(h->reserved))) {
+    return Status::Error(StatusCode::kDataLoss, "%s corrupt: reserved header bytes not zero",
+                         kBlob);
   }
   if (h->n_models == 0 || h->n_models > kMaxFeatureDbModels || h->n_faces == 0 ||
       h->n_faces > kMaxFeatureDbFaces || h->n_views > kMaxFeatureDbViews ||

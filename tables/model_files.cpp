@@ -1,34 +1,19 @@
 #include "tables/model_files.hpp"
 
 #include <dirent.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 
 #include "recog/model/obj_model.hpp"
 #include "recog/model/obj_texture.hpp"
+#include "tables/input_file.hpp"
 
 namespace sh {
 namespace {
-
-Status ReadText(const std::string& path, long limit, std::string* text) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return Status::Error(StatusCode::kNotFound, "cannot open '%s': %s", path.c_str(),
-                         std::strerror(errno));
-  }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  *text = buffer.str();
-  if (long(text->size()) > limit) {
-    return Status::Error(StatusCode::kResourceExhausted, "'%s' is larger than %ld bytes",
-                         path.c_str(), limit);
-  }
-  return Status::Ok();
-}
 
 bool IsObjName(const char* name) {
   const size_t len = std::strlen(name);
@@ -65,7 +50,7 @@ Status ParseManifest(const std::string& path, const std::string& text,
 
 Status LoadModelColour(const std::string& obj_path, const Model& model, float kd[3]) {
   std::string obj;
-  SH_RETURN_IF_ERROR(ReadText(obj_path, kMaxObjFileBytes, &obj));
+  SH_RETURN_IF_ERROR(ReadInputFile(obj_path, "OBJ", size_t(kMaxObjFileBytes), &obj));
   Result<ModelTexturing> texturing = ParseObjTexturing(obj.data(), obj.size(), model);
   if (!texturing.ok()) return texturing.status().WithContext("%s", obj_path.c_str());
   if (texturing->mtllib[0] == '\0' || texturing->n_materials == 0) {
@@ -82,7 +67,7 @@ Status LoadModelColour(const std::string& obj_path, const Model& model, float kd
       (slash == std::string::npos ? std::string() : obj_path.substr(0, slash + 1)) +
       texturing->mtllib;
   std::string mtl;
-  SH_RETURN_IF_ERROR(ReadText(mtl_path, kMaxObjFileBytes, &mtl));
+  SH_RETURN_IF_ERROR(ReadInputFile(mtl_path, "MTL", size_t(kMaxObjFileBytes), &mtl));
   // A material the library does not define keeps Kd = (1, 1, 1), white, which colour
   // segmentation refuses by name.
   const Status s = ParseMtl(mtl.data(), mtl.size(), &*texturing);
@@ -91,11 +76,38 @@ Status LoadModelColour(const std::string& obj_path, const Model& model, float kd
   return Status::Ok();
 }
 
-Result<Model> LoadModelFile(const std::string& path) {
-  std::string text;
-  SH_RETURN_IF_ERROR(ReadText(path, kMaxObjFileBytes, &text));
+Result<std::string> ModelNameOfFile(const std::string& path) {
   std::string stem = path.substr(path.find_last_of('/') + 1);
   stem = stem.substr(0, stem.find_last_of('.'));
+  if (stem.size() > size_t(kMaxModelNameLength)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "%s: the model name (file stem) has %zu characters, at most %d",
+                         path.c_str(), stem.size(), kMaxModelNameLength);
+  }
+  return stem;
+}
+
+Status CheckModelNames(const std::vector<std::string>& names, const char* source) {
+  for (size_t i = 0; i < names.size(); ++i) {
+    const std::string& name = names[i];
+    if (name.empty() || name.find_first_of(" \t/") != std::string::npos ||
+        name.size() > size_t(kMaxModelNameLength)) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "%s: '%s' is not a model name (no spaces or '/', 1..%d characters)",
+                           source, name.c_str(), kMaxModelNameLength);
+    }
+    if (std::find(names.begin(), names.begin() + long(i), name) != names.begin() + long(i)) {
+      return Status::Error(StatusCode::kInvalidArgument, "%s: model '%s' given twice", source,
+                           name.c_str());
+    }
+  }
+  return Status::Ok();
+}
+
+Result<Model> LoadModelFile(const std::string& path) {
+  std::string text;
+  SH_RETURN_IF_ERROR(ReadInputFile(path, "OBJ", size_t(kMaxObjFileBytes), &text));
+  SH_ASSIGN_OR_RETURN(const std::string stem, ModelNameOfFile(path));
   Result<Model> model = ParseObjModel(text.data(), text.size(), stem.c_str());
   if (!model.ok()) return model.status().WithContext("%s", path.c_str());
   return model;
@@ -117,10 +129,11 @@ Status LoadModels(const std::string& dir, const std::vector<std::string>& names,
 Status ModelFolderNames(const std::string& dir, std::vector<std::string>* names) {
   names->clear();
   const std::string manifest = dir + "/" + kModelManifestName;
-  std::ifstream probe(manifest);
-  if (probe) {
+  struct stat st {};
+  // lstat's answer only chooses the branch: the manifest itself is opened as any input is.
+  if (lstat(manifest.c_str(), &st) == 0) {
     std::string text;
-    SH_RETURN_IF_ERROR(ReadText(manifest, 1 << 16, &text));
+    SH_RETURN_IF_ERROR(ReadInputFile(manifest, "model list", kMaxModelManifestBytes, &text));
     SH_RETURN_IF_ERROR(ParseManifest(manifest, text, names));
   } else {
     DIR* d = opendir(dir.c_str());

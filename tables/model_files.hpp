@@ -3,6 +3,7 @@
 // model order, and so the same model ids, to everything that reads it.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -16,9 +17,19 @@ inline constexpr const char* kModelManifestName = "models.txt";
 // Most models one folder may hold, and the largest OBJ file read.
 inline constexpr int kMaxFolderModels = 32;
 inline constexpr long kMaxObjFileBytes = 1 << 20;
+// A folder's models.txt.
+inline constexpr size_t kMaxModelManifestBytes = size_t{1} << 16;
 
 // Reads one OBJ file; the model is named after the file stem.
 Result<Model> LoadModelFile(const std::string& path);
+
+// The model name of an OBJ file: its stem, whole. A stem longer than kMaxModelNameLength is
+// refused rather than cut, so that two long names never become one.
+Result<std::string> ModelNameOfFile(const std::string& path);
+
+// A list of model names given by the user (`--names`): each a model name (no spaces or '/', at
+// most kMaxModelNameLength characters), none twice, as models.txt requires.
+Status CheckModelNames(const std::vector<std::string>& names, const char* source);
 
 // The diffuse colour (MTL Kd) of a single-colour part: the OBJ's one material (`usemtl`), read
 // from the library its `mtllib` names (relative to the OBJ's folder). kNotFound when the OBJ

@@ -9,13 +9,6 @@
 namespace sh {
 namespace {
 
-bool AllZero(const uint8_t* p, size_t n) {
-  for (size_t i = 0; i < n; ++i) {
-    if (p[i] != 0) return false;
-  }
-  return true;
-}
-
 // The checks of one directory entry that need nothing but the entry and the blob.
 Status CheckEntry(const ModelSetSection& s, uint32_t i, const uint8_t* bytes, uint64_t total,
                   uint64_t first_payload) {

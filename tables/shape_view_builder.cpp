@@ -5,10 +5,12 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 
 #include "recog/base/crc32.hpp"
+#include "recog/shape/colour_classes.hpp"
 #include "recog/shape/shape_window.hpp"
 #include "recog/shape/silhouette.hpp"
 #include "recog/shape/view_database.hpp"
@@ -181,6 +183,24 @@ void Put(std::vector<uint8_t>& blob, const ShapeSection& s, const T* data, size_
   std::memcpy(blob.data() + s.offset, data, count * sizeof(T));
 }
 
+// The colours the recogniser's segmentation takes (DeriveColourClasses), checked when the set
+// is built: a grey, white or missing Kd (an undefined material reads as white) is refused here,
+// naming the part, instead of writing a set that recognize then refuses.
+Status CheckColours(const std::vector<ShapeModelInput>& models) {
+  std::vector<float> kd;
+  for (const ShapeModelInput& in : models) {
+    ColourClassSet one;
+    uint8_t class_id = 0;
+    const Status s = DeriveColourClasses(&in.kd, 1, &one, &class_id);
+    if (!s.ok()) return Status::Error(s.code(), "colour part '%s': %s", in.model.name, s.message());
+    kd.insert(kd.end(), in.kd, in.kd + 3);
+  }
+  ColourClassSet all;
+  std::vector<uint8_t> class_of_model(models.size());
+  return DeriveColourClasses(reinterpret_cast<const float(*)[3]>(kd.data()), int(models.size()),
+                             &all, class_of_model.data());
+}
+
 }  // namespace
 
 Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> models,
@@ -203,6 +223,7 @@ Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> mod
     return Status::Error(StatusCode::kInvalidArgument,
                          "view database: bad render camera or PCA settings");
   }
+  SH_RETURN_IF_ERROR(CheckColours(models));
   // Symmetry groups, radii and orientation samples.
   std::vector<ShapeModelRecord> records(models.size());
   std::vector<std::vector<Eigen::Matrix3f>> orientations(models.size());
@@ -326,7 +347,10 @@ Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> mod
       ++v;
     }
   }
-  h.payload_crc32 = Crc32(blob.data() + sizeof(ShapeViewsHeader), blob.size() - sizeof(h));
+  // The CRC covers the header too, read with its own field as zero.
+  h.blob_crc32 = 0;
+  std::memcpy(blob.data(), &h, sizeof(h));
+  h.blob_crc32 = BlobCrc32(blob.data(), blob.size(), offsetof(ShapeViewsHeader, blob_crc32));
   std::memcpy(blob.data(), &h, sizeof(h));
 
   if (report != nullptr) {

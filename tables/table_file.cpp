@@ -1,12 +1,11 @@
 #include "tables/table_file.hpp"
 
-#include <fcntl.h>
 #include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
+
+#include "tables/input_file.hpp"
 
 namespace sh {
 
@@ -20,24 +19,18 @@ void MappedFile::Close() {
 
 Status MappedFile::Open(const char* path, const char* what) {
   Close();
-  const int fd = ::open(path, O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    return Status::Error(StatusCode::kNotFound, "cannot open %s '%s': %s", what, path,
-                         std::strerror(errno));
+  InputFile file;
+  SH_RETURN_IF_ERROR(file.Open(path, what, kMaxBlobFileBytes));
+  if (file.size() == 0) {
+    return Status::Error(StatusCode::kDataLoss, "%s '%s' is empty", what, path);
   }
-  struct stat st {};
-  if (fstat(fd, &st) != 0 || st.st_size <= 0) {
-    ::close(fd);
-    return Status::Error(StatusCode::kDataLoss, "%s '%s' is empty or unreadable", what, path);
-  }
-  void* data = mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0);
-  ::close(fd);
+  void* data = mmap(nullptr, file.size(), PROT_READ, MAP_PRIVATE, file.fd(), 0);
   if (data == MAP_FAILED) {
     return Status::Error(StatusCode::kUnavailable, "cannot map %s '%s': %s", what, path,
                          std::strerror(errno));
   }
   data_ = data;
-  size_ = size_t(st.st_size);
+  size_ = file.size();
   return Status::Ok();
 }
 

@@ -11,7 +11,8 @@
 //   uint32 line_bin_offsets[n_line_bins + 1]
 //   LineEntry[n_line_entries]         grouped by the bin of the line's support vector
 //
-// The CRC-32 covers every byte after the header. See docs/tables.md.
+// The CRC-32 covers every byte of the blob, its own field read as zero (BlobCrc32). See
+// docs/tables.md.
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,7 @@
 #include "tables/table_view.hpp"
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #include "recog/base/blob_start.hpp"
@@ -37,11 +38,7 @@ Status CheckLimits(const TableHeader& h) {
 }  // namespace
 
 uint32_t TableBlobCrc32(const uint8_t* blob, size_t size) {
-  TableHeader header{};
-  std::memcpy(&header, blob, sizeof(header));
-  header.blob_crc32 = 0;
-  const uint32_t crc = Crc32(&header, sizeof(header));
-  return Crc32(blob + sizeof(header), size - sizeof(header), crc);
+  return BlobCrc32(blob, size, offsetof(TableHeader, blob_crc32));
 }
 
 Status CheckBlobSection(const SectionRef& s, size_t count, size_t element_size, uint64_t total,

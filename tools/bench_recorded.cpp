@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "recog/base/printable.hpp"
 #include "recog/pipeline/pipeline.hpp"
 #include "tools/command.hpp"
 #include "tools/eval/mini_json.hpp"
@@ -604,13 +605,16 @@ int RunBenchRecorded(int argc, char** argv) {
                       o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote, o.verify_score[0],
                       o.verify_score[1]);
         }
-        char buffer[256];
-        std::snprintf(buffer, sizeof(buffer),
-                      "%s{\"model\": \"%s\", \"t\": [%.2f, %.2f, %.2f], \"vote\": %.3f, "
-                      "\"verify\": [%.3f, %.3f]}",
-                      false_json.empty() ? "" : ", ", models[o.model].name, o.cam_T_model.t_mm.x(),
-                      o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote, o.verify_score[0],
-                      o.verify_score[1]);
+        char model_name[kJsonNameBytes];
+        char buffer[256 + kJsonNameBytes];
+        std::snprintf(
+            buffer, sizeof(buffer),
+            "%s{\"model\": \"%s\", \"t\": [%.2f, %.2f, %.2f], \"vote\": %.3f, "
+            "\"verify\": [%.3f, %.3f]}",
+            false_json.empty() ? "" : ", ",
+            JsonEscaped(models[o.model].name, sizeof(Model::name), model_name, sizeof(model_name)),
+            o.cam_T_model.t_mm.x(), o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote,
+            o.verify_score[0], o.verify_score[1]);
         false_json += buffer;
       }
       std::vector<MissRecord> misses;
@@ -624,25 +628,29 @@ int RunBenchRecorded(int argc, char** argv) {
       }
       std::string missed_json;
       for (const MissRecord& miss : misses) {
-        char buffer[1024];
-        std::snprintf(
-            buffer, sizeof(buffer),
-            "%s{\"model\": \"%s\", \"visible\": %.3f, \"cause\": \"%s\", "
-            "\"verify_at_truth\": [%.3f, %.3f], \"support_at_truth\": %.3f, "
-            "\"own_bases\": %d, \"first_own_rank\": %d, \"good_bases\": %d, "
-            "\"first_good_rank\": %d, \"candidates\": %d, \"near_hypotheses\": %d, "
-            "\"refined_close\": %d, \"too_close\": %d, \"rejected\": %d, "
-            "\"verified\": %d, \"lost_to\": \"%s\", \"edges\": [%d, %d, %d, %d], "
-            "\"corners\": [%d, %d, %d, %d], \"edges_2d_both\": %d, "
-            "\"edges_lost_stereo\": %d, \"edges_lost_epipolar\": %d}",
-            missed_json.empty() ? "" : ", ", models[truth.objects[miss.truth_index].model].name,
-            truth.visible[miss.truth_index], miss.cause, miss.verify_score[0], miss.verify_score[1],
-            miss.support, miss.own_bases, miss.first_own_rank, miss.good_bases,
-            miss.first_good_rank, miss.candidates, miss.near_hypotheses, miss.refined_close,
-            miss.too_close, miss.rejected, miss.verified, miss.lost_to, miss.edges_visible,
-            miss.edges_2d[0], miss.edges_2d[1], miss.edges_3d, miss.corners_visible,
-            miss.corners_2d[0], miss.corners_2d[1], miss.corners_3d, miss.edges_2d_both,
-            miss.edges_lost_stereo, miss.edges_lost_epipolar);
+        const Model& model = models[truth.objects[miss.truth_index].model];
+        char model_name[kJsonNameBytes];
+        char lost_to[kJsonNameBytes];
+        char buffer[1024 + 2 * kJsonNameBytes];
+        std::snprintf(buffer, sizeof(buffer),
+                      "%s{\"model\": \"%s\", \"visible\": %.3f, \"cause\": \"%s\", "
+                      "\"verify_at_truth\": [%.3f, %.3f], \"support_at_truth\": %.3f, "
+                      "\"own_bases\": %d, \"first_own_rank\": %d, \"good_bases\": %d, "
+                      "\"first_good_rank\": %d, \"candidates\": %d, \"near_hypotheses\": %d, "
+                      "\"refined_close\": %d, \"too_close\": %d, \"rejected\": %d, "
+                      "\"verified\": %d, \"lost_to\": \"%s\", \"edges\": [%d, %d, %d, %d], "
+                      "\"corners\": [%d, %d, %d, %d], \"edges_2d_both\": %d, "
+                      "\"edges_lost_stereo\": %d, \"edges_lost_epipolar\": %d}",
+                      missed_json.empty() ? "" : ", ",
+                      JsonEscaped(model.name, sizeof(model.name), model_name, sizeof(model_name)),
+                      truth.visible[miss.truth_index], miss.cause, miss.verify_score[0],
+                      miss.verify_score[1], miss.support, miss.own_bases, miss.first_own_rank,
+                      miss.good_bases, miss.first_good_rank, miss.candidates, miss.near_hypotheses,
+                      miss.refined_close, miss.too_close, miss.rejected, miss.verified,
+                      JsonEscaped(miss.lost_to, sizeof(Model::name), lost_to, sizeof(lost_to)),
+                      miss.edges_visible, miss.edges_2d[0], miss.edges_2d[1], miss.edges_3d,
+                      miss.corners_visible, miss.corners_2d[0], miss.corners_2d[1], miss.corners_3d,
+                      miss.edges_2d_both, miss.edges_lost_stereo, miss.edges_lost_epipolar);
         missed_json += buffer;
       }
       char buffer[512];

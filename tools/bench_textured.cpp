@@ -23,6 +23,7 @@
 #include "hal/sim/world/printed_surface.hpp"
 #include "hal/sim/world/renderer.hpp"
 #include "hal/sim/world/scene_generator.hpp"
+#include "recog/base/printable.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/texture/texture_recognizer.hpp"
 #include "tables/feature_db_builder.hpp"
@@ -308,14 +309,16 @@ Status SaveScenes(const std::string& dir, const std::vector<Model>& models,
                        s.occlusion + "\", \"objects\": [";
     for (size_t i = 0; i < s.truth.size(); ++i) {
       const RigidTransform& T = s.truth[i].cam_T_model;
-      char b[512];
+      const Model& model = models[static_cast<size_t>(s.truth[i].model)];
+      char name[kJsonNameBytes];
+      char b[512 + kJsonNameBytes];
       std::snprintf(b, sizeof(b),
                     "%s{\"model\": \"%s\", \"R\": [[%.9f, %.9f, %.9f], [%.9f, %.9f, %.9f], "
                     "[%.9f, %.9f, %.9f]], \"t\": [%.6f, %.6f, %.6f], \"visible\": [%.3f, %.3f]}",
-                    i > 0 ? ", " : "", models[static_cast<size_t>(s.truth[i].model)].name,
-                    T.R(0, 0), T.R(0, 1), T.R(0, 2), T.R(1, 0), T.R(1, 1), T.R(1, 2), T.R(2, 0),
-                    T.R(2, 1), T.R(2, 2), T.t_mm.x(), T.t_mm.y(), T.t_mm.z(), s.visible[i],
-                    s.visible[i]);
+                    i > 0 ? ", " : "",
+                    JsonEscaped(model.name, sizeof(model.name), name, sizeof(name)), T.R(0, 0),
+                    T.R(0, 1), T.R(0, 2), T.R(1, 0), T.R(1, 1), T.R(1, 2), T.R(2, 0), T.R(2, 1),
+                    T.R(2, 2), T.t_mm.x(), T.t_mm.y(), T.t_mm.z(), s.visible[i], s.visible[i]);
       json += b;
     }
     json += "]}\n";

@@ -40,8 +40,9 @@ void PrintHelp() {
       "                (blue), line segments (yellow), corners (green: paired into a 3-D point)\n"
       "  --scene DIR   a recorded pair instead of --left/--right: DIR/left.png and right.png (or\n"
       "                .pgm) of a recorded-scenes set or a firmware recording; --calib and\n"
-      "                --table default to calib.yaml and table.yaml beside DIR; a folder\n"
-      "                recorded on one camera holds one image and is recognised from it\n"
+      "                --table default to calib.yaml and table.yaml beside DIR, --background\n"
+      "                to a recording's settings.conf; a folder recorded on one camera\n"
+      "                holds one image and is recognised from it\n"
       "  --monocular left|right  one camera only (2-D aspect hashing; with --table, objects\n"
       "                rest on the table); also chosen by giving only --left or only --right\n"
       "%s",
@@ -112,7 +113,7 @@ int RunMonocular(const char* calib_path, const char* image_path, int camera,
   if (!loaded_table.ok()) return Fail("%s", loaded_table.status().message());
   const TableChoice& table = *loaded_table;
   LoadedAspects aspects;
-  Status s = LoadAspects(options, &aspects);
+  Status s = LoadAspects(options, &aspects, /*required=*/true);
   if (!s.ok()) return Fail("%s", s.message());
   LoadedImage image;
   s = LoadImage(image_path, camera == 0 ? "left" : "right", &image);
@@ -195,9 +196,16 @@ int RunRecognize(int argc, char** argv) {
     // A pair recorded on one camera holds that camera's image alone: recognised from it.
     if (!recorded.left.empty()) left_path = recorded.left.c_str();
     if (!recorded.right.empty()) right_path = recorded.right.c_str();
+    if (calib_path == nullptr && recorded.calib.empty()) {
+      return Fail("no calib.yaml beside %s (give the calibration with --calib)", scene_dir);
+    }
     if (calib_path == nullptr) calib_path = recorded.calib.c_str();
     if (options.table_path == nullptr && !recorded.table.empty()) {
       options.table_path = recorded.table.c_str();
+    }
+    // The recording's preset unless --background gives one: the poses as recorded.
+    if (options.background == nullptr && !recorded.background.empty()) {
+      options.background = recorded.background.c_str();
     }
   }
   if (monocular == nullptr && calib_path != nullptr &&
@@ -271,6 +279,15 @@ int RunRecognize(int argc, char** argv) {
   auto pipeline = MakeZeroed<Pipeline>();  // ~118 MiB, resident as used (docs/memory.md)
   s = pipeline->Init(*calib, tables.view, config, NowNs, tables.shape());
   if (!s.ok()) return Fail("%s", s.message());
+  // Colour parts are found by their colour alone: in grey images the path finds nothing, which
+  // would read as "0 objects" with nothing said.
+  if (tables.shape() != nullptr &&
+      (left.frame.format == FrameFormat::kGray8 || right.frame.format == FrameFormat::kGray8)) {
+    std::fprintf(stderr,
+                 "stereohash recognize: warning: the model set holds %u colour parts, but the "
+                 "images are grey: colour parts cannot be found in them\n",
+                 tables.shape()->model_count());
+  }
   // The one-image rescue, with the monocular mode's aspect table when it lists the same models.
   LoadedAspects aspects;
   ZeroedPtr<MonoRecognizer> rescue;

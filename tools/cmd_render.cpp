@@ -14,6 +14,7 @@
 #include "hal/sim/world/model_colours.hpp"
 #include "hal/sim/world/renderer.hpp"
 #include "hal/sim/world/scene_generator.hpp"
+#include "recog/base/printable.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "tables/model_files.hpp"
@@ -60,7 +61,7 @@ std::string TruthJson(const render::GeneratedScene& g, const Model* models, uint
                       const render::ScenarioParams& p, const char* background,
                       const char* occlusion) {
   std::string json = "{\n  \"seed\": " + std::to_string(seed) + ",\n";
-  char buffer[512];
+  char buffer[512 + kJsonNameBytes];
   std::snprintf(buffer, sizeof(buffer),
                 "  \"background\": \"%s\",\n  \"occlusion\": \"%s\",\n"
                 "  \"camera_distance_mm\": %.1f,\n  \"baseline_mm\": %.1f,\n"
@@ -70,12 +71,15 @@ std::string TruthJson(const render::GeneratedScene& g, const Model* models, uint
   json += buffer;
   for (size_t i = 0; i < g.scene.objects.size(); ++i) {
     const RigidTransform& T = g.left_T_model[i];
+    const Model& model = models[g.scene.objects[i].model_index];
+    char name[kJsonNameBytes];
     std::snprintf(buffer, sizeof(buffer),
                   "%s\n    {\"model\": \"%s\", \"R\": [[%.9f, %.9f, %.9f], [%.9f, %.9f, %.9f], "
                   "[%.9f, %.9f, %.9f]], \"t\": [%.6f, %.6f, %.6f], \"albedo\": %.3f}",
-                  i ? "," : "", models[g.scene.objects[i].model_index].name, T.R(0, 0), T.R(0, 1),
-                  T.R(0, 2), T.R(1, 0), T.R(1, 1), T.R(1, 2), T.R(2, 0), T.R(2, 1), T.R(2, 2),
-                  T.t_mm.x(), T.t_mm.y(), T.t_mm.z(), g.scene.objects[i].albedo);
+                  i ? "," : "", JsonEscaped(model.name, sizeof(model.name), name, sizeof(name)),
+                  T.R(0, 0), T.R(0, 1), T.R(0, 2), T.R(1, 0), T.R(1, 1), T.R(1, 2), T.R(2, 0),
+                  T.R(2, 1), T.R(2, 2), T.t_mm.x(), T.t_mm.y(), T.t_mm.z(),
+                  g.scene.objects[i].albedo);
     json += buffer;
   }
   json += "\n  ]\n}\n";

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "recog/base/printable.hpp"
 #include "tables/aspect_file.hpp"
 #include "tables/model_files.hpp"
 #include "tables/model_set.hpp"
@@ -91,10 +92,12 @@ void PrintModels(const TableView& view) {
   for (uint32_t b = 0; b < view.basis_count(); ++b) ++bases[view.basis(b).model];
   for (uint32_t m = 0; m < view.model_count(); ++m) {
     const Model& model = view.model(m);
+    char shown[kPrintableNameBytes];  // names come from the blob: no raw control bytes
     std::printf(
         "  model %u %-10s %2u corners %2u edges %2u faces, symmetry group of order %2u, "
         "%4u bases\n",
-        m, model.name, model.n_corners, model.n_edges, model.n_faces, model.n_symmetries, bases[m]);
+        m, Printable(model.name, sizeof(model.name), shown, sizeof(shown)), model.n_corners,
+        model.n_edges, model.n_faces, model.n_symmetries, bases[m]);
   }
 }
 
@@ -117,12 +120,14 @@ void DescribeShapeViews(const ShapeViewsView& v, size_t size) {
   std::printf(
       "view database, format version %u, %zu bytes, CRC-32 %08x\n  %u colour parts, %u views "
       "every %.1f deg, %u PCA dimensions keeping %.1f %% of the views' variance\n",
-      h.format_version, size, h.payload_crc32, h.n_models, h.n_views, double(h.view_spacing_deg),
+      h.format_version, size, h.blob_crc32, h.n_models, h.n_views, double(h.view_spacing_deg),
       h.n_components, 100.0 * double(h.explained_energy));
   for (uint32_t m = 0; m < v.model_count(); ++m) {
     const ShapeModelRecord& r = v.shape_model(m);
-    std::printf("  model %u %-10s %6u views, colour (%.2f, %.2f, %.2f)\n", m, v.model(m).name,
-                r.n_views, double(r.kd[0]), double(r.kd[1]), double(r.kd[2]));
+    char shown[kPrintableNameBytes];  // names come from the blob: no raw control bytes
+    std::printf("  model %u %-10s %6u views, colour (%.2f, %.2f, %.2f)\n", m,
+                Printable(v.model(m).name, sizeof(Model::name), shown, sizeof(shown)), r.n_views,
+                double(r.kd[0]), double(r.kd[1]), double(r.kd[2]));
   }
 }
 
@@ -256,6 +261,8 @@ bool WriteSections(const std::string& path, const std::vector<BuiltSection>& sec
   return true;
 }
 
+constexpr const char* kBuild = "tables build";
+
 int RunBuild(int argc, char** argv) {
   std::string out, models_dir = "models", names, views_out;
   bool models_given = false, bare = false, want_aspects = false;
@@ -280,16 +287,22 @@ int RunBuild(int argc, char** argv) {
     } else if (a == "--out") {
       out = value();
     } else if (a == "--hash-fn") {
-      hf = std::atoi(value().c_str());
+      long n = 0;
+      if (!OptionInteger(kBuild, "--hash-fn", value().c_str(), 1, 5, &n)) return 2;
+      hf = int(n);
     } else if (a == "--models") {
       models_dir = value();
       models_given = true;
     } else if (a == "--views-out") {
       views_out = value();
     } else if (a == "--spacing-deg") {
-      view_options.view_spacing_deg = static_cast<float>(std::atof(value().c_str()));
+      double deg = 0;
+      if (!OptionNumber(kBuild, "--spacing-deg", value().c_str(), 0.1, 180, &deg)) return 2;
+      view_options.view_spacing_deg = static_cast<float>(deg);
     } else if (a == "--components") {
-      view_options.n_components = std::atoi(value().c_str());
+      long n = 0;
+      if (!OptionInteger(kBuild, "--components", value().c_str(), 1, 1000000, &n)) return 2;
+      view_options.n_components = int(n);
     } else if (a == "--names") {
       names = value();
     } else if (a == "--bare") {
@@ -316,6 +329,11 @@ int RunBuild(int argc, char** argv) {
   std::vector<std::string> list;
   if (!names.empty()) {
     list = Split(names);
+    const Status checked = CheckModelNames(list, "--names");
+    if (!checked.ok()) {
+      std::fprintf(stderr, "stereohash tables build: %s\n", checked.message());
+      return 2;
+    }
   } else if (!models_given || !plain.empty()) {
     const Status named = ModelFolderNames(models_dir, &list);
     if (!named.ok()) {

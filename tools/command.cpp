@@ -25,7 +25,10 @@ bool NextOption(const char* command, int argc, char** argv, void (*print_help)()
     return false;
   }
   if (*i + 1 >= argc) {
-    std::fprintf(stderr, "stereohash %s: %s needs a value (see --help)\n", command, *option);
+    // Every option of these commands takes a value: a last word without one is either a
+    // misspelt option or a value left out, and the message says both.
+    std::fprintf(stderr, "stereohash %s: %s is not an option, or needs a value (see --help)\n",
+                 command, *option);
     *exit_code = 2;
     return false;
   }
@@ -78,6 +81,29 @@ bool ParseNumber(const char* text, double min, double max, double* out) {
   }
   *out = v;
   return true;
+}
+
+bool ParseInteger(const char* text, long min, long max, long* out) {
+  double v = 0;
+  if (!ParseNumber(text, double(min), double(max), &v) || v != std::floor(v)) return false;
+  *out = long(v);
+  return true;
+}
+
+bool OptionNumber(const char* command, const char* option, const char* text, double min, double max,
+                  double* out) {
+  if (ParseNumber(text, min, max, out)) return true;
+  std::fprintf(stderr, "stereohash %s: %s '%s' is not a number in %g..%g\n", command, option, text,
+               min, max);
+  return false;
+}
+
+bool OptionInteger(const char* command, const char* option, const char* text, long min, long max,
+                   long* out) {
+  if (ParseInteger(text, min, max, out)) return true;
+  std::fprintf(stderr, "stereohash %s: %s '%s' is not a whole number in %ld..%ld\n", command,
+               option, text, min, max);
+  return false;
 }
 
 }  // namespace sh::tools

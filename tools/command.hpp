@@ -23,6 +23,14 @@ bool NextOption(const char* command, int argc, char** argv, void (*print_help)()
 // A finite number in [min, max] from the whole of `text` (no trailing characters); false
 // otherwise, *out untouched.
 bool ParseNumber(const char* text, double min, double max, double* out);
+// The same for a whole number ("5x", "2.5" and "" are refused).
+bool ParseInteger(const char* text, long min, long max, long* out);
+// ParseNumber / ParseInteger of an option's value; false after printing "stereohash COMMAND:
+// OPTION 'VALUE' is not a number in MIN..MAX".
+bool OptionNumber(const char* command, const char* option, const char* text, double min,
+                  double max, double* out);
+bool OptionInteger(const char* command, const char* option, const char* text, long min, long max,
+                   long* out);
 
 struct CommandRegistrar {
   explicit CommandRegistrar(const Command& command) { RegisterCommand(command); }

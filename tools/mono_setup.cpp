@@ -13,13 +13,20 @@
 
 namespace sh::tools {
 
-Status LoadAspects(const RecognizeOptions& options, LoadedAspects* out) {
+Status LoadAspects(const RecognizeOptions& options, LoadedAspects* out, bool required) {
   // --aspects, else the ASPECTS_2D section of the --tables model set, else the built-in table.
   const char* path = options.aspects_path;
   if (path == nullptr && options.tables_path != nullptr) {
     const Result<uint32_t> kinds = FileBlobKinds(options.tables_path);
     if (!kinds.ok()) return kinds.status().WithContext("tables");
-    if ((*kinds & KindBit(SectionKind::kAspects2d)) != 0) path = options.tables_path;
+    if ((*kinds & KindBit(SectionKind::kAspects2d)) != 0) {
+      path = options.tables_path;
+    } else if (required) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "--tables %s holds no aspect table, which one camera needs (build "
+                           "one with tables build --hash-2d similarity)",
+                           options.tables_path);
+    }
   }
   if (path != nullptr) {
     const Status s = out->mapped.Open(path);

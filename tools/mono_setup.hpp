@@ -20,7 +20,9 @@ struct LoadedAspects {
   MappedAspectTable mapped;
   AspectTableView view;
 };
-Status LoadAspects(const RecognizeOptions& options, LoadedAspects* out);
+// `required`: the one-camera mode, which recognises with the aspect table alone: a --tables
+// file without one is refused (rather than the built-in table silently used for other models).
+Status LoadAspects(const RecognizeOptions& options, LoadedAspects* out, bool required = false);
 
 // The monocular configuration for the options: the background preset if one is forced,
 // otherwise the automatic one (thresholds measured from the image).

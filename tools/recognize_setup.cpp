@@ -11,9 +11,11 @@
 #include <ctime>
 
 #include "hal/sim/image_files.hpp"
+#include "recog/base/printable.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "recog/stereo/working_volume.hpp"
+#include "tables/input_file.hpp"
 #include "tools/command.hpp"
 #include "tools/setting_table.hpp"
 
@@ -90,20 +92,9 @@ namespace {
 
 // Reads a whole small text file; kOutOfRange past `limit` bytes.
 Status ReadSmallFile(const char* path, const char* what, size_t limit, std::vector<char>* text) {
-  std::FILE* f = std::fopen(path, "rb");
-  if (f == nullptr) {
-    return Status::Error(StatusCode::kNotFound, "cannot open %s %s: %s", what, path,
-                         std::strerror(errno));
-  }
-  text->assign(limit + 1, 0);
-  const size_t n = std::fread(text->data(), 1, text->size(), f);
-  const bool read_error = std::ferror(f) != 0;
-  std::fclose(f);
-  if (read_error) return Status::Error(StatusCode::kDataLoss, "cannot read %s %s", what, path);
-  if (n > limit) {
-    return Status::Error(StatusCode::kOutOfRange, "%s %s is larger than %zu bytes", what, path,
-                         limit);
-  }
+  text->assign(limit, 0);
+  size_t n = 0;
+  SH_RETURN_IF_ERROR(ReadInputFile(path, what, text->data(), text->size(), &n));
   text->resize(n);
   return Status::Ok();
 }
@@ -111,19 +102,9 @@ Status ReadSmallFile(const char* path, const char* what, size_t limit, std::vect
 // A string as a JSON string literal's contents: quotes, backslashes and control characters
 // escaped.
 std::string JsonEscape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char code[8];
-      std::snprintf(code, sizeof(code), "\\u%04x", c);
-      out += code;
-    } else {
-      out += c;
-    }
-  }
+  std::string out(6 * text.size() + 1, '\0');
+  JsonEscaped(text.data(), text.size(), &out[0], out.size());
+  out.resize(std::strlen(out.c_str()));
   return out;
 }
 
@@ -359,11 +340,12 @@ std::string PoseJsonFields(const char* model_name, const RigidTransform& cam_T_m
   const Eigen::Matrix3f& R = cam_T_model.R;
   const Eigen::Vector3f& t = cam_T_model.t_mm;
   char buffer[512];
+  char name[kJsonNameBytes];
   std::snprintf(buffer, sizeof(buffer),
                 "\"model\": \"%s\", \"R\": [[%.7f, %.7f, %.7f], [%.7f, %.7f, %.7f], [%.7f, "
                 "%.7f, %.7f]], \"t\": [%.4f, %.4f, %.4f]",
-                model_name, R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1),
-                R(2, 2), t.x(), t.y(), t.z());
+                JsonEscaped(model_name, kJsonNameBytes, name, sizeof(name)), R(0, 0), R(0, 1),
+                R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z());
   return buffer;
 }
 

@@ -9,6 +9,7 @@
 #include "hal/sim/image_files.hpp"
 #include "hal/sim/world/model_colours.hpp"
 #include "hal/sim/world/renderer.hpp"
+#include "recog/base/printable.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "tables/model_files.hpp"
@@ -54,13 +55,16 @@ std::string TruthJson(const RowSpec& row, const render::GeneratedScene& g,
                      "\", \"occlusion\": \"" + row.occlusion_name + "\", \"objects\": [";
   for (size_t i = 0; i < g.scene.objects.size(); ++i) {
     const RigidTransform& T = g.left_T_model[i];
-    char b[640];
+    const Model& model = models[g.scene.objects[i].model_index];
+    char name[kJsonNameBytes];
+    char b[640 + kJsonNameBytes];
     std::snprintf(b, sizeof(b),
                   "%s\n  {\"model\": \"%s\", \"R\": [[%.9f, %.9f, %.9f], [%.9f, %.9f, %.9f], "
                   "[%.9f, %.9f, %.9f]], \"t\": [%.6f, %.6f, %.6f], \"visible\": [%.3f, %.3f]}",
-                  i > 0 ? "," : "", models[g.scene.objects[i].model_index].name, T.R(0, 0),
-                  T.R(0, 1), T.R(0, 2), T.R(1, 0), T.R(1, 1), T.R(1, 2), T.R(2, 0), T.R(2, 1),
-                  T.R(2, 2), T.t_mm.x(), T.t_mm.y(), T.t_mm.z(), vis_left[i], vis_right[i]);
+                  i > 0 ? "," : "", JsonEscaped(model.name, sizeof(model.name), name, sizeof(name)),
+                  T.R(0, 0), T.R(0, 1), T.R(0, 2), T.R(1, 0), T.R(1, 1), T.R(1, 2), T.R(2, 0),
+                  T.R(2, 1), T.R(2, 2), T.t_mm.x(), T.t_mm.y(), T.t_mm.z(), vis_left[i],
+                  vis_right[i]);
     json += b;
   }
   return json + "\n]}\n";

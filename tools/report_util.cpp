@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
+
+#include "tables/input_file.hpp"
 
 namespace sh::tools {
 
@@ -36,12 +36,9 @@ bool WriteTextFile(const char* path, const std::string& text) {
 }
 
 bool ReadTextFile(const std::string& path, std::string* text) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  *text = ss.str();
-  return static_cast<bool>(in) || in.eof();
+  // Truth files of recorded sets: a few kilobytes each.
+  constexpr size_t kMaxTextFileBytes = size_t{16} << 20;
+  return ReadInputFile(path, "file", kMaxTextFileBytes, text).ok();
 }
 
 }  // namespace sh::tools

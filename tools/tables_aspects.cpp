@@ -6,9 +6,11 @@
 #include <cstring>
 #include <vector>
 
+#include "recog/base/printable.hpp"
 #include "tables/aspect_builder.hpp"
 #include "tables/aspect_file.hpp"
 #include "tables/model_files.hpp"
+#include "tools/command.hpp"
 
 namespace sh::tools {
 namespace {
@@ -37,7 +39,7 @@ void DescribeAspects(const AspectTableView& v, size_t size) {
       "aspect table, %s bases%s, format version %u, %zu bytes, CRC-32 %08x\n",
       v.basis_kind() == AspectBasisKind::kSimilarity ? "similarity (2-point)" : "affine (3-point)",
       (h.build.flags & kAspectEdgeBasesOnly) ? " over corners joined by edges" : "",
-      h.format_version, size, h.payload_crc32);
+      h.format_version, size, h.blob_crc32);
   std::printf(
       "  %u models, %u aspects, %u model bases, %u point entries (largest bin %u), %u line "
       "entries (largest bin %u)\n",
@@ -54,7 +56,9 @@ void DescribeAspects(const AspectTableView& v, size_t size) {
     bases[v.aspect(a).model] += v.aspect(a).n_bases;
   }
   for (uint32_t m = 0; m < v.model_count(); ++m) {
-    std::printf("  model %u %-10s %4u aspects %6u bases\n", m, v.model(m).name, aspects[m],
+    char shown[kPrintableNameBytes];  // names come from the blob: no raw control bytes
+    std::printf("  model %u %-10s %4u aspects %6u bases\n", m,
+                Printable(v.model(m).name, sizeof(Model::name), shown, sizeof(shown)), aspects[m],
                 bases[m]);
   }
 }
@@ -97,9 +101,13 @@ int ParseAspectOption(int argc, char** argv, int* i, AspectBuildOptions* options
       return -1;
     }
   } else if (a == "--spacing") {
-    options->initial_spacing_deg = static_cast<float>(std::atof(value));
+    double deg = 0;
+    if (!OptionNumber("tables build", "--spacing", value, 0.1, 180, &deg)) return -1;
+    options->initial_spacing_deg = static_cast<float>(deg);
   } else {
-    options->max_levels = std::atoi(value);
+    long levels = 0;
+    if (!OptionInteger("tables build", "--levels", value, 0, 100, &levels)) return -1;
+    options->max_levels = int(levels);
     options->refine = options->max_levels > 0;
   }
   return 1;
@@ -110,7 +118,7 @@ Result<std::vector<uint8_t>> BuildAspectSection(const std::vector<Model>& models
   const auto start = std::chrono::steady_clock::now();
   AspectBuildReport report;
   Result<std::vector<uint8_t>> blob = BuildAspectBlob(models, options, &report);
-  if (!blob.ok()) return blob.status().WithContext("aspect table");
+  if (!blob.ok()) return blob.status();  // the builder's messages name the aspect table
   std::printf(
       "  ASPECTS_2D: %s aspect table, %zu bytes, %u aspects, %u bases, %u point and %u line "
       "entries (%.1f s)\n",

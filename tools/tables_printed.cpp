@@ -1,12 +1,13 @@
 #include "tools/tables_printed.hpp"
 
-#include <dirent.h>
 
 #include <algorithm>
 #include <cstdio>
 
 #include "hal/sim/textured_model_files.hpp"
+#include "recog/base/printable.hpp"
 #include "tables/feature_db_builder.hpp"
+#include "tables/model_files.hpp"
 
 namespace sh::tools {
 
@@ -14,19 +15,12 @@ Status ClassifyModelFolder(const std::string& dir, std::vector<std::string>* pri
                            std::vector<std::string>* plain) {
   printed->clear();
   plain->clear();
-  DIR* d = opendir(dir.c_str());
-  if (d == nullptr)
-    return Status::Error(StatusCode::kNotFound, "cannot read folder %s", dir.c_str());
-  std::vector<std::string> files;
-  while (const dirent* e = readdir(d)) {
-    const std::string name = e->d_name;
-    if (name.size() > 4 && name.compare(name.size() - 4, 4, ".obj") == 0) {
-      files.push_back(std::string(dir).append("/").append(name));
-    }
-  }
-  closedir(d);
-  std::sort(files.begin(), files.end());
-  for (const std::string& f : files) {
+  // The folder's models.txt governs printed models as it does the others: an OBJ it does not
+  // list is not read (nor able to fail the build).
+  std::vector<std::string> names;
+  SH_RETURN_IF_ERROR(ModelFolderNames(dir, &names));
+  for (const std::string& name : names) {
+    const std::string f = std::string(dir).append("/").append(name).append(".obj");
     Result<TexturedModel> m = LoadTexturedModelFile(f);
     if (!m.ok()) return m.status();
     (m->texturing.textured() ? printed : plain)->push_back(f);
@@ -37,7 +31,7 @@ Status ClassifyModelFolder(const std::string& dir, std::vector<std::string>* pri
 void DescribeFeatureDb(const FeatureDbView& db, size_t size) {
   const FeatureDbHeader& h = db.header();
   std::printf("feature database, format version %u, %zu bytes, CRC-32 %08x\n", h.format_version,
-              size, h.payload_crc32);
+              size, h.blob_crc32);
   std::printf(
       "  %u printed models, %u faces, %u views, %u features (%u kd-tree nodes); features learnt "
       "at %.1f px/mm, textures at %.1f px/mm\n",
@@ -51,7 +45,9 @@ void DescribeFeatureDb(const FeatureDbView& db, size_t size) {
       features += db.face(f).n_features;
     }
     const Model& model = db.model(m);
-    std::printf("  model %u %-10s %u printed faces, %u features\n", m, model.name, faces, features);
+    char shown[kPrintableNameBytes];  // names come from the blob: no raw control bytes
+    std::printf("  model %u %-10s %u printed faces, %u features\n", m,
+                Printable(model.name, sizeof(model.name), shown, sizeof(shown)), faces, features);
   }
 }
 

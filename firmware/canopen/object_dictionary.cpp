@@ -169,9 +169,16 @@ SdoAbort ObjectDictionary::CheckWrite(uint16_t index, uint8_t sub, const uint8_t
   const OdEntry* e = nullptr;
   const SdoAbort looked_up = Lookup(index, sub, &e);
   if (looked_up != SdoAbort::kNone) return looked_up;
-  if (!Writable(e->access())) return SdoAbort::kReadOnly;
+  if (!Writable(e->access()) && !e->row->same_value_writable) return SdoAbort::kReadOnly;
   if (e->string_slot >= 0) return SdoAbort::kLengthMismatch;  // not a number
   const size_t size = DataTypeSize(e->type());
+  if (!Writable(e->access())) {
+    // Only the value it holds, in its own width.
+    uint32_t same = 0;
+    for (size_t i = 0; i < size && i < length; ++i)
+      same |= static_cast<uint32_t>(data[i]) << (8 * i);
+    if (length != size || same != e->value) return SdoAbort::kReadOnly;
+  }
   if (length > size) return SdoAbort::kLengthTooHigh;
   if (length < size) return SdoAbort::kLengthTooLow;
   uint32_t v = 0;

@@ -131,6 +131,9 @@ struct OdRow {
   const char* text = nullptr;  // default of a VISIBLE_STRING
   uint8_t sub_repeat = 1;      // Sub rows: entries at sub .. sub + sub_repeat - 1
   uint8_t number_from = 0;     // their names end in number_from, number_from + 1, ...
+  // Read-only, but a write of the value it holds is confirmed: configuration tools write the
+  // PDO transmission type they read from the EDS, and an abort would fail their whole setup.
+  bool same_value_writable = false;
 
   constexpr OdRow Pdo() const {
     OdRow r = *this;
@@ -153,6 +156,11 @@ struct OdRow {
     OdRow r = *this;
     r.sub_repeat = n;
     r.number_from = first_number;
+    return r;
+  }
+  constexpr OdRow SameValueWritable() const {
+    OdRow r = *this;
+    r.same_value_writable = true;
     return r;
   }
   constexpr OdRow Text(const char* t) const {
@@ -213,7 +221,7 @@ constexpr AC CO = AC::kConst, RO = AC::kRo, RW = AC::kRw;
 #define SH_OD_PDO_COMM(idx, what, cob_id, cob_access)                            \
   Record(idx, what " communication parameter"),                                  \
       Sub(idx, 1, "COB-ID used by " what, U32, cob_access, cob_id).PlusNodeId(), \
-      Sub(idx, 2, "Transmission type", U8, RO, 0xFE)
+      Sub(idx, 2, "Transmission type", U8, RO, 0xFE).SameValueWritable()
 
 inline constexpr OdRow kOdTable[] = {
     Var(0x1000, "Device type", U32, RO, 0),  // no CiA device profile: manufacturer-specific

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <new>
@@ -13,6 +14,7 @@
 #include <unistd.h>
 
 #include "hal/sim/image_files.hpp"
+#include "tables/input_file.hpp"
 
 namespace sh::hal {
 namespace {
@@ -217,6 +219,11 @@ Status DirectoryFrameSource::AllocateFileBuffer() {
         return Status::Error(StatusCode::kNotFound, "recording: cannot stat %s: %s",
                              BaseName(*path), std::strerror(errno));
       }
+      if (!S_ISREG(st.st_mode)) {
+        return Status::Error(StatusCode::kInvalidArgument,
+                             "recording: %s is %s, not a regular file", BaseName(*path),
+                             FileTypeName(unsigned(st.st_mode)));
+      }
       const size_t bytes = static_cast<size_t>(st.st_size);
       if (bytes > kMaxImageFileBytes) {
         return Status::Error(StatusCode::kOutOfRange, "recording: %s has %zu bytes, limit %zu",
@@ -269,36 +276,12 @@ Status DirectoryFrameSource::AllocateDecodeBuffersFor(const PathPair& pair) {
 }
 
 Status DirectoryFrameSource::ReadFile(int side, const std::string& path, size_t* size_out) {
-  const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    return Status::Error(errno == ENOENT ? StatusCode::kNotFound : StatusCode::kUnavailable,
-                         "%s %s: %s", SideName(side), BaseName(path), std::strerror(errno));
-  }
-  // One byte more than the buffer holds reveals a file that grew since Start().
-  size_t size = 0;
-  for (;;) {
-    uint8_t extra;
-    uint8_t* dst = size < file_capacity_ ? file_buffer_.get() + size : &extra;
-    const size_t want = size < file_capacity_ ? file_capacity_ - size : 1;
-    const ssize_t n = read(fd, dst, want);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      const int err = errno;
-      close(fd);
-      return Status::Error(StatusCode::kDataLoss, "%s %s: %s", SideName(side), BaseName(path),
-                           std::strerror(err));
-    }
-    if (n == 0) break;
-    if (size >= file_capacity_) {
-      close(fd);
-      return Status::Error(StatusCode::kOutOfRange, "%s %s grew beyond %zu bytes since Start()",
-                           SideName(side), BaseName(path), file_capacity_);
-    }
-    size += static_cast<size_t>(n);
-  }
-  close(fd);
-  *size_out = size;
-  return Status::Ok();
+  // The buffer was sized at Start(): a file that grew since is refused by ReadAll.
+  char what[16];
+  std::snprintf(what, sizeof(what), "%s image", SideName(side));
+  InputFile file;
+  SH_RETURN_IF_ERROR(file.Open(path.c_str(), what, kMaxImageFileBytes));
+  return file.ReadAll(reinterpret_cast<char*>(file_buffer_.get()), file_capacity_, size_out);
 }
 
 Status DirectoryFrameSource::Decode(int side, const std::string& path, uint8_t* pixels,

@@ -9,6 +9,8 @@
 
 #include <png.h>
 
+#include "tables/input_file.hpp"
+
 namespace sh::hal {
 namespace {
 
@@ -16,11 +18,13 @@ constexpr uint8_t kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n
 
 // malloc'd buffer released on scope exit (host-side file handling only).
 struct HeapBuffer {
-  explicit HeapBuffer(size_t n) : data(static_cast<uint8_t*>(std::malloc(n > 0 ? n : 1))) {}
+  explicit HeapBuffer(size_t n)
+      : data(static_cast<uint8_t*>(std::malloc(n > 0 ? n : 1))), size(n > 0 ? n : 1) {}
   ~HeapBuffer() { std::free(data); }
   HeapBuffer(const HeapBuffer&) = delete;
   HeapBuffer& operator=(const HeapBuffer&) = delete;
   uint8_t* data;
+  size_t size;
 };
 
 Status CheckSize(const char* what, int width, int height, PixelFormat format, size_t capacity) {
@@ -301,38 +305,14 @@ Result<ImageInfo> ImageFileSize(const uint8_t* data, size_t size) {
 
 Result<ImageInfo> ReadImageFile(const char* path, PixelFormat format, uint8_t* pixels,
                                 size_t capacity) {
-  std::FILE* f = std::fopen(path, "rb");
-  if (f == nullptr) {
-    return Status::Error(StatusCode::kNotFound, "cannot open %s: %s", path, std::strerror(errno));
-  }
-  struct stat st {};
-  if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-    std::fclose(f);
-    return Status::Error(StatusCode::kInvalidArgument, "%s is %s, not an image file", path,
-                         S_ISDIR(st.st_mode) ? "a directory" : "not a regular file");
-  }
-  long length = -1;
-  if (std::fseek(f, 0, SEEK_END) == 0) length = std::ftell(f);
-  if (length < 0 || std::fseek(f, 0, SEEK_SET) != 0) {
-    std::fclose(f);
-    return Status::Error(StatusCode::kUnavailable, "cannot determine the size of %s", path);
-  }
-  if (size_t(length) > kMaxImageFileBytes) {
-    std::fclose(f);
-    return Status::Error(StatusCode::kOutOfRange, "%s: %ld bytes is larger than the %zu limit",
-                         path, length, kMaxImageFileBytes);
-  }
-  HeapBuffer buffer{size_t(length)};
+  InputFile file;
+  SH_RETURN_IF_ERROR(file.Open(path, "image", kMaxImageFileBytes));
+  HeapBuffer buffer{file.size() == 0 ? kMaxImageFileBytes : file.size()};
   if (buffer.data == nullptr) {
-    std::fclose(f);
     return Status::Error(StatusCode::kResourceExhausted, "%s: out of memory", path);
   }
-  const size_t got = std::fread(buffer.data, 1, size_t(length), f);
-  std::fclose(f);
-  if (got != size_t(length)) {
-    return Status::Error(StatusCode::kDataLoss, "%s: short read (%zu of %ld bytes)", path, got,
-                         length);
-  }
+  size_t got = 0;
+  SH_RETURN_IF_ERROR(file.ReadAll(reinterpret_cast<char*>(buffer.data), buffer.size, &got));
   Result<ImageInfo> info = DecodeImage(buffer.data, got, format, pixels, capacity);
   if (!info.ok()) return info.status().WithContext("%s", path);
   return info;

@@ -2,21 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include "hal/sim/image_files.hpp"
 #include "recog/model/obj_model.hpp"
+#include "tables/input_file.hpp"
+#include "tables/model_files.hpp"
 
 namespace sh {
 namespace {
 
 Result<std::string> ReadText(const std::string& path, const char* what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::Error(StatusCode::kNotFound, "cannot open %s '%s'", what, path.c_str());
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  std::string text;
+  SH_RETURN_IF_ERROR(ReadInputFile(path, what, size_t(kMaxObjFileBytes), &text));
+  return text;
 }
 
 std::string Folder(const std::string& path) {
@@ -62,8 +60,7 @@ Status LoadMaterials(const std::string& path, TexturedModel* model) {
 Result<TexturedModel> LoadTexturedModelFile(const std::string& path) {
   Result<std::string> obj = ReadText(path, "model file");
   if (!obj.ok()) return obj.status();
-  std::string stem = path.substr(path.find_last_of('/') + 1);
-  stem = stem.substr(0, stem.find_last_of('.'));
+  SH_ASSIGN_OR_RETURN(const std::string stem, ModelNameOfFile(path));
   TexturedModel out;
   Result<Model> model = ParseObjModel(obj->data(), obj->size(), stem.c_str());
   if (!model.ok())

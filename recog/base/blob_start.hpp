@@ -25,4 +25,14 @@ inline Status CheckBlobStart(const void* blob, size_t size, size_t alignment, si
   return Status::Ok();
 }
 
+// Reserved header bytes: zero in every blob written, so that a later version can give them a
+// meaning and a flipped bit in them is refused.
+inline bool AllZero(const void* data, size_t n) {
+  const auto* p = static_cast<const uint8_t*>(data);
+  for (size_t i = 0; i < n; ++i) {
+    if (p[i] != 0) return false;
+  }
+  return true;
+}
+
 }  // namespace sh

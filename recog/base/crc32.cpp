@@ -26,4 +26,12 @@ uint32_t Crc32(const void* data, size_t length, uint32_t crc) {
   return ~crc;
 }
 
+uint32_t BlobCrc32(const void* blob, size_t size, size_t crc_offset) {
+  const auto* bytes = static_cast<const uint8_t*>(blob);
+  const uint8_t zero[4] = {};
+  uint32_t crc = Crc32(bytes, crc_offset);
+  crc = Crc32(zero, sizeof(zero), crc);
+  return Crc32(bytes + crc_offset + sizeof(zero), size - crc_offset - sizeof(zero), crc);
+}
+
 }  // namespace sh

@@ -47,18 +47,11 @@ int IndexLength(const char* token, const char* end) {
 }
 
 Status ParseText(const char* text, size_t len, ObjMesh& mesh) {
-  const char* p = text;
-  const char* const end = text + len;
-  int line = 0;
-  while (p < end) {
-    ++line;
-    const char* line_end = p;
-    while (line_end < end && *line_end != '\n') ++line_end;
-    SkipSpaces(p, line_end);
-    const char* keyword = p;
-    while (p < line_end && !IsSpace(*p)) ++p;
-    const size_t keyword_len = static_cast<size_t>(p - keyword);
-    if (keyword_len == 1 && keyword[0] == 'v') {
+  for (obj::LineReader r(text, len); r.Next();) {
+    const int line = r.line;
+    const char*& p = r.rest;
+    const char* const line_end = r.end;
+    if (r.Is("v")) {
       if (mesh.n_vertices >= kMaxObjVertices) {
         return Status::Error(StatusCode::kResourceExhausted, "OBJ line %d: more than %d vertices",
                              line, kMaxObjVertices);
@@ -88,7 +81,7 @@ Status ParseText(const char* text, size_t len, ObjMesh& mesh) {
         }
       }
       mesh.vertices[mesh.n_vertices++] = {xyz[0], xyz[1], xyz[2]};
-    } else if (keyword_len == 1 && keyword[0] == 'f') {
+    } else if (r.Is("f")) {
       if (mesh.n_polygons >= kMaxObjPolygons) {
         return Status::Error(StatusCode::kResourceExhausted, "OBJ line %d: more than %d faces",
                              line, kMaxObjPolygons);
@@ -126,7 +119,6 @@ Status ParseText(const char* text, size_t len, ObjMesh& mesh) {
       mesh.polygon_line[mesh.n_polygons] = line;
       mesh.polygon_start[++mesh.n_polygons] = mesh.n_half_edges;
     }
-    p = line_end < end ? line_end + 1 : end;
   }
   if (mesh.n_polygons == 0) {
     return Status::Error(StatusCode::kInvalidArgument, "OBJ has no faces");

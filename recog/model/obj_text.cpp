@@ -111,7 +111,8 @@ bool LineReader::Next() {
   if (p_ >= text_end_) return false;
   ++line;
   const char* line_end = p_;
-  while (line_end < text_end_ && *line_end != '\n') ++line_end;
+  // "\n", "\r\n" and a lone "\r" (old Mac exports) each end a line.
+  while (line_end < text_end_ && *line_end != '\n' && *line_end != '\r') ++line_end;
   const char* p = p_;
   SkipSpaces(p, line_end);
   keyword_ = p;
@@ -120,6 +121,7 @@ bool LineReader::Next() {
   rest = p;
   end = line_end;
   p_ = line_end < text_end_ ? line_end + 1 : text_end_;
+  if (p_ < text_end_ && *line_end == '\r' && *p_ == '\n') ++p_;
   return true;
 }
 

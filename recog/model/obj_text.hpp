@@ -37,7 +37,7 @@ class LineReader {
 
   int line = 0;                // 1-based number of the current line
   const char* rest = nullptr;  // after the keyword (parsers advance it)
-  const char* end = nullptr;   // end of the line (its '\n' or the end of the text)
+  const char* end = nullptr;   // end of the line (its '\n', '\r' or the end of the text)
 
  private:
   const char* p_;

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #include "recog/base/blob_start.hpp"
@@ -75,11 +76,14 @@ Result<ShapeViewsView> ShapeViewsView::Open(const void* blob, size_t size) {
                          "view database truncated or padded: header says %llu bytes, got %zu",
                          static_cast<unsigned long long>(h->total_size), size);
   }
-  const uint32_t crc = Crc32(bytes + sizeof(ShapeViewsHeader), size - sizeof(ShapeViewsHeader));
-  if (crc != h->payload_crc32) {
+  const uint32_t crc = BlobCrc32(bytes, size, offsetof(ShapeViewsHeader, blob_crc32));
+  if (crc != h->blob_crc32) {
     return Status::Error(StatusCode::kDataLoss,
-                         "view database corrupt: payload CRC-32 %08x, header says %08x", crc,
-                         h->payload_crc32);
+                         "view database corrupt: CRC-32 %08x, header says %08x", crc,
+                         h->blob_crc32);
+  }
+  if (h->reserved0 != 0 || !AllZero(h->reserved1, sizeof(h->reserved1))) {
+    return Corrupt("reserved header bytes not zero");
   }
   if (h->window_side != kWindowSide) {
     return Status::Error(StatusCode::kInvalidArgument,

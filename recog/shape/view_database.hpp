@@ -12,7 +12,8 @@
 //   ShapeViewRecord[n_views]          orientation, model and extent of each view
 //   int16 coefficients[n_views][component_stride]    Q3.13 PCA coefficients, zero padded
 //
-// The CRC-32 covers every byte after the header. docs/shape.md describes every field.
+// The CRC-32 covers every byte of the blob, its own field read as zero (BlobCrc32). docs/shape.md
+// describes every field.
 #pragma once
 
 #include <cstddef>
@@ -30,7 +31,8 @@ namespace sh {
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "blobs are read in place: little-endian");
 
 inline constexpr char kShapeViewsMagic[8] = {'S', 'H', 'V', 'I', 'E', 'W', 'S', '\0'};
-inline constexpr uint16_t kShapeViewsVersion = 1;
+// Version 2: the CRC covers the header too, reserved fields must be zero.
+inline constexpr uint16_t kShapeViewsVersion = 2;
 inline constexpr size_t kShapeSectionAlignment = 64;
 
 // Capacities the recogniser is sized for; larger databases are refused at load.
@@ -56,7 +58,7 @@ struct ShapeViewsHeader {
   uint16_t window_side;  // kWindowSide the views were normalised to
   uint32_t header_size;  // sizeof(ShapeViewsHeader)
   uint64_t total_size;
-  uint32_t payload_crc32;  // CRC-32 of bytes [header_size, total_size)
+  uint32_t blob_crc32;  // BlobCrc32 of bytes [0, total_size)
   uint32_t n_models;
   uint32_t n_views;
   uint16_t n_components;      // PCA dimensions

@@ -37,5 +37,15 @@ TEST(Printable, CutsWholeEscapesAndMarksTheCut) {
   EXPECT_STREQ(Printable("abcdef", 6, out, 1), "");
 }
 
+TEST(JsonEscaped, QuotesBackslashesAndControlBytesKeepAJsonStringValid) {
+  char out[kJsonNameBytes];
+  EXPECT_STREQ(JsonEscaped("cube", 4, out, sizeof(out)), "cube");
+  EXPECT_STREQ(JsonEscaped("cu\"be\\x", 7, out, sizeof(out)), "cu\\\"be\\\\x");
+  EXPECT_STREQ(JsonEscaped("a\nb\x1b\xff", 5, out, sizeof(out)), "a\\u000ab\\u001b\\u00ff");
+  // The longest name, every byte escaped, fits whole.
+  const std::string quotes(31, '\x01');
+  EXPECT_EQ(std::string(JsonEscaped(quotes.c_str(), 31, out, sizeof(out))).size(), 31u * 6);
+}
+
 }  // namespace
 }  // namespace sh

@@ -98,6 +98,14 @@ TEST_F(CanopenOd, BusAccessIsCheckedWithTheCiaAbortCodes) {
   const uint8_t four[4] = {1, 2, 3, 4};
   EXPECT_EQ(od.Write(0x1000, 0, four, 4), SdoAbort::kReadOnly);
   EXPECT_EQ(od.Write(0x1018, 1, four, 4), SdoAbort::kReadOnly);
+  // A PDO's transmission type is read-only, but the value it holds may be written back (a
+  // configurator writes what the EDS says); another value, or another width, is refused.
+  const uint8_t event_driven[1] = {0xFE}, cyclic[1] = {0x01};
+  EXPECT_EQ(od.Write(0x1800, 2, event_driven, 1), SdoAbort::kNone);
+  EXPECT_EQ(od.Write(0x1400, 2, event_driven, 1), SdoAbort::kNone);
+  EXPECT_EQ(od.Write(0x1800, 2, cyclic, 1), SdoAbort::kReadOnly);
+  EXPECT_EQ(od.Write(0x1800, 2, four, 2), SdoAbort::kReadOnly);
+  EXPECT_EQ(od.Get(0x1800, 2), 0xFEu);
   EXPECT_EQ(od.Write(kIdxHeartbeatTime, 0, four, 4), SdoAbort::kLengthTooHigh);
   EXPECT_EQ(od.Write(kIdxHeartbeatTime, 0, four, 1), SdoAbort::kLengthTooLow);
   const uint8_t too_high[2] = {0x11, 0x27};  // 10001 ms

@@ -12,6 +12,7 @@
 #include "firmware/canopen/od_table.hpp"
 #include "firmware/canopen/pdo.hpp"
 #include "firmware/le_bytes.hpp"
+#include "firmware/node_id_file.hpp"
 #include "tests/support/firmware_doubles.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -253,6 +254,29 @@ TEST(FirmwareCanopen, ResultModeAndSettingsBySdoReachTheCore) {
   EXPECT_EQ(sdo.Upload(0x2021, 3).value & 0xFFFF, 55u) << "the ack is in the dictionary";
 }
 
+TEST(FirmwareCanopen, CommandsBySdoRunOnlyWhenOperational) {
+  Rig rig;
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  SdoClient sdo(&rig, Rig::kNode);
+  const uint16_t budget = rig.core.budget_ms();
+  rig.Nmt(NmtCommand::kEnterPreOperational);
+  // The SDO server answers in pre-operational; its reply also shows the NMT command was taken.
+  ASSERT_EQ(sdo.Upload(0x1000, 0).abort, 0u);
+  ASSERT_EQ(sdo.Download(0x2020, 2, 500, 4).abort, 0u) << "the argument waits for its code";
+  EXPECT_EQ(sdo.Download(0x2020, 1, 0x03, 1).abort, 0x08000022u) << "not in this NMT state";
+  EXPECT_EQ(sdo.Download(0x2020, 1, 0x00, 1).abort, 0u) << "the idle code is no command";
+  EXPECT_EQ(rig.core.budget_ms(), budget);
+  rig.Nmt(NmtCommand::kStart);
+  ASSERT_EQ(sdo.Upload(0x1000, 0).abort, 0u);
+  ASSERT_EQ(sdo.Download(0x2020, 1, 0x03, 1).abort, 0u);
+  std::optional<CommandAck> ack = rig.WaitAck(0x03);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->value, 500u);
+  EXPECT_EQ(rig.core.budget_ms(), 500);
+  EXPECT_EQ(sdo.Upload(0x2021, 4).value, 500u) << "the ack is in the dictionary";
+}
+
 TEST(FirmwareCanopen, LssSetsANewNodeIdThatResetCommunicationApplies) {
   char path[] = "/tmp/stereohash_node_id_XXXXXX";
   const int fd = mkstemp(path);
@@ -273,28 +297,15 @@ TEST(FirmwareCanopen, LssSetsANewNodeIdThatResetCommunicationApplies) {
   rig.lss_store = &store;
   rig.Start();
   ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
-  const auto lss = [&](std::initializer_list<uint8_t> bytes) {
-    hal::CanFrame f;
-    f.id = canopen::kLssMasterCobId;
-    f.len = 8;
-    size_t i = 0;
-    for (uint8_t b : bytes) f.data[i++] = b;
-    EXPECT_TRUE(rig.plc->Send(f).ok());
-  };
-  const auto lss_reply = [&](uint8_t cs) {
-    return WaitFrame(rig, [cs](const hal::CanFrame& f) {
-      return f.id == canopen::kLssSlaveCobId && f.data[0] == cs;
-    });
-  };
-  lss({0x04, 1});  // all nodes: configuration state
-  lss({0x5A});     // inquire vendor id
-  ASSERT_TRUE(lss_reply(0x5A));
-  lss({0x11, 9});  // configure node id 9
-  std::optional<hal::CanFrame> configured = lss_reply(0x11);
+  rig.Lss({0x04, 1});  // all nodes: configuration state
+  rig.Lss({0x5A});     // inquire vendor id
+  ASSERT_TRUE(rig.WaitLss(0x5A));
+  rig.Lss({0x11, 9});  // configure node id 9
+  std::optional<hal::CanFrame> configured = rig.WaitLss(0x11);
   ASSERT_TRUE(configured);
   EXPECT_EQ(configured->data[1], 0);
-  lss({0x17});  // store configuration
-  std::optional<hal::CanFrame> stored = lss_reply(0x17);
+  rig.Lss({0x17});  // store configuration
+  std::optional<hal::CanFrame> stored = rig.WaitLss(0x17);
   ASSERT_TRUE(stored);
   EXPECT_EQ(stored->data[1], 0);
   std::FILE* f = std::fopen(path, "r");
@@ -303,14 +314,9 @@ TEST(FirmwareCanopen, LssSetsANewNodeIdThatResetCommunicationApplies) {
   EXPECT_EQ(std::fscanf(f, "%u", &saved), 1);
   std::fclose(f);
   EXPECT_EQ(saved, 9u);
-  lss({0x04, 0});  // back to waiting
+  rig.Lss({0x04, 0});  // back to waiting
   EXPECT_EQ(rig.core.node_id(), Rig::kNode) << "pending until reset communication";
-  hal::CanFrame nmt;
-  nmt.id = kCobNmt;
-  nmt.len = 2;
-  nmt.data[0] = uint8_t(NmtCommand::kResetCommunication);
-  nmt.data[1] = Rig::kNode;
-  ASSERT_TRUE(rig.plc->Send(nmt).ok());
+  rig.Nmt(NmtCommand::kResetCommunication);
   std::optional<hal::CanFrame> boot =
       WaitFrame(rig, [](const hal::CanFrame& f) { return f.id == 0x709 && f.data[0] == 0; });
   ASSERT_TRUE(boot) << "boot-up with the new id";
@@ -321,6 +327,91 @@ TEST(FirmwareCanopen, LssSetsANewNodeIdThatResetCommunicationApplies) {
   std::remove(path);
 }
 
+// CiA 305 fastscan from the master's side: each identity part found bit by bit (a slave answers
+// while the bits checked so far match), then confirmed; the last confirmation puts the slave
+// into the configuration state. Returns false if no slave answered the reset.
+bool Fastscan(Rig& rig, uint32_t found[4]) {
+  const auto scan = [&](uint32_t id, uint8_t bit, uint8_t sub, uint8_t next) {
+    rig.Lss({0x51, uint8_t(id), uint8_t(id >> 8), uint8_t(id >> 16), uint8_t(id >> 24), bit, sub,
+             next});
+    return rig.WaitLss(0x4F, 100).has_value();
+  };
+  if (!scan(0, 0x80, 0, 0)) return false;
+  for (uint8_t sub = 0; sub < 4; ++sub) {
+    uint32_t id = 0;
+    for (int bit = 31; bit >= 1; --bit) {
+      if (!scan(id, uint8_t(bit), sub, sub)) id |= 1u << bit;
+    }
+    if (!scan(id, 0, sub, uint8_t((sub + 1) % 4))) id |= 1u;
+    if (id & 1u) EXPECT_TRUE(scan(id, 0, sub, uint8_t((sub + 1) % 4))) << "part " << int(sub);
+    found[sub] = id;
+  }
+  return true;
+}
+
+TEST(FirmwareCanopen, NodeIdFFMakesTheNodeUnconfiguredUntilFastscanGivesItAnId) {
+  char path[] = "/tmp/stereohash_node_id_XXXXXX";
+  const int fd = mkstemp(path);
+  ASSERT_GE(fd, 0);
+  close(fd);
+  NodeIdFile store(path);
+  Rig rig;
+  rig.config.serial_number = 0x5EB1A1u;
+  rig.lss_store = &store;
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  uint32_t identity[4] = {};
+  EXPECT_FALSE(Fastscan(rig, identity)) << "a configured node does not take part";
+  rig.Lss({0x04, 1});
+  rig.Lss({0x11, 0xFF});
+  std::optional<hal::CanFrame> r = rig.WaitLss(0x11);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->data[1], 0);
+  rig.Lss({0x17});
+  r = rig.WaitLss(0x17);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->data[1], 0) << "0xFF is stored";
+  Result<uint8_t> stored = ReadNodeIdFile(path);
+  ASSERT_TRUE(stored.ok()) << stored.status().message();
+  EXPECT_EQ(*stored, 0xFF);
+  rig.Lss({0x04, 0});
+  rig.Nmt(NmtCommand::kResetCommunication);
+  WaitFrame(rig, [](const hal::CanFrame&) { return false; }, 150);  // what was on its way
+  // Silent but for LSS: no boot-up, no heartbeat, under no id.
+  EXPECT_FALSE(WaitFrame(
+      rig, [](const hal::CanFrame& f) { return f.id != canopen::kLssSlaveCobId; }, 500));
+  EXPECT_EQ(rig.core.node_id(), 0xFF);
+
+  ASSERT_TRUE(Fastscan(rig, identity)) << "fastscan finds the unconfigured node";
+  EXPECT_EQ(identity[0], canopen::kVendorId);
+  EXPECT_EQ(identity[1], canopen::kProductCode);
+  EXPECT_EQ(identity[2], canopen::kRevisionNumber);
+  EXPECT_EQ(identity[3], 0x5EB1A1u);
+  rig.Lss({0x11, 12});  // the fastscan left it in the configuration state
+  r = rig.WaitLss(0x11);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->data[1], 0);
+  rig.Lss({0x04, 0});  // leaving configuration applies the id at once (CiA 305)
+  std::optional<hal::CanFrame> boot =
+      WaitFrame(rig, [](const hal::CanFrame& f) { return f.id == 0x70C && f.data[0] == 0; });
+  ASSERT_TRUE(boot) << "boot-up with the new id";
+  EXPECT_EQ(rig.core.node_id(), 12);
+  std::remove(path);
+}
+
+TEST(FirmwareCanopen, NodeIdFileMessageQuotesTheValueWithoutItsLineEnd) {
+  TempDir dir("node_id");
+  std::FILE* f = std::fopen(dir.Sub("id").c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fputs("200\n", f);
+  std::fclose(f);
+  const Result<uint8_t> id = ReadNodeIdFile(dir.Sub("id").c_str());
+  ASSERT_FALSE(id.ok());
+  EXPECT_NE(std::string(id.status().message()).find("holds '200', not a node id"),
+            std::string::npos)
+      << id.status().message();
+}
+
 TEST(FirmwareCanopen, ResetNodeRestoresTheConfiguredSettings) {
   Rig rig;
   rig.config.budget_ms = 700;
@@ -329,12 +420,7 @@ TEST(FirmwareCanopen, ResetNodeRestoresTheConfiguredSettings) {
   SdoClient sdo(&rig, Rig::kNode);
   ASSERT_EQ(sdo.Download(0x2000, 1, 300, 2).abort, 0u);
   ASSERT_EQ(sdo.Download(0x1017, 0, 50, 2).abort, 0u);
-  hal::CanFrame nmt;
-  nmt.id = kCobNmt;
-  nmt.len = 2;
-  nmt.data[0] = uint8_t(NmtCommand::kResetNode);
-  nmt.data[1] = 0;  // all nodes
-  ASSERT_TRUE(rig.plc->Send(nmt).ok());
+  rig.Nmt(NmtCommand::kResetNode, 0);  // all nodes
   ASSERT_TRUE(rig.WaitFor(kCobHeartbeat, 0x00)) << "boot-up";
   EXPECT_EQ(sdo.Upload(0x2000, 1).value & 0xFFFF, 700u);
   EXPECT_EQ(sdo.Upload(0x1017, 0).value & 0xFFFF, 20u);

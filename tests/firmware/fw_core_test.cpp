@@ -124,6 +124,22 @@ TEST(FirmwareCore, OutOfRangeCommandsAreRejectedWithEmcyAndChangeNothing) {
   EXPECT_FLOAT_EQ(rig.recognition.last_budget_ms.load(), 250.0f);
 }
 
+TEST(FirmwareCore, CommandCodeZeroIsTheIdleValueAndRunsNothing) {
+  // A PLC that clears its command output after each command sends code 0 "on change".
+  Rig rig;
+  rig.Start();
+  ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
+  rig.Command({0x00, 0, 0, 0, 0, 0, 0, 0});
+  rig.Command({0x00});
+  rig.Command({0x03, 0xFA, 0x00, 0, 0, 0, 0, 0});  // 250 ms
+  std::optional<hal::CanFrame> ack = rig.WaitFor(kCobCommandAck, -1);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->data[0], 0x03) << "code 0 is not acknowledged";
+  EXPECT_FALSE(rig.WaitEmcy(uint16_t(EmcyCode::kProtocolError), 300));
+  EXPECT_FALSE(rig.WaitEmcy(uint16_t(EmcyCode::kPdoLengthError), 10));
+  EXPECT_EQ(rig.core.budget_ms(), 250);
+}
+
 TEST(FirmwareCore, FreeRunProducesSetsWithRequestIdZeroUntilStopped) {
   Rig rig;
   rig.Start();
@@ -337,19 +353,13 @@ TEST(FirmwareCore, NmtStopSilencesCommandsUntilStarted) {
   Rig rig;
   rig.Start();
   ASSERT_TRUE(rig.WaitState(FirmwareState::kReady));
-  hal::CanFrame nmt;
-  nmt.id = kCobNmt;
-  nmt.len = 2;
-  nmt.data[0] = uint8_t(NmtCommand::kStop);
-  nmt.data[1] = Rig::kNode;
-  ASSERT_TRUE(rig.plc->Send(nmt).ok());
+  rig.Nmt(NmtCommand::kStop);
   std::optional<hal::CanFrame> hb = rig.WaitFor(kCobHeartbeat, uint8_t(NmtState::kStopped));
   ASSERT_TRUE(hb);
   rig.Trigger(30);
   EXPECT_FALSE(rig.WaitFor(kCobCommandAck, 0x01, 300)) << "commands ignored when stopped";
   EXPECT_FALSE(rig.WaitSet(100));
-  nmt.data[0] = uint8_t(NmtCommand::kStart);
-  ASSERT_TRUE(rig.plc->Send(nmt).ok());
+  rig.Nmt(NmtCommand::kStart);
   ASSERT_TRUE(rig.WaitFor(kCobHeartbeat, uint8_t(NmtState::kOperational)));
   rig.Trigger(31);
   std::optional<ResultSet> s = rig.WaitSet();

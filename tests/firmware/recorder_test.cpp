@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -98,6 +99,7 @@ TEST_F(RecorderTest, KeepsTheLastPairsInTheReplayLayoutAcrossRestarts) {
   c.max_pairs = 4;
   c.model_names = names;
   c.model_count = 2;
+  c.background = "light";
   {
     Recorder r;
     ASSERT_TRUE(r.Start(c, calib_, nullptr, &observer_).ok());
@@ -120,6 +122,9 @@ TEST_F(RecorderTest, KeepsTheLastPairsInTheReplayLayoutAcrossRestarts) {
   EXPECT_NE(json.find("\"sequence\": 5,"), std::string::npos) << json;
   EXPECT_NE(json.find("\"model\": \"wedge\""), std::string::npos) << json;
   EXPECT_NE(json.find("\"t_mm\": [5.0000"), std::string::npos) << json;
+  // The preset the results were recognised with, for the pair and for the set's replays.
+  EXPECT_NE(json.find("\"background\": \"light\""), std::string::npos) << json;
+  EXPECT_NE(ReadText(dir_ + "/settings.conf").find("\nbackground = light\n"), std::string::npos);
   const std::string yaml = ReadText(dir_ + "/calib.yaml");
   const Result<StereoCalibration> back = ParseCalibrationYaml(yaml.data(), yaml.size());
   ASSERT_TRUE(back.ok()) << back.status().message();
@@ -198,6 +203,25 @@ TEST_F(RecorderTest, UnwritableDirectoryIsAnErrorNamingIt) {
   const Status s = r.Start(c, calib_, nullptr, &observer_);
   EXPECT_FALSE(s.ok());
   EXPECT_NE(std::string(s.message()).find("file/record"), std::string::npos) << s.message();
+  EXPECT_EQ(r.start_error(), ENOTDIR) << "the EMCY detail is the real errno";
+  for (const char* path : {"/dev/null", "/proc/stereohash-record"}) {
+    c.directory = path;
+    Recorder other;
+    EXPECT_FALSE(other.Start(c, calib_, nullptr, &observer_).ok()) << path;
+    EXPECT_NE(other.start_error(), EIO) << path;
+    EXPECT_NE(other.start_error(), 0) << path;
+  }
+}
+
+TEST(ResultJson, ModelNamesAreEscaped) {
+  protocol::ResultSet set;
+  set.object_count = 1;
+  set.objects[0].model_id = 0;
+  const char* names[] = {"cu\"be\\x\x01"};
+  const int64_t stamps[2] = {0, 0};
+  char out[1024];
+  ASSERT_GT(FormatResultJson(set, "camera", "dark", names, 1, stamps, out, sizeof(out)), 0u);
+  EXPECT_NE(std::string(out).find("\"model\": \"cu\\\"be\\\\x\\u0001\""), std::string::npos) << out;
 }
 
 }  // namespace

@@ -19,9 +19,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // up so that the structural checks behind the CRC get fuzzed too.
   if (size > sizeof(sh::AspectHeader) && (data[size - 1] & 1)) {
     auto* header = reinterpret_cast<sh::AspectHeader*>(storage.data());
-    header->payload_crc32 =
-        sh::Crc32(reinterpret_cast<const uint8_t*>(storage.data()) + sizeof(sh::AspectHeader),
-                  size - sizeof(sh::AspectHeader));
+    header->blob_crc32 =
+        sh::BlobCrc32(storage.data(), size, offsetof(sh::AspectHeader, blob_crc32));
   }
   auto view = sh::AspectTableView::Open(storage.data(), size);
   if (!view.ok()) return 0;

@@ -19,8 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // up so that the structural checks behind the CRC get fuzzed too.
   if (size > sizeof(sh::FeatureDbHeader) && (data[size - 1] & 1)) {
     auto* header = reinterpret_cast<sh::FeatureDbHeader*>(bytes);
-    header->payload_crc32 =
-        sh::Crc32(bytes + sizeof(sh::FeatureDbHeader), size - sizeof(sh::FeatureDbHeader));
+    header->blob_crc32 = sh::BlobCrc32(bytes, size, offsetof(sh::FeatureDbHeader, blob_crc32));
   }
   auto view = sh::FeatureDbView::Open(bytes, size);
   if (!view.ok()) return 0;

@@ -16,9 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // behind it get fuzzed too.
   if (size > sizeof(sh::ShapeViewsHeader) && (data[size - 1] & 1)) {
     auto* header = reinterpret_cast<sh::ShapeViewsHeader*>(storage.data());
-    header->payload_crc32 =
-        sh::Crc32(reinterpret_cast<const uint8_t*>(storage.data()) + sizeof(sh::ShapeViewsHeader),
-                  size - sizeof(sh::ShapeViewsHeader));
+    header->blob_crc32 =
+        sh::BlobCrc32(storage.data(), size, offsetof(sh::ShapeViewsHeader, blob_crc32));
   }
   auto view = sh::ShapeViewsView::Open(storage.data(), size);
   if (!view.ok()) return 0;

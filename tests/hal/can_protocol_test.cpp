@@ -358,5 +358,22 @@ TEST(CanProtocolTest, PoseFromRigidTransformRotatesLikeTheMatrix) {
   EXPECT_TRUE(EncodeResultSet(set, 1, frames).ok());
 }
 
+TEST(CanProtocolTest, PoseQuaternionHasTheSignTheBusSends) {
+  // A rotation by more than 180 degrees one way is Eigen's w < 0: reported with w >= 0, as the
+  // bus encodes it, so result.json and the frames agree.
+  for (float angle : {0.3f, 2.9f, 3.14f, -2.9f}) {
+    for (const Eigen::Vector3f& axis : {Eigen::Vector3f(1, 2, -3).normalized(),
+                                        Eigen::Vector3f(-1, 0, 0.2f).normalized()}) {
+      RigidTransform cam_T_model;
+      cam_T_model.R = Eigen::AngleAxisf(angle, axis).toRotationMatrix();
+      const ObjectPose pose = MakeObjectPose(cam_T_model, 0, 0, 1.0);
+      EXPECT_GE(pose.cam_q_model[0], 0.0) << angle;
+      const Eigen::Quaterniond q(pose.cam_q_model[0], pose.cam_q_model[1], pose.cam_q_model[2],
+                                 pose.cam_q_model[3]);
+      EXPECT_LT((q.toRotationMatrix() - cam_T_model.R.cast<double>()).norm(), 1e-5) << angle;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sh::protocol

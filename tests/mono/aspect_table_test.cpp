@@ -2,6 +2,7 @@
 // truncated, corrupt and foreign blobs with a message.
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <cstring>
 
 #include "recog/base/crc32.hpp"
@@ -34,7 +35,7 @@ struct Aligned {
   uint8_t* bytes() { return reinterpret_cast<uint8_t*>(words.data()); }
   AspectHeader& header() { return *reinterpret_cast<AspectHeader*>(words.data()); }
   void FixCrc() {
-    header().payload_crc32 = Crc32(bytes() + sizeof(AspectHeader), size - sizeof(AspectHeader));
+    header().blob_crc32 = BlobCrc32(bytes(), size, offsetof(AspectHeader, blob_crc32));
   }
   Status Open() { return AspectTableView::Open(words.data(), size).status(); }
 };
@@ -116,6 +117,29 @@ TEST(AspectTable, RefinementAddsViewsWhereTestViewsFail) {
             report.per_model[0].aspects_per_level[0] + report.per_model[0].aspects_per_level[1]);
 }
 
+TEST(AspectTable, EveryHeaderBitFlipIsRefused) {
+  const std::vector<uint8_t> blob = SmallBlob();
+  for (size_t bit = 0; bit < sizeof(AspectHeader) * 8; ++bit) {
+    Aligned a(blob);
+    a.bytes()[bit / 8] ^= static_cast<uint8_t>(1u << (bit % 8));
+    EXPECT_FALSE(a.Open().ok()) << "bit " << bit;
+  }
+}
+
+TEST(AspectTable, ReservedHeaderBitsMustBeZero) {
+  const std::vector<uint8_t> blob = SmallBlob();
+  const size_t build = offsetof(AspectHeader, build);
+  for (size_t offset :
+       {offsetof(AspectHeader, reserved0), build + offsetof(AspectBuildParams, reserved),
+        build + offsetof(AspectBuildParams, flags)}) {
+    Aligned a(blob);
+    a.bytes()[offset] |= 0x80;
+    a.FixCrc();
+    const Status s = a.Open();
+    EXPECT_NE(std::string(s.message()).find("reserved"), std::string::npos) << s.message();
+  }
+}
+
 TEST(AspectTable, ReaderRefusesDamagedBlobs) {
   const std::vector<uint8_t> blob = SmallBlob();
   {
@@ -172,8 +196,15 @@ TEST(AspectTable, ReaderRefusesDamagedBlobs) {
 TEST(AspectTable, BuilderRefusesBadOptions) {
   AspectBuildOptions o;
   o.initial_spacing_deg = 0.5f;
-  EXPECT_EQ(BuildAspectBlob({ReferenceModel("cube")}, o).status().code(),
-            StatusCode::kInvalidArgument);
+  const Status s = BuildAspectBlob({ReferenceModel("cube")}, o).status();
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_STREQ(s.message(),
+               "aspect table: initial spacing (--spacing, degrees) is 0.5, outside 2..90");
+  o = AspectBuildOptions{};
+  o.size_slices = 0;
+  EXPECT_STREQ(BuildAspectBlob({ReferenceModel("cube")}, o).status().message(),
+               "aspect table: size slices (--slices D,S: S) is 0, outside 1..64")
+      << "the option is named";
   EXPECT_EQ(BuildAspectBlob({}, AspectBuildOptions{}).status().code(),
             StatusCode::kInvalidArgument);
 }

@@ -236,7 +236,7 @@ TEST_F(RecognizeToolTest, MalformedYamlIsAClearError) {
   // A directory where an image belongs.
   r = RunTool(Inputs(Path("calib.yaml"), *dir_, Path("right.png")));
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_NE(r.output.find("is a directory, not an image file"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("is a directory, not a regular file"), std::string::npos) << r.output;
 
   r = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) + " --budget-ms nan");
   EXPECT_EQ(r.exit_code, 2) << r.output;
@@ -406,6 +406,20 @@ TEST_F(RecognizeToolTest, OneCameraWithTheTableFindsRestingObjects) {
   EXPECT_NE(missing.output.find("needs the right image"), std::string::npos) << missing.output;
 }
 
+// A model set given to one camera is used or refused: never the built-in table in its place.
+TEST_F(RecognizeToolTest, OneCameraRefusesAModelSetWithoutAnAspectTable) {
+  const std::string set = Path("cube_only.bin");
+  const ToolRun built = RunTool("tables build --models models --names cube --out " + set);
+  ASSERT_EQ(built.exit_code, 0) << built.output;
+  for (const std::string& tables : {set, std::string("/etc/passwd")}) {
+    const ToolRun r = RunTool("recognize --tables " + tables + " --calib " + Path("calib.yaml") +
+                              " --left " + Path("left.png"));
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("--tables " + tables + " holds no aspect table"), std::string::npos)
+        << r.output;
+  }
+}
+
 // The poses of a JSON result, in order, as text (model and translation to the printed digits).
 std::string PosesText(const std::string& path) {
   Json out;
@@ -462,6 +476,16 @@ TEST_F(RecognizeToolTest, OneModelSetGivesEveryPathItsSection) {
   r = RunTool(stereo + " --views " + Path("set.bin"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("no SHAPE_VIEWS section"), std::string::npos) << r.output;
+}
+
+// Colour parts given grey images: said, not a silent "0 objects".
+TEST_F(RecognizeToolTest, ColourPartsInGreyImagesAreWarnedAbout) {
+  const std::string stereo = Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png"));
+  const ToolRun r = RunTool(stereo + " --views tests/fuzz/corpus/shape_views/wedge_30deg.bin");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: the model set holds 1 colour parts, but the images are grey"),
+            std::string::npos)
+      << r.output;
 }
 
 // `bench recorded` on a folder in the recorded-set layout made of two rendered scenes.
@@ -608,6 +632,13 @@ TEST_F(RecognizeToolTest, ReadsARecordedPairWithTheSetsCalibrationAndTable) {
   r = RunTool("recognize --scene " + set + "/scene1");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("no calib.yaml beside"), std::string::npos) << r.output;
+  // ... and then is used.
+  r = RunTool("recognize --scene " + set + "/scene1 --calib " + Path("calib.yaml") + " --json " +
+              Path("scene_calib.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  Json given;
+  ASSERT_TRUE(JsonReader(ReadText(Path("scene_calib.json"))).Parse(&given));
+  EXPECT_EQ(given["objects"].size(), scene["objects"].size());
   r = RunTool("recognize --scene " + set + "/missing");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("has neither left nor right"), std::string::npos) << r.output;

@@ -30,6 +30,7 @@ EMCY_DATA_SET = 0x6300
 EMCY_SENSOR = 0x7300
 DETAIL_TABLES = 1
 DETAIL_CALIBRATION = 2
+DETAIL_FEATURES = 5
 STATE_READY = 1
 STATE_FAULT = 3
 CMD_TRIGGER = 1
@@ -234,6 +235,50 @@ class BootFaultTest(unittest.TestCase):
         self.expect_fault(EMCY_DATA_SET, DETAIL_CALIBRATION)
         shutil.copytree(ARGS.models, models)
         self.expect_recovery()
+
+    def fifo(self, name):
+        path = self.path(name)
+        os.mkfifo(path)
+        return path
+
+    def test_fifo_tables_file(self):
+        """A FIFO is refused without waiting for a writer: the node comes up and reports the
+        fault; once a real file replaces it, clear-fault loads it."""
+        table = self.fifo("tables.bin")
+        self.boot("tables = " + table)
+        self.expect_fault(EMCY_DATA_SET, DETAIL_TABLES)
+        os.unlink(table)
+        shutil.copyfile(ARGS.table, table)
+        self.expect_recovery()
+
+    def test_fifo_calibration(self):
+        calibration = self.fifo("calib.yaml")
+        self.boot("calibration = " + calibration)
+        self.expect_fault(EMCY_DATA_SET, DETAIL_CALIBRATION)
+        os.unlink(calibration)
+        with open(calibration, "w") as f:
+            f.write(SIM_RIG_YAML)
+        self.expect_recovery()
+
+    def test_fifo_features(self):
+        self.boot("features = " + self.fifo("features.bin"))
+        self.expect_fault(EMCY_DATA_SET, DETAIL_FEATURES)
+
+    def test_fifo_lss_store_boots_on_the_configured_id(self):
+        self.boot("lss_store = " + self.fifo("node-id"))
+        self.expect_alive()
+
+    def test_device_in_model_folder(self):
+        """An OBJ linked to /dev/zero is refused by its type, never read: the world is not built
+        (the calibration fault, as for a missing folder) and the process stays small."""
+        models = self.path("models")
+        shutil.copytree(ARGS.models, models)
+        os.unlink(os.path.join(models, "cube.obj"))
+        os.symlink("/dev/zero", os.path.join(models, "cube.obj"))
+        self.boot("models_dir = " + models)
+        self.expect_fault(EMCY_DATA_SET, DETAIL_CALIBRATION)
+        self.assertTrue(any("not a regular file" in line for line in self.fw.stderr_lines),
+                        "\n".join(self.fw.stderr_lines[-20:]))
 
 
 def main():

@@ -15,6 +15,10 @@ recorded sets). Prints one line per scene and a summary.
 A second test records: the firmware replaying a rendered set with record_dir writes its
 triggered pairs with their result.json, and `stereohash recognize --scene` on each recorded pair
 must give the recorded poses (a failure seen on the line reproduces on a desk).
+
+A third records the simulator's own light-table scenes (recognised with the light preset) and
+replays the recording with `recognize --scene` and with `camera = directory`, neither told the
+preset: the recording's settings.conf gives it, and both must give the recorded poses.
 """
 import argparse
 import json
@@ -125,12 +129,14 @@ class ReplayTest(unittest.TestCase):
         finally:
             shutil.rmtree(work, ignore_errors=True)
 
-    def run_firmware(self, directory, count, work, extra=()):
+    def run_firmware(self, directory, count, work, extra=(), source=None):
+        """RESULT lines of the simulator program on `directory` (camera = directory), or on the
+        camera lines `source` (with their own background lines)."""
         config = os.path.join(work, "fw.conf")
+        if source is None:
+            source = ["camera = directory", "camera_directory = %s" % directory] + background_key()
         with open(config, "w") as f:
-            f.write("\n".join([
-                "camera = directory", "camera_directory = %s" % directory] +
-                background_key() + ["budget_ms = 10000",
+            f.write("\n".join(list(source) + ["budget_ms = 10000",
                 "free_run_dhz = 300", "heartbeat_ms = 1000", "sim_port = 0"] + list(extra) + [""]))
         proc = subprocess.Popen([ARGS.firmware, "--config", config],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
@@ -199,6 +205,71 @@ class ReplayTest(unittest.TestCase):
             self.assertGreater(objects, 0)
             self.assertLessEqual(worst_mm, ARGS.max_position_mm)
             self.assertLessEqual(worst_deg, ARGS.max_rotation_deg)
+        finally:
+            shutil.rmtree(work, ignore_errors=True)
+
+    # The preset is recorded; the rendered table bounding the simulator's working volume and the
+    # model set's identity are not yet, and the poses still differ by up to 0.04 mm, 0.2 deg.
+    @unittest.expectedFailure
+    def test_simulator_recording_replays_to_the_recorded_poses(self):
+        """The simulator recognises its light-table scenes with the light preset: the recording
+        says so, and both replays (recognize --scene, camera = directory) use it."""
+        work = tempfile.mkdtemp(prefix="stereohash_simrecord_")
+        try:
+            record = os.path.join(work, "record")
+            self.run_firmware(None, ARGS.scenes, work,
+                              ["record_dir = %s" % record, "record_max = 50",
+                               "record_format = pgm"],
+                              source=["camera = sim", "sim_background = light",
+                                      "sim_scenes = %d" % ARGS.scenes])
+            pairs = sorted(p for p in os.listdir(record) if p.isdigit())
+            self.assertGreaterEqual(len(pairs), ARGS.scenes, "pairs recorded")
+            with open(os.path.join(record, "settings.conf")) as f:
+                self.assertIn("background = light", f.read())
+            recorded = []
+            for pair in pairs:
+                with open(os.path.join(record, pair, "result.json")) as f:
+                    recorded.append(json.load(f))
+                self.assertEqual(recorded[-1]["background"], "light", pair)
+            worst = [0.0, 0.0]
+            objects = 0
+
+            def match(pair, got, want):
+                nonlocal objects
+                self.assertEqual(sorted(n for n, _, _ in got), sorted(n for n, _, _ in want),
+                                 "%s: models differ" % pair)
+                for name, t, q in want:
+                    best = min(((math.dist(t, gt), rotation_between_deg(q, gq))
+                                for gn, gt, gq in got if gn == name), key=lambda e: e[0])
+                    worst[0], worst[1] = max(worst[0], best[0]), max(worst[1], best[1])
+                    objects += 1
+
+            # recognize --scene on each pair, without --background: the recorded preset.
+            for pair, rec in zip(pairs, recorded):
+                out = os.path.join(work, pair + ".json")
+                subprocess.run([ARGS.stereohash, "recognize", "--scene",
+                                os.path.join(record, pair), "--json", out],
+                               check=True, stdout=subprocess.DEVNULL)
+                with open(out) as f:
+                    ref = json.load(f)
+                match(pair, [(o["model"], o["t"], matrix_to_quat(o["R"])) for o in ref["objects"]],
+                      [(o["model"], o["t_mm"], o["q_wxyz"]) for o in rec["objects"]])
+            # The firmware replaying the recording (no background line: the recorded one).
+            self.model_names = None
+            replayed = self.run_firmware(record, len(pairs), work,
+                                         source=["camera = directory",
+                                                 "camera_directory = %s" % record])
+            for pair, rec, fw in zip(pairs, recorded, replayed):
+                names = self.model_names
+                match(pair, [(names[o["model_id"]], o["t_mm"], o["q_wxyz"])
+                             for o in fw["objects"]],
+                      [(o["model"], o["t_mm"], o["q_wxyz"]) for o in rec["objects"]])
+            print("simulator recording: %d pairs, %d objects; the replays differ by at most "
+                  "%.4f mm, %.4f deg" % (len(pairs), objects, worst[0], worst[1]))
+            sys.stdout.flush()
+            self.assertGreater(objects, 0)
+            self.assertLessEqual(worst[0], ARGS.max_position_mm)
+            self.assertLessEqual(worst[1], ARGS.max_rotation_deg)
         finally:
             shutil.rmtree(work, ignore_errors=True)
 

@@ -317,7 +317,8 @@ TEST(ImageFile, ADirectoryOrDeviceIsNotAnImageFile) {
   const std::string dir = ::testing::TempDir();
   Result<ImageInfo> info = ReadImageFile(dir.c_str(), PixelFormat::kGray8, pixels.data(), 64);
   ASSERT_FALSE(info.ok());
-  EXPECT_EQ(std::string(info.status().message()), dir + " is a directory, not an image file");
+  EXPECT_EQ(std::string(info.status().message()),
+            "image '" + dir + "' is a directory, not a regular file");
   info = ReadImageFile("/dev/null", PixelFormat::kGray8, pixels.data(), 64);
   ASSERT_FALSE(info.ok());
   EXPECT_NE(std::string(info.status().message()).find("not a regular file"), std::string::npos)

@@ -122,6 +122,26 @@ TEST(ObjModel, TriangulatedCubeMergesIntoTheSameCube) {
   CheckConsistent(*tri);
 }
 
+TEST(ObjModel, CarriageReturnLineEndsAreLineEnds) {
+  // Old Mac exports end lines with a lone CR, Windows ones with CRLF: the same cube, and line
+  // numbers in messages count each line once.
+  std::string cr = kTriangulatedCube, crlf;
+  for (char& c : cr) c = c == '\n' ? '\r' : c;
+  for (char c : std::string(kTriangulatedCube))
+    crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  for (const std::string& text : {cr, crlf}) {
+    const Result<Model> m = ParseObjModel(text.data(), text.size(), "tri");
+    ASSERT_TRUE(m.ok()) << m.status().message();
+    EXPECT_EQ(m->n_corners, 8);
+    EXPECT_EQ(m->n_faces, 6);
+  }
+  const std::string bad = "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 9\r\n";
+  const Result<Model> m = ParseObjModel(bad.data(), bad.size(), "bad");
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(std::string(m.status().message()).find("OBJ line 4"), std::string::npos)
+      << m.status().message();
+}
+
 // A cube whose bottom face is a fan around an extra centre vertex and whose front face has an
 // extra vertex in the middle of its bottom edge: neither extra vertex is a corner.
 TEST(ObjModel, VerticesInsideFacesOrOnStraightEdgesAreNotCorners) {

@@ -7,11 +7,13 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 #include <random>
 #include <vector>
 
+#include "recog/base/crc32.hpp"
 #include "recog/geometry/rigid_transform.hpp"
 #include "recog/shape/silhouette.hpp"
 #include "tables/model_files.hpp"
@@ -315,20 +317,24 @@ TEST(ViewDatabase, NearestViewsAreThoseOfAnExhaustiveStableSort) {
 }
 
 // Header fields either make Open refuse the blob or leave what the search reads unchanged.
-TEST(ViewDatabase, EveryHeaderBitFlipIsRefusedOrHarmless) {
-  Blob clean(TestBlob());
-  Result<ShapeViewsView> ref = ShapeViewsView::Open(clean.data(), clean.size);
-  ASSERT_TRUE(ref.ok());
+TEST(ViewDatabase, EveryHeaderBitFlipIsRefused) {
+  // The CRC covers the header: no flipped header bit changes what the database says.
   for (size_t bit = 0; bit < sizeof(ShapeViewsHeader) * 8; ++bit) {
     Blob b(TestBlob());
     b.data()[bit / 8] ^= static_cast<uint8_t>(1u << (bit % 8));
-    Result<ShapeViewsView> v = ShapeViewsView::Open(b.data(), b.size);
-    if (!v.ok()) continue;
-    EXPECT_EQ(v->model_count(), ref->model_count()) << bit;
-    EXPECT_EQ(v->view_count(), ref->view_count()) << bit;
-    EXPECT_EQ(v->header().n_components, ref->header().n_components) << bit;
-    EXPECT_EQ(std::memcmp(&v->header().models, &ref->header().models, 6 * sizeof(ShapeSection)), 0)
-        << bit;
+    EXPECT_FALSE(ShapeViewsView::Open(b.data(), b.size).ok()) << "bit " << bit;
+  }
+}
+
+TEST(ViewDatabase, ReservedHeaderBytesMustBeZero) {
+  for (size_t offset : {offsetof(ShapeViewsHeader, reserved0),
+                        offsetof(ShapeViewsHeader, reserved1), sizeof(ShapeViewsHeader) - 1}) {
+    Blob b(TestBlob());
+    b.data()[offset] = 1;
+    auto* h = reinterpret_cast<ShapeViewsHeader*>(b.data());
+    h->blob_crc32 = BlobCrc32(b.data(), b.size, offsetof(ShapeViewsHeader, blob_crc32));
+    const Status s = ShapeViewsView::Open(b.data(), b.size).status();
+    EXPECT_NE(std::string(s.message()).find("reserved"), std::string::npos) << s.message();
   }
 }
 
@@ -361,6 +367,20 @@ TEST(ViewDatabase, BuilderRefusesBadSettings) {
   options.n_components = 500;
   EXPECT_FALSE(BuildShapeViewBlob({Input("can")}, options).ok());
   EXPECT_FALSE(BuildShapeViewBlob({}, ShapeViewBuildOptions{}).ok());
+}
+
+TEST(ViewDatabase, BuilderRefusesColoursSegmentationCannotTake) {
+  // Grey, white (a material the MTL does not define reads as white) and black parts would build
+  // a set that recognize refuses: refused here, naming the part.
+  const float colours[][3] = {{0.5f, 0.5f, 0.5f}, {1.0f, 1.0f, 1.0f}, {0.0f, 0.0f, 0.0f}};
+  for (const auto& kd : colours) {
+    ShapeModelInput can = Input("can");
+    for (int k = 0; k < 3; ++k) can.kd[k] = kd[k];
+    const Status s = BuildShapeViewBlob({Input("bracket"), can}, ShapeViewBuildOptions{}).status();
+    EXPECT_FALSE(s.ok());
+    EXPECT_NE(std::string(s.message()).find("colour part 'can'"), std::string::npos)
+        << s.message();
+  }
 }
 
 }  // namespace

@@ -230,6 +230,36 @@ class Rig {
     Command({0x01, uint8_t(request_id), uint8_t(request_id >> 8), 0, 0, 0, 0, 0});
   }
   void ClearFault() { Command({0x04, 0, 0, 0, 0, 0, 0, 0}); }
+  // An NMT command to `node` (the rig's node by default).
+  void Nmt(NmtCommand command, uint8_t node = kNode) {
+    hal::CanFrame f;
+    f.id = kCobNmt;
+    f.len = 2;
+    f.data[0] = uint8_t(command);
+    f.data[1] = node;
+    ASSERT_TRUE(plc->Send(f).ok());
+  }
+  // An LSS request (8 bytes, the rest zero) and the next LSS response with command specifier
+  // `cs`.
+  void Lss(std::initializer_list<uint8_t> bytes) {
+    hal::CanFrame f;
+    f.id = canopen::kLssMasterCobId;
+    f.len = 8;
+    size_t i = 0;
+    for (uint8_t b : bytes) f.data[i++] = b;
+    ASSERT_TRUE(plc->Send(f).ok());
+  }
+  std::optional<hal::CanFrame> WaitLss(uint8_t cs, int timeout_ms = 15000) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    while (std::chrono::steady_clock::now() < end) {
+      hal::CanFrame f;
+      Result<bool> got = plc->Receive(&f, 10);
+      if (!got.ok() || !*got) continue;
+      Feed(f);
+      if (f.id == canopen::kLssSlaveCobId && f.data[0] == cs) return f;
+    }
+    return std::nullopt;
+  }
 
   bool WaitState(FirmwareState s, int timeout_ms = 15000) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);

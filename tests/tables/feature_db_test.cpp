@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -26,7 +27,8 @@ struct AlignedBlob : testing::AlignedBlob {
   using testing::AlignedBlob::AlignedBlob;
   FeatureDbHeader& header() { return *reinterpret_cast<FeatureDbHeader*>(data); }
   void Reseal() {
-    header().payload_crc32 = Crc32(data + sizeof(FeatureDbHeader), size - sizeof(FeatureDbHeader));
+    header().blob_crc32 = 0;
+    header().blob_crc32 = BlobCrc32(data, size, offsetof(FeatureDbHeader, blob_crc32));
   }
 };
 
@@ -173,6 +175,22 @@ void ExpectRefused(AlignedBlob& blob, const char* fragment) {
   EXPECT_NE(std::strstr(v.status().message(), fragment), nullptr) << v.status().message();
 }
 
+TEST(FeatureDb, EveryHeaderBitFlipIsRefused) {
+  for (size_t bit = 0; bit < sizeof(FeatureDbHeader) * 8; ++bit) {
+    AlignedBlob b(PillsBlob());
+    b.data[bit / 8] ^= static_cast<uint8_t>(1u << (bit % 8));
+    EXPECT_FALSE(FeatureDbView::Open(b.data, b.size).ok()) << "bit " << bit;
+  }
+}
+
+TEST(FeatureDb, ReservedHeaderBytesMustBeZero) {
+  AlignedBlob b(PillsBlob());
+  b.header().reserved[7] = 1;
+  b.Reseal();
+  const Status s = FeatureDbView::Open(b.data, b.size).status();
+  EXPECT_NE(std::string(s.message()).find("reserved"), std::string::npos) << s.message();
+}
+
 TEST(FeatureDb, RefusesDamageWithAReason) {
   const std::vector<uint8_t>& good = PillsBlob();
   {
@@ -249,6 +267,27 @@ TEST(FeatureDb, ModelsWithoutPrintAreRefused) {
   Result<std::vector<uint8_t>> b = BuildFeatureDb({*cube}, FeatureDbBuildOptions{});
   ASSERT_FALSE(b.ok());
   EXPECT_NE(std::strstr(b.status().message(), "no printed face"), nullptr);
+}
+
+TEST(FeatureDb, PrintWithoutFeaturesIsRefusedNamingTheModel) {
+  // A 1 x 1 texture, and a texture of one grey level (a 1-bit image of one colour): no corner
+  // to learn, so the carton could never be found.
+  for (const int side : {1, 64}) {
+    Result<TexturedModel> pills = LoadTexturedModelFile("models/textured/pills.obj");
+    ASSERT_TRUE(pills.ok()) << pills.status().message();
+    for (GreyImage& t : pills->textures) {
+      if (t.pixels.empty()) continue;
+      t.width = side;
+      t.height = side;
+      t.pixels.assign(size_t(side) * side, 128);
+    }
+    FeatureDbBuildOptions options;
+    options.tilts.clear();
+    const Result<std::vector<uint8_t>> b = BuildFeatureDb({*pills}, options);
+    ASSERT_FALSE(b.ok()) << side;
+    EXPECT_NE(std::strstr(b.status().message(), "model 'pills' gives no features"), nullptr)
+        << b.status().message();
+  }
 }
 
 }  // namespace

@@ -1,0 +1,101 @@
+// `stereohash tables build` inputs: model names kept whole or refused, given once, the folder's
+// models.txt deciding which OBJ files are read (printed ones included), numbers read whole.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "tests/support/temp_dir.hpp"
+#include "tests/support/tool_run.hpp"
+
+namespace sh {
+namespace {
+
+using testing::TempDir;
+using testing::ToolRun;
+
+ToolRun RunTool(const std::string& args) { return testing::RunTool(STEREOHASH_EXE, args); }
+
+void Copy(const std::string& from, const std::string& to) {
+  std::filesystem::copy_file(from, to, std::filesystem::copy_options::overwrite_existing);
+}
+
+TEST(ModelNamesTool, LongFileStemsAreRefusedNotCut) {
+  TempDir dir("names");
+  const std::string d = dir.Mkdir("models");
+  const std::string stem(40, 'a');
+  Copy("models/cube.obj", d + "/" + stem + "1.obj");
+  Copy("models/wedge.obj", d + "/" + stem + "2.obj");
+  const ToolRun r = RunTool("tables build --models " + d + " --out " + dir.Sub("t.bin"));
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("the model name (file stem) has 41 characters, at most 31"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.Sub("t.bin")));
+}
+
+TEST(ModelNamesTool, NamesGivenTwiceAreRefused) {
+  TempDir dir("names");
+  const ToolRun r =
+      RunTool("tables build --models models --names cube,cube --out " + dir.Sub("t.bin"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--names: model 'cube' given twice"), std::string::npos) << r.output;
+}
+
+TEST(ModelNamesTool, ModelsTxtGovernsPrintedModelsToo) {
+  TempDir dir("names");
+  const std::string d = dir.Mkdir("models");
+  Copy("models/cube.obj", d + "/cube.obj");
+  for (const char* f : {"tea.obj", "tea.mtl", "tea.png"}) {
+    Copy(std::string("models/textured/") + f, d + "/" + f);
+  }
+  std::ofstream(d + "/broken.obj") << "this is no OBJ\n";
+  std::ofstream(d + "/models.txt") << "cube\n";
+  const ToolRun r = RunTool("tables build --models " + d + " --out " + dir.Sub("t.bin"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const ToolRun info = RunTool("tables info " + dir.Sub("t.bin"));
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("cube"), std::string::npos) << info.output;
+  EXPECT_EQ(info.output.find("tea"), std::string::npos) << "not listed: " << info.output;
+}
+
+// A rendered scene's truth.json names its models as JSON strings: a stem with a quote or a
+// backslash must not end the string early, or the truth cannot be read back.
+TEST(ModelNamesTool, RenderTruthEscapesModelNames) {
+  TempDir dir("names");
+  const std::string d = dir.Mkdir("models");
+  Copy("models/cube.obj", d + "/cu\"be\\x.obj");
+  const ToolRun r = RunTool("render --objects 1 --models " + d + " --out " + dir.Sub("scene"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(dir.Sub("scene/truth.json"));
+  const std::string truth((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(truth.find("\"model\": \"cu\\\"be\\\\x\""), std::string::npos) << truth;
+}
+
+TEST(ModelNamesTool, OptionNumbersAreReadWholeAndNamed) {
+  TempDir dir("names");
+  const std::string out = " --out " + dir.Sub("t.bin");
+  ToolRun r = RunTool("tables build --models models --hash-fn 5x" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--hash-fn '5x' is not a whole number in 1..5"), std::string::npos)
+      << r.output;
+  r = RunTool("tables build --models models/colour --spacing-deg abc" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--spacing-deg 'abc' is not a number"), std::string::npos) << r.output;
+  r = RunTool("tables build --models models --hash-2d similarity --spacing 1" + out);
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("initial spacing (--spacing, degrees) is 1, outside 2..90"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("aspect table: aspect table"), std::string::npos) << r.output;
+  // A misspelt last option is not only "missing its value".
+  r = RunTool("recognize --frobnicate");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--frobnicate is not an option, or needs a value"), std::string::npos)
+      << r.output;
+}
+
+}  // namespace
+}  // namespace sh
