@@ -28,7 +28,7 @@ std::string RecordedBackground(const std::string& path) {
     line = line.substr(0, line.find('#'));
     const size_t eq = line.find('=');
     if (eq == std::string::npos) continue;
-    const auto trim = [](std::string s) {
+    const auto trim = [](const std::string& s) {
       const size_t a = s.find_first_not_of(" \t\r");
       const size_t b = s.find_last_not_of(" \t\r");
       return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);

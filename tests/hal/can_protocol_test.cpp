@@ -216,9 +216,9 @@ CanFrame CommandFrame(std::initializer_list<uint8_t> bytes) {
 TEST(CanProtocolTest, OutOfRangeCommandsAreRejectedWithAnEmcyDetail) {
   struct Case {
     CanFrame frame;
-    StatusCode code;
-    const char* message_part;
-    uint16_t emcy_code;
+    StatusCode code = StatusCode::kOk;
+    const char* message_part = nullptr;
+    uint16_t emcy_code = 0;
   } cases[] = {
       {CommandFrame({0x03, 19, 0}), StatusCode::kOutOfRange, "19 ms", 0x8200},
       {CommandFrame({0x03, 0x11, 0x27}), StatusCode::kOutOfRange, "10001 ms", 0x8200},
@@ -362,8 +362,8 @@ TEST(CanProtocolTest, PoseQuaternionHasTheSignTheBusSends) {
   // A rotation by more than 180 degrees one way is Eigen's w < 0: reported with w >= 0, as the
   // bus encodes it, so result.json and the frames agree.
   for (float angle : {0.3f, 2.9f, 3.14f, -2.9f}) {
-    for (const Eigen::Vector3f& axis : {Eigen::Vector3f(1, 2, -3).normalized(),
-                                        Eigen::Vector3f(-1, 0, 0.2f).normalized()}) {
+    for (const Eigen::Vector3f& axis :
+         {Eigen::Vector3f(1, 2, -3).normalized(), Eigen::Vector3f(-1, 0, 0.2f).normalized()}) {
       RigidTransform cam_T_model;
       cam_T_model.R = Eigen::AngleAxisf(angle, axis).toRotationMatrix();
       const ObjectPose pose = MakeObjectPose(cam_T_model, 0, 0, 1.0);

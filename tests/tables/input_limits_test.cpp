@@ -37,13 +37,13 @@ bool Contains(const Status& s, const std::string& fragment) {
 
 // A FIFO without a writer: opening it for reading would block for ever.
 std::string MakeFifo(const TempDir& dir, const std::string& name) {
-  const std::string path = dir.Sub(name);
+  std::string path = dir.Sub(name);
   EXPECT_EQ(mkfifo(path.c_str(), 0600), 0);
   return path;
 }
 
 std::string CopyModels(const TempDir& dir) {
-  const std::string models = dir.Mkdir("models");
+  std::string models = dir.Mkdir("models");
   for (const char* name : {"cube.obj", "wedge.obj", "models.txt"}) {
     std::filesystem::copy_file(std::string("models/") + name, models + "/" + name);
   }
