@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <memory>
 
 #include "tables/aspect_file.hpp"
@@ -60,7 +61,8 @@ inline const RenderedPair& MonoScene(int i) {
 
 // A clock for Init: 1 us per call.
 inline int64_t FakeClock() {
-  static int64_t t = 0;
+  // Called from the pipeline's worker threads too: one atomic count.
+  static std::atomic<int64_t> t{0};
   return t += 1000;
 }
 

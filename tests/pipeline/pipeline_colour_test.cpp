@@ -6,6 +6,7 @@
 // binary counts operator new).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -104,7 +105,8 @@ TEST(CentreInside, InterpenetrateHoldsWhenEitherCentreIsInTheOther) {
 }
 
 int64_t FakeClock() {
-  static int64_t t = 0;
+  // Called from the pipeline's worker threads too: one atomic count.
+  static std::atomic<int64_t> t{0};
   return t += 1000;  // 1 us per call: the budget is never reached
 }
 

@@ -6,6 +6,7 @@
 // features, and the hidden path allocates nothing (this binary counts operator new).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <memory>
 #include <vector>
 
@@ -19,7 +20,8 @@ namespace sh {
 namespace {
 
 int64_t FakeClock() {
-  static int64_t t = 0;
+  // Called from the pipeline's worker threads too: one atomic count.
+  static std::atomic<int64_t> t{0};
   return t += 1000;  // 1 us per call: the budget is never reached
 }
 
