@@ -27,8 +27,8 @@ bool ParseNumber(const char* text, double min, double max, double* out);
 bool ParseInteger(const char* text, long min, long max, long* out);
 // ParseNumber / ParseInteger of an option's value; false after printing "stereohash COMMAND:
 // OPTION 'VALUE' is not a number in MIN..MAX".
-bool OptionNumber(const char* command, const char* option, const char* text, double min,
-                  double max, double* out);
+bool OptionNumber(const char* command, const char* option, const char* text, double min, double max,
+                  double* out);
 bool OptionInteger(const char* command, const char* option, const char* text, long min, long max,
                    long* out);
 

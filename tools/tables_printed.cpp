@@ -1,6 +1,5 @@
 #include "tools/tables_printed.hpp"
 
-
 #include <algorithm>
 #include <cstdio>
 

@@ -376,7 +376,8 @@ TEST(FirmwareCanopen, NodeIdFFMakesTheNodeUnconfiguredUntilFastscanGivesItAnId) 
   EXPECT_EQ(*stored, 0xFF);
   rig.Lss({0x04, 0});
   rig.Nmt(NmtCommand::kResetCommunication);
-  WaitFrame(rig, [](const hal::CanFrame&) { return false; }, 150);  // what was on its way
+  WaitFrame(
+      rig, [](const hal::CanFrame&) { return false; }, 150);  // what was on its way
   // Silent but for LSS: no boot-up, no heartbeat, under no id.
   EXPECT_FALSE(WaitFrame(
       rig, [](const hal::CanFrame& f) { return f.id != canopen::kLssSlaveCobId; }, 500));

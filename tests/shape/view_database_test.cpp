@@ -378,8 +378,7 @@ TEST(ViewDatabase, BuilderRefusesColoursSegmentationCannotTake) {
     for (int k = 0; k < 3; ++k) can.kd[k] = kd[k];
     const Status s = BuildShapeViewBlob({Input("bracket"), can}, ShapeViewBuildOptions{}).status();
     EXPECT_FALSE(s.ok());
-    EXPECT_NE(std::string(s.message()).find("colour part 'can'"), std::string::npos)
-        << s.message();
+    EXPECT_NE(std::string(s.message()).find("colour part 'can'"), std::string::npos) << s.message();
   }
 }
 
