@@ -59,14 +59,18 @@ void SelectCorrespondences(const RefineInput& in, const RigidTransform& cam_T_mo
                            Correspondences* out);
 
 // Squared vote distance between a model segment (centre, unit direction, length) and an
-// infinite scene line (point s, unit direction v): eq. 4.4.
+// infinite scene line (point s, unit direction v): eq. 4.4,
+//   |w|^2 - (v . w)^2 + length^2 / 12 (1 - (v . dir)^2)  with w = centre - s.
+// Both terms are evaluated as squared norms of the components perpendicular to v: the same value
+// without the cancellation of the difference form, which goes negative in float far from the
+// camera (and a negative distance must not turn into a vote).
 inline float SegmentLineDistance2(const Eigen::Vector3f& centre, const Eigen::Vector3f& dir,
                                   float length, const Eigen::Vector3f& s,
                                   const Eigen::Vector3f& v) {
   const Eigen::Vector3f w = centre - s;
-  const float along = v.dot(w);
-  const float c = v.dot(dir);
-  return w.squaredNorm() - along * along + length * length * (1.0f / 12.0f) * (1.0f - c * c);
+  const Eigen::Vector3f w_perp = w - v.dot(w) * v;
+  const Eigen::Vector3f dir_perp = dir - v.dot(dir) * v;
+  return w_perp.squaredNorm() + length * length * (1.0f / 12.0f) * dir_perp.squaredNorm();
 }
 
 }  // namespace sh

@@ -39,6 +39,9 @@ class VoteTable {
   uint16_t Vote(float d2_mm2, float inv_sigma2) const {
     const float x = d2_mm2 * inv_sigma2;
     if (!(x < float(kVoteCutoff))) return 0;
+    // A rounding error below zero is a distance of zero (converting a negative float to an
+    // unsigned integer is undefined, and x86 and ARM do differ on it).
+    if (!(x > 0.0f)) return VoteRaw(0);
     // x -> fine index: x * 2^(8 + k), truncated (the interpolation absorbs the truncation).
     return VoteRaw(
         static_cast<uint32_t>(x * float(1u << (kVoteIndexFractionBits + kInterpolationBits))));

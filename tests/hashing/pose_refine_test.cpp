@@ -28,6 +28,23 @@ TEST(SegmentLineDistance, IsThePointToLineDistanceAveragedOverTheSegment) {
   EXPECT_NEAR(SegmentLineDistance2(centre, dir, length, s, v), sum / n, 1e-2);
 }
 
+// A segment on a line far from the line's support point: the difference of two large squares
+// would cancel to a value of either sign; the distance stays a small non-negative number.
+TEST(SegmentLineDistance, StaysNonNegativeFarAlongTheLine) {
+  const Eigen::Vector3f v = Eigen::Vector3f(0.3f, -0.2f, 0.93f).normalized();
+  const Eigen::Vector3f s(-40.0f, 25.0f, 300.0f);
+  int negative = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const float along_mm = 500.0f + 1.37f * float(i);
+    const Eigen::Vector3f centre =
+        s + along_mm * v + Eigen::Vector3f(1e-3f, -1e-3f, 0) * float(i % 7);
+    const float d2 = SegmentLineDistance2(centre, v, 25.0f, s, v);
+    if (!(d2 >= 0.0f)) ++negative;
+    EXPECT_LT(d2, 0.01f) << i;
+  }
+  EXPECT_EQ(negative, 0);
+}
+
 class PoseRefineTest : public ::testing::Test {
  protected:
   void SetUp() override {

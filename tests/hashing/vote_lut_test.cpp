@@ -26,6 +26,9 @@ TEST(VoteTable, MatchesTheDoubleReferenceEverywhere) {
   EXPECT_EQ(table.VoteRaw(end), 0);
   EXPECT_EQ(table.Vote(1e9f, 1.0f), 0);
   EXPECT_EQ(table.Vote(std::nanf(""), 1.0f), 0);
+  // A distance rounded below zero is a distance of zero: the full vote, on every processor.
+  EXPECT_EQ(table.Vote(-1e-3f, 1.0f), table.VoteRaw(0));
+  EXPECT_EQ(table.Vote(-2.0f, 1.0f), table.VoteRaw(0));
 }
 
 TEST(VoteTable, DecreasesWithDistance) {
