@@ -175,7 +175,8 @@ EdgeMapBuffer RenderEdgeMap(const ViewCamera& view, const std::vector<PosedModel
 }
 
 bool BruteForceVisible(const ViewCamera& view, const std::vector<PosedModel>& objects,
-                       const Eigen::Vector3d& x_cam, double tolerance_mm) {
+                       const Eigen::Vector3d& x_cam, double tolerance_mm,
+                       double min_sin_incidence) {
   const double length = x_cam.norm();
   for (const PosedModel& o : objects) {
     const RigidTransform model_T_cam = (view.cam_T_left * o.cam_T_model).Inverse();
@@ -186,7 +187,7 @@ bool BruteForceVisible(const ViewCamera& view, const std::vector<PosedModel>& ob
       const ModelFace& mf = m.faces[f];
       const Eigen::Vector3d n(mf.normal[0], mf.normal[1], mf.normal[2]);
       const double nd = n.dot(d);
-      if (std::fabs(nd) < 1e-12) continue;
+      if (std::fabs(nd) < 1e-12 || std::fabs(nd) < min_sin_incidence * d.norm()) continue;
       const double t = (mf.offset_mm - n.dot(c)) / nd;
       if (t > 0 && t * length < length - tolerance_mm && InsideByWinding(m, mf, c + t * d)) {
         return false;

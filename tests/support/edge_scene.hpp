@@ -57,8 +57,11 @@ std::vector<int> RenderRegions(const ViewCamera& view, const std::vector<PosedMo
 
 // True if nothing in `objects` lies on the segment from the camera centre to x_cam (a point in
 // the camera's frame) more than tolerance_mm before x_cam. Tests every face of every object
-// with a winding-angle point-in-polygon test.
+// with a winding-angle point-in-polygon test. Faces whose planes pass within min_sin_incidence
+// (sine of the angle between the ray and the plane) of the ray are skipped: seen edge-on, a face
+// covers no pixel, and where the ray meets its plane is up to rounding.
 bool BruteForceVisible(const ViewCamera& view, const std::vector<PosedModel>& objects,
-                       const Eigen::Vector3d& x_cam, double tolerance_mm);
+                       const Eigen::Vector3d& x_cam, double tolerance_mm,
+                       double min_sin_incidence = 0.0);
 
 }  // namespace sh::testing

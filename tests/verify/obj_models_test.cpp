@@ -16,6 +16,8 @@ namespace {
 
 using testing::AxisAngleDeg;
 
+constexpr double kSinHalfDegree = 0.0087265;
+
 class ObjModelsTest : public ::testing::TestWithParam<const char*> {
  protected:
   StereoCalibration calib = testing::TestCalibration();
@@ -30,9 +32,12 @@ TEST_P(ObjModelsTest, HiddenLinesAgreeWithBruteForce) {
   std::uniform_real_distribution<float> angle(0.0f, 180.0f);
   int samples = 0, mismatches = 0;
   for (int trial = 0; trial < 10; ++trial) {
-    const PosedModel object{&*model,
-                            {AxisAngleDeg({unit(rng), unit(rng), unit(rng)}, angle(rng)),
-                             {30 * unit(rng), 30 * unit(rng), 450 + 50 * unit(rng)}}};
+    // One draw a statement: the order in which a call's arguments are evaluated differs between
+    // compilers, and so would the poses.
+    const float ax = unit(rng), ay = unit(rng), az = unit(rng);
+    const float angle_deg = angle(rng);
+    const float tx = 30 * unit(rng), ty = 30 * unit(rng), tz = 450 + 50 * unit(rng);
+    const PosedModel object{&*model, {AxisAngleDeg({ax, ay, az}, angle_deg), {tx, ty, tz}}};
     for (const ViewCamera& view : {LeftView(calib), RightView(calib)}) {
       VisibleEdgeSet set;
       ASSERT_TRUE(ComputeVisibleEdges(view, object, nullptr, 0, 1.0f, 1.0f, &set).ok());
@@ -42,8 +47,9 @@ TEST_P(ObjModelsTest, HiddenLinesAgreeWithBruteForce) {
         for (int i = 0; i < ve.n_samples; ++i) {
           const Eigen::Vector3f x = PointAtImageFraction(ve, SampleImageFraction(i, ve.n_samples));
           ++samples;
-          if (testing::BruteForceVisible(view, {object}, x.cast<double>(), kOcclusionToleranceMm) !=
-              IsSampleVisible(ve, i)) {
+          // Faces within half a degree of edge-on do not hide (see BruteForceVisible).
+          if (testing::BruteForceVisible(view, {object}, x.cast<double>(), kOcclusionToleranceMm,
+                                         kSinHalfDegree) != IsSampleVisible(ve, i)) {
             ++mismatches;
           }
         }

@@ -7,7 +7,10 @@
 namespace sh {
 namespace {
 
-class Rng {  // splitmix64: identical streams on every platform and library
+// splitmix64: identical streams on every platform and library. Several draws in one call's
+// arguments would be taken in the compiler's order (GCC takes them last to first on x86-64 and
+// first to last on AArch64), so vectors are drawn one component a statement, last to first.
+class Rng {
  public:
   explicit Rng(uint64_t seed) : state_(seed) {}
   uint64_t Next() {
@@ -24,11 +27,14 @@ class Rng {  // splitmix64: identical streams on every platform and library
     return std::sqrt(-2.0f * std::log(u1)) * std::cos(6.2831853f * u2);
   }
   Eigen::Vector3f Gaussian3(float sigma) {
-    return sigma * Eigen::Vector3f(Gaussian(), Gaussian(), Gaussian());
+    Eigen::Vector3f v;
+    for (int k = 2; k >= 0; --k) v[k] = Gaussian();
+    return sigma * v;
   }
   Eigen::Vector3f UnitVector() {
     for (;;) {
-      const Eigen::Vector3f v(Uniform(-1, 1), Uniform(-1, 1), Uniform(-1, 1));
+      Eigen::Vector3f v;
+      for (int k = 2; k >= 0; --k) v[k] = Uniform(-1, 1);
       const float n = v.norm();
       if (n > 0.1f && n <= 1.0f) return v / n;
     }
@@ -36,7 +42,7 @@ class Rng {  // splitmix64: identical streams on every platform and library
   Eigen::Matrix3f Rotation() {  // uniform on SO(3) via a uniform unit quaternion
     Eigen::Vector4f q;
     do {
-      q = Eigen::Vector4f(Gaussian(), Gaussian(), Gaussian(), Gaussian());
+      for (int k = 3; k >= 0; --k) q[k] = Gaussian();
     } while (q.norm() < 1e-3f);
     q.normalize();
     return Eigen::Quaternionf(q[0], q[1], q[2], q[3]).toRotationMatrix();
@@ -86,9 +92,12 @@ void AddModelFeatures(const Model& m, const RigidTransform& cam_T_model, float k
     const Eigen::Vector3f a = cam_T_model * m.corner(m.edges[e].a);
     const Eigen::Vector3f c = cam_T_model * m.corner(m.edges[e].b);
     const float t0 = rng.Uniform(0.0f, 0.2f), t1 = rng.Uniform(0.8f, 1.0f);
-    // Both end points get the same perpendicular noise model as corners.
-    (void)b.AddLine(a + t0 * (c - a) + rng.Gaussian3(sigma),
-                    a + t1 * (c - a) + rng.Gaussian3(sigma), b.next_left_line++);
+    // Both end points get the same perpendicular noise model as corners (drawn one a statement,
+    // end first, see Rng).
+    const Eigen::Vector3f noise_end = rng.Gaussian3(sigma);
+    const Eigen::Vector3f noise_start = rng.Gaussian3(sigma);
+    (void)b.AddLine(a + t0 * (c - a) + noise_start, a + t1 * (c - a) + noise_end,
+                    b.next_left_line++);
   }
 }
 
@@ -105,9 +114,12 @@ void GenerateSyntheticScene(const std::vector<Model>& models, const SyntheticSce
     if ((params.model_mask >> m) & 1u) enabled.push_back(m);
   }
   const Eigen::Vector3f lo = params.volume_min_mm, hi = params.volume_max_mm;
+  // One draw a statement, z to x (see Rng).
   auto uniform_in_volume = [&]() {
-    return Eigen::Vector3f(rng.Uniform(lo.x(), hi.x()), rng.Uniform(lo.y(), hi.y()),
-                           rng.Uniform(lo.z(), hi.z()));
+    const float z = rng.Uniform(lo.z(), hi.z());
+    const float y = rng.Uniform(lo.y(), hi.y());
+    const float x = rng.Uniform(lo.x(), hi.x());
+    return Eigen::Vector3f(x, y, z);
   };
 
   // Objects: random model, random rotation, centre in the volume, no two overlapping.
@@ -163,7 +175,9 @@ void GenerateSyntheticScene(const std::vector<Model>& models, const SyntheticSce
       if (!b.AddPoint(uniform_in_volume(), b.next_left_point++)) break;
     } else {
       const Eigen::Vector3f a = uniform_in_volume();
-      const Eigen::Vector3f c = a + rng.Uniform(10.0f, 60.0f) * rng.UnitVector();
+      const Eigen::Vector3f direction = rng.UnitVector();
+      const float length_mm = rng.Uniform(10.0f, 60.0f);
+      const Eigen::Vector3f c = a + length_mm * direction;
       if (!b.AddLine(a, c, b.next_left_line++)) break;
     }
   }

@@ -348,8 +348,12 @@ Result<GeneratedScene> GenerateScene(uint64_t seed, const ScenarioParams& params
       const int m = order[i % n_models];
       bool ok = false;
       for (int t = 0; t < kPlacementTries && !ok; ++t) {
-        const Eigen::Vector2f xy(rng.Uniform(-half_side, half_side),
-                                 rng.Uniform(-half_side, half_side));
+        // One draw a statement, y before x: the order in which a call's arguments are evaluated
+        // is the compiler's to choose (GCC takes them last to first on x86-64 and first to last
+        // on AArch64), and a seed's scene must be the same on every build.
+        const float y = rng.Uniform(-half_side, half_side);
+        const float x = rng.Uniform(-half_side, half_side);
+        const Eigen::Vector2f xy(x, y);
         Candidate c;
         if (!MakeCandidate(models[m], stable[m], n_stable[m], areas[m], rng, xy, rig, &c)) continue;
         ok = true;
