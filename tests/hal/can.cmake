@@ -3,7 +3,7 @@ stereohash_add_test(can_hal_test THREADS
   SOURCES ${CMAKE_CURRENT_LIST_DIR}/can_log_test.cpp ${CMAKE_CURRENT_LIST_DIR}/can_sim_bus_test.cpp
           ${CMAKE_CURRENT_LIST_DIR}/socketcand_test.cpp
   LIBS stereohash_hal_can_sim)
-stereohash_add_test(socketcan_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/socketcan_test.cpp
+stereohash_add_test(socketcan_test PER_CASE SOURCES ${CMAKE_CURRENT_LIST_DIR}/socketcan_test.cpp
   LIBS stereohash_hal_socketcan)
 stereohash_add_test(can_protocol_test SOURCES ${CMAKE_CURRENT_LIST_DIR}/can_protocol_test.cpp
   LIBS stereohash_can_protocol)
