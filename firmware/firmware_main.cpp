@@ -251,6 +251,59 @@ PipelineRecognitionConfig PipelineSettings(const FwConfig& config, const TablePo
   return pc;
 }
 
+// The recognition the configuration names, with the buffers of its paths allocated here, once;
+// nullptr, said on stderr, when they cannot be.
+Recognition* MakeRecognition(Board* board, const FwConfig& config, FileDataSource* data,
+                             const TablePoseSource& table) {
+  if (config.recognition != RecognitionKind::kPipeline) {
+    Recognition* other = board->OtherRecognition(config);
+    if (other == nullptr) {
+      (void)Fail(*board, "recognition",
+                 Status::Error(StatusCode::kUnimplemented,
+                               "recognition = truth exists only in stereohash-fw-sim"));
+    }
+    return other;
+  }
+  static Pipeline pipeline;  // 11 MiB of static storage (its image blocks are taken at Init)
+  // The texture path's buffers (about 63 MiB) only when printed models are configured (the
+  // features key, or a tables model set holding them);
+  // unlocked, only the pages a frame uses become resident (docs/memory.md).
+  static ZeroedPtr<texture::TextureRecognizer> texture;
+  static ZeroedPtr<texture::TextureResult> texture_result;
+  if (config.features[0] != '\0' || data->TablesHoldPrintedModels()) {
+    texture = MakeZeroed<texture::TextureRecognizer>();
+    texture_result = MakeZeroed<texture::TextureResult>();
+    if (texture == nullptr || texture_result == nullptr) {
+      (void)Fail(
+          *board, "memory",
+          Status::Error(StatusCode::kUnavailable, "cannot allocate the texture path's %zu bytes",
+                        sizeof(texture::TextureRecognizer)));
+      return nullptr;
+    }
+  }
+  // The one-camera fallback when a camera fails (1.0 MiB here and its voter's counters, sized
+  // by the aspect table at Init), only when configured: allocated here, once, zeroed; without
+  // it no page of it is mapped or locked.
+  static ZeroedPtr<MonoPipeline> mono;
+  static ZeroedPtr<MonoResult> mono_result;
+  if (config.mono_fallback) {
+    mono = MakeZeroed<MonoPipeline>();
+    mono_result = MakeZeroed<MonoResult>();
+    if (mono == nullptr || mono_result == nullptr) {
+      (void)Fail(*board, "memory",
+                 Status::Error(StatusCode::kUnavailable,
+                               "cannot allocate the one-camera fallback's %zu bytes",
+                               sizeof(MonoPipeline) + sizeof(MonoResult)));
+      return nullptr;
+    }
+  }
+  static std::unique_ptr<PipelineRecognition> pipeline_recognition;
+  pipeline_recognition = std::make_unique<PipelineRecognition>(
+      &pipeline, PipelineSettings(config, table), texture.get(), texture_result.get(), mono.get(),
+      mono_result.get());
+  return pipeline_recognition.get();
+}
+
 // Recording of the triggered pairs (record_dir). A recording that cannot start (directory not
 // writable) leaves the sensor working; the caller reports it as the recording warning.
 Status StartRecorder(const FwConfig& config, const TablePoseSource& table,
@@ -342,52 +395,8 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   const Result<OutputFrameChoice> output = ChooseOutputFrame(config, *table);
   if (!output.ok()) return Fail(*board, "output_frame", output.status());
 
-  Recognition* recognition = nullptr;
-  if (config.recognition == RecognitionKind::kPipeline) {
-    static Pipeline pipeline;  // 11 MiB of static storage (its image blocks are taken at Init)
-    // The texture path's buffers (about 63 MiB) only when printed models are configured (the
-    // features key, or a tables model set holding them);
-    // unlocked, only the pages a frame uses become resident (docs/memory.md).
-    static ZeroedPtr<texture::TextureRecognizer> texture;
-    static ZeroedPtr<texture::TextureResult> texture_result;
-    if (config.features[0] != '\0' || data->TablesHoldPrintedModels()) {
-      texture = MakeZeroed<texture::TextureRecognizer>();
-      texture_result = MakeZeroed<texture::TextureResult>();
-      if (texture == nullptr || texture_result == nullptr) {
-        return Fail(
-            *board, "memory",
-            Status::Error(StatusCode::kUnavailable, "cannot allocate the texture path's %zu bytes",
-                          sizeof(texture::TextureRecognizer)));
-      }
-    }
-    // The one-camera fallback when a camera fails (1.0 MiB here and its voter's counters, sized
-    // by the aspect table at Init), only when configured: allocated here, once, zeroed; without
-    // it no page of it is mapped or locked.
-    static ZeroedPtr<MonoPipeline> mono;
-    static ZeroedPtr<MonoResult> mono_result;
-    if (config.mono_fallback) {
-      mono = MakeZeroed<MonoPipeline>();
-      mono_result = MakeZeroed<MonoResult>();
-      if (mono == nullptr || mono_result == nullptr) {
-        return Fail(*board, "memory",
-                    Status::Error(StatusCode::kUnavailable,
-                                  "cannot allocate the one-camera fallback's %zu bytes",
-                                  sizeof(MonoPipeline) + sizeof(MonoResult)));
-      }
-    }
-    static std::unique_ptr<PipelineRecognition> pipeline_recognition;
-    pipeline_recognition = std::make_unique<PipelineRecognition>(
-        &pipeline, PipelineSettings(config, *table), texture.get(), texture_result.get(),
-        mono.get(), mono_result.get());
-    recognition = pipeline_recognition.get();
-  } else {
-    recognition = board->OtherRecognition(config);
-    if (recognition == nullptr) {
-      return Fail(*board, "recognition",
-                  Status::Error(StatusCode::kUnimplemented,
-                                "recognition = truth exists only in stereohash-fw-sim"));
-    }
-  }
+  Recognition* recognition = MakeRecognition(board, config, data.get(), *table);
+  if (recognition == nullptr) return 1;
 
   PrefaultStack();
 
