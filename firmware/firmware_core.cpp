@@ -88,6 +88,7 @@ Status FirmwareCore::Start(const CoreConfig& config, const CoreDevices& devices)
   if (boot.ok()) (void)SendFrame(*boot);
   nmt_ = NmtState::kOperational;  // self-starting node
 
+  if (!config_.cell_geometry.ok()) RaiseCellGeometryFault();
   LoadData();
   canopen_.SetSettings(CurrentSettings());
   const Status camera = dev_.camera->Start();
@@ -225,6 +226,12 @@ void FirmwareCore::LoadData() {
   canopen_.SetSettings(CurrentSettings());
   Log("loaded %zu models, model mask 0x%x", model_count_, mask);
   if (dev_.observer != nullptr) dev_.observer->OnDataLoaded(models_);
+}
+
+void FirmwareCore::RaiseCellGeometryFault() {
+  Log("cell geometry: %s; read at boot only: restart once it is repaired",
+      config_.cell_geometry.message());
+  RaiseFault(kFaultCellGeometry, EmcyCode::kDataSet, kDetailCellGeometry);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -642,6 +649,9 @@ void FirmwareCore::ClearFault(const CanFrame& frame) {
     return;
   }
   if (bits & (kFaultTables | kFaultCalibration | kFaultRecognition)) LoadData();
+  // The table pose and hand-eye files are read at boot only: the fault stays, and its EMCY and
+  // log line come again to say why.
+  if (bits & kFaultCellGeometry) RaiseCellGeometryFault();
   bool still_one_camera = false;
   if (one_camera) {
     faults_ &= ~kFaultCamera;

@@ -75,6 +75,9 @@ inline constexpr uint32_t kDetailCalibration = 2;
 inline constexpr uint32_t kDetailCalibrationMismatch = 3;  // image size differs from calibration
 inline constexpr uint32_t kDetailRecognitionInit = 4;
 inline constexpr uint32_t kDetailFeatures = 5;  // feature database (`features`) or model count
+// The cell's geometry: the table pose (`table_file`) or the hand-eye file (`handeye`) could not
+// be used, or the output frame's transform is unknown (CoreConfig::cell_geometry).
+inline constexpr uint32_t kDetailCellGeometry = 6;
 inline constexpr uint32_t kSensorCaptureFailed = 1u << 24;   // | StatusCode << 16 | timeouts
 inline constexpr uint32_t kSensorUnpairedFrames = 2u << 24;  // | unpaired drops in this capture
 inline constexpr uint32_t kSensorStartFailed = 3u << 24;     // | StatusCode << 16
@@ -91,6 +94,8 @@ enum FaultBits : uint32_t {
   kFaultCanBusOff = 1u << 3,
   kFaultCanTxDropped = 1u << 4,
   kFaultRecognition = 1u << 5,
+  // Read at boot only (CoreConfig::cell_geometry): clear-fault cannot repair it, a restart can.
+  kFaultCellGeometry = 1u << 6,
 };
 enum WarningBits : uint32_t {
   kWarningCanErrorPassive = 1u << 16,
@@ -111,6 +116,13 @@ struct CoreConfig {
   // Poses are reported in this frame: out_T_camera maps the left camera into it.
   canopen::OutputFrame output_frame = canopen::OutputFrame::kCamera;
   RigidTransform out_T_camera;
+  // Not ok: the boot could not read the cell's geometry (a table_file or handeye file missing or
+  // malformed, output_frame = table without a table pose), the message naming the key and the
+  // file. Start raises kFaultCellGeometry from it after the boot-up instead of refusing to start:
+  // a node absent from the bus cannot tell the PLC what is wrong, and a node in fault reports no
+  // pose, so none goes out in a frame other than the configured one. The files are read at boot
+  // only, so a clear-fault keeps the fault; a restart once the file is repaired clears it.
+  Status cell_geometry = Status::Ok();
   uint32_t serial_number = 0;         // 0x1018 sub 4 and the LSS identity
   const char* hardware_version = "";  // 0x1009
   // Lock the memory mapped at the end of Start (every thread started, recognition initialised,
@@ -210,6 +222,8 @@ class FirmwareCore final : public RecorderObserver {
   void HeartbeatLoop();
 
   void LoadData();  // boot checks; sets data faults
+  // config_.cell_geometry's fault: logged with its message, EMCY 0x6300 kDetailCellGeometry.
+  void RaiseCellGeometryFault();
   void RunTrigger(const Trigger& trigger);
   void PublishResult(protocol::ResultSet* set, const hal::StereoFrame* frame);
   void HandleFrame(const hal::CanFrame& frame);

@@ -208,13 +208,42 @@ Result<OutputFrameChoice> ChooseOutputFrame(const FwConfig& config, const TableP
     out.frame = canopen::OutputFrame::kTable;
     out.out_T_camera = table.left_T_table.Inverse();
   } else if (config.output_frame == OutputFrameKey::kRobot) {
-    SH_ASSIGN_OR_RETURN(const HandEye hand_eye, (LoadYamlFile<HandEye, kMaxHandEyeYamlBytes>(
-                                                    config.handeye, &ParseHandEyeYaml)));
-    out.frame = hand_eye.eye_in_hand ? canopen::OutputFrame::kRobotFlange
-                                     : canopen::OutputFrame::kRobotBase;
-    out.out_T_camera = hand_eye.robot_T_camera;
+    const Result<HandEye> hand_eye =
+        LoadYamlFile<HandEye, kMaxHandEyeYamlBytes>(config.handeye, &ParseHandEyeYaml);
+    if (!hand_eye.ok()) return hand_eye.status().WithContext("key 'handeye'");
+    out.frame = hand_eye->eye_in_hand ? canopen::OutputFrame::kRobotFlange
+                                      : canopen::OutputFrame::kRobotBase;
+    out.out_T_camera = hand_eye->robot_T_camera;
   }
   return out;
+}
+
+// The table pose and the output frame as the boot reads them. A table_file or handeye that
+// cannot be used does not stop the boot: the core comes up in fault and reports `error`
+// (CoreConfig::cell_geometry), because a node missing from the bus cannot tell the PLC what is
+// wrong. In its place an unknown table and the camera frame: a node in fault reports no pose.
+struct CellGeometry {
+  TablePoseSource table;
+  OutputFrameChoice output;
+  Status error;  // the first problem, naming its key and file
+};
+
+CellGeometry LoadCellGeometry(const Board& board, const FwConfig& config) {
+  CellGeometry cell;
+  const Result<TablePoseSource> table = LoadTablePose(board, config);
+  if (table.ok()) {
+    cell.table = *table;
+  } else {
+    cell.error = table.status().WithContext("key 'table_file'");
+  }
+  const Result<OutputFrameChoice> output = ChooseOutputFrame(config, cell.table);
+  if (output.ok()) {
+    cell.output = *output;
+  } else if (cell.error.ok()) {
+    // Without a table pose output_frame = table fails too: the table_file error says why.
+    cell.error = output.status();
+  }
+  return cell;
 }
 
 PipelineRecognitionConfig PipelineSettings(const FwConfig& config, const TablePoseSource& table) {
@@ -249,6 +278,59 @@ PipelineRecognitionConfig PipelineSettings(const FwConfig& config, const TablePo
   // A model set as tables may carry the fallback's aspect table too.
   if (std::strcmp(config.tables, "builtin") != 0) pc.aspects_file = config.tables;
   return pc;
+}
+
+// The recognition the configuration names, with the buffers of its paths allocated here, once;
+// nullptr, said on stderr, when they cannot be.
+Recognition* MakeRecognition(Board* board, const FwConfig& config, FileDataSource* data,
+                             const TablePoseSource& table) {
+  if (config.recognition != RecognitionKind::kPipeline) {
+    Recognition* other = board->OtherRecognition(config);
+    if (other == nullptr) {
+      (void)Fail(*board, "recognition",
+                 Status::Error(StatusCode::kUnimplemented,
+                               "recognition = truth exists only in stereohash-fw-sim"));
+    }
+    return other;
+  }
+  static Pipeline pipeline;  // 11 MiB of static storage (its image blocks are taken at Init)
+  // The texture path's buffers (about 63 MiB) only when printed models are configured (the
+  // features key, or a tables model set holding them);
+  // unlocked, only the pages a frame uses become resident (docs/memory.md).
+  static ZeroedPtr<texture::TextureRecognizer> texture;
+  static ZeroedPtr<texture::TextureResult> texture_result;
+  if (config.features[0] != '\0' || data->TablesHoldPrintedModels()) {
+    texture = MakeZeroed<texture::TextureRecognizer>();
+    texture_result = MakeZeroed<texture::TextureResult>();
+    if (texture == nullptr || texture_result == nullptr) {
+      (void)Fail(
+          *board, "memory",
+          Status::Error(StatusCode::kUnavailable, "cannot allocate the texture path's %zu bytes",
+                        sizeof(texture::TextureRecognizer)));
+      return nullptr;
+    }
+  }
+  // The one-camera fallback when a camera fails (1.0 MiB here and its voter's counters, sized
+  // by the aspect table at Init), only when configured: allocated here, once, zeroed; without
+  // it no page of it is mapped or locked.
+  static ZeroedPtr<MonoPipeline> mono;
+  static ZeroedPtr<MonoResult> mono_result;
+  if (config.mono_fallback) {
+    mono = MakeZeroed<MonoPipeline>();
+    mono_result = MakeZeroed<MonoResult>();
+    if (mono == nullptr || mono_result == nullptr) {
+      (void)Fail(*board, "memory",
+                 Status::Error(StatusCode::kUnavailable,
+                               "cannot allocate the one-camera fallback's %zu bytes",
+                               sizeof(MonoPipeline) + sizeof(MonoResult)));
+      return nullptr;
+    }
+  }
+  static std::unique_ptr<PipelineRecognition> pipeline_recognition;
+  pipeline_recognition = std::make_unique<PipelineRecognition>(
+      &pipeline, PipelineSettings(config, table), texture.get(), texture_result.get(), mono.get(),
+      mono_result.get());
+  return pipeline_recognition.get();
 }
 
 // Recording of the triggered pairs (record_dir). A recording that cannot start (directory not
@@ -337,61 +419,14 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   data = std::make_unique<FileDataSource>(config.tables, config.calibration,
                                           board->BuiltinCalibration());
   data->SetFeaturesPath(config.features);
-  const Result<TablePoseSource> table = LoadTablePose(*board, config);
-  if (!table.ok()) return Fail(*board, "table_file", table.status());
-  const Result<OutputFrameChoice> output = ChooseOutputFrame(config, *table);
-  if (!output.ok()) return Fail(*board, "output_frame", output.status());
+  const CellGeometry cell = LoadCellGeometry(*board, config);
 
-  Recognition* recognition = nullptr;
-  if (config.recognition == RecognitionKind::kPipeline) {
-    static Pipeline pipeline;  // 11 MiB of static storage (its image blocks are taken at Init)
-    // The texture path's buffers (about 63 MiB) only when printed models are configured (the
-    // features key, or a tables model set holding them);
-    // unlocked, only the pages a frame uses become resident (docs/memory.md).
-    static ZeroedPtr<texture::TextureRecognizer> texture;
-    static ZeroedPtr<texture::TextureResult> texture_result;
-    if (config.features[0] != '\0' || data->TablesHoldPrintedModels()) {
-      texture = MakeZeroed<texture::TextureRecognizer>();
-      texture_result = MakeZeroed<texture::TextureResult>();
-      if (texture == nullptr || texture_result == nullptr) {
-        return Fail(
-            *board, "memory",
-            Status::Error(StatusCode::kUnavailable, "cannot allocate the texture path's %zu bytes",
-                          sizeof(texture::TextureRecognizer)));
-      }
-    }
-    // The one-camera fallback when a camera fails (1.0 MiB here and its voter's counters, sized
-    // by the aspect table at Init), only when configured: allocated here, once, zeroed; without
-    // it no page of it is mapped or locked.
-    static ZeroedPtr<MonoPipeline> mono;
-    static ZeroedPtr<MonoResult> mono_result;
-    if (config.mono_fallback) {
-      mono = MakeZeroed<MonoPipeline>();
-      mono_result = MakeZeroed<MonoResult>();
-      if (mono == nullptr || mono_result == nullptr) {
-        return Fail(*board, "memory",
-                    Status::Error(StatusCode::kUnavailable,
-                                  "cannot allocate the one-camera fallback's %zu bytes",
-                                  sizeof(MonoPipeline) + sizeof(MonoResult)));
-      }
-    }
-    static std::unique_ptr<PipelineRecognition> pipeline_recognition;
-    pipeline_recognition = std::make_unique<PipelineRecognition>(
-        &pipeline, PipelineSettings(config, *table), texture.get(), texture_result.get(),
-        mono.get(), mono_result.get());
-    recognition = pipeline_recognition.get();
-  } else {
-    recognition = board->OtherRecognition(config);
-    if (recognition == nullptr) {
-      return Fail(*board, "recognition",
-                  Status::Error(StatusCode::kUnimplemented,
-                                "recognition = truth exists only in stereohash-fw-sim"));
-    }
-  }
+  Recognition* recognition = MakeRecognition(board, config, data.get(), cell.table);
+  if (recognition == nullptr) return 1;
 
   PrefaultStack();
 
-  static MainObserver observer(&notifier, board->Observer(config, output->frame));
+  static MainObserver observer(&notifier, board->Observer(config, cell.output.frame));
   {
     const Status s = board->BeforeStart(config, data.get());
     if (!s.ok()) return Fail(*board, "start", s);
@@ -405,8 +440,9 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   cc.model_mask = config.model_mask;
   cc.sched_fifo_priority = config.sched_fifo_priority;
   cc.result_mode = config.result_mode;
-  cc.output_frame = output->frame;
-  cc.out_T_camera = output->out_T_camera;
+  cc.output_frame = cell.output.frame;
+  cc.out_T_camera = cell.output.out_T_camera;
+  cc.cell_geometry = cell.error;
   cc.serial_number = serial_number;
   cc.hardware_version = board->hardware_version();
   // Locked by the core once it has started (docs/memory.md, "Locked memory").
@@ -423,7 +459,7 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   static Recorder recorder;
   Status recording = Status::Ok();
   if (config.record_dir[0] != '\0') {
-    recording = StartRecorder(config, *table, output->frame, data.get(), &core, &recorder);
+    recording = StartRecorder(config, cell.table, cell.output.frame, data.get(), &core, &recorder);
     if (recording.ok()) {
       core_devices.recorder = &recorder;
     } else {

@@ -167,6 +167,52 @@ TEST(FirmwareCanopen, ErrorRegisterFollowsAFaultUntilItIsCleared) {
   EXPECT_EQ(sdo.Upload(0x2030, 1).value & 0xFF, uint32_t(FirmwareState::kReady));
 }
 
+// A table_file or handeye the boot could not use: the node comes up (boot-up, heartbeat, SDO) in
+// fault with its EMCY, answers no trigger with poses, and keeps the fault through a clear-fault,
+// since the files are read at boot only.
+TEST(FirmwareCanopen, CellGeometryErrorBootsIntoAFaultThatClearFaultKeeps) {
+  Rig rig;
+  rig.config.output_frame = canopen::OutputFrame::kRobotBase;
+  rig.config.cell_geometry = Status::Error(StatusCode::kInvalidArgument,
+                                           "key 'handeye': /etc/stereohash/handeye.yaml: no R_cam");
+  rig.Start();
+  std::optional<hal::CanFrame> boot_up = rig.WaitFor(kCobHeartbeat, 0x00);
+  ASSERT_TRUE(boot_up) << "the node comes up";
+  std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kDataSet));
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->detail, kDetailCellGeometry);
+  EXPECT_EQ(e->state, FirmwareState::kFault);
+  EXPECT_EQ(e->error_register, 0x81);
+  EXPECT_TRUE(rig.SeeHeartbeats(3)) << "heartbeat continues in fault";
+  EXPECT_EQ(rig.core.fault_bits(), uint32_t(kFaultCellGeometry));
+  SdoClient sdo(&rig, Rig::kNode);
+  EXPECT_EQ(sdo.Upload(0x2030, 1).value & 0xFF, uint32_t(FirmwareState::kFault));
+  EXPECT_EQ(sdo.Upload(0x2030, 2).value, uint32_t(kFaultCellGeometry));
+  EXPECT_EQ(sdo.Upload(0x1001, 0).value & 0xFF, 0x81u);
+
+  rig.Trigger(31);
+  std::optional<CommandAck> ack = rig.WaitAck(0x01);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, uint8_t(StatusCode::kFailedPrecondition)) << "trigger refused";
+  EXPECT_FALSE(rig.WaitSet(300)) << "no pose while the frame's transform is unknown";
+  EXPECT_EQ(rig.sets_completed(), 0);
+
+  rig.ClearFault();
+  ack = rig.WaitAck(0x04);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, uint8_t(StatusCode::kFailedPrecondition));
+  e = rig.WaitEmcy(uint16_t(EmcyCode::kDataSet));
+  ASSERT_TRUE(e) << "the cause's EMCY again";
+  EXPECT_EQ(e->detail, kDetailCellGeometry);
+  // The refused trigger and clear-fault are events with their error resets: each keeps the
+  // fault's register.
+  while (std::optional<Emcy> reset = rig.WaitEmcy(uint16_t(EmcyCode::kNoError), 300)) {
+    EXPECT_EQ(reset->error_register, 0x81) << "nothing was cleared";
+  }
+  EXPECT_EQ(rig.core.state(), FirmwareState::kFault);
+  EXPECT_EQ(rig.core.fault_bits(), uint32_t(kFaultCellGeometry));
+}
+
 TEST(FirmwareCanopen, PdoModeAnswersEachRequestedObjectOfTheLastSet) {
   Rig rig;
   rig.config.result_mode = canopen::ResultMode::kPdo;

@@ -3,10 +3,13 @@
 
 Each case starts `stereohash-fw-sim --config FILE` with one piece of its data broken (a
 missing, truncated or corrupt table file, a model set with a damaged section, the injected
-corrupt tables, a missing calibration, a missing model folder) and checks, from a python-can/socketcand PLC: the boot-up, an EMCY naming
-the fault with the firmware state "fault", heartbeats that keep coming while the process stays
-alive, and - once the file is repaired - a clear-fault command that is acknowledged, an EMCY
-0x0000 back to "ready" and a trigger that gets its result set.
+corrupt tables, a missing calibration, a missing model folder, a table pose or hand-eye file
+that is missing, a FIFO or malformed) and checks, from a python-can/socketcand PLC: the
+boot-up, an EMCY naming the fault with the firmware state "fault", heartbeats that keep coming
+while the process stays alive, and - once the file is repaired - a clear-fault command that is
+acknowledged, an EMCY 0x0000 back to "ready" and a trigger that gets its result set. The table
+pose and hand-eye files are read at boot only: there the clear-fault is refused and a restart
+after the repair brings the node up ready.
 """
 import argparse
 import os
@@ -31,6 +34,8 @@ EMCY_SENSOR = 0x7300
 DETAIL_TABLES = 1
 DETAIL_CALIBRATION = 2
 DETAIL_FEATURES = 5
+DETAIL_CELL_GEOMETRY = 6
+OUTPUT_FRAME_ROBOT_BASE = 2
 STATE_READY = 1
 STATE_FAULT = 3
 CMD_TRIGGER = 1
@@ -93,6 +98,33 @@ T: !!opencv-matrix
    cols: 1
    dt: d
    data: [ -120., 0., 0. ]
+"""
+
+# A hand-eye file of `stereohash calibrate-handeye` (docs/firmware.md): cameras fixed in the cell,
+# 1 m above the robot base.
+GOOD_HANDEYE_YAML = """%YAML:1.0
+---
+eye_in_hand: 0
+R_robot_camera: !!opencv-matrix
+   rows: 3
+   cols: 3
+   dt: d
+   data: [ 1., 0., 0., 0., -1., 0., 0., 0., -1. ]
+t_robot_camera: !!opencv-matrix
+   rows: 3
+   cols: 1
+   dt: d
+   data: [ 400., 0., 1000. ]
+"""
+
+# Not YAML the parser accepts: the rotation's data cut short.
+MALFORMED_TABLE_YAML = """%YAML:1.0
+---
+R_table: !!opencv-matrix
+   rows: 3
+   cols: 3
+   dt: d
+   data: [ 1., 0., 0., 0., -1.
 """
 
 
@@ -263,6 +295,102 @@ class BootFaultTest(unittest.TestCase):
     def test_fifo_features(self):
         self.boot("features = " + self.fifo("features.bin"))
         self.expect_fault(EMCY_DATA_SET, DETAIL_FEATURES)
+
+    def expect_cell_geometry_fault(self, key, path):
+        """Up in fault with EMCY 0x6300 detail 6 and the log naming the key and the file; no
+        trigger is answered with poses, and a clear-fault cannot repair a file read at boot."""
+        self.expect_fault(EMCY_DATA_SET, DETAIL_CELL_GEOMETRY)
+        log = "\n".join(self.fw.stderr_lines)
+        self.assertTrue(any("cell geometry" in line and "key '%s'" % key in line and path in line
+                            for line in self.fw.stderr_lines), log)
+        self.plc.send("SH_Command", {"CMD_Code": CMD_TRIGGER, "CMD_TriggerRequestId": 9})
+        seen = self.plc.receive_until(
+            lambda n, v, m: n == "SH_CommandAck" and v["ACK_CommandCode"] == CMD_TRIGGER,
+            timeout=30)
+        self.assertEqual(seen[-1][1]["ACK_Status"], ACK_NOT_POSSIBLE, "trigger refused")
+        self.plc.send("SH_Command", {"CMD_Code": CMD_CLEAR_FAULT})
+        cleared = self.plc.receive_until(
+            lambda n, v, m: n == "SH_CommandAck" and v["ACK_CommandCode"] == CMD_CLEAR_FAULT,
+            timeout=30)
+        self.assertEqual(cleared[-1][1]["ACK_Status"], ACK_NOT_POSSIBLE, "read at boot only")
+        # The cause's EMCY again, before the ack.
+        again = [v for n, v, _ in cleared
+                 if n == "SH_Emcy" and v["EMCY_ErrorCode"] == EMCY_DATA_SET]
+        self.assertTrue(again, "no EMCY 0x6300 at the clear-fault")
+        self.assertEqual(again[-1]["EMCY_Detail"], DETAIL_CELL_GEOMETRY)
+        self.assertEqual(again[-1]["EMCY_FirmwareState"], STATE_FAULT)
+        seen += cleared
+        # A second of traffic more: still no result set, no error reset.
+        seen += self.receive_for(1.0)
+        self.assertFalse([v for n, v, _ in seen if n == "SH_ResultHeader"], "a result set")
+        # The refused commands are events with their error resets: each keeps the fault's
+        # register, nothing was cleared.
+        self.assertFalse([v for n, v, _ in seen if n == "SH_Emcy" and v["EMCY_ErrorCode"] == 0
+                          and v["EMCY_ErrorRegister"] == 0], "the fault was cleared")
+        self.expect_alive()
+
+    def receive_for(self, seconds):
+        """The decoded frames of the next `seconds`."""
+        frames = []
+        end = time.time() + seconds
+        while time.time() < end:
+            msg = self.plc.bus.recv(0.1)
+            if msg is not None:
+                frames.append(self.plc.decode(msg) + (msg,))
+        return frames
+
+    def restart(self, *config):
+        self.plc.close()
+        self.plc = None
+        self.fw.stop()
+        self.boot(*config)
+
+    def expect_ready(self, output_frame):
+        """A trigger answered with status 0, its poses in `output_frame`."""
+        self.plc.send("SH_Command", {"CMD_Code": CMD_TRIGGER, "CMD_TriggerRequestId": 8})
+        frames = self.plc.receive_until(lambda n, v, m: n == "SH_ResultEnd", timeout=60)
+        headers = [v for n, v, _ in frames if n == "SH_ResultHeader"]
+        self.assertEqual(headers[-1]["RH_RequestId"], 8)
+        self.assertEqual(headers[-1]["RH_Status"], 0)
+        self.assertEqual(frames[-1][1]["RE_OutputFrame"], output_frame)
+        self.assertFalse(any(n == "SH_Emcy" and v["EMCY_ErrorCode"] != 0 for n, v, _ in frames))
+
+    def test_missing_table_pose_file(self):
+        table = self.path("table.yaml")
+        self.boot("table_file = " + table)
+        self.expect_cell_geometry_fault("table_file", table)
+
+    def test_fifo_table_pose_file(self):
+        """A FIFO without a writer is refused at once: the node comes up, it does not hang."""
+        table = self.fifo("table.yaml")
+        self.boot("table_file = " + table)
+        self.expect_cell_geometry_fault("table_file", table)
+        self.assertTrue(any("FIFO" in line for line in self.fw.stderr_lines),
+                        "\n".join(self.fw.stderr_lines[-20:]))
+
+    def test_malformed_table_pose_file(self):
+        table = self.path("table.yaml")
+        with open(table, "w") as f:
+            f.write(MALFORMED_TABLE_YAML)
+        self.boot("table_file = " + table)
+        self.expect_cell_geometry_fault("table_file", table)
+
+    def test_broken_handeye_file_until_restarted_after_repair(self):
+        """output_frame = robot with a hand-eye file that lacks eye_in_hand: fault with the
+        parser's message; the repaired file takes effect at the next start."""
+        handeye = self.path("handeye.yaml")
+        with open(handeye, "w") as f:
+            f.write(GOOD_HANDEYE_YAML.replace("eye_in_hand: 0\n", ""))
+        config = ("output_frame = robot", "handeye = " + handeye)
+        self.boot(*config)
+        self.expect_cell_geometry_fault("handeye", handeye)
+        self.assertTrue(any("key 'handeye'" in line and "eye_in_hand" in line
+                            for line in self.fw.stderr_lines),
+                        "\n".join(self.fw.stderr_lines[-20:]))
+        with open(handeye, "w") as f:
+            f.write(GOOD_HANDEYE_YAML)
+        self.restart(*config)
+        self.expect_ready(OUTPUT_FRAME_ROBOT_BASE)
 
     def test_fifo_lss_store_boots_on_the_configured_id(self):
         self.boot("lss_store = " + self.fifo("node-id"))
