@@ -1,8 +1,8 @@
 #include "tables/shape_view_builder.hpp"
 
 #include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -162,14 +162,23 @@ Eigen::MatrixXf PrincipalDirections(RowMatrix& X, int k, int power_iterations,
     Q = X * Z;
     Orthonormalise(Q);
   }
-  const Eigen::MatrixXf B = Q.transpose() * X;  // l x pixels
-  Eigen::BDCSVD<Eigen::MatrixXf> svd(B, Eigen::ComputeThinV);
-  const Eigen::VectorXf& s = svd.singularValues();
+  const Eigen::MatrixXd B = (Q.transpose() * X).cast<double>();  // l x pixels
+  // The right singular vectors of B from the eigenvectors of the small l x l matrix B B^T (in
+  // double: the squared condition number costs nothing there): B^T u_i / s_i, s_i^2 the
+  // eigenvalues. Directions without variance (s_i ~ 0, fewer views than components) stay zero.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(B * B.transpose());
+  const Eigen::VectorXd& lambda = eigen.eigenvalues();  // ascending
   const double total = static_cast<double>(X.squaredNorm());
+  const double largest = std::max(lambda(l - 1), 0.0);
   double kept = 0;
-  for (int i = 0; i < k; ++i) kept += double(s(i)) * s(i);
+  Eigen::MatrixXf V = Eigen::MatrixXf::Zero(X.cols(), k);
+  for (int i = 0; i < k; ++i) {
+    const double s2 = lambda(l - 1 - i);
+    if (!(s2 > largest * 1e-14) || s2 <= 0.0) continue;
+    kept += s2;
+    V.col(i) = (B.transpose() * eigen.eigenvectors().col(l - 1 - i) / std::sqrt(s2)).cast<float>();
+  }
   *explained = total > 0 ? static_cast<float>(kept / total) : 0.0f;
-  Eigen::MatrixXf V = svd.matrixV().leftCols(k);
   for (int i = 0; i < k; ++i) {  // sign: largest entry positive (deterministic output)
     Eigen::Index arg;
     V.col(i).cwiseAbs().maxCoeff(&arg);
