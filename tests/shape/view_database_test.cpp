@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <random>
 #include <vector>
@@ -18,6 +20,7 @@
 #include "recog/shape/silhouette.hpp"
 #include "tables/model_files.hpp"
 #include "tables/shape_view_builder.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace sh {
 namespace {
@@ -379,6 +382,44 @@ TEST(ViewDatabase, BuilderRefusesColoursSegmentationCannotTake) {
     const Status s = BuildShapeViewBlob({Input("bracket"), can}, ShapeViewBuildOptions{}).status();
     EXPECT_FALSE(s.ok());
     EXPECT_NE(std::string(s.message()).find("colour part 'can'"), std::string::npos) << s.message();
+  }
+}
+
+// The MTL a colour part names is a directory, then a binary file: refused at build time, naming
+// the file or the part, never a set that recognize refuses later.
+TEST(ViewDatabase, AnMtlThatIsADirectoryOrBinaryIsRefused) {
+  const testing::TempDir dir("mtl");
+  ASSERT_TRUE(dir.ok());
+  const std::string obj = dir.Sub("can.obj");
+  std::filesystem::copy_file("models/colour/can.obj", obj);
+  const Result<Model> model = LoadModelFile(obj);
+  ASSERT_TRUE(model.ok()) << model.status().message();
+  float kd[3] = {};
+
+  dir.Mkdir("can.mtl");
+  Status s = LoadModelColour(obj, *model, kd);
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.code(), StatusCode::kNotFound);  // not taken for a plain (grey) model
+  EXPECT_NE(std::string(s.message()).find("can.mtl"), std::string::npos) << s.message();
+
+  std::filesystem::remove(dir.Sub("can.mtl"));
+  {
+    std::ofstream binary(dir.Sub("can.mtl"), std::ios::binary);
+    std::mt19937 rng(5);
+    for (int i = 0; i < 4096; ++i) binary.put(static_cast<char>(rng() & 0xff));
+  }
+  s = LoadModelColour(obj, *model, kd);
+  if (s.ok()) {
+    // No material defined: white, which the builder refuses by the part's name.
+    ShapeModelInput can;
+    can.model = *model;
+    for (int k = 0; k < 3; ++k) can.kd[k] = kd[k];
+    s = BuildShapeViewBlob({Input("bracket"), can}, ShapeViewBuildOptions{}).status();
+    EXPECT_FALSE(s.ok());
+    EXPECT_NE(std::string(s.message()).find("colour part 'can'"), std::string::npos) << s.message();
+  } else {
+    EXPECT_NE(s.code(), StatusCode::kNotFound);
+    EXPECT_NE(std::string(s.message()).find("can.mtl"), std::string::npos) << s.message();
   }
 }
 
