@@ -41,7 +41,8 @@ void BuildUsage() {
   std::printf(
       "usage: stereohash tables build --out FILE [--models DIR] [--names cube,hexagon,...]\n"
       "                               [--hash-fn 1..5] [--spacing-deg D] [--components N]\n"
-      "                               [--hash-2d similarity|affine ...] [--views-out FILE]\n"
+      "                               [--hash-2d similarity|affine ... | --no-hash-2d]\n"
+      "                               [--views-out FILE]\n"
       "                               [--bare]\n"
       "Builds one model set (docs/tables.md) holding whatever the models need, each kind as a\n"
       "section; a folder may mix them:\n"
@@ -50,6 +51,9 @@ void BuildUsage() {
       "                viewing sphere and in-plane rotation every D degrees (--spacing-deg,\n"
       "                default 10), PCA to N dimensions (--components, default 100)\n"
       "  printed models (OBJ with vt, MTL with map_Kd) -> TEXTURE_FEATURES: the feature database\n"
+      "  polyhedra         -> ASPECTS_2D: their aspect table for the one-camera fallback and the\n"
+      "                one-image rescue (similarity bases unless --hash-2d says; not with\n"
+      "                --no-hash-2d or --bare)\n"
       "Models: those of DIR/models.txt, or every DIR/*.obj (default DIR: ./models), or --names.\n"
       "%s"
       "  --views-out FILE  write the colour parts' view database to FILE instead\n"
@@ -265,7 +269,7 @@ constexpr const char* kBuild = "tables build";
 
 int RunBuild(int argc, char** argv) {
   std::string out, models_dir = "models", names, views_out;
-  bool models_given = false, bare = false, want_aspects = false;
+  bool models_given = false, bare = false, want_aspects = false, no_aspects = false;
   int hf = 5;
   ShapeViewBuildOptions view_options;
   AspectBuildOptions aspect_options;
@@ -307,6 +311,8 @@ int RunBuild(int argc, char** argv) {
       names = value();
     } else if (a == "--bare") {
       bare = true;
+    } else if (a == "--no-hash-2d") {
+      no_aspects = true;
     } else {
       std::fprintf(stderr, "stereohash tables build: unknown option '%s'\n", a.c_str());
       BuildUsage();
@@ -317,6 +323,15 @@ int RunBuild(int argc, char** argv) {
     std::fprintf(stderr, "stereohash tables build: need --out FILE and --hash-fn 1..5\n");
     return 2;
   }
+  if (want_aspects && no_aspects) {
+    std::fprintf(stderr,
+                 "stereohash tables build: --hash-2d and --no-hash-2d exclude each other\n");
+    return 2;
+  }
+  // A set with polyhedra carries their aspect table unless told not to (or bare): the one-camera
+  // fallback and the stereo path's one-image rescue then work with the set's own models.
+  const bool aspects_asked = want_aspects;
+  want_aspects = want_aspects || (!no_aspects && !bare);
   // Printed models (OBJ with texture coordinates and an image) of a folder: the feature database.
   std::vector<std::string> printed, plain;
   if (names.empty() && models_given) {
@@ -364,7 +379,7 @@ int RunBuild(int argc, char** argv) {
       return 1;
     }
   }
-  if (want_aspects && models.empty()) {
+  if (aspects_asked && models.empty()) {
     std::fprintf(stderr, "stereohash tables build: --hash-2d needs polyhedra; %s holds none\n",
                  models_dir.c_str());
     return 2;
@@ -410,7 +425,7 @@ int RunBuild(int argc, char** argv) {
     }
     sections.push_back({uint32_t(SectionKind::kTextureFeatures), std::move(*blob)});
   }
-  if (want_aspects) {
+  if (want_aspects && !models.empty()) {
     Result<std::vector<uint8_t>> blob = BuildAspectSection(models, aspect_options);
     if (!blob.ok()) {
       std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());

@@ -64,7 +64,8 @@ void DescribeAspects(const AspectTableView& v, size_t size) {
 }
 
 const char kAspectOptionsHelp[] =
-    "  --hash-2d similarity|affine  add the aspect table of the monocular mode (ASPECTS_2D):\n"
+    "  --hash-2d similarity|affine  the bases of the aspect table (ASPECTS_2D, written for\n"
+    "                polyhedra unless --no-hash-2d):\n"
     "                aspect models of the polyhedra over a tessellated viewing sphere, refined\n"
     "                where test views fail, hashed with 2-point (similarity) or 3-point (affine)\n"
     "                bases over corners joined by edges (--all-pairs: over all corner pairs or\n"

@@ -409,7 +409,8 @@ TEST_F(RecognizeToolTest, OneCameraWithTheTableFindsRestingObjects) {
 // A model set given to one camera is used or refused: never the built-in table in its place.
 TEST_F(RecognizeToolTest, OneCameraRefusesAModelSetWithoutAnAspectTable) {
   const std::string set = Path("cube_only.bin");
-  const ToolRun built = RunTool("tables build --models models --names cube --out " + set);
+  const ToolRun built =
+      RunTool("tables build --models models --names cube --no-hash-2d --out " + set);
   ASSERT_EQ(built.exit_code, 0) << built.output;
   for (const std::string& tables : {set, std::string("/etc/passwd")}) {
     const ToolRun r = RunTool("recognize --tables " + tables + " --calib " + Path("calib.yaml") +
@@ -418,6 +419,40 @@ TEST_F(RecognizeToolTest, OneCameraRefusesAModelSetWithoutAnAspectTable) {
     EXPECT_NE(r.output.find("--tables " + tables + " holds no aspect table"), std::string::npos)
         << r.output;
   }
+}
+
+// A set built from a folder of one's own polyhedra (no models.txt, no option) carries their
+// aspect table, so that the one-image rescue runs with it; without it (--no-hash-2d) the rescue
+// is off, and said.
+TEST_F(RecognizeToolTest, OwnModelSetKeepsTheOneImageRescue) {
+  const std::string dir = Path("own_models");
+  ASSERT_EQ(mkdir(dir.c_str(), 0777), 0);
+  for (const char* m : {"wedge", "cube"}) {
+    std::string copy = dir;
+    copy.append("/").append(m).append(".obj");
+    std::string source = "models/";
+    source.append(m).append(".obj");
+    WriteText(copy, ReadText(source));
+  }
+  const std::string stereo = Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png"));
+  const ToolRun built = RunTool("tables build --models " + dir + " --out " + Path("own.bin"));
+  ASSERT_EQ(built.exit_code, 0) << built.output;
+  EXPECT_NE(built.output.find("ASPECTS_2D"), std::string::npos) << built.output;
+  const ToolRun with = RunTool(stereo + " --tables " + Path("own.bin"));
+  ASSERT_EQ(with.exit_code, 0) << with.output;
+  EXPECT_EQ(with.output.find("no rescue"), std::string::npos) << with.output;
+
+  const ToolRun plain =
+      RunTool("tables build --models " + dir + " --no-hash-2d --out " + Path("own_plain.bin"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  EXPECT_EQ(plain.output.find("ASPECTS_2D"), std::string::npos) << plain.output;
+  const ToolRun without = RunTool(stereo + " --tables " + Path("own_plain.bin"));
+  ASSERT_EQ(without.exit_code, 0) << without.output;
+  EXPECT_NE(without.output.find("no rescue"), std::string::npos) << without.output;
+  EXPECT_EQ(RunTool("tables build --models " + dir + " --no-hash-2d --hash-2d affine --out " +
+                    Path("both.bin"))
+                .exit_code,
+            2);
 }
 
 // The poses of a JSON result, in order, as text (model and translation to the printed digits).
