@@ -174,7 +174,7 @@ Eigen::MatrixXf PrincipalDirections(RowMatrix& X, int k, int power_iterations,
   Eigen::MatrixXf V = Eigen::MatrixXf::Zero(X.cols(), k);
   for (int i = 0; i < k; ++i) {
     const double s2 = lambda(l - 1 - i);
-    if (!(s2 > largest * 1e-14) || s2 <= 0.0) continue;
+    if (!(s2 > largest * 1e-14)) continue;  // also s2 <= 0, as largest >= 0
     kept += s2;
     V.col(i) = (B.transpose() * eigen.eigenvectors().col(l - 1 - i) / std::sqrt(s2)).cast<float>();
   }
