@@ -20,6 +20,7 @@
 #include "recog/base/printable.hpp"
 #include "recog/pipeline/pipeline.hpp"
 #include "tools/command.hpp"
+#include "tools/eval/image_degrade.hpp"
 #include "tools/eval/mini_json.hpp"
 #include "tools/eval/rendered_eval.hpp"
 #include "tools/eval/synthetic_scene.hpp"
@@ -65,6 +66,11 @@ void PrintHelp() {
       "  --tolerance MM,DEG  scoring tolerances (default 5,5)\n"
       "  --cpu-time  time stages by this process's CPU time (a loaded machine stretches wall\n"
       "              time; threads add up)\n"
+      "  --noise SIGMA[,SIGMA...]  sensor noise added to every image before recognition, grey\n"
+      "              levels at mid grey (half read, half shot noise; seeded by the scene's name,\n"
+      "              so reproducible); one run per level, then recall against noise\n"
+      "  --blur SIGMA  Gaussian defocus in pixels, before the noise\n"
+      "  --gain G    exposure factor (clipped at white), before the noise\n"
       "%s",
       PipelineSettingNames("                ", 94).c_str(),
       MonoSettingNames("                ", 94).c_str(), kRecognizeOptionsHelp);
@@ -212,6 +218,85 @@ std::string RowJson(const Row& row) {
   return buffer;
 }
 
+// --noise 0,3,6: the levels, each in 0..64 grey levels.
+bool ParseNoiseLevels(const char* text, std::vector<float>* levels) {
+  levels->clear();
+  const char* p = text;
+  while (*p != '\0') {
+    char* end = nullptr;
+    const float v = std::strtof(p, &end);
+    if (end == p || !(v >= 0.0f && v <= 64.0f) || (*end != ',' && *end != '\0')) return false;
+    levels->push_back(v);
+    p = *end == ',' ? end + 1 : end;
+  }
+  return !levels->empty();
+}
+
+// An image as loaded, degraded in place: grey files in their grey plane, colour files in their
+// RGB channels (the grey plane is made again from them).
+Status DegradeLoaded(const ImageDegradation& degradation, uint64_t seed, LoadedImage* image) {
+  if (degradation.none()) return Status::Ok();
+  const int w = image->view.width, h = image->view.height;
+  if (image->frame.format == FrameFormat::kGray8) {
+    return DegradeImage(degradation, seed, w, h, 1, image->grey.data());
+  }
+  SH_RETURN_IF_ERROR(DegradeImage(degradation, seed, w, h, 3, image->pixels.data()));
+  return FrameToGray(image->frame, GrayView{image->grey.data(), w, h, w});
+}
+
+// The figures of one system (stereo or monocular) over every scene of the set.
+struct Summary {
+  Row total;
+  MissCauses causes;
+  int mono_causes[3] = {};  // monocular misses: no features, no edges, not found
+  int vis_objects[kVisibilityBins] = {}, vis_correct[kVisibilityBins] = {};
+  std::string rows_json, scene_json, vis_json;
+  // Table estimates: made, accepted, their errors against DIR/table.yaml, their time.
+  int estimates = 0, estimates_accepted = 0;
+  // Frames that took the carried plane, and planes dropped (--carry-table).
+  int carried = 0, drops = 0;
+  std::vector<float> normal_err_deg, offset_err_mm, table_ms;
+  // The one-image rescue: frames it ran in, objects it added, its time per frame.
+  int rescue_ran = 0, rescue_added = 0;
+  std::vector<float> rescue_ms;
+};
+double Percent(int part, int whole) { return whole > 0 ? 100.0 * part / whole : 0.0; }
+
+// The recall table of a run over several noise levels: what a camera's gain costs.
+void PrintRecallAgainstNoise(const std::vector<float>& levels, const std::vector<Summary>& sums,
+                             const ImageDegradation& degradation) {
+  std::printf("\nrecall against noise (blur %.1f px, gain %.2f; correct and false as above):\n",
+              degradation.blur_sigma_px, degradation.gain);
+  std::printf("%8s %9s %9s %9s %9s %8s %8s %8s %9s\n", "noise", "correct", ">= 70 %", "40-70 %",
+              "false", "t mm", "R deg", "med ms", "worst ms");
+  for (size_t i = 0; i < levels.size(); ++i) {
+    const Summary& sum = sums[i];
+    const Row& t = sum.total;
+    std::printf("%8.1f %8.1f%% %8.1f%% %8.1f%% %8.1f%% %8.3f %8.3f %8.1f %9.1f\n", levels[i],
+                Percent(t.correct, t.objects), Percent(sum.vis_correct[2], sum.vis_objects[2]),
+                Percent(sum.vis_correct[1], sum.vis_objects[1]),
+                Percent(t.false_alarms, t.correct + t.false_alarms), Median(t.t_err_mm),
+                Median(t.r_err_deg), Median(t.time_ms), Max(t.time_ms));
+  }
+}
+
+// One level of that table for the JSON: {"noise_sigma", "objects", "correct", ...}.
+std::string NoiseLevelJson(float level, const Summary& sum) {
+  const Row& t = sum.total;
+  char buffer[768];
+  std::snprintf(buffer, sizeof(buffer),
+                "{\"noise_sigma\": %.2f, \"objects\": %d, \"correct\": %d, \"false_alarms\": %d, "
+                "\"correct_pct\": %.2f, \"false_alarm_pct\": %.2f, \"visible_70_pct\": %.2f, "
+                "\"visible_40_70_pct\": %.2f, \"median_t_err_mm\": %.3f, "
+                "\"median_r_err_deg\": %.3f, \"median_ms\": %.2f, \"worst_ms\": %.2f}",
+                level, t.objects, t.correct, t.false_alarms, Percent(t.correct, t.objects),
+                Percent(t.false_alarms, t.correct + t.false_alarms),
+                Percent(sum.vis_correct[2], sum.vis_objects[2]),
+                Percent(sum.vis_correct[1], sum.vis_objects[1]), Median(t.t_err_mm),
+                Median(t.r_err_deg), Median(t.time_ms), Max(t.time_ms));
+  return buffer;
+}
+
 int Fail(const char* message) {
   std::fprintf(stderr, "stereohash bench recorded: %s\n", message);
   return 1;
@@ -239,7 +324,9 @@ int RunBenchRecorded(int argc, char** argv) {
   int mono_camera = -1;                    // --monocular left|right
   bool compare = false;
   float max_t_mm = kMaxPositionErrorMm, max_r_deg = kMaxRotationErrorDeg;
-  int64_t (*clock)() = NowNs;  // --cpu-time: this process's CPU time instead
+  int64_t (*clock)() = NowNs;    // --cpu-time: this process's CPU time instead
+  ImageDegradation degradation;  // --noise (one level at a time), --blur, --gain
+  std::vector<float> noise_levels = {0.0f};
   for (int i = 3; i < argc; ++i) {
     if (std::strcmp(argv[i], "--verbose") == 0) {
       verbose = true;
@@ -278,6 +365,28 @@ int RunBenchRecorded(int argc, char** argv) {
       if (std::sscanf(value, "%f,%f", &max_t_mm, &max_r_deg) != 2 || !(max_t_mm > 0) ||
           !(max_r_deg > 0)) {
         std::fprintf(stderr, "stereohash bench recorded: --tolerance needs MM,DEG\n");
+        return 2;
+      }
+      continue;
+    }
+    if (std::strcmp(arg, "--noise") == 0) {
+      if (!ParseNoiseLevels(value, &noise_levels)) {
+        std::fprintf(stderr,
+                     "stereohash bench recorded: --noise needs SIGMA[,SIGMA...], each 0..64 grey "
+                     "levels, got '%s'\n",
+                     value);
+        return 2;
+      }
+      continue;
+    }
+    if (std::strcmp(arg, "--blur") == 0 || std::strcmp(arg, "--gain") == 0) {
+      char* end = nullptr;
+      const float v = std::strtof(value, &end);
+      (arg[2] == 'b' ? degradation.blur_sigma_px : degradation.gain) = v;
+      const Status valid = ValidateDegradation(degradation);
+      if (end == value || *end != '\0' || !valid.ok()) {
+        std::fprintf(stderr, "stereohash bench recorded: %s '%s': %s\n", arg, value,
+                     valid.ok() ? "not a number" : valid.message());
         return 2;
       }
       continue;
@@ -334,6 +443,16 @@ int RunBenchRecorded(int argc, char** argv) {
   const std::vector<std::string> scenes = SceneFolders(dir);
   if (scenes.empty()) {
     return Fail(("no scene folders (with left.png, right.png, truth.json) in " + dir).c_str());
+  }
+  if (compare && noise_levels.size() > 1) {
+    std::fprintf(stderr, "stereohash bench recorded: --compare takes one --noise level\n");
+    return 2;
+  }
+  if (carry_table && noise_levels.size() > 1) {
+    std::fprintf(stderr,
+                 "stereohash bench recorded: --carry-table runs the scenes as one cell's frames; "
+                 "give one --noise level with it\n");
+    return 2;
   }
   if (carry_table && table.present) {
     std::fprintf(stderr,
@@ -407,21 +526,7 @@ int RunBenchRecorded(int argc, char** argv) {
   }
 
   // One system over every scene: prints its table and fills its summary.
-  struct Summary {
-    Row total;
-    MissCauses causes;
-    int mono_causes[3] = {};  // monocular misses: no features, no edges, not found
-    int vis_objects[kVisibilityBins] = {}, vis_correct[kVisibilityBins] = {};
-    std::string rows_json, scene_json, vis_json;
-    // Table estimates: made, accepted, their errors against DIR/table.yaml, their time.
-    int estimates = 0, estimates_accepted = 0;
-    // Frames that took the carried plane, and planes dropped (--carry-table).
-    int carried = 0, drops = 0;
-    std::vector<float> normal_err_deg, offset_err_mm, table_ms;
-    // The one-image rescue: frames it ran in, objects it added, its time per frame.
-    int rescue_ran = 0, rescue_added = 0;
-    std::vector<float> rescue_ms;
-  };
+
   auto run = [&](bool monocular, Summary* sum) -> Status {
     std::vector<Row> rows;
     auto result = std::make_unique<PipelineResult>();
@@ -433,9 +538,11 @@ int RunBenchRecorded(int argc, char** argv) {
       Status st = ParseTruth(base + "truth.json", model_set, &truth);
       if (st.ok() && (!monocular || camera == 0)) {
         st = LoadImage((base + "left.png").c_str(), "left", &left);
+        if (st.ok()) st = DegradeLoaded(degradation, DegradationSeed(name.c_str(), 0), &left);
       }
       if (st.ok() && (!monocular || camera == 1)) {
         st = LoadImage((base + "right.png").c_str(), "right", &right);
+        if (st.ok()) st = DegradeLoaded(degradation, DegradationSeed(name.c_str(), 1), &right);
       }
       if (st.ok() && !monocular) {
         trace.Clear();
@@ -780,15 +887,28 @@ int RunBenchRecorded(int argc, char** argv) {
     return Status::Ok();
   };
 
+  // One run per noise level; the first level's figures are the ones reported in full.
   Summary stereo_sum, mono_sum;
-  if (run_stereo) {
-    s = run(false, &stereo_sum);
-    if (!s.ok()) return Fail(s.message());
+  std::vector<Summary> level_sums(noise_levels.size());
+  for (size_t level = 0; level < noise_levels.size(); ++level) {
+    degradation.noise_sigma = noise_levels[level];
+    if (!degradation.none()) {
+      std::printf("\n==== images degraded: noise sigma %.1f grey levels, blur %.1f px, gain %.2f\n",
+                  degradation.noise_sigma, degradation.blur_sigma_px, degradation.gain);
+    }
+    Summary* stereo_out = level == 0 ? &stereo_sum : &level_sums[level];
+    Summary* mono_out = level == 0 ? &mono_sum : &level_sums[level];
+    if (run_stereo) {
+      s = run(false, stereo_out);
+      if (!s.ok()) return Fail(s.message());
+    }
+    if (run_mono) {
+      s = run(true, mono_out);
+      if (!s.ok()) return Fail(s.message());
+    }
   }
-  if (run_mono) {
-    s = run(true, &mono_sum);
-    if (!s.ok()) return Fail(s.message());
-  }
+  level_sums[0] = run_mono ? mono_sum : stereo_sum;
+  if (noise_levels.size() > 1) PrintRecallAgainstNoise(noise_levels, level_sums, degradation);
   if (compare) {
     // Thesis 6.4.3: the 2-D system beside the 3-D one on the same scenes.
     std::printf("\nside by side (thesis ch. 6): %-8s %8s %8s %8s %10s %10s %10s\n", "", "correct",
@@ -836,6 +956,18 @@ int RunBenchRecorded(int argc, char** argv) {
       return json;
     };
     std::string json = "{\n  \"command\": \"" + CommandLine(argc, argv) + "\",\n";
+    if (!degradation.none() || noise_levels.size() > 1) {
+      char buffer[160];
+      std::snprintf(buffer, sizeof(buffer),
+                    "  \"degradation\": {\"blur_sigma_px\": %.2f, \"gain\": %.3f},\n",
+                    degradation.blur_sigma_px, degradation.gain);
+      json += buffer;
+      json += "  \"noise_levels\": [";
+      for (size_t i = 0; i < noise_levels.size(); ++i) {
+        json += (i ? ",\n    " : "\n    ") + NoiseLevelJson(noise_levels[i], level_sums[i]);
+      }
+      json += "\n  ],\n";
+    }
     json += "  \"table\": \"" + (table.present ? table.source : std::string("none")) + "\",\n";
     if (compare) {
       json += "  \"stereo\": {\n" + system_json(stereo_sum, false) + "\n  },\n";
