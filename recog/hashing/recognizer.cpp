@@ -634,11 +634,17 @@ void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInpu
         continue;
       }
       if ((candidate.cam_T_model.t_mm - centre_mm).squaredNorm() >= place2_mm2) continue;
+      // Clearly better in the two images together, and not worse in either: a smaller model
+      // can fit one view of the larger object as well as the larger model does (its edges
+      // coincide with the larger one's there), but not both.
+      const float margin = config_.compete_score_margin;
       const bool clearly_better =
           candidate.verify_evidence >=
               (1.0f + config_.compete_evidence_margin) * first.verify_evidence &&
-          candidate.verify_score[0] >= first.verify_score[0] + config_.compete_score_margin &&
-          candidate.verify_score[1] >= first.verify_score[1] + config_.compete_score_margin;
+          candidate.verify_score[0] + candidate.verify_score[1] >=
+              first.verify_score[0] + first.verify_score[1] + 2.0f * margin &&
+          candidate.verify_score[0] >= first.verify_score[0] - margin &&
+          candidate.verify_score[1] >= first.verify_score[1] - margin;
       if (clearly_better && candidate.verify_evidence > best.verify_evidence) {
         best = candidate;
         best_matches = matches;

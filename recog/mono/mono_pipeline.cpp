@@ -21,6 +21,11 @@ MonoPipelineConfig MonoPipelineConfig::LightBackground() {
 MonoPipelineConfig MonoPipelineConfig::Automatic() {
   MonoPipelineConfig c = LightBackground();
   c.features.adaptive = true;
+  // The stereo pipeline's noise factors (PipelineConfig::Automatic): corners at four noise
+  // sigmas of contrast (20 grey levels at least), edges at 4.5 gradient-noise sigmas.
+  c.features.corner_contrast_snr = 4.0f;
+  c.features.corner_min_contrast = 20.0f;
+  c.features.edge_snr = 4.5f;
   return c;
 }
 

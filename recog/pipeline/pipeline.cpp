@@ -92,6 +92,20 @@ PipelineConfig PipelineConfig::Automatic() {
   // renderer's) were scene bases not reached: 200 fruitless bases found 2, 1 and 2 more objects
   // than 150, at about a third more hashing time.
   c.recognizer.max_fruitless_bases = 200;
+  // Corners: the detector integrates over sigma_c (2 px), so a corner stands out of the pixel
+  // noise at a far lower contrast than ten noise sigmas. Four sigmas, with 20 grey levels as the
+  // floor that the thresholds of clean images (noise about 2) came to before: a camera at gain
+  // keeps its corners (and its 3-D support) where ten sigmas dropped two thirds of them.
+  c.features.corner_contrast_snr = 4.0f;
+  c.features.corner_min_contrast = 20.0f;
+  // Edges: 4.5 gradient-noise sigmas keep the defocused, low-contrast outlines of a factory
+  // floor (grey parts on grey tables, sensor noise 3-6 grey levels) connected.
+  c.features.edge_snr = 4.5f;
+  // A noisy edge map holds fewer of an object's edge pixels within the verifier's gate. The
+  // image verification accepts half of the visible model edge samples; the competition at
+  // acceptance below keeps a wrong model that fits half of another from taking its place.
+  c.verify.min_fraction = 0.5f;
+  c.recognizer.compete_bases = kMaxCompeteBases;
   return c;
 }
 

@@ -491,11 +491,16 @@ TEST(FirmwareRescue, TheFallbacksRecogniserAddsWhatStereoMissed) {
   EXPECT_LE(score[1].false_alarms, score[0].false_alarms);
 }
 
+// The scene object whose model is masked in the rescue tests below, so that its corners stay
+// free for the one-image rescue: one that shows at least the gate's six corners
+// (RescueConfig::min_free_corners) above the automatic corner threshold.
+constexpr int kRescuedObject = 2;
+
 // Without the fallback (mono_fallback = false) there is no recogniser to lend: no rescue, on the
 // same frames on which it runs with the fallback.
 TEST(FirmwareRescue, WithoutTheFallbackTheRescueNeverRuns) {
   FallbackRig rig(hal::SimCameraConfig{});
-  rig.hide_scene_object = 0;
+  rig.hide_scene_object = kRescuedObject;
   rig.Start(/*table_configured=*/true, /*confirm_frames=*/3, /*fallback=*/false);
   for (int i = 0; i < 2; ++i) {
     rig.plc.Trigger(uint16_t(i + 1));
@@ -517,7 +522,7 @@ TEST(FirmwareRescue, AfterARightCameraFallbackItIsLentForTheLeftCameraAgain) {
   cc.left_stop_after = 1;  // frame 0 paired, then the left camera is silent ...
   cc.fault_starts = 1;     // ... until the firmware restarts the camera
   FallbackRig rig(cc);
-  rig.hide_scene_object = 0;
+  rig.hide_scene_object = kRescuedObject;
   rig.Start();
   rig.plc.Trigger(1);
   std::optional<ResultSet> s = rig.plc.WaitSet();
@@ -558,7 +563,7 @@ TEST(FirmwareRescue, AModelMaskChangeLendsItAgain) {
   std::optional<ResultSet> s = rig.plc.WaitSet();
   ASSERT_TRUE(s);
   const RescueCounters before = rig.recognition->rescue_counters();
-  const uint32_t mask = rig.core.model_mask() & ~rig.ModelBitOf(0);
+  const uint32_t mask = rig.core.model_mask() & ~rig.ModelBitOf(kRescuedObject);
   rig.plc.Send(
       {0x02, uint8_t(mask), uint8_t(mask >> 8), uint8_t(mask >> 16), uint8_t(mask >> 24), 0, 0, 0});
   const std::optional<CommandAck> ack = rig.plc.WaitAck(0x02);
