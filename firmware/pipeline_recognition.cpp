@@ -180,6 +180,12 @@ Status PipelineRecognition::ProcessMonocular(hal::StereoSide side, ConstGrayView
   // Set up again when the camera changed, or when the stereo frames confirmed, moved or dropped
   // the carried plane since: once per fallback, not per frame (the stereo path is idle meanwhile).
   const RigidTransform* carried = CarriedPlaneForMono();
+  if (!config_.mono_table_known && carried == nullptr) {
+    // No poses rather than guessed ones: the result set goes out empty with status 3 and an
+    // EMCY, every frame until the camera is back or a plane is known.
+    return Status::Error(StatusCode::kFailedPrecondition,
+                         "%s; set table_file or table_estimate = carry", kMonoNeedsTablePlane);
+  }
   const bool plane_changed = (carried != nullptr) != mono_on_carried_plane_ ||
                              (carried != nullptr && (carried->R != mono_left_T_table_.R ||
                                                      carried->t_mm != mono_left_T_table_.t_mm));

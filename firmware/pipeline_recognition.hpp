@@ -44,8 +44,9 @@ struct PipelineRecognitionConfig {
   const RigidTransform* left_T_table_at_init = nullptr;
   // The monocular fallback lays objects onto this table (left_T_table or left_T_table_at_init):
   // a configured table pose, or the simulator's rendered one. Without it, onto the plane the
-  // stereo frames confirmed and carried before the camera failed (table_carry), else free 6-D
-  // poses from one image (far less reliable: docs/monocular.md).
+  // stereo frames confirmed and carried before the camera failed (table_carry), else no poses:
+  // one image cannot tell depth (kMonoNeedsTablePlane); the sets go out with status 3 and an
+  // EMCY.
   bool mono_table_known = false;
   // A model set (the `tables` file) whose ASPECTS_2D section, if it has one, replaces the
   // linked-in aspect table of the monocular fallback; nullptr: the linked-in one.

@@ -448,6 +448,13 @@ int RunBenchRecorded(int argc, char** argv) {
     std::fprintf(stderr, "stereohash bench recorded: --compare takes one --noise level\n");
     return 2;
   }
+  if ((mono_camera >= 0 || compare) && !table.present) {
+    std::fprintf(stderr,
+                 "stereohash bench recorded: %s: the set has no table.yaml, or --no-table was "
+                 "given\n",
+                 kMonoNeedsTablePlane);
+    return 2;
+  }
   if (carry_table && noise_levels.size() > 1) {
     std::fprintf(stderr,
                  "stereohash bench recorded: --carry-table runs the scenes as one cell's frames; "

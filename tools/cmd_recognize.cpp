@@ -115,6 +115,13 @@ int RunMonocular(const char* calib_path, const char* image_path, int camera,
   LoadedAspects aspects;
   Status s = LoadAspects(options, &aspects, /*required=*/true);
   if (!s.ok()) return Fail("%s", s.message());
+  if (!table.present) {
+    std::fprintf(stderr,
+                 "stereohash recognize: %s: give the table pose with --table TABLE.yaml "
+                 "(stereohash calibrate-table), or both images\n",
+                 kMonoNeedsTablePlane);
+    return 2;
+  }
   LoadedImage image;
   s = LoadImage(image_path, camera == 0 ? "left" : "right", &image);
   if (!s.ok()) return Fail("%s", s.message());

@@ -17,6 +17,15 @@
 
 namespace sh {
 
+// Why the products' one-camera modes refuse to run without a table plane: from one image a
+// model's size fits it at any depth (a small part near, a large one far), so the poses would be
+// guesses. With the plane, an object rests on it and its depth follows. The recogniser itself
+// still runs without a table (free 6-D poses, for studies and the stereo rescue, which confirms
+// depth in the other image).
+inline constexpr char kMonoNeedsTablePlane[] =
+    "one camera cannot tell an object's depth without the table plane (a model's size fits it at "
+    "many depths)";
+
 struct MonoPipelineConfig {
   FeatureConfig features = FeatureConfig::LightBackground();
   MonoConfig mono;

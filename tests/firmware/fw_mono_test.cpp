@@ -438,6 +438,29 @@ TEST(FirmwareMonocular, BootWithOneCameraMissingStartsOnTheOther) {
   }
 }
 
+// With neither a table pose nor a plane carried from stereo frames, one camera cannot tell depth:
+// the sets go out empty with status 3 and an EMCY saying why, never guessed poses, and the node
+// stays up (READY, its heartbeat on) until the camera is back.
+TEST(FirmwareMonocular, WithoutAnyTablePlaneTheFallbackReportsNoPoses) {
+  hal::SimCameraConfig cc;
+  cc.right_absent = true;  // no stereo frame ever: nothing to estimate the plane from
+  FallbackRig rig(cc);
+  rig.Start(/*table_configured=*/false);
+  ASSERT_EQ(rig.core.capture_mode(), hal::CaptureMode::kLeftOnly);
+  for (uint16_t request = 1; request <= 2; ++request) {
+    rig.plc.Trigger(request);
+    const std::optional<ResultSet> s = rig.plc.WaitSet();
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->status, ResultStatus::kInternalError);
+    EXPECT_EQ(s->object_count, 0);
+    const std::optional<Emcy> e = rig.plc.WaitEmcy(uint16_t(EmcyCode::kSoftware));
+    ASSERT_TRUE(e);
+    EXPECT_EQ(e->detail >> 16, uint32_t(StatusCode::kFailedPrecondition));
+  }
+  EXPECT_EQ(rig.core.state(), FirmwareState::kReady);
+  EXPECT_FALSE(rig.recognition->mono_on_carried_plane());
+}
+
 // A busier cell: one scene of 8 objects in which the stereo search misses one (seed 31).
 render::SimWorld& BusyWorld() {
   static render::SimWorld world;

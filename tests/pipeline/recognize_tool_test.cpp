@@ -407,6 +407,16 @@ TEST_F(RecognizeToolTest, OneCameraWithTheTableFindsRestingObjects) {
   EXPECT_NE(missing.output.find("needs the right image"), std::string::npos) << missing.output;
 }
 
+// One image without the table plane: refused with the reason and the remedy, no poses guessed.
+TEST_F(RecognizeToolTest, OneCameraWithoutTheTableIsRefused) {
+  const ToolRun r = RunTool("recognize --calib " + Path("calib.yaml") + " --left " +
+                            Path("left.png") + " --json " + Path("no_plane.json"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("without the table plane"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--table TABLE.yaml"), std::string::npos) << r.output;
+  EXPECT_NE(access(Path("no_plane.json").c_str(), F_OK), 0);
+}
+
 // A model set given to one camera is used or refused: never the built-in table in its place.
 TEST_F(RecognizeToolTest, OneCameraRefusesAModelSetWithoutAnAspectTable) {
   const std::string set = Path("cube_only.bin");
@@ -638,6 +648,11 @@ TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
   const ToolRun help = RunTool("bench recorded --help");
   EXPECT_NE(help.output.find("table_carry.tolerance_deg"), std::string::npos) << help.output;
   EXPECT_NE(help.output.find("mono.displace_weaker"), std::string::npos) << help.output;
+
+  // One camera without the table plane is refused, saying why, rather than guessing depths.
+  const ToolRun no_plane = RunTool("bench recorded " + set + " --monocular left --no-table");
+  EXPECT_EQ(no_plane.exit_code, 2) << no_plane.output;
+  EXPECT_NE(no_plane.output.find("without the table plane"), std::string::npos) << no_plane.output;
 }
 
 // `bench recorded --noise`: one run per level over images degraded reproducibly, the recall
