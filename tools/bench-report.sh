@@ -11,8 +11,9 @@
 #     textured    stereohash bench textured --recorded DIR --json OUT (with the OpenCV peer when
 #                 stereohash-cv is built, except with --quick)
 #   rendered      stereohash bench scenes --json OUT (our renderer, thesis table 5.4 grid)
-#   noise         one rendered recorded set per sensor noise level (0.5, 1.5, 3, 5 grey levels),
-#                 each scored by bench recorded: sets noise-0.5 ... noise-5
+#   noise         the clean polyhedral sets (thesis-camera, wide-camera and each DIR given that
+#                 is neither a factory floor nor colour or textured) with sensor noise added:
+#                 stereohash bench recorded DIR --noise 0,1.5,3,4.5,6: sets noise-NAME
 #   memory        resident memory of stereohash recognize on a thesis-camera pair and of the
 #                 firmware simulator's demo, unlocked and with mlock (needs ../shared/scenes)
 #   micro         the Google Benchmark programs build/host-release/tests/**/*_bench
@@ -214,14 +215,13 @@ if ((!quick)); then
       "$sh_bin" bench scenes ${thread_opts[@]+"${thread_opts[@]}"} --json "$work/rendered.json"
   fi
   if wanted noise; then
-    for sigma in 0.5 1.5 3 5; do
-      echo "== rendering noise-$sigma"
-      "$sh_bin" render --out "$work/noise-$sigma" --scenes-per-row 1 --seed 7000 \
-        --noise "$sigma" >"$work/render-noise-$sigma.out"
-      run_part "noise-$sigma" noise "$work/noise-$sigma.json" --noise "$sigma" \
-        --prepare "stereohash render --out \$WORK/noise-$sigma --scenes-per-row 1 --seed 7000 --noise $sigma" -- \
-        "$sh_bin" bench recorded "$work/noise-$sigma" ${thread_opts[@]+"${thread_opts[@]}"} \
-        --json "$work/noise-$sigma.json"
+    for dir in "$scenes_root/thesis-camera" "$scenes_root/wide-camera" ${extra_sets[@]+"${extra_sets[@]}"}; do
+      [[ -f $dir/calib.yaml ]] || continue
+      name=$(basename "$dir")
+      case "$name" in hard-* | colour* | textured*) continue ;; esac
+      run_part "noise-$name" sweep "$work/noise-$name.json" -- \
+        "$sh_bin" bench recorded "$dir" --noise 0,1.5,3,4.5,6 ${thread_opts[@]+"${thread_opts[@]}"} \
+        --json "$work/noise-$name.json"
     done
   fi
   if wanted memory && [[ -d $scenes_root/thesis-camera ]]; then
