@@ -674,7 +674,7 @@ def render(args):
         if pts:
             noise_series.append((f"{n[len('noise-'):]} with noise added", sorted(pts)))
     sweep = len(noise_series) > 0
-    centres = {"under 2.5": 2.0, "2.5-3.5": 3.0, "3.5 and more": 4.25}
+    centres = {"under 2.5": 2.0, "2.5-3.5": 3.0, "3.5 and more": 4.0}
     for n, s in ordered:
         bins = s.get("recall_by_noise")
         if bins:
@@ -695,7 +695,7 @@ def render(args):
             text.append("The factory-floor sets (`hard-*`) bin their scenes by the read noise of "
                         "each scene's camera (truth.json `look.read`: 1.5-5 grey levels, with "
                         "shot noise, blur, vignetting and other lamps on top; bins under 2.5, "
-                        "2.5-3.5 and from 3.5, plotted at 2, 3 and 4.25), so their bins differ "
+                        "2.5-3.5 and from 3.5, plotted at 2, 3 and 4), so their bins differ "
                         "in more than noise.")
         w(" ".join(text))
         w("")
