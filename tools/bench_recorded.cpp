@@ -222,14 +222,14 @@ std::string RowJson(const Row& row) {
 bool ParseNoiseLevels(const char* text, std::vector<float>* levels) {
   levels->clear();
   const char* p = text;
-  while (*p != '\0') {
+  for (;;) {
     char* end = nullptr;
     const float v = std::strtof(p, &end);
     if (end == p || !(v >= 0.0f && v <= 64.0f) || (*end != ',' && *end != '\0')) return false;
     levels->push_back(v);
-    p = *end == ',' ? end + 1 : end;
+    if (*end == '\0') return true;
+    p = end + 1;  // past the comma: another level must follow
   }
-  return !levels->empty();
 }
 
 // An image as loaded, degraded in place: grey files in their grey plane, colour files in their

@@ -687,8 +687,8 @@ TEST_F(RecognizeToolTest, BenchRecordedDegradesTheImagesPerNoiseLevel) {
   ASSERT_TRUE(JsonReader(ReadText(Path("noise_b.json"))).Parse(&b));
   EXPECT_EQ(b["noise_levels"][1]["correct"].number, levels[1]["correct"].number);
   EXPECT_EQ(b["noise_levels"][1]["false_alarms"].number, levels[1]["false_alarms"].number);
-  for (const char* bad : {"--noise -1", "--noise 3,,4", "--noise abc", "--noise 99", "--blur 20",
-                          "--blur x", "--gain 0", "--noise 0,3 --carry-table"}) {
+  for (const char* bad : {"--noise -1", "--noise 3,,4", "--noise 3,", "--noise abc", "--noise 99",
+                          "--blur 20", "--blur x", "--gain 0", "--noise 0,3 --carry-table"}) {
     const ToolRun refused = RunTool("bench recorded " + set + " " + bad);
     EXPECT_EQ(refused.exit_code, 2) << bad << ": " << refused.output;
   }
