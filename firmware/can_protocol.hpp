@@ -193,6 +193,8 @@ struct ObjectPose {
 // translation copied in millimetres. Range checks happen in EncodeResultSet.
 ObjectPose MakeObjectPose(const RigidTransform& cam_T_model, uint8_t model_id, uint8_t instance,
                           double score);
+// The pose of a record as a transform (the inverse of MakeObjectPose's conversion, in float).
+RigidTransform PoseTransform(const ObjectPose& pose);
 
 // The table plane recognition used for a set (not sent on the bus: the simulator's RESULT lines
 // and the logs name it). Names as the recogniser's JSON `table.source`.
