@@ -1,0 +1,31 @@
+// The overlay of the live view: each object of a result set as the visible edges of its model
+// (hidden lines removed, the other objects as occluders), projected into the left and right
+// images as polylines in full-size pixels, with its name and score. Computed on the server thread
+// for the page, from the snapshot's models and poses.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "firmware/can_protocol.hpp"
+#include "firmware/web/live_snapshot.hpp"
+#include "recog/camera/camera_model.hpp"
+
+namespace sh::fw::web {
+
+struct OverlayObject {
+  int model_id = 0;
+  std::string name;
+  double score = 0;
+  // Per side (0 left, 1 right): polylines of x, y pairs in the full-size image.
+  std::vector<std::vector<float>> lines[2];
+};
+
+// The overlay of `set` (poses in the output frame; snapshot.camera_T_out() maps them back).
+// Objects whose model the snapshot does not hold, or whose pose cannot be projected, are left
+// without lines but keep their name.
+std::vector<OverlayObject> ComputeOverlay(const StereoCalibration& calibration,
+                                          const LiveSnapshot& snapshot,
+                                          const protocol::ResultSet& set);
+
+}  // namespace sh::fw::web
