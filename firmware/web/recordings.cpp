@@ -2,6 +2,7 @@
 
 #include <dirent.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -25,7 +26,11 @@ std::vector<std::string> ListPairs(const char* record_dir, size_t limit) {
   DIR* dir = opendir(record_dir);
   if (dir == nullptr) return names;
   while (const dirent* e = readdir(dir)) {
-    if (IsPairName(e->d_name)) names.emplace_back(e->d_name);
+    // The recorder writes result.json last: a pair without it is still being written.
+    if (IsPairName(e->d_name) &&
+        access((std::string(record_dir) + "/" + e->d_name + "/result.json").c_str(), R_OK) == 0) {
+      names.emplace_back(e->d_name);
+    }
   }
   closedir(dir);
   std::sort(names.begin(), names.end());

@@ -13,7 +13,8 @@ namespace sh::fw::web {
 // A pair folder's name: exactly 8 decimal digits.
 bool IsPairName(const char* name);
 
-// The pair folders of `record_dir`, newest last (at most `limit`, the newest).
+// The complete pair folders of `record_dir` (their result.json written), newest last (at most
+// `limit`, the newest).
 std::vector<std::string> ListPairs(const char* record_dir, size_t limit);
 
 // The regular files of record_dir/pair as a ustar archive (pair/left.png, ...), at most

@@ -1,19 +1,20 @@
 #!/usr/bin/env bash
 # Installs what building and testing stereohash needs on Debian 12: the host toolchain and
 # libraries, the python peers used by the tests, clang for the fuzzers and, with --cross, the
-# aarch64 cross toolchain with arm64 multiarch libraries and qemu to run the board build, and
-# node-canopen (npm `canopen`, pinned) for the CANopen manager tests. Does nothing for packages
-# already installed. Without network access to the npm registry the node-canopen tests skip.
+# aarch64 cross toolchain with arm64 multiarch libraries and qemu to run the board build,
+# node-canopen (npm `canopen`, pinned) for the CANopen manager tests, and Chromium with
+# playwright-core (npm, pinned) for the web page's browser test. Does nothing for packages
+# already installed. Without network access to the npm registry the node tests skip.
 set -euo pipefail
 
 cross=0
 [ "${1:-}" = "--cross" ] && cross=1
 
 host_packages=(cmake ninja-build g++ pkg-config libeigen3-dev libpng-dev libgtest-dev libgmock-dev
-  libbenchmark-dev libcamera-dev libgpiod-dev libopencv-dev python3 python3-can
-  python3-canmatrix python3-opencv opencv-doc clang clang-tidy libclang-rt-14-dev)
+  libbenchmark-dev libcamera-dev libgpiod-dev libopencv-dev libmicrohttpd-dev python3 python3-can
+  python3-canmatrix python3-opencv opencv-doc clang clang-tidy libclang-rt-14-dev chromium)
 cross_packages=(g++-aarch64-linux-gnu qemu-user libpng-dev:arm64 libcamera-dev:arm64 libgpiod-dev:arm64
-  libgtest-dev:arm64 libbenchmark-dev:arm64)
+  libgtest-dev:arm64 libbenchmark-dev:arm64 libmicrohttpd-dev:arm64)
 
 sudo_cmd=()
 if [ "$(id -u)" != 0 ]; then
@@ -62,5 +63,24 @@ else
   else
     echo "install-deps: WARNING: node-canopen $canopen_version could not be installed (npm registry" \
          "unreachable?); the node-canopen tests will skip" >&2
+  fi
+fi
+
+# playwright-core, pinned, drives the Debian chromium in the web page's browser test; into a folder
+# of its own (tests/web/CMakeLists.txt reads STEREOHASH_WEB_TEST_MODULES), since an npm install
+# with --no-save into node-canopen's folder would remove the packages installed there before.
+playwright_version=1.65.2
+web_test_dir=${STEREOHASH_WEB_TEST_DIR:-$HOME/.cache/stereohash/web-test}
+installed=$(node -p "require('$web_test_dir/node_modules/playwright-core/package.json').version" 2>/dev/null || true)
+if [ "$installed" = "$playwright_version" ]; then
+  echo "install-deps: playwright-core $playwright_version present in $web_test_dir"
+else
+  mkdir -p "$web_test_dir"
+  if npm install --prefix "$web_test_dir" --no-save --no-audit --no-fund "playwright-core@$playwright_version" &&
+     node -e "require('$web_test_dir/node_modules/playwright-core')"; then
+    echo "install-deps: playwright-core $playwright_version installed in $web_test_dir"
+  else
+    echo "install-deps: WARNING: playwright-core $playwright_version could not be installed (npm" \
+         "registry unreachable?); the browser test will skip" >&2
   fi
 fi
