@@ -155,8 +155,12 @@ Status HttpServer::Start(const HttpServerConfig& config, HttpHandler* handler) {
   }
   SH_ASSIGN_OR_RETURN(BindAddress address, ParseBindAddress(config.bind_address, config.port));
   handler_ = handler;
-  // No internal thread: Loop() runs the server on a thread of ours, at our priority.
-  unsigned flags = MHD_USE_EPOLL;
+  // No internal thread: Loop() runs the server on a thread of ours, at our priority. select()
+  // rather than epoll: in this external mode libmicrohttpd 0.9.75 with epoll kept connections
+  // that clients had closed until their timeout, so a burst of slow clients locked others out
+  // for that long. The connection limit keeps the sockets few (and libmicrohttpd refuses one
+  // beyond FD_SETSIZE).
+  unsigned flags = 0;
   if (address.ipv6) flags |= MHD_USE_IPv6;
   daemon_ = MHD_start_daemon(
       flags, config.port, nullptr, nullptr, &HttpServerCallbacks::Dispatch, this,
