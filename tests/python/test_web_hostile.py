@@ -18,17 +18,18 @@ The heartbeat gaps and trigger latencies are printed, not judged: the machine's 
 import argparse
 import json
 import os
-import queue
 import resource
 import secrets
 import shutil
 import socket
-import subprocess
 import sys
 import tempfile
 import threading
 import time
 import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from test_firmware_e2e import Firmware  # noqa: E402 (skips without python-can)
 
 ARGS = None
 HEARTBEAT_ID = 0x701
@@ -38,60 +39,27 @@ CMD_TRIGGER = 1
 
 
 class SimWithPage:
-    """stereohash-fw-sim with its page; HTTP_PORT, SOCKETCAND_PORT and RESULT lines read."""
+    """stereohash-fw-sim with its page: a password, a recording folder that records only on
+    request."""
 
     def __init__(self, binary):
         self.dir = tempfile.mkdtemp(prefix="stereohash_hostile_")
         self.record_dir = os.path.join(self.dir, "rec")
         self.password = secrets.token_urlsafe(12)
-        self.config_path = os.path.join(self.dir, "fw.conf")
         self.config_text = (
             "backend = sim\nrecognition = truth\nnode_id = 1\nheartbeat_ms = 100\n"
             "sim_scenes = 2\nsim_objects = 2\nbudget_ms = 1000\n"
             "http_password = %s\nrecord_dir = %s\nrecord_all = false\n"
             % (self.password, self.record_dir))
-        with open(self.config_path, "w") as f:
-            f.write(self.config_text)
-        self.proc = subprocess.Popen([binary, "--config", self.config_path],
-                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        self.http_port = self.can_port = None
-        self.results = queue.Queue()
-        self.stderr = []
-        ready = threading.Event()
-
-        def stdout():
-            for line in self.proc.stdout:
-                key, _, value = line.strip().partition("=")
-                if key == "HTTP_PORT":
-                    self.http_port = int(value)
-                elif key == "SOCKETCAND_PORT":
-                    self.can_port = int(value)
-                elif line.startswith("RESULT "):
-                    self.results.put((time.monotonic(), json.loads(line[7:])))
-                elif line.strip() == "READY":
-                    ready.set()
-            ready.set()
-
-        def stderr():
-            for line in self.proc.stderr:
-                self.stderr.append(line.rstrip())
-
-        threading.Thread(target=stdout, daemon=True).start()
-        threading.Thread(target=stderr, daemon=True).start()
-        if not ready.wait(120) or self.http_port is None or self.can_port is None:
+        self.fw = Firmware(binary, self.config_text)
+        self.config_path = self.fw.config.name  # what the page would write back to
+        if not self.fw.http_seen.wait(120) or self.fw.http_port is None:
             self.stop()
-            raise RuntimeError("no HTTP_PORT/SOCKETCAND_PORT/READY:\n" + "\n".join(self.stderr))
+            raise RuntimeError("no HTTP_PORT:\n" + "\n".join(self.fw.stderr_lines[-20:]))
+        self.http_port, self.can_port, self.proc = self.fw.http_port, self.fw.port, self.fw.proc
 
     def stop(self):
-        if self.proc.poll() is None:
-            self.proc.terminate()
-            try:
-                self.proc.wait(20)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait()
-        self.proc.stdout.close()
-        self.proc.stderr.close()
+        self.fw.stop()
         shutil.rmtree(self.dir, ignore_errors=True)
 
 
@@ -204,7 +172,7 @@ class HostileTest(unittest.TestCase):
             detail = attack()
             rounds += 1
         self.assertIsNone(self.fw.proc.poll(), "the firmware stopped during '%s' (exit %s):\n%s"
-                          % (name, self.fw.proc.poll(), "\n".join(self.fw.stderr[-20:])))
+                          % (name, self.fw.proc.poll(), "\n".join(self.fw.fw.stderr_lines[-20:])))
         self.phases.append((name, start, time.monotonic()))
         print("%-22s %5.1f s, %3d x  %s" % (name, time.monotonic() - start, rounds, detail))
 
@@ -315,11 +283,11 @@ class HostileTest(unittest.TestCase):
         self.phase("request flood", self.flood)
         self.plc.stop()
 
-        self.assertIsNone(self.fw.proc.poll(), "the firmware stopped:\n" + "\n".join(self.fw.stderr))
-        results = {}
-        while not self.fw.results.empty():
-            at, r = self.fw.results.get()
-            results[r["request_id"]] = at
+        self.assertIsNone(self.fw.proc.poll(), "the firmware stopped:\n" + "\n".join(self.fw.fw.stderr_lines))
+        results = {}  # request id -> trigger to result in the firmware, us
+        while not self.fw.fw.results.empty():
+            r = self.fw.fw.results.get()
+            results[r["request_id"]] = r["processing_time_us"]
         sent = self.plc.sent
         self.assertGreater(len(sent), 0)
         missing_acks = [i for i in sent if self.plc.acks.get(i) != 0]
@@ -330,10 +298,10 @@ class HostileTest(unittest.TestCase):
             beats = [t for t in self.plc.heartbeats if start <= t <= end]
             self.assertTrue(beats, "no heartbeat during '%s'" % name)
         gaps = [b - a for a, b in zip(self.plc.heartbeats, self.plc.heartbeats[1:])]
-        latency = sorted(results[i] - sent[i] for i in sent)
-        print("%d triggers answered: latency median %.1f ms, max %.1f ms; %d heartbeats, "
-              "largest gap %.1f ms (period 100 ms)" % (
-                  len(sent), 1e3 * latency[len(latency) // 2], 1e3 * latency[-1],
+        latency = sorted(results[i] for i in sent)
+        print("%d triggers answered: trigger to result median %.1f ms, max %.1f ms; %d "
+              "heartbeats, largest gap %.1f ms (period 100 ms)" % (
+                  len(sent), 1e-3 * latency[len(latency) // 2], 1e-3 * latency[-1],
                   len(self.plc.heartbeats), 1e3 * max(gaps)))
 
         # Nothing written, nothing changed, and the page works again.
