@@ -508,12 +508,10 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   if (!recording.ok())
     core.OnRecordFailed(recorder.start_error() != 0 ? recorder.start_error() : EIO);
   {
+    // The sensor's work goes on without its page: said on stderr, not a reason to stop.
     const Status s = StartWebPage(config, config_path, cell.output.frame, &core,
                                   core_devices.recorder, devices, data.get(), &web_page);
-    if (!s.ok()) {
-      core.Stop();
-      return Fail(*board, "web page", s);
-    }
+    if (!s.ok()) std::fprintf(stderr, "%s: web page off: %s\n", board->program(), s.message());
   }
   board->AfterStart(config, core, *data);
   (void)notifier.Notify(core.state() == FirmwareState::kFault ? "READY=1\nSTATUS=fault"

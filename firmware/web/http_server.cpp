@@ -34,15 +34,46 @@ struct RequestState {
   bool too_large = false;
 };
 
+// A large answer's bytes, counted against kMaxLargeResponseBytes until libmicrohttpd frees them.
+struct LargeBody {
+  HttpServer* server;
+  size_t bytes;
+  std::unique_ptr<char[]> data;
+};
+
 struct HttpServerCallbacks {
-  static MHD_Result Queue(MHD_Connection* connection, const HttpResponse& r) {
-    MHD_Response* response =
-        r.static_data != nullptr
-            ? MHD_create_response_from_buffer(r.static_bytes, const_cast<void*>(r.static_data),
-                                              MHD_RESPMEM_PERSISTENT)
-            : MHD_create_response_from_buffer(r.body.size(), const_cast<char*>(r.body.data()),
-                                              MHD_RESPMEM_MUST_COPY);
-    if (response == nullptr) return MHD_NO;
+  static void FreeLarge(void* cls) {
+    auto* body = static_cast<LargeBody*>(cls);
+    body->server->large_bytes_ -= body->bytes;
+    delete body;
+  }
+
+  static MHD_Response* Create(HttpServer* server, const HttpResponse& r) {
+    if (r.static_data != nullptr) {
+      return MHD_create_response_from_buffer(r.static_bytes, const_cast<void*>(r.static_data),
+                                             MHD_RESPMEM_PERSISTENT);
+    }
+    if (r.body.size() <= kLargeResponseBytes) {
+      return MHD_create_response_from_buffer(r.body.size(), const_cast<char*>(r.body.data()),
+                                             MHD_RESPMEM_MUST_COPY);
+    }
+    if (server->large_bytes_ + r.body.size() > kMaxLargeResponseBytes) return nullptr;
+    auto* body = new LargeBody{server, r.body.size(), std::make_unique<char[]>(r.body.size())};
+    std::memcpy(body->data.get(), r.body.data(), r.body.size());
+    server->large_bytes_ += body->bytes;
+    return MHD_create_response_from_buffer_with_free_callback_cls(body->bytes, body->data.get(),
+                                                                  &FreeLarge, body);
+  }
+
+  static MHD_Result Queue(HttpServer* server, MHD_Connection* connection, const HttpResponse& r) {
+    MHD_Response* response = Create(server, r);
+    if (response == nullptr) {
+      if (r.body.size() <= kLargeResponseBytes) return MHD_NO;
+      HttpResponse busy;  // other downloads hold the memory for large answers
+      busy.status = MHD_HTTP_SERVICE_UNAVAILABLE;
+      busy.body = "busy with other downloads: try again\n";
+      return Queue(server, connection, busy);
+    }
     MHD_add_response_header(response, MHD_HTTP_HEADER_CONTENT_TYPE, r.content_type);
     MHD_add_response_header(response, MHD_HTTP_HEADER_CACHE_CONTROL,
                             r.cache ? "max-age=300" : "no-store");
@@ -72,7 +103,7 @@ struct HttpServerCallbacks {
     HttpResponse r;
     r.status = status;
     r.body = text;
-    return Queue(connection, r);
+    return Queue(server, connection, r);
   }
 
   static MHD_Result Dispatch(void* cls, MHD_Connection* connection, const char* url,
@@ -110,7 +141,7 @@ struct HttpServerCallbacks {
     request.connection = connection;
     HttpResponse response;
     server->handler_->Handle(request, &response);
-    return Queue(connection, response);
+    return Queue(server, connection, response);
   }
 
   static void Completed(void* cls, MHD_Connection* connection, void** request_state,

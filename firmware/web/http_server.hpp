@@ -78,6 +78,7 @@ class HttpServer {
   uint16_t port_ = 0;
   std::atomic<bool> stop_{false};
   std::atomic<uint64_t> refused_{0};
+  size_t large_bytes_ = 0;  // of large answers not yet sent (server thread)
   std::thread thread_;
 };
 

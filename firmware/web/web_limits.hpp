@@ -24,9 +24,15 @@ inline constexpr uint32_t kRequestBurst = 200;
 inline constexpr size_t kMaxSessions = 8;
 inline constexpr int64_t kSessionIdleNs = int64_t{30} * 60 * 1'000'000'000;
 inline constexpr int64_t kLoginPauseNs = int64_t{1'000'000'000};
-// Pairs one request may ask to record, and the largest recording archive served.
+// Pairs one request may ask to record, and the largest recording archive served (a pair of
+// kMaxImageWidth x kMaxImageHeight PGMs with its result is 2.6 MB).
 inline constexpr int kMaxRecordRequest = 100;
-inline constexpr size_t kMaxArchiveBytes = size_t{16} * 1024 * 1024;
+inline constexpr size_t kMaxArchiveBytes = size_t{4} * 1024 * 1024;
+// Answers above kLargeResponseBytes (the archives) count against kMaxLargeResponseBytes until
+// sent; one that would pass it is refused (503) for the client to try again. With the connection
+// limit this bounds the server's memory.
+inline constexpr size_t kLargeResponseBytes = size_t{1} * 1024 * 1024;
+inline constexpr size_t kMaxLargeResponseBytes = size_t{8} * 1024 * 1024;
 // The live images: the largest side served (larger frames are halved until they fit).
 inline constexpr int kLiveMaxWidth = 640;
 inline constexpr int kLiveMaxHeight = 512;

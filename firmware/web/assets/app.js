@@ -57,10 +57,14 @@ function drawView(canvasId, image, result, side) {
     }
     if (n > 0) {
       const label = (o.name || ('model ' + o.model_id)) + ' ' + o.score.toFixed(2);
+      const w = g.measureText(label).width;
+      // At the object's centre, kept inside the image.
+      const x = Math.max(2, Math.min(sx / n, canvas.width - w - 4));
+      const y = Math.max(16, Math.min(sy / n, canvas.height - 4));
       g.fillStyle = 'rgba(0,0,0,0.6)';
-      g.fillRect(sx / n - 2, sy / n - 14, g.measureText(label).width + 4, 18);
+      g.fillRect(x - 2, y - 14, w + 4, 18);
       g.fillStyle = colours[i % colours.length];
-      g.fillText(label, sx / n, sy / n);
+      g.fillText(label, x, y);
     }
   });
 }
