@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -46,7 +47,9 @@ class FakeTarget final : public WebTarget {
     ++applied;
     return key == ConfigKeyId::budget_ms;
   }
-  int triggers = 0, recorded = 0, clears = 0, applied = 0, free_run = -1;
+  // Written on the server thread, read by the test after the answer: atomics, since the
+  // sockets that order them are invisible to ThreadSanitizer.
+  std::atomic<int> triggers{0}, recorded{0}, clears{0}, applied{0}, free_run{-1};
 };
 
 struct HttpReply {
