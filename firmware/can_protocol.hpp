@@ -201,6 +201,14 @@ RigidTransform PoseTransform(const ObjectPose& pose);
 enum class TablePlane : uint8_t { kNone = 0, kFile, kEstimated, kCarried };
 const char* TablePlaneName(TablePlane p);
 
+// The time per stage of the frame a set came from, milliseconds (host side only, like `table`:
+// the commissioning page shows them). Zero for recognition without these stages (the
+// simulator's ground truth) and for sets without a frame.
+struct StageTimes {
+  float features_ms = 0, stereo_ms = 0, hashing_ms = 0, verify_ms = 0, refine_ms = 0;
+  float total_ms = 0;
+};
+
 struct ResultSet {
   uint16_t sequence = 0;    // increments per set, wraps
   uint16_t request_id = 0;  // from the trigger command; 0 = hardware trigger or free-run
@@ -211,6 +219,7 @@ struct ResultSet {
   // The field names of ObjectPose say camera; the pose is in this frame.
   uint8_t output_frame = 0;
   TablePlane table = TablePlane::kNone;  // host side only
+  StageTimes stages;                     // host side only
   ObjectPose objects[kMaxResultObjects];
 };
 

@@ -378,10 +378,9 @@ Status StartRecorder(const FwConfig& config, const TablePoseSource& table,
 
 // The web page's server, once the core runs (nothing when http_bind is empty); HTTP_PORT=<n> on
 // stdout.
-Status StartWebPage(const FwConfig& config, const char* config_path,
-                    canopen::OutputFrame output_frame, FirmwareCore* core,
-                    const Recorder* recorder, const BoardDevices& devices, FileDataSource* data,
-                    web::WebService* web_page) {
+Status StartWebPage(const FwConfig& config, const char* config_path, const CellGeometry& cell,
+                    FirmwareCore* core, const Recorder* recorder, const BoardDevices& devices,
+                    FileDataSource* data, web::WebService* web_page) {
   if (config.http_bind[0] == '\0') return Status::Ok();
   // The rig for the overlays: without one the page shows the images and results alone.
   static StereoCalibration calibration;
@@ -393,7 +392,17 @@ Status StartWebPage(const FwConfig& config, const char* config_path,
   running.can = devices.can;
   running.camera = devices.camera;
   running.calibration = loaded.ok() ? &calibration : nullptr;
-  running.output_frame = canopen::OutputFrameName(output_frame);
+  running.output_frame = canopen::OutputFrameName(cell.output.frame);
+  // The box the pipeline bounds its features with, when one is configured: in the camera, or
+  // on the table (the board's default pose read now, once the simulated world is built).
+  static RigidTransform left_T_volume;
+  if (config.volume_set() && config.volume_frame == VolumeFrame::kCamera) {
+    left_T_volume = RigidTransform();
+    running.left_T_volume = &left_T_volume;
+  } else if (config.volume_set() && cell.table.known) {
+    left_T_volume = cell.table.at_init != nullptr ? *cell.table.at_init : cell.table.left_T_table;
+    running.left_T_volume = &left_T_volume;
+  }
   running.config_path = config_path != nullptr ? config_path : "";
   return web_page->Start(config, running, stdout);
 }
@@ -509,8 +518,8 @@ int FirmwareMain(int argc, char** argv, Board* board) {
     core.OnRecordFailed(recorder.start_error() != 0 ? recorder.start_error() : EIO);
   {
     // The sensor's work goes on without its page: said on stderr, not a reason to stop.
-    const Status s = StartWebPage(config, config_path, cell.output.frame, &core,
-                                  core_devices.recorder, devices, data.get(), &web_page);
+    const Status s = StartWebPage(config, config_path, cell, &core, core_devices.recorder, devices,
+                                  data.get(), &web_page);
     if (!s.ok()) std::fprintf(stderr, "%s: web page off: %s\n", board->program(), s.message());
   }
   board->AfterStart(config, core, *data);

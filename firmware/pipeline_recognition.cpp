@@ -279,6 +279,8 @@ Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_
   set->status = result_.recognition.budget_exhausted ? protocol::ResultStatus::kTimeBudgetHit
                                                      : protocol::ResultStatus::kOk;
   set->table = TablePlaneOf(result_.table_source);
+  const PipelineTimings& t = result_.time;
+  set->stages = {t.features_ms, t.stereo_ms, t.hashing_ms, t.verify_ms, t.refine_ms, t.total_ms};
   NoteCarryChange(result_.table_carry);
   size_t n = 0;
   for (const RecognizedObject& o : result_.objects) {

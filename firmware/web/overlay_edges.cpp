@@ -40,7 +40,43 @@ void AppendRuns(const ViewCamera& view, const VisibleEdgeSet& visible,
   }
 }
 
+constexpr int kVolumeEdgeSteps = 32;  // points along each box edge (the lens bends them)
+
 }  // namespace
+
+std::vector<std::vector<float>> VolumeLines(const StereoCalibration& calibration,
+                                            const RigidTransform& left_T_box, const float min_mm[3],
+                                            const float max_mm[3], int side) {
+  const ViewCamera view = side == 0 ? LeftView(calibration) : RightView(calibration);
+  const double max_r2 = MaxImageRadius2(view.intrinsics);
+  const RigidTransform cam_T_box = view.cam_T_left * left_T_box;
+  const auto corner = [&](int bits) {
+    return Eigen::Vector3f((bits & 1) ? max_mm[0] : min_mm[0], (bits & 2) ? max_mm[1] : min_mm[1],
+                           (bits & 4) ? max_mm[2] : min_mm[2]);
+  };
+  std::vector<std::vector<float>> lines;
+  for (int a = 0; a < 8; ++a) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const int b = a | (1 << axis);
+      if (b == a) continue;  // each edge once: from the corner without the axis bit
+      std::vector<float> line;
+      for (int i = 0; i <= kVolumeEdgeSteps; ++i) {
+        const float t = float(i) / kVolumeEdgeSteps;
+        const Eigen::Vector3f x = cam_T_box * ((1 - t) * corner(a) + t * corner(b));
+        Eigen::Vector2f px;
+        if (x.z() > 0 && ProjectInView(view.intrinsics, max_r2, x, &px)) {
+          line.push_back(px.x());
+          line.push_back(px.y());
+        } else {
+          if (line.size() >= 4) lines.push_back(line);
+          line.clear();
+        }
+      }
+      if (line.size() >= 4) lines.push_back(std::move(line));
+    }
+  }
+  return lines;
+}
 
 std::vector<OverlayObject> ComputeOverlay(const StereoCalibration& calibration,
                                           const LiveSnapshot& snapshot,

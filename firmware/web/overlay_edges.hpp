@@ -10,6 +10,7 @@
 #include "firmware/can_protocol.hpp"
 #include "firmware/web/live_snapshot.hpp"
 #include "recog/camera/camera_model.hpp"
+#include "recog/geometry/rigid_transform.hpp"
 
 namespace sh::fw::web {
 
@@ -27,5 +28,12 @@ struct OverlayObject {
 std::vector<OverlayObject> ComputeOverlay(const StereoCalibration& calibration,
                                           const LiveSnapshot& snapshot,
                                           const protocol::ResultSet& set);
+
+// The working volume box (volume_min_mm .. volume_max_mm in the frame left_T_box maps into the
+// left camera) as its 12 edges projected into image `side` (0 left, 1 right): polylines in
+// full-size pixels, cut where an edge leaves the image or passes behind the camera.
+std::vector<std::vector<float>> VolumeLines(const StereoCalibration& calibration,
+                                            const RigidTransform& left_T_box, const float min_mm[3],
+                                            const float max_mm[3], int side);
 
 }  // namespace sh::fw::web

@@ -5,6 +5,16 @@
 namespace sh::fw::web {
 namespace {
 
+void WriteLines(const std::vector<std::vector<float>>& lines, JsonWriter* j) {
+  j->BeginArray();
+  for (const auto& line : lines) {
+    j->BeginArray();
+    for (float v : line) j->Number(v, 5);
+    j->EndArray();
+  }
+  j->EndArray();
+}
+
 const char* StateName(FirmwareState s) {
   switch (s) {
     case FirmwareState::kInit:
@@ -87,6 +97,11 @@ void WriteResult(const LiveResult& r, const std::vector<OverlayObject>& overlay,
   j->Key("sequence").Uint(r.set.sequence).Key("status").String(ResultStatusText(r.set.status));
   j->Key("latency_us").Uint(r.set.processing_time_us).Key("output_frame").String(output_frame);
   j->Key("table").String(protocol::TablePlaneName(r.set.table)).Key("has_images").Bool(r.has_frame);
+  const protocol::StageTimes& st = r.set.stages;
+  j->Key("stages_ms").BeginObject().Key("features").Number(st.features_ms, 4);
+  j->Key("stereo").Number(st.stereo_ms, 4).Key("hashing").Number(st.hashing_ms, 4);
+  j->Key("verify").Number(st.verify_ms, 4).Key("refine").Number(st.refine_ms, 4);
+  j->Key("total").Number(st.total_ms, 4).EndObject();
   j->Key("image_size").BeginArray();
   for (int side = 0; side < 2; ++side) {
     j->BeginArray().Int(r.full_width[side]).Int(r.full_height[side]).EndArray();
@@ -102,15 +117,7 @@ void WriteResult(const LiveResult& r, const std::vector<OverlayObject>& overlay,
     j->EndArray().Key("q_wxyz").BeginArray();
     for (double q : p.cam_q_model) j->Number(q, 6);
     j->EndArray().Key("lines").BeginArray();
-    for (const auto& side : o.lines) {
-      j->BeginArray();
-      for (const auto& line : side) {
-        j->BeginArray();
-        for (float v : line) j->Number(v, 5);
-        j->EndArray();
-      }
-      j->EndArray();
-    }
+    for (const auto& side : o.lines) WriteLines(side, j);
     j->EndArray().EndObject();
   }
   j->EndArray().EndObject();
@@ -152,7 +159,8 @@ const char* EmcyCodeText(uint16_t code) {
 
 std::string StatusJson(const WebHealth& health, const LiveResult& result,
                        const std::vector<OverlayObject>& overlay, const char* output_frame,
-                       int64_t now_ns, const StatusAccess& access) {
+                       const std::vector<std::vector<float>>* volume, int64_t now_ns,
+                       const StatusAccess& access) {
   JsonWriter j;
   j.BeginObject();
   j.Key("access").BeginObject().Key("login_possible").Bool(access.login_possible);
@@ -161,6 +169,15 @@ std::string StatusJson(const WebHealth& health, const LiveResult& result,
   WriteHealth(health, &j);
   j.EndObject();
   WriteResult(result, overlay, output_frame, now_ns, &j);
+  j.Key("volume");
+  if (volume != nullptr) {
+    j.BeginArray();
+    WriteLines(volume[0], &j);
+    WriteLines(volume[1], &j);
+    j.EndArray();
+  } else {
+    j.Null();
+  }
   j.EndObject();
   return j.text();
 }

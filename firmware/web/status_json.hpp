@@ -22,8 +22,10 @@ struct StatusAccess {
 // Meaning of an EMCY error code (0x1003 entries, EMCY messages).
 const char* EmcyCodeText(uint16_t code);
 
+// `volume`: the working volume's lines in the left and right image, or nullptr (no box).
 std::string StatusJson(const WebHealth& health, const LiveResult& result,
                        const std::vector<OverlayObject>& overlay, const char* output_frame,
-                       int64_t now_ns, const StatusAccess& access);
+                       const std::vector<std::vector<float>>* volume, int64_t now_ns,
+                       const StatusAccess& access);
 
 }  // namespace sh::fw::web

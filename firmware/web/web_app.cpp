@@ -6,7 +6,6 @@
 
 #include "firmware/canopen/eds_writer.hpp"
 #include "firmware/web/json_writer.hpp"
-#include "firmware/web/overlay_edges.hpp"
 #include "firmware/web/png_encode.hpp"
 #include "firmware/web/recordings.hpp"
 #include "firmware/web/status_json.hpp"
@@ -75,7 +74,14 @@ bool RateLimit::Take(int64_t now_ns) {
 
 WebApp::WebApp(const WebAppConfig& config, WebAuth* auth, WebSettings* settings,
                LiveSnapshot* snapshot, WebTarget* target)
-    : config_(config), auth_(auth), settings_(settings), snapshot_(snapshot), target_(target) {}
+    : config_(config), auth_(auth), settings_(settings), snapshot_(snapshot), target_(target) {
+  if (config_.calibration != nullptr && config_.volume) {
+    for (int side = 0; side < 2; ++side) {
+      volume_[side] = VolumeLines(*config_.calibration, config_.left_T_volume,
+                                  config_.volume_min_mm, config_.volume_max_mm, side);
+    }
+  }
+}
 
 void WebApp::Handle(const HttpRequest& request, HttpResponse* response) {
   HandleAt(request, MonotonicNs(), response);
@@ -126,15 +132,18 @@ void WebApp::ServeStatus(const HttpRequest& request, int64_t now_ns, HttpRespons
   access.login_possible = auth_->enabled();
   access.logged_in = auth_->Authenticated(request.Cookie(kSessionCookie), now_ns, &access.csrf);
   const LiveResult result = snapshot_->Result();
-  std::vector<OverlayObject> overlay;
-  if (config_.calibration != nullptr) {
-    overlay = ComputeOverlay(*config_.calibration, *snapshot_, result.set);
-  } else {
-    overlay.resize(result.set.object_count);
+  if (result.results != overlay_of_) {
+    if (config_.calibration != nullptr) {
+      overlay_ = ComputeOverlay(*config_.calibration, *snapshot_, result.set);
+    } else {
+      overlay_.assign(result.set.object_count, OverlayObject());
+    }
+    overlay_of_ = result.results;
   }
   response->content_type = "application/json";
-  response->body =
-      StatusJson(target_->Health(), result, overlay, config_.output_frame, now_ns, access);
+  const bool volume = config_.calibration != nullptr && config_.volume;
+  response->body = StatusJson(target_->Health(), result, overlay_, config_.output_frame,
+                              volume ? volume_ : nullptr, now_ns, access);
 }
 
 void WebApp::Image(const HttpRequest& request, HttpResponse* response) {

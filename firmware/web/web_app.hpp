@@ -7,13 +7,16 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "firmware/web/http_server.hpp"
 #include "firmware/web/live_snapshot.hpp"
+#include "firmware/web/overlay_edges.hpp"
 #include "firmware/web/web_auth.hpp"
 #include "firmware/web/web_settings.hpp"
 #include "firmware/web/web_target.hpp"
 #include "recog/camera/camera_model.hpp"
+#include "recog/geometry/rigid_transform.hpp"
 
 namespace sh::fw::web {
 
@@ -25,6 +28,12 @@ struct WebAppConfig {
   const char* output_frame = "";  // name of the poses' frame
   // The rig for the overlays, or nullptr (no overlays).
   const StereoCalibration* calibration = nullptr;
+  // The working volume box, drawn on request: its corners in the frame left_T_volume maps into
+  // the left camera.
+  bool volume = false;
+  RigidTransform left_T_volume;
+  float volume_min_mm[3] = {0, 0, 0};
+  float volume_max_mm[3] = {0, 0, 0};
 };
 
 // A token bucket: `rate` per second, at most `burst` saved up.
@@ -62,6 +71,11 @@ class WebApp final : public HttpHandler {
   LiveSnapshot* snapshot_;
   WebTarget* target_;
   RateLimit rate_{kRequestsPerSecond, kRequestBurst};
+  // The overlay of the result counted overlay_of_ (0: none yet): computed once per result, not
+  // once per visitor and poll.
+  std::vector<OverlayObject> overlay_;
+  uint64_t overlay_of_ = 0;
+  std::vector<std::vector<float>> volume_[2];  // the box's lines per image, if any
 };
 
 // A JSON answer {"ok": ok, "message": text}.

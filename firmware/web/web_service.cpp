@@ -54,6 +54,14 @@ Status WebService::Start(const FwConfig& config, const Running& running, std::FI
     p.calibration = *running.calibration;
     ac.calibration = &p.calibration;
   }
+  if (running.left_T_volume != nullptr) {
+    ac.volume = true;
+    ac.left_T_volume = *running.left_T_volume;
+    for (int k = 0; k < 3; ++k) {
+      ac.volume_min_mm[k] = config.volume_min_mm[k];
+      ac.volume_max_mm[k] = config.volume_max_mm[k];
+    }
+  }
   p.app = std::make_unique<WebApp>(ac, &p.auth, p.settings.get(), &p.snapshot, p.target.get());
   HttpServerConfig sc;
   sc.bind_address = config.http_bind;

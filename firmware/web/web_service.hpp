@@ -37,6 +37,9 @@ class WebService {
     const StereoCalibration* calibration = nullptr;
     const char* output_frame = "camera";
     const char* config_path = "";  // "" = started without a file
+    // The working volume box in the left camera (volume_min_mm..volume_max_mm of the config in
+    // this frame), or nullptr when there is no box.
+    const RigidTransform* left_T_volume = nullptr;
   };
   // Once the core runs: the password, the server; prints HTTP_PORT=<n> on `announce`.
   Status Start(const FwConfig& config, const Running& running, std::FILE* announce);

@@ -64,7 +64,10 @@ class Firmware {
         this.configText = [
             'backend = sim', `recognition = ${ARGS.recognition}`, 'sim_seed = 3',
             `http_password = ${password}`, `record_dir = ${this.recordDir}`, 'record_all = false',
-            'budget_ms = 1000  # per trigger', '',
+            'budget_ms = 1000  # per trigger',
+            // A working volume that the cameras see (the simulator's default box is wider than
+            // the view), for the page to draw.
+            'volume_frame = table', 'volume_min_mm = -100 -100 -3', 'volume_max_mm = 100 100 100', '',
         ].join('\n');
         fs.writeFileSync(this.configPath, this.configText);
         this.proc = childProcess.spawn(ARGS.firmware, ['--config', this.configPath],
@@ -161,6 +164,25 @@ async function triggerAndCheck(page, fw) {
         assert(c.lit > c.width * c.height / 4, `${side} shows no image`);
         console.log(`${side}: ${c.width} x ${c.height} px, overlay ${c.coloured} px`);
     }
+    if (ARGS.recognition === 'pipeline') {
+        const stages = await page.textContent('#stages');
+        assert(/features [0-9.]+ ms.*total [0-9.]+ ms/.test(stages), `stage times: ${stages}`);
+    }
+    // The working volume drawn on request.
+    const status = await (await fetch(fw.url('/api/status'))).json();
+    assert(status.volume && status.volume[0].length > 0 && status.volume[1].length > 0,
+        'no working volume lines');
+    const pixels = () => page.evaluate(() => {  // a checksum of the left view
+        const c = document.getElementById('view-left');
+        const data = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+        let sum = 0;
+        for (let i = 0; i < data.length; ++i) sum = (sum * 31 + data[i]) % 1000000007;
+        return sum;
+    });
+    const without = await pixels();
+    await page.check('#show-volume');
+    await until(async () => (await pixels()) !== without, 'the working volume drawn');
+    await page.uncheck('#show-volume');
     const labels = await page.$$eval('#objects tr', (rows) => rows.length);
     console.log(`Trigger: ${labels} objects shown (${shown.join(', ')}), as the firmware sent them`);
 }

@@ -40,6 +40,20 @@ function drawView(canvasId, image, result, side) {
   g.drawImage(image, 0, 0);
   const full = result.image_size[side][0] || image.width;
   const scale = image.width / full;
+  if ($('show-volume').checked && page.status.volume) {
+    g.strokeStyle = 'rgba(255,255,255,0.7)';
+    g.setLineDash([6, 4]);
+    g.lineWidth = 1;
+    for (const line of page.status.volume[side]) {
+      g.beginPath();
+      for (let k = 0; k + 1 < line.length; k += 2) {
+        if (k === 0) g.moveTo(line[k] * scale, line[k + 1] * scale);
+        else g.lineTo(line[k] * scale, line[k + 1] * scale);
+      }
+      g.stroke();
+    }
+    g.setLineDash([]);
+  }
   g.lineWidth = 2;
   g.font = '14px sans-serif';
   result.objects.forEach((o, i) => {
@@ -107,6 +121,12 @@ function showResults(result) {
       'set ' + result.sequence + ' (' + result.status + '), ' + result.objects.length +
       ' objects, trigger to result ' + (result.latency_us / 1000).toFixed(1) + ' ms, poses in the ' +
       result.output_frame + ' frame, table ' + result.table + ', ' + age;
+  const st = result.stages_ms;
+  $('stages').textContent = st.total > 0
+      ? 'stages: features ' + st.features.toFixed(1) + ' ms, stereo ' + st.stereo.toFixed(1) +
+        ' ms, hashing ' + st.hashing.toFixed(1) + ' ms, verification ' + st.verify.toFixed(1) +
+        ' ms, refinement ' + st.refine.toFixed(1) + ' ms, total ' + st.total.toFixed(1) + ' ms'
+      : 'stages: not measured for this result';
   const body = $('objects');
   body.replaceChildren();
   for (const o of result.objects) {
@@ -166,6 +186,7 @@ async function poll() {
     if (response.ok) {
       const status = await response.json();
       page.status = status;
+      $('show-volume').disabled = !status.volume;
       showAccess(status.access);
       showHealth(status.health);
       showResults(status.result);
@@ -280,6 +301,7 @@ function wire() {
     say('settings-message', answer.message, answer.ok);
   });
   $('sides').addEventListener('change', () => { page.shownResult = -1; });
+  $('show-volume').addEventListener('change', () => { page.shownResult = -1; });
   for (const b of document.querySelectorAll('.needs-login')) b.disabled = true;
 }
 
