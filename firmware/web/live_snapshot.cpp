@@ -30,10 +30,10 @@ void LiveSnapshot::Reduce(ConstGrayView image, int side) {
   }
   const int scale = LiveScale(image.width, image.height);
   const int w = (image.width + scale - 1) / scale, h = (image.height + scale - 1) / scale;
-  uint8_t* out = pixels_[side].get();
   for (int y = 0; y < h; ++y) {
     const uint8_t* row = image.row(y * scale);
-    for (int x = 0; x < w; ++x) out[y * w + x] = row[x * scale];
+    uint8_t* out = pixels_[side].get() + static_cast<ptrdiff_t>(y) * w;
+    for (int x = 0; x < w; ++x) out[x] = row[static_cast<ptrdiff_t>(x) * scale];
   }
   width_[side] = w;
   height_[side] = h;

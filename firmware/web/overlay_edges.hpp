@@ -14,6 +14,7 @@
 
 namespace sh::fw::web {
 
+// NOLINTNEXTLINE(bugprone-reserved-identifier): clang-tidy 14 names the implicit array copy's index
 struct OverlayObject {
   int model_id = 0;
   std::string name;

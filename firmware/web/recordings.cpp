@@ -49,8 +49,8 @@ void AppendTarMember(const std::string& name, const std::string& data, long long
   std::snprintf(h + 136, 12, "%011llo", static_cast<unsigned long long>(mtime_s));
   h[156] = '0';
   std::memcpy(h + 257, "ustar", 6);  // with its NUL
-  std::memcpy(h + 263, "00", 2);
-  std::memset(h + 148, ' ', 8);  // the checksum counts its own field as spaces
+  h[263] = h[264] = '0';             // version "00", not NUL-terminated
+  std::memset(h + 148, ' ', 8);      // the checksum counts its own field as spaces
   unsigned sum = 0;
   for (unsigned char c : h) sum += c;
   std::snprintf(h + 148, 8, "%06o", sum);
@@ -75,7 +75,9 @@ Status ArchivePair(const char* record_dir, const char* pair, std::string* tar) {
   std::sort(files.begin(), files.end());
   tar->clear();
   for (const std::string& f : files) {
-    const std::string path = folder + "/" + f;
+    std::string path = folder;
+    path += '/';
+    path += f;
     struct stat st {};
     // Regular files only, not links (that could point out of record_dir).
     if (lstat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;

@@ -290,7 +290,7 @@ TEST(PairNames, OnlyEightDigits) {
 TEST(LiveSnapshot, PublishesWithoutTheHeapAndReducesTheImages) {
   LiveSnapshot snapshot;
   ASSERT_TRUE(snapshot.Init(RigidTransform()).ok());
-  std::vector<uint8_t> left(1280 * 800, 7), right(1280 * 800, 9);
+  std::vector<uint8_t> left(size_t{1280} * 800, 7), right(size_t{1280} * 800, 9);
   hal::StereoFrame frame;
   frame.left = {left.data(), 1280, 800, 1280};
   frame.right = {right.data(), 1280, 800, 1280};
