@@ -219,7 +219,10 @@ struct ResultSet {
   // The field names of ObjectPose say camera; the pose is in this frame.
   uint8_t output_frame = 0;
   TablePlane table = TablePlane::kNone;  // host side only
-  StageTimes stages;                     // host side only
+  // Host side only: the plane of `table` in the left camera (table frame, z up from the
+  // plane), whatever the output frame; valid when `table` is not kNone.
+  RigidTransform left_T_table;
+  StageTimes stages;  // host side only
   ObjectPose objects[kMaxResultObjects];
 };
 

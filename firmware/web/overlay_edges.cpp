@@ -40,42 +40,69 @@ void AppendRuns(const ViewCamera& view, const VisibleEdgeSet& visible,
   }
 }
 
-constexpr int kVolumeEdgeSteps = 32;  // points along each box edge (the lens bends them)
+constexpr int kSegmentSteps = 32;  // points along each straight segment (the lens bends them)
+
+// Straight segments ends[2k]..ends[2k+1] (in the frame left_T_frame maps into the left camera)
+// projected into image `side`: polylines in full-size pixels, cut where they leave the image or
+// pass behind the camera.
+std::vector<std::vector<float>> ProjectSegments(const StereoCalibration& calibration,
+                                                const RigidTransform& left_T_frame,
+                                                const std::vector<Eigen::Vector3f>& ends,
+                                                int side) {
+  const ViewCamera view = side == 0 ? LeftView(calibration) : RightView(calibration);
+  const double max_r2 = MaxImageRadius2(view.intrinsics);
+  const RigidTransform cam_T_frame = view.cam_T_left * left_T_frame;
+  std::vector<std::vector<float>> lines;
+  for (size_t s = 0; s + 1 < ends.size(); s += 2) {
+    std::vector<float> line;
+    for (int i = 0; i <= kSegmentSteps; ++i) {
+      const float t = float(i) / kSegmentSteps;
+      const Eigen::Vector3f x = cam_T_frame * ((1 - t) * ends[s] + t * ends[s + 1]);
+      Eigen::Vector2f px;
+      if (x.z() > 0 && ProjectInView(view.intrinsics, max_r2, x, &px)) {
+        line.push_back(px.x());
+        line.push_back(px.y());
+      } else {
+        if (line.size() >= 4) lines.push_back(line);
+        line.clear();
+      }
+    }
+    if (line.size() >= 4) lines.push_back(std::move(line));
+  }
+  return lines;
+}
 
 }  // namespace
 
 std::vector<std::vector<float>> VolumeLines(const StereoCalibration& calibration,
                                             const RigidTransform& left_T_box, const float min_mm[3],
                                             const float max_mm[3], int side) {
-  const ViewCamera view = side == 0 ? LeftView(calibration) : RightView(calibration);
-  const double max_r2 = MaxImageRadius2(view.intrinsics);
-  const RigidTransform cam_T_box = view.cam_T_left * left_T_box;
   const auto corner = [&](int bits) {
     return Eigen::Vector3f((bits & 1) ? max_mm[0] : min_mm[0], (bits & 2) ? max_mm[1] : min_mm[1],
                            (bits & 4) ? max_mm[2] : min_mm[2]);
   };
-  std::vector<std::vector<float>> lines;
+  std::vector<Eigen::Vector3f> ends;
   for (int a = 0; a < 8; ++a) {
     for (int axis = 0; axis < 3; ++axis) {
-      const int b = a | (1 << axis);
-      if (b == a) continue;  // each edge once: from the corner without the axis bit
-      std::vector<float> line;
-      for (int i = 0; i <= kVolumeEdgeSteps; ++i) {
-        const float t = float(i) / kVolumeEdgeSteps;
-        const Eigen::Vector3f x = cam_T_box * ((1 - t) * corner(a) + t * corner(b));
-        Eigen::Vector2f px;
-        if (x.z() > 0 && ProjectInView(view.intrinsics, max_r2, x, &px)) {
-          line.push_back(px.x());
-          line.push_back(px.y());
-        } else {
-          if (line.size() >= 4) lines.push_back(line);
-          line.clear();
-        }
-      }
-      if (line.size() >= 4) lines.push_back(std::move(line));
+      if (a & (1 << axis)) continue;  // each edge once: from the corner without the axis bit
+      ends.push_back(corner(a));
+      ends.push_back(corner(a | (1 << axis)));
     }
   }
-  return lines;
+  return ProjectSegments(calibration, left_T_box, ends, side);
+}
+
+std::vector<std::vector<float>> TableGridLines(const StereoCalibration& calibration,
+                                               const RigidTransform& left_T_table, int side) {
+  std::vector<Eigen::Vector3f> ends;
+  const float h = kTableGridHalfMm;
+  for (float v = -h; v <= h + 0.5f; v += kTableGridStepMm) {
+    ends.emplace_back(v, -h, 0.0f);
+    ends.emplace_back(v, h, 0.0f);
+    ends.emplace_back(-h, v, 0.0f);
+    ends.emplace_back(h, v, 0.0f);
+  }
+  return ProjectSegments(calibration, left_T_table, ends, side);
 }
 
 std::vector<OverlayObject> ComputeOverlay(const StereoCalibration& calibration,

@@ -37,4 +37,11 @@ std::vector<std::vector<float>> VolumeLines(const StereoCalibration& calibration
                                             const RigidTransform& left_T_box, const float min_mm[3],
                                             const float max_mm[3], int side);
 
+// A square grid on the table plane (z = 0 of left_T_table), kTableGridHalfMm around its origin
+// with a line every kTableGridStepMm, projected into image `side` as VolumeLines projects.
+inline constexpr float kTableGridHalfMm = 300.0f;
+inline constexpr float kTableGridStepMm = 50.0f;
+std::vector<std::vector<float>> TableGridLines(const StereoCalibration& calibration,
+                                               const RigidTransform& left_T_table, int side);
+
 }  // namespace sh::fw::web

@@ -1,5 +1,7 @@
 #include "firmware/web/status_json.hpp"
 
+#include <utility>
+
 #include "firmware/web/json_writer.hpp"
 
 namespace sh::fw::web {
@@ -158,8 +160,7 @@ const char* EmcyCodeText(uint16_t code) {
 }
 
 std::string StatusJson(const WebHealth& health, const LiveResult& result,
-                       const std::vector<OverlayObject>& overlay, const char* output_frame,
-                       const std::vector<std::vector<float>>* volume, int64_t now_ns,
+                       const StatusOverlay& overlay, const char* output_frame, int64_t now_ns,
                        const StatusAccess& access) {
   JsonWriter j;
   j.BeginObject();
@@ -168,15 +169,19 @@ std::string StatusJson(const WebHealth& health, const LiveResult& result,
   j.Key("health").BeginObject();
   WriteHealth(health, &j);
   j.EndObject();
-  WriteResult(result, overlay, output_frame, now_ns, &j);
-  j.Key("volume");
-  if (volume != nullptr) {
+  WriteResult(result, *overlay.objects, output_frame, now_ns, &j);
+  for (const auto& [key, lines] :
+       {std::pair<const char*, const ImageLines*>{"volume", overlay.volume},
+        {"table_plane", overlay.table}}) {
+    j.Key(key);
+    if (lines == nullptr) {
+      j.Null();
+      continue;
+    }
     j.BeginArray();
-    WriteLines(volume[0], &j);
-    WriteLines(volume[1], &j);
+    WriteLines(lines[0], &j);
+    WriteLines(lines[1], &j);
     j.EndArray();
-  } else {
-    j.Null();
   }
   j.EndObject();
   return j.text();

@@ -22,10 +22,17 @@ struct StatusAccess {
 // Meaning of an EMCY error code (0x1003 entries, EMCY messages).
 const char* EmcyCodeText(uint16_t code);
 
-// `volume`: the working volume's lines in the left and right image, or nullptr (no box).
+// Lines to draw over the left and right image (polylines in full-size pixels).
+using ImageLines = std::vector<std::vector<float>>;
+
+struct StatusOverlay {
+  const std::vector<OverlayObject>* objects = nullptr;  // one per object of the result
+  const ImageLines* volume = nullptr;  // [2]: the working volume's box, or nullptr (none)
+  const ImageLines* table = nullptr;   // [2]: the result's table plane, or nullptr (none)
+};
+
 std::string StatusJson(const WebHealth& health, const LiveResult& result,
-                       const std::vector<OverlayObject>& overlay, const char* output_frame,
-                       const std::vector<std::vector<float>>* volume, int64_t now_ns,
+                       const StatusOverlay& overlay, const char* output_frame, int64_t now_ns,
                        const StatusAccess& access);
 
 }  // namespace sh::fw::web

@@ -133,17 +133,25 @@ void WebApp::ServeStatus(const HttpRequest& request, int64_t now_ns, HttpRespons
   access.logged_in = auth_->Authenticated(request.Cookie(kSessionCookie), now_ns, &access.csrf);
   const LiveResult result = snapshot_->Result();
   if (result.results != overlay_of_) {
+    table_known_ =
+        config_.calibration != nullptr && result.set.table != protocol::TablePlane::kNone;
     if (config_.calibration != nullptr) {
       overlay_ = ComputeOverlay(*config_.calibration, *snapshot_, result.set);
+      for (int side = 0; side < 2 && table_known_; ++side) {
+        table_[side] = TableGridLines(*config_.calibration, result.set.left_T_table, side);
+      }
     } else {
       overlay_.assign(result.set.object_count, OverlayObject());
     }
     overlay_of_ = result.results;
   }
   response->content_type = "application/json";
-  const bool volume = config_.calibration != nullptr && config_.volume;
-  response->body = StatusJson(target_->Health(), result, overlay_, config_.output_frame,
-                              volume ? volume_ : nullptr, now_ns, access);
+  StatusOverlay overlay;
+  overlay.objects = &overlay_;
+  if (config_.calibration != nullptr && config_.volume) overlay.volume = volume_;
+  if (table_known_) overlay.table = table_;
+  response->body =
+      StatusJson(target_->Health(), result, overlay, config_.output_frame, now_ns, access);
 }
 
 void WebApp::Image(const HttpRequest& request, HttpResponse* response) {

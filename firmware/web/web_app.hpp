@@ -76,6 +76,8 @@ class WebApp final : public HttpHandler {
   std::vector<OverlayObject> overlay_;
   uint64_t overlay_of_ = 0;
   std::vector<std::vector<float>> volume_[2];  // the box's lines per image, if any
+  std::vector<std::vector<float>> table_[2];   // the result's table plane per image, if any
+  bool table_known_ = false;
 };
 
 // A JSON answer {"ok": ok, "message": text}.

@@ -183,6 +183,15 @@ async function triggerAndCheck(page, fw) {
     await page.check('#show-volume');
     await until(async () => (await pixels()) !== without, 'the working volume drawn');
     await page.uncheck('#show-volume');
+    // The table plane the result used (the simulator's cell: estimated or carried), on request.
+    if (ARGS.recognition === 'pipeline' && sent.table !== 'none') {
+        assert(status.table_plane && status.table_plane[0].length > 0, 'no table plane lines');
+        await until(async () => (await pixels()) === without, 'the view without the volume');
+        await page.check('#show-table');
+        await until(async () => (await pixels()) !== without, 'the table plane drawn');
+        await page.uncheck('#show-table');
+        console.log(`table plane (${sent.table}) and working volume drawn on request`);
+    }
     const labels = await page.$$eval('#objects tr', (rows) => rows.length);
     console.log(`Trigger: ${labels} objects shown (${shown.join(', ')}), as the firmware sent them`);
 }
@@ -278,6 +287,10 @@ async function main() {
         await changeSetting(page, fw);
         await recordPair(page, fw);
         if (ARGS.screenshot) {
+            // The picture shows the table plane and the working volume too.
+            if (!(await page.isDisabled('#show-table'))) await page.check('#show-table');
+            await page.check('#show-volume');
+            await sleep(1500);  // the next poll redraws
             await page.evaluate(() => window.scrollTo(0, 0));
             await page.screenshot({ path: ARGS.screenshot, fullPage: false });
             console.log(`screenshot: ${ARGS.screenshot}`);

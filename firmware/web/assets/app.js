@@ -40,11 +40,11 @@ function drawView(canvasId, image, result, side) {
   g.drawImage(image, 0, 0);
   const full = result.image_size[side][0] || image.width;
   const scale = image.width / full;
-  if ($('show-volume').checked && page.status.volume) {
-    g.strokeStyle = 'rgba(255,255,255,0.7)';
+  const dashed = (lines, colour) => {
+    g.strokeStyle = colour;
     g.setLineDash([6, 4]);
     g.lineWidth = 1;
-    for (const line of page.status.volume[side]) {
+    for (const line of lines) {
       g.beginPath();
       for (let k = 0; k + 1 < line.length; k += 2) {
         if (k === 0) g.moveTo(line[k] * scale, line[k + 1] * scale);
@@ -53,6 +53,12 @@ function drawView(canvasId, image, result, side) {
       g.stroke();
     }
     g.setLineDash([]);
+  };
+  if ($('show-table').checked && page.status.table_plane) {
+    dashed(page.status.table_plane[side], 'rgba(255,215,64,0.6)');
+  }
+  if ($('show-volume').checked && page.status.volume) {
+    dashed(page.status.volume[side], 'rgba(255,255,255,0.7)');
   }
   g.lineWidth = 2;
   g.font = '14px sans-serif';
@@ -187,6 +193,7 @@ async function poll() {
       const status = await response.json();
       page.status = status;
       $('show-volume').disabled = !status.volume;
+      $('show-table').disabled = !status.table_plane;
       showAccess(status.access);
       showHealth(status.health);
       showResults(status.result);
@@ -302,6 +309,7 @@ function wire() {
   });
   $('sides').addEventListener('change', () => { page.shownResult = -1; });
   $('show-volume').addEventListener('change', () => { page.shownResult = -1; });
+  $('show-table').addEventListener('change', () => { page.shownResult = -1; });
   for (const b of document.querySelectorAll('.needs-login')) b.disabled = true;
 }
 
