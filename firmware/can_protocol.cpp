@@ -413,6 +413,15 @@ ObjectPose MakeObjectPose(const RigidTransform& cam_T_model, uint8_t model_id, u
   return pose;
 }
 
+RigidTransform PoseTransform(const ObjectPose& pose) {
+  const Eigen::Quaternionf q(float(pose.cam_q_model[0]), float(pose.cam_q_model[1]),
+                             float(pose.cam_q_model[2]), float(pose.cam_q_model[3]));
+  RigidTransform t;
+  t.R = q.normalized().toRotationMatrix();
+  for (int i = 0; i < 3; ++i) t.t_mm[i] = float(pose.cam_t_model_mm[i]);
+  return t;
+}
+
 uint8_t Crc8(const uint8_t* data, size_t length, uint8_t crc) {
   for (size_t i = 0; i < length; ++i) {
     crc ^= data[i];

@@ -193,11 +193,21 @@ struct ObjectPose {
 // translation copied in millimetres. Range checks happen in EncodeResultSet.
 ObjectPose MakeObjectPose(const RigidTransform& cam_T_model, uint8_t model_id, uint8_t instance,
                           double score);
+// The pose of a record as a transform (the inverse of MakeObjectPose's conversion, in float).
+RigidTransform PoseTransform(const ObjectPose& pose);
 
 // The table plane recognition used for a set (not sent on the bus: the simulator's RESULT lines
 // and the logs name it). Names as the recogniser's JSON `table.source`.
 enum class TablePlane : uint8_t { kNone = 0, kFile, kEstimated, kCarried };
 const char* TablePlaneName(TablePlane p);
+
+// The time per stage of the frame a set came from, milliseconds (host side only, like `table`:
+// the commissioning page shows them). Zero for recognition without these stages (the
+// simulator's ground truth) and for sets without a frame.
+struct StageTimes {
+  float features_ms = 0, stereo_ms = 0, hashing_ms = 0, verify_ms = 0, refine_ms = 0;
+  float total_ms = 0;
+};
 
 struct ResultSet {
   uint16_t sequence = 0;    // increments per set, wraps
@@ -209,6 +219,10 @@ struct ResultSet {
   // The field names of ObjectPose say camera; the pose is in this frame.
   uint8_t output_frame = 0;
   TablePlane table = TablePlane::kNone;  // host side only
+  // Host side only: the plane of `table` in the left camera (table frame, z up from the
+  // plane), whatever the output frame; valid when `table` is not kNone.
+  RigidTransform left_T_table;
+  StageTimes stages;  // host side only
   ObjectPose objects[kMaxResultObjects];
 };
 

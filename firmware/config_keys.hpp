@@ -30,6 +30,7 @@ namespace sh::fw {
 inline constexpr size_t kConfigPathMax = 256;
 inline constexpr size_t kConfigNameMax = 64;
 inline constexpr size_t kConfigInterfaceMax = 16;  // IFNAMSIZ
+inline constexpr size_t kConfigAddressMax = 48;    // an IPv6 address as text (INET6_ADDRSTRLEN)
 inline constexpr int kMaxRecordPairs = 10000;      // record_max limit
 inline constexpr int kMaxConfigThreads = 8;        // kMaxPoolThreads of recog/pipeline
 
@@ -162,6 +163,20 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
   CHOICE(record_format, RecordFormat, RecordFormat::kPng, "png|pgm",                                \
          "image files of the recordings: png, or pgm (raw: about 30 times faster to write, 3 "     \
          "times larger)")                                                                          \
+  BOOL(record_all, true,                                                                           \
+       "record_dir: keep every triggered pair; false: only the pairs asked for on the web page "   \
+       "(record the next N pairs)")                                                                \
+  TEXT(http_bind, kConfigAddressMax, "",                                                           \
+       "address the commissioning web page listens on (docs/web.md): 127.0.0.1 = this machine "    \
+       "only, 0.0.0.0 = every interface, an IPv6 address; empty = no web server")                 \
+  INT(http_port, int, 8080, 0, 65535, "",                                                          \
+      "port of the web page; 0 = ephemeral (printed as HTTP_PORT=<n>)")                            \
+  TEXT(http_password, kConfigNameMax, "",                                                          \
+       "password of the web page's actions and settings; without it and http_password_file the "  \
+       "page is read-only")                                                                        \
+  TEXT(http_password_file, kConfigPathMax, "",                                                     \
+       "file holding a crypt(3) hash of the web password (mkpasswd -m sha-512, openssl passwd "   \
+       "-6) instead of http_password")                                                             \
   TEXT(gpio_chip, kConfigNameMax, "gpiochip0", "GPIO chip (name, path, label or number)")          \
   INT(gpio_trigger_line, int, -1, -1, 1023, "", "trigger input line offset, -1 = not wired")       \
   INT(gpio_ready_line, int, -1, -1, 1023, "", "ready output line, -1 = not wired")                 \

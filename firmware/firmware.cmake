@@ -7,6 +7,7 @@
 stereohash_module(stereohash_fw_core
   SOURCES fw_config.cpp config_keys.cpp firmware_core.cpp can_health.cpp canopen_node.cpp
           output_frame.cpp node_id_file.cpp recorder.cpp data_source.cpp realtime.cpp sd_notify.cpp
+          core_host_control.cpp
   HEADERS fw_config.hpp config_keys.hpp firmware_core.hpp can_health.hpp canopen_node.hpp
           output_frame.hpp node_id_file.hpp recorder.hpp data_source.hpp recognition.hpp
           realtime.hpp sd_notify.hpp
@@ -28,7 +29,8 @@ stereohash_module(stereohash_fw_main
   HEADERS board.hpp
   PUBLIC stereohash_fw_core stereohash_canopen stereohash_hal_camera stereohash_hal_can
          stereohash_hal_gpio stereohash_camera stereohash_geometry stereohash_base
-  PRIVATE stereohash_fw_pipeline stereohash_mono stereohash_can_protocol stereohash_input_file)
+  PRIVATE stereohash_fw_pipeline stereohash_mono stereohash_can_protocol stereohash_input_file
+          stereohash_fw_web)
 
 # The simulator's pieces of the firmware: ground-truth recognition and the simulator's defaults.
 stereohash_module(stereohash_fw_sim

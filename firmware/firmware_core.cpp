@@ -376,6 +376,7 @@ void FirmwareCore::WorkerLoop() {
     Trigger trigger;
     bool have_trigger = false;
     bool clear = false;
+    bool clear_ack = false;
     CanFrame clear_frame;
     {
       std::unique_lock<std::mutex> lock(mutex_);
@@ -398,6 +399,7 @@ void FirmwareCore::WorkerLoop() {
       if (clear_requested_) {
         clear = true;
         clear_requested_ = false;
+        clear_ack = clear_ack_;
         clear_frame = clear_frame_;
       } else if (queue_count_ > 0) {
         trigger = queue_[queue_head_];
@@ -414,7 +416,7 @@ void FirmwareCore::WorkerLoop() {
         have_trigger = s == FirmwareState::kReady && nmt_.load() == NmtState::kOperational;
       }
     }
-    if (clear) ClearFault(clear_frame);
+    if (clear) ClearFault(clear_ack ? &clear_frame : nullptr);
     if (have_trigger) RunTrigger(trigger);
     worker_alive_ns_ = MonotonicNs();
   }
@@ -508,7 +510,7 @@ void FirmwareCore::RunTrigger(const Trigger& trigger) {
   PublishResult(&set, &frame);
   // A copy for the recorder's writer thread (no heap, never waits); a full ring drops the pair.
   // On one camera, the image of the camera in use alone.
-  if (dev_.recorder != nullptr) {
+  if (dev_.recorder != nullptr && (config_.record_all || TakeRecordRequest())) {
     (void)dev_.recorder->Submit(frame, set);
   }
   if (!processed.ok()) {
@@ -640,12 +642,15 @@ bool FirmwareCore::TryStereoAgain() {
   return false;
 }
 
-void FirmwareCore::ClearFault(const CanFrame& frame) {
+void FirmwareCore::ClearFault(const CanFrame* frame) {
+  const auto ack = [&](const Status& status) {
+    if (frame != nullptr) SendAck(*frame, status, 0);
+  };
   const uint32_t bits = faults_.load();
   const uint32_t before = bits;
   const bool one_camera = capture_mode_.load() != hal::CaptureMode::kStereo;
   if (bits == 0 && !one_camera) {
-    SendAck(frame, Status::Ok(), 0);
+    ack(Status::Ok());
     return;
   }
   if (bits & (kFaultTables | kFaultCalibration | kFaultRecognition)) LoadData();
@@ -686,13 +691,11 @@ void FirmwareCore::ClearFault(const CanFrame& frame) {
   uint32_t cleared = before & ~faults_.load();
   if (one_camera && !still_one_camera) cleared |= kWarningOneCamera;
   if (faults_.load() == 0 && !still_one_camera) {
-    SendAck(frame, Status::Ok(), 0);
+    ack(Status::Ok());
     Log("fault cleared");
   } else {
-    SendAck(frame,
-            Status::Error(StatusCode::kFailedPrecondition, "fault persists (causes 0x%x%s)",
-                          faults_.load(), still_one_camera ? ", one camera silent" : ""),
-            0);
+    ack(Status::Error(StatusCode::kFailedPrecondition, "fault persists (causes 0x%x%s)",
+                      faults_.load(), still_one_camera ? ", one camera silent" : ""));
   }
   // Error reset (EMCY 0x0000) with the register of what remains: 0 when all cleared.
   ClearConditions(cleared);
@@ -869,6 +872,7 @@ void FirmwareCore::HandleCommand(const CanFrame& frame) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         clear_requested_ = true;
+        clear_ack_ = true;
         clear_frame_ = frame;
       }
       cv_.notify_all();

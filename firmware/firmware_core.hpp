@@ -129,6 +129,9 @@ struct CoreConfig {
   // the camera's buffers allocated) and again after a data reload or a camera restart
   // (LockMemory: mlockall(MCL_CURRENT)); refused = logged once, the firmware runs unlocked.
   bool lock_memory = false;
+  // With a recorder: every triggered pair is recorded (record_all), or only as many as
+  // RecordNext asked for.
+  bool record_all = true;
 };
 
 struct CoreDevices {
@@ -210,6 +213,20 @@ class FirmwareCore final : public RecorderObserver {
   bool QueueTrigger(uint16_t request_id, int64_t trigger_ns,
                     const hal::CanFrame* accepted_ack = nullptr);
 
+  // The commissioning page's controls (core_host_control.cpp): the same effects as the CAN
+  // commands, without an ack on the bus. Any thread; none of them waits for the worker.
+  // A trigger with request id 0; refused when not ready or busy, or not operational.
+  Status RequestTrigger();
+  void SetFreeRunRate(uint16_t rate_dhz);
+  void SetTimeBudget(uint16_t budget_ms);
+  Status SelectModels(uint32_t model_mask);  // CheckModelMask against the loaded models
+  void SetHeartbeat(uint16_t heartbeat_ms);  // 0 = off
+  void RequestClearFault();
+  // The next `pairs` triggered pairs are recorded (record_all = false); adds to what is pending.
+  void RecordNext(int pairs);
+  int record_pending() const { return record_pending_.load(); }
+  bool recording() const { return dev_.recorder != nullptr; }
+
  private:
   struct Trigger {
     uint16_t request_id = 0;
@@ -225,10 +242,12 @@ class FirmwareCore final : public RecorderObserver {
   // config_.cell_geometry's fault: logged with its message, EMCY 0x6300 kDetailCellGeometry.
   void RaiseCellGeometryFault();
   void RunTrigger(const Trigger& trigger);
+  bool TakeRecordRequest();  // one of the pairs RecordNext asked for, if any is pending
   void PublishResult(protocol::ResultSet* set, const hal::StereoFrame* frame);
   void HandleFrame(const hal::CanFrame& frame);
   void HandleCommand(const hal::CanFrame& frame);
-  void ClearFault(const hal::CanFrame& frame);
+  // `frame`: the clear-fault command to acknowledge, or nullptr (the web page's request).
+  void ClearFault(const hal::CanFrame* frame);
   // After a failed stereo capture: when one camera alone is silent and recognition can work
   // from one image, restarts the camera on the other side alone, raises the one-camera warning
   // (EMCY 0x7300) and returns true.
@@ -300,9 +319,11 @@ class FirmwareCore final : public RecorderObserver {
   Trigger queue_[kTriggerQueueDepth];
   size_t queue_head_ = 0, queue_count_ = 0;
   bool clear_requested_ = false;
+  bool clear_ack_ = false;  // the clear request came over CAN: clear_frame_ is acknowledged
   hal::CanFrame clear_frame_;
   bool stop_ = false;
 
+  std::atomic<int> record_pending_{0};  // pairs still to record when not record_all
   std::atomic<bool> stopping_{false};
   std::atomic<int64_t> worker_alive_ns_{0};
   std::mutex send_mutex_;  // one writer at a time keeps a result set's frames together

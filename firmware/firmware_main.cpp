@@ -17,6 +17,7 @@
 #include "firmware/realtime.hpp"
 #include "firmware/recorder.hpp"
 #include "firmware/sd_notify.hpp"
+#include "firmware/web/web_service.hpp"
 #include "hal/can_log.hpp"
 #include "recog/base/crc32.hpp"
 #include "recog/base/zeroed.hpp"
@@ -47,12 +48,14 @@ int Fail(const Board& board, const char* what, const Status& s) {
   return 1;
 }
 
-// The systemd watchdog, then the board's own observer.
+// The systemd watchdog, then the board's own observer and the web page's snapshot.
 class MainObserver final : public CoreObserver {
  public:
-  MainObserver(SdNotifier* notifier, CoreObserver* board) : notifier_(notifier), board_(board) {}
+  MainObserver(SdNotifier* notifier, CoreObserver* board, CoreObserver* web)
+      : notifier_(notifier), board_(board), web_(web) {}
   void OnResult(const protocol::ResultSet& set, const hal::StereoFrame* frame) override {
     if (board_ != nullptr) board_->OnResult(set, frame);
+    if (web_ != nullptr) web_->OnResult(set, frame);
   }
   void OnEmcy(const protocol::Emcy& emcy) override {
     if (board_ != nullptr) board_->OnEmcy(emcy);
@@ -62,6 +65,7 @@ class MainObserver final : public CoreObserver {
   }
   void OnDataLoaded(const ModelSet& models) override {
     if (board_ != nullptr) board_->OnDataLoaded(models);
+    if (web_ != nullptr) web_->OnDataLoaded(models);
   }
   void OnAlive() override {
     (void)notifier_->Notify("WATCHDOG=1");
@@ -71,6 +75,7 @@ class MainObserver final : public CoreObserver {
  private:
   SdNotifier* notifier_;
   CoreObserver* board_;
+  CoreObserver* web_;
 };
 
 // A small YAML file (table pose, hand-eye) read and parsed; errors name the file. Boot only.
@@ -94,8 +99,10 @@ uint32_t MachineSerial() {
   return n > 0 ? Crc32(id, n) : 0;
 }
 
-// The options; returns -1 to go on, else the exit code.
-int ParseOptions(int argc, char** argv, Board* board, FwConfig* config, long* run_seconds) {
+// The options; returns -1 to go on, else the exit code. *config_path: the --config file, or
+// nullptr.
+int ParseOptions(int argc, char** argv, Board* board, FwConfig* config, long* run_seconds,
+                 const char** config_path_out) {
   const char* config_path = nullptr;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--config") && i + 1 < argc) {
@@ -133,6 +140,7 @@ int ParseOptions(int argc, char** argv, Board* board, FwConfig* config, long* ru
     const Status s = LoadConfigFile(config_path, config);
     if (!s.ok()) return Fail(*board, "configuration", s);
   }
+  *config_path_out = config_path;
   if (config->backend != board->backend()) {
     return Fail(*board, "configuration",
                 Status::Error(StatusCode::kInvalidArgument,
@@ -368,6 +376,37 @@ Status StartRecorder(const FwConfig& config, const TablePoseSource& table,
                          observer);
 }
 
+// The web page's server, once the core runs (nothing when http_bind is empty); HTTP_PORT=<n> on
+// stdout.
+Status StartWebPage(const FwConfig& config, const char* config_path, const CellGeometry& cell,
+                    FirmwareCore* core, const Recorder* recorder, const BoardDevices& devices,
+                    FileDataSource* data, web::WebService* web_page) {
+  if (config.http_bind[0] == '\0') return Status::Ok();
+  // The rig for the overlays: without one the page shows the images and results alone.
+  static StereoCalibration calibration;
+  const Result<StereoCalibration> loaded = data->LoadCalibration();
+  if (loaded.ok()) calibration = *loaded;
+  web::WebService::Running running;
+  running.core = core;
+  running.recorder = recorder;
+  running.can = devices.can;
+  running.camera = devices.camera;
+  running.calibration = loaded.ok() ? &calibration : nullptr;
+  running.output_frame = canopen::OutputFrameName(cell.output.frame);
+  // The box the pipeline bounds its features with, when one is configured: in the camera, or
+  // on the table (the board's default pose read now, once the simulated world is built).
+  static RigidTransform left_T_volume;
+  if (config.volume_set() && config.volume_frame == VolumeFrame::kCamera) {
+    left_T_volume = RigidTransform();
+    running.left_T_volume = &left_T_volume;
+  } else if (config.volume_set() && cell.table.known) {
+    left_T_volume = cell.table.at_init != nullptr ? *cell.table.at_init : cell.table.left_T_table;
+    running.left_T_volume = &left_T_volume;
+  }
+  running.config_path = config_path != nullptr ? config_path : "";
+  return web_page->Start(config, running, stdout);
+}
+
 }  // namespace
 
 bool StopRequested() { return g_stop != 0; }
@@ -376,7 +415,8 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   static FwConfig config;
   config = board->Defaults();
   long run_seconds = 0;
-  const int exit_code = ParseOptions(argc, argv, board, &config, &run_seconds);
+  const char* config_path = nullptr;
+  const int exit_code = ParseOptions(argc, argv, board, &config, &run_seconds, &config_path);
   if (exit_code >= 0) return exit_code;
   // Before any thread starts: every thread's stack is locked in full by mlock.
   {
@@ -426,7 +466,12 @@ int FirmwareMain(int argc, char** argv, Board* board) {
 
   PrefaultStack();
 
-  static MainObserver observer(&notifier, board->Observer(config, cell.output.frame));
+  // The web page's snapshot sees the boot's model data, so it exists before the core starts.
+  static web::WebService web_page;
+  const Result<CoreObserver*> web_observer = web_page.Prepare(config, cell.output.out_T_camera);
+  if (!web_observer.ok()) return Fail(*board, "web page", web_observer.status());
+  static MainObserver observer(&notifier, board->Observer(config, cell.output.frame),
+                               *web_observer);
   {
     const Status s = board->BeforeStart(config, data.get());
     if (!s.ok()) return Fail(*board, "start", s);
@@ -447,6 +492,7 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   cc.hardware_version = board->hardware_version();
   // Locked by the core once it has started (docs/memory.md, "Locked memory").
   cc.lock_memory = config.mlock;
+  cc.record_all = config.record_all;
   CoreDevices core_devices;
   core_devices.can = devices.can;
   core_devices.gpio = devices.gpio;
@@ -470,6 +516,12 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   if (!started.ok()) return Fail(*board, "start", started);
   if (!recording.ok())
     core.OnRecordFailed(recorder.start_error() != 0 ? recorder.start_error() : EIO);
+  {
+    // The sensor's work goes on without its page: said on stderr, not a reason to stop.
+    const Status s = StartWebPage(config, config_path, cell, &core, core_devices.recorder, devices,
+                                  data.get(), &web_page);
+    if (!s.ok()) std::fprintf(stderr, "%s: web page off: %s\n", board->program(), s.message());
+  }
   board->AfterStart(config, core, *data);
   (void)notifier.Notify(core.state() == FirmwareState::kFault ? "READY=1\nSTATUS=fault"
                                                               : "READY=1\nSTATUS=ready");
@@ -478,6 +530,7 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   while (!g_stop && (end_ns == 0 || MonotonicNs() < end_ns)) usleep(50'000);
 
   (void)notifier.Notify("STOPPING=1");
+  web_page.Stop();
   core.Stop();
   recorder.Stop();  // writes what the last triggers submitted
   board->Stop();

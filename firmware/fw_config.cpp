@@ -158,6 +158,11 @@ Status ValidateConfig(const FwConfig& c) {
                          "key 'volume_frame = table' needs the table pose: 'table_rotation_deg' "
                          "and 'table_origin_mm'");
   }
+  if (c.http_password[0] != '\0' && c.http_password_file[0] != '\0') {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "keys 'http_password' and 'http_password_file' both give the web "
+                         "password: keep one");
+  }
   for (int i = 0; i < 3; ++i) {
     if (!(c.volume_min_mm[i] < c.volume_max_mm[i])) {
       return Status::Error(StatusCode::kInvalidArgument,

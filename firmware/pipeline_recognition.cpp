@@ -285,6 +285,16 @@ Status PipelineRecognition::Process(const hal::StereoFrame& frame, float budget_
   set->status = result_.recognition.budget_exhausted ? protocol::ResultStatus::kTimeBudgetHit
                                                      : protocol::ResultStatus::kOk;
   set->table = TablePlaneOf(result_.table_source);
+  if (result_.table_source == TableSource::kGiven) {
+    set->left_T_table = config_.left_T_table_at_init != nullptr ? *config_.left_T_table_at_init
+                                                                : config_.left_T_table;
+  } else if (result_.table_source == TableSource::kEstimated) {
+    set->left_T_table = result_.table_estimate.left_T_table;
+  } else if (result_.table_source == TableSource::kCarried) {
+    set->left_T_table = result_.table_carry.left_T_table();
+  }
+  const PipelineTimings& t = result_.time;
+  set->stages = {t.features_ms, t.stereo_ms, t.hashing_ms, t.verify_ms, t.refine_ms, t.total_ms};
   NoteCarryChange(result_.table_carry);
   size_t n = 0;
   for (const RecognizedObject& o : result_.objects) {

@@ -13,6 +13,9 @@ FwConfig SimDefaults() {
   c.calibration[0] = '\0';  // the renderer's rig
   c.lss_store[0] = '\0';    // a desktop simulator keeps no node id
   c.mlock = false;          // nor pins its memory
+  // The web page on this machine only, on a port of its own (printed as HTTP_PORT=<n>).
+  std::memcpy(c.http_bind, "127.0.0.1", sizeof("127.0.0.1"));
+  c.http_port = 0;
   // The box over the rendered table an integrator would configure (render::kTableVolume*).
   c.sim_volume_box = true;
   c.volume_frame = VolumeFrame::kTable;

@@ -28,12 +28,7 @@ inline SetScore ScoreSetOnScene(const render::SimWorld& world, const TableView& 
   for (int i = 0; i < set.object_count; ++i) {
     const protocol::ObjectPose& p = set.objects[i];
     const Model& model = table.model(p.model_id);
-    const Eigen::Quaternionf q(float(p.cam_q_model[0]), float(p.cam_q_model[1]),
-                               float(p.cam_q_model[2]), float(p.cam_q_model[3]));
-    RigidTransform found;
-    found.R = q.normalized().toRotationMatrix();
-    found.t_mm = Eigen::Vector3f(float(p.cam_t_model_mm[0]), float(p.cam_t_model_mm[1]),
-                                 float(p.cam_t_model_mm[2]));
+    const RigidTransform found = protocol::PoseTransform(p);
     const Eigen::Vector3f centroid = ModelCentroid(model);
     bool matched = false;
     for (size_t k = 0; k < g.scene.objects.size() && !matched; ++k) {

@@ -46,7 +46,8 @@ NODE = 1
 
 
 class Firmware:
-    """stereohash-fw-sim and its stdout lines (SOCKETCAND_PORT, MODELS, RESULT, EMCY, STATE)."""
+    """stereohash-fw-sim and its stdout lines (SOCKETCAND_PORT, MODELS, RESULT, EMCY, STATE,
+    HTTP_PORT)."""
 
     def __init__(self, binary, config_text):
         self.config = tempfile.NamedTemporaryFile("w", suffix=".conf", delete=False)
@@ -59,8 +60,10 @@ class Firmware:
         self.emcys = queue.Queue()
         self.models = None
         self.port = None
+        self.http_port = None  # the web page's, printed once the core runs
         self.stderr_lines = []
         port_seen, models_seen = threading.Event(), threading.Event()
+        self.http_seen = threading.Event()
 
         def read_stdout():
             for line in self.proc.stdout:
@@ -75,8 +78,12 @@ class Firmware:
                     self.results.put(json.loads(line.split(" ", 1)[1]))
                 elif line.startswith("EMCY "):
                     self.emcys.put(json.loads(line.split(" ", 1)[1]))
+                elif line.startswith("HTTP_PORT="):
+                    self.http_port = int(line.split("=", 1)[1])
+                    self.http_seen.set()
             port_seen.set()
             models_seen.set()
+            self.http_seen.set()
 
         def read_stderr():
             for line in self.proc.stderr:

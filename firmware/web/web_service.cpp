@@ -1,0 +1,79 @@
+#include "firmware/web/web_service.hpp"
+
+#include <string>
+
+#include "firmware/web/core_target.hpp"
+#include "firmware/web/http_server.hpp"
+#include "firmware/web/live_snapshot.hpp"
+#include "firmware/web/web_app.hpp"
+#include "firmware/web/web_auth.hpp"
+#include "firmware/web/web_settings.hpp"
+
+namespace sh::fw::web {
+
+class WebServiceParts {
+ public:
+  LiveSnapshot snapshot;
+  WebAuth auth;
+  std::unique_ptr<WebSettings> settings;
+  std::unique_ptr<CoreTarget> target;
+  std::unique_ptr<WebApp> app;
+  HttpServer server;
+  StereoCalibration calibration;
+  std::string record_dir, output_frame;
+};
+
+WebService::WebService() = default;
+WebService::~WebService() { Stop(); }
+
+Result<CoreObserver*> WebService::Prepare(const FwConfig& config,
+                                          const RigidTransform& out_T_camera) {
+  if (config.http_bind[0] == '\0') return static_cast<CoreObserver*>(nullptr);
+  parts_ = std::make_unique<WebServiceParts>();
+  SH_RETURN_IF_ERROR(parts_->snapshot.Init(out_T_camera.Inverse()));
+  return static_cast<CoreObserver*>(&parts_->snapshot);
+}
+
+Status WebService::Start(const FwConfig& config, const Running& running, std::FILE* announce) {
+  if (parts_ == nullptr) return Status::Ok();
+  WebServiceParts& p = *parts_;
+  std::string hash;
+  if (config.http_password_file[0] != '\0') {
+    SH_ASSIGN_OR_RETURN(hash, ReadPasswordHashFile(config.http_password_file));
+  }
+  SH_RETURN_IF_ERROR(p.auth.Configure(config.http_password, hash.c_str()));
+  p.settings = std::make_unique<WebSettings>(config, running.config_path);
+  p.target =
+      std::make_unique<CoreTarget>(running.core, running.recorder, running.can, running.camera);
+  p.record_dir = config.record_dir;
+  p.output_frame = running.output_frame;
+  WebAppConfig ac;
+  ac.record_dir = p.record_dir.c_str();
+  ac.output_frame = p.output_frame.c_str();
+  if (running.calibration != nullptr) {
+    p.calibration = *running.calibration;
+    ac.calibration = &p.calibration;
+  }
+  if (running.left_T_volume != nullptr) {
+    ac.volume = true;
+    ac.left_T_volume = *running.left_T_volume;
+    for (int k = 0; k < 3; ++k) {
+      ac.volume_min_mm[k] = config.volume_min_mm[k];
+      ac.volume_max_mm[k] = config.volume_max_mm[k];
+    }
+  }
+  p.app = std::make_unique<WebApp>(ac, &p.auth, p.settings.get(), &p.snapshot, p.target.get());
+  HttpServerConfig sc;
+  sc.bind_address = config.http_bind;
+  sc.port = static_cast<uint16_t>(config.http_port);
+  SH_RETURN_IF_ERROR(p.server.Start(sc, p.app.get()));
+  std::fprintf(announce, "HTTP_PORT=%u\n", p.server.port());
+  std::fflush(announce);
+  return Status::Ok();
+}
+
+void WebService::Stop() {
+  if (parts_ != nullptr) parts_->server.Stop();
+}
+
+}  // namespace sh::fw::web

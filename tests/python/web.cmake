@@ -1,0 +1,12 @@
+# The commissioning web page under hostile clients (many connections, slowloris, oversized
+# requests, path traversal, writes without a login, a request flood) while a PLC triggers over
+# CAN: every trigger answered, heartbeats in every phase, nothing written.
+if(TARGET stereohash-fw-sim)
+  add_test(NAME python_web_hostile
+           COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_web_hostile.py
+                   --firmware $<TARGET_FILE:stereohash-fw-sim>)
+  set_tests_properties(python_web_hostile PROPERTIES TIMEOUT 300)
+  if(CMAKE_CROSSCOMPILING)
+    set_tests_properties(python_web_hostile PROPERTIES LABELS host_only)
+  endif()
+endif()
