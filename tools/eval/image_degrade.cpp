@@ -13,28 +13,17 @@ namespace {
 constexpr float kMaxNoiseSigma = 64.0f;
 constexpr float kMinGain = 0.05f, kMaxGain = 20.0f;
 
-// Separable Gaussian of one channel plane, borders replicated.
-void BlurPlane(const GaussianKernel& k, int width, int height, std::vector<float>& plane) {
-  std::vector<float> tmp(plane.size());
-  auto at = [](int i, int n) { return std::clamp(i, 0, n - 1); };
+// Defocus of one channel with the front end's own separable Gaussian (borders replicated):
+// the rows of the 8-bit channel, then each output row from the filtered rows.
+void BlurChannel(const GaussianKernel& k, int width, int height, const std::vector<uint8_t>& grey,
+                 std::vector<float>& plane) {
+  std::vector<float> rows(plane.size());
+  const ImageView<float> filtered{rows.data(), width, height, width};
+  FilterRows(ConstGrayView{grey.data(), width, height, width}, &k, filtered, nullptr, {}, nullptr,
+             {});
+  const ImageView<const float> in{rows.data(), width, height, width};
   for (int y = 0; y < height; ++y) {
-    const float* row = &plane[static_cast<size_t>(y) * width];
-    for (int x = 0; x < width; ++x) {
-      float sum = k.taps[0] * row[x];
-      for (int d = 1; d <= k.radius; ++d)
-        sum += k.taps[d] * (row[at(x - d, width)] + row[at(x + d, width)]);
-      tmp[static_cast<size_t>(y) * width + x] = sum;
-    }
-  }
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      float sum = k.taps[0] * tmp[static_cast<size_t>(y) * width + x];
-      for (int d = 1; d <= k.radius; ++d) {
-        sum += k.taps[d] * (tmp[static_cast<size_t>(at(y - d, height)) * width + x] +
-                            tmp[static_cast<size_t>(at(y + d, height)) * width + x]);
-      }
-      plane[static_cast<size_t>(y) * width + x] = sum;
-    }
+    FilterColumnRow(in, k, y, &plane[static_cast<size_t>(y) * width]);
   }
 }
 
@@ -74,9 +63,14 @@ Status DegradeImage(const ImageDegradation& d, uint64_t seed, int width, int hei
   const float read_var = 0.5f * d.noise_sigma * d.noise_sigma;
   const float shot_var_per_level = d.noise_sigma * d.noise_sigma / 256.0f;
   std::vector<float> plane(n);
+  std::vector<uint8_t> channel(n);
   for (int c = 0; c < channels; ++c) {
-    for (size_t i = 0; i < n; ++i) plane[i] = pixels[i * channels + c];
-    if (d.blur_sigma_px > 0.0f) BlurPlane(kernel, width, height, plane);
+    for (size_t i = 0; i < n; ++i) channel[i] = pixels[i * channels + c];
+    if (d.blur_sigma_px > 0.0f) {
+      BlurChannel(kernel, width, height, channel, plane);
+    } else {
+      plane.assign(channel.begin(), channel.end());
+    }
     const uint64_t stream = render::Mix64(seed ^ (0x51ed27u * static_cast<uint64_t>(c + 1)));
     for (size_t i = 0; i < n; ++i) {
       float v = std::min(255.0f, plane[i] * d.gain);
@@ -91,7 +85,7 @@ Status DegradeImage(const ImageDegradation& d, uint64_t seed, int width, int hei
 }
 
 uint64_t DegradationSeed(const char* scene_name, int camera) {
-  uint64_t h = 0x6a09e667f3bcc909ull;  // FNV-style fold of the name through the mixer
+  uint64_t h = 0x6a09e667f3bcc909ull;  // each byte of the name folded in through the mixer
   for (const char* p = scene_name; *p != '\0'; ++p) {
     h = render::Mix64(h ^ static_cast<unsigned char>(*p));
   }
