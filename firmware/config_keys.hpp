@@ -161,8 +161,8 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
        "folder for recordings of triggered pairs with their results; empty = off")                 \
   INT(record_max, int, 100, 1, kMaxRecordPairs, "", "recordings kept (the last ones)")             \
   CHOICE(record_format, RecordFormat, RecordFormat::kPng, "png|pgm",                                \
-         "image files of the recordings: png, or pgm (raw: about 30 times faster to write, 3 "     \
-         "times larger)")                                                                          \
+         "image files of the recordings: png (libpng's fast deflate), or pgm (raw: several "       \
+         "times faster to write, about twice as large)")                                           \
   BOOL(record_all, true,                                                                           \
        "record_dir: keep every triggered pair; false: only the pairs asked for on the web page "   \
        "(record the next N pairs)")                                                                \

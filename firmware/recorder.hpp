@@ -7,8 +7,8 @@
 //   DIR/settings.conf        the recognition settings in use, as firmware configuration lines
 //                            (background = auto|dark|light): the replays recognise with them
 //   DIR/<n>/left.png         n: 8 digits, counting up across restarts; the last record_max kept
-//   DIR/<n>/right.png        (.pgm with record_format = pgm: 30 times faster to write, 3 times
-//                            larger); on one camera only the image of the camera in use
+//   DIR/<n>/right.png        (.pgm with record_format = pgm: several times faster to write,
+//                            twice as large); on one camera only the image of the camera in use
 //   DIR/<n>/result.json      the result set as sent (sequence, request id, status, time, frame,
 //                            objects with model, pose, score), image timestamps, the
 //                            detector preset (background)
