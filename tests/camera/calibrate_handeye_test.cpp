@@ -30,7 +30,7 @@ namespace {
 
 constexpr int kCols = 5, kRows = 4;  // inner corners; different parity: no half-turn ambiguity
 constexpr double kSquareMm = 20.0;
-constexpr int kStations = 12;
+constexpr int kStations = 8;
 
 using Iso = Eigen::Isometry3d;
 

@@ -57,8 +57,10 @@ class FaintEdgeTest : public ::testing::Test, protected testing::CubeAndStarScen
   static constexpr float kNoiseSigma = 2.0f;
 
   void SetUp() override {
-    regions_[0] = RenderRegions(LeftView(calib), {cube_pose});
-    regions_[1] = RenderRegions(RightView(calib), {cube_pose});
+    // The cube's region maps are the same for every case: drawn once for the suite.
+    static const std::vector<int> kRegions[2] = {RenderRegions(LeftView(calib), {cube_pose}),
+                                                 RenderRegions(RightView(calib), {cube_pose})};
+    regions_ = kRegions;
     config_.faint_edges = true;
     config_.min_fraction = 0.55f;
   }
@@ -79,7 +81,7 @@ class FaintEdgeTest : public ::testing::Test, protected testing::CubeAndStarScen
     return Verify(hypothesis, shading, kNoiseSigma, kNoiseSigma, config_);
   }
 
-  std::vector<int> regions_[2];
+  const std::vector<int>* regions_ = nullptr;
   VerifyConfig config_;
   EdgeMapBuffer empty_left_{calib.left.width, calib.left.height};
   EdgeMapBuffer empty_right_{calib.right.width, calib.right.height};
