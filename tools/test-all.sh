@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
-# The whole test suite: host build with every unit, integration and peer (python-can,
-# canmatrix, node-canopen, OpenCV) test; clang-tidy; the libFuzzer targets replaying and extending
-# their committed corpora; the aarch64 board build, cross-compiled, with its tests run under
-# qemu-aarch64; the unit, pipeline and firmware tests again under AddressSanitizer with
-# UndefinedBehaviorSanitizer; and every test that runs threads under ThreadSanitizer. Every stage
-# runs; none is skipped for time. Prints how long each stage took.
+# The whole test suite: the host release build with its end-to-end and peer tests (python-can,
+# canmatrix, node-canopen, OpenCV, Chromium and Firefox); clang-tidy; every unit, pipeline and
+# firmware test under AddressSanitizer with UndefinedBehaviorSanitizer, and every test that runs
+# threads under ThreadSanitizer; the libFuzzer targets replaying and extending their committed
+# corpora; the aarch64 board build, cross-compiled, with its tests run under qemu-aarch64. Every
+# stage runs; none is skipped for time. Prints how long each stage took.
 #
 #   tools/test-all.sh             everything (installs its own dependencies)
-#   tools/test-all.sh --quick     the everyday loop: incremental host build and the host tests
+#   tools/test-all.sh --quick     the everyday loop: incremental host release build and every
+#                                 test in it, the unit tests included
 #   tools/test-all.sh --no-cross  everything but the aarch64 stages
 #   STEREOHASH_TIDY_BASE=REV      clang-tidy on the sources changed since REV (default HEAD~10, the
 #                                 latest landings; "all": every source)
@@ -62,8 +63,15 @@ finish() {
   fi
 }
 
+# The quick loop builds and runs every test in the release configuration. The full run builds the
+# GoogleTest programs labelled unit in the configurations that check more than the release one
+# can: ASan+UBSan (every one), TSan (those that run threads) and the board build under qemu; its
+# release build is the programs, tools and benchmarks with the end-to-end tests that drive them
+# (python-can, node-canopen, the browsers, the tool tests labelled host_only).
+unit_in_release=OFF
+[ "$mode" = quick ] && unit_in_release=ON
 stage "host build"
-cmake --preset host-release >/dev/null
+cmake --preset host-release -DSTEREOHASH_UNIT_TESTS=$unit_in_release >/dev/null
 cmake --build --preset host-release -j "$jobs"
 
 stage "host tests"
