@@ -394,8 +394,8 @@ Status WritePngFile(const char* path, const uint8_t* pixels, int width, int heig
   image.image.height = static_cast<png_uint_32>(height);
   image.image.format = channels == 1 ? PNG_FORMAT_GRAY : PNG_FORMAT_RGB;
   // Recorded pairs and rendered sets are written once per frame and read back by our own tools:
-  // libpng's fast setting spends a fraction of the default deflate time for files about a quarter
-  // larger, which keeps the recorder's writer thread ahead of the camera on the board.
+  // libpng's fast setting takes a half to a quarter of the default deflate time for files up to a
+  // quarter larger, so the recorder's writer thread keeps up with more triggers.
   image.image.flags = PNG_IMAGE_FLAG_FAST;
   if (!png_image_write_to_file(&image.image, path, 0, pixels, stride_bytes, nullptr)) {
     return Status::Error(StatusCode::kUnavailable, "cannot write %s: %s", path,
