@@ -1,6 +1,7 @@
-// Preloaded (LD_PRELOAD) into the host build's test programs that are not marked THREADS: a
-// program that starts a thread stops with a message naming the test, so that every test that runs
-// threads is in the ThreadSanitizer run (which selects the THREADS mark). The guard removes itself
+// Preloaded (LD_PRELOAD) into the host build's test programs that are not marked THREADS, and into
+// the part of a program with THREAD_CASES that runs the other cases: a program that starts a
+// thread stops with a message naming the test, so that every test that runs threads is in the
+// ThreadSanitizer run (which selects the THREADS mark). The guard removes itself
 // from the environment at start, so programs a test starts (stereohash, the simulator) are free
 // to run their own threads.
 #define _GNU_SOURCE
@@ -27,8 +28,9 @@ __attribute__((constructor)) static void ForgetPreload(void) {
 int pthread_create(pthread_t* thread, const pthread_attr_t* attr, void* (*start)(void*),
                    void* arg) {
   static const char kMessage[] =
-      "thread guard: this test starts a thread, but its program is not marked THREADS in its "
-      "CMakeLists.txt (stereohash_add_test), so ThreadSanitizer would not run it:\n  ";
+      "thread guard: this test starts a thread, but neither is its program marked THREADS nor "
+      "its case named in THREAD_CASES in its CMakeLists.txt (stereohash_add_test), so "
+      "ThreadSanitizer would not run it:\n  ";
   (void)thread;
   (void)attr;
   (void)start;
