@@ -20,6 +20,7 @@
 
 #include "firmware/board.hpp"
 #include "firmware/demo_client.hpp"
+#include "firmware/recorded_settings.hpp"
 #include "firmware/result_json.hpp"
 #include "firmware/sim_config.hpp"
 #include "firmware/truth_recognition.hpp"
@@ -30,6 +31,8 @@
 #include "hal/sim/socketcand_server.hpp"
 #include "hal/sim/world/sim_world.hpp"
 #include "recog/base/printable.hpp"
+#include "recog/camera/table_yaml.hpp"
+#include "tables/input_file.hpp"
 
 namespace sh::fw {
 namespace {
@@ -217,6 +220,9 @@ class SimBoard final : public Board {
       dc.loop = true;  // each trigger plays the next pair, from the first again after the last
       directory_camera_ = std::make_unique<hal::DirectoryCamera>(dc);
       devices->camera = directory_camera_.get();
+      // Without its table the replay still runs, bounded as a cell without a table file is.
+      const Status rig = LoadRigTable(config);
+      if (!rig.ok()) std::fprintf(stderr, "%s: replay: %s\n", program(), rig.message());
       return Status::Ok();
     }
     if (config.models_dir[0] != '\0') {
@@ -261,6 +267,7 @@ class SimBoard final : public Board {
     return rendered_ ? &world_calibration_ : nullptr;
   }
   const RigidTransform* DefaultTablePose(bool* known_now) const override {
+    if (replayed_rig_table_) return &rig_T_table_;  // the table the recording was bounded by
     if (!rendered_) return nullptr;
     *known_now = world_.built();
     return &world_.left_T_table();  // the rendered rig's table
@@ -331,20 +338,40 @@ class SimBoard final : public Board {
     return ApplyRecordedSettings(config);
   }
 
-  // A recording's settings.conf names the preset its results were recognised with: without a
-  // `background` line of its own the replay takes it, or its edges and poses differ from the
-  // recorded ones.
+  // A recording's settings.conf gives the settings its results were recognised with (preset,
+  // working volume, table estimate, one-camera fallback: recorded_settings.hpp). The replay takes
+  // each that its own file does not give, or its edges and poses differ from the recorded ones.
   static Status ApplyRecordedSettings(FwConfig* config) {
     char path[kConfigPathMax];
     if (!JoinPath(path, sizeof(path), config->camera_directory, "settings.conf")) {
       return Status::Error(StatusCode::kInvalidArgument, "camera_directory %s is too long",
                            config->camera_directory);
     }
-    if (config->Given(ConfigKeyId::background) || access(path, R_OK) != 0) return Status::Ok();
+    if (access(path, R_OK) != 0) return Status::Ok();
     static FwConfig recorded;  // large: kept off the stack, read once at boot
     recorded = SimDefaults();
     SH_RETURN_IF_ERROR(LoadConfigFile(path, &recorded));
-    config->background = recorded.background;
+    TakeRecordedSettings(recorded, config);
+    return Status::Ok();
+  }
+
+  // A recording of the simulator carries the rendered table its volume was bounded by and its
+  // one-camera fallback measured on (rig_table.yaml): the replay's own table in that same role,
+  // unless the configuration gives one.
+  Status LoadRigTable(const FwConfig& config) {
+    char path[kConfigPathMax];
+    if (!JoinPath(path, sizeof(path), config.camera_directory, "rig_table.yaml")) {
+      return Status::Error(StatusCode::kInvalidArgument, "camera_directory %s is too long",
+                           config.camera_directory);
+    }
+    if (access(path, R_OK) != 0) return Status::Ok();
+    static char text[kMaxTableYamlBytes];
+    size_t n = 0;
+    SH_RETURN_IF_ERROR(ReadInputFile(path, "table pose", text, sizeof(text), &n));
+    const Result<RigidTransform> pose = ParseTableYaml(text, n);
+    if (!pose.ok()) return pose.status().WithContext("%s", path);
+    rig_T_table_ = *pose;
+    replayed_rig_table_ = true;
     return Status::Ok();
   }
 
@@ -364,7 +391,9 @@ class SimBoard final : public Board {
 
   render::SimWorld world_;
   WorldCalibration world_calibration_{&world_};
-  bool rendered_ = false;  // the cameras are the simulated world's (not recorded pairs)
+  bool rendered_ = false;            // the cameras are the simulated world's (not recorded pairs)
+  RigidTransform rig_T_table_;       // a replayed recording's rig_table.yaml
+  bool replayed_rig_table_ = false;  // ... read
   std::unique_ptr<hal::SimCamera> camera_;
   std::unique_ptr<hal::DirectoryCamera> directory_camera_;
   std::unique_ptr<TruthRecognition> truth_;

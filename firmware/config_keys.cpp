@@ -210,6 +210,11 @@ const ConfigKey* FindConfigKey(const char* name) {
   return nullptr;
 }
 
+void CopyConfigKey(const ConfigKey& key, const FwConfig& from, FwConfig* to) {
+  std::memcpy(FieldOf(key, to), FieldOf(key, from), key.size);
+  to->given.Add(static_cast<size_t>(&key - kKeys));
+}
+
 Status ApplyConfigKey(const ConfigKey& key, const char* value, FwConfig* config) {
   uint8_t* field = FieldOf(key, config);
   switch (key.type) {

@@ -271,6 +271,9 @@ const ConfigKey* FindConfigKey(const char* name);
 // was expected ("expected an integer in 1..127"); the caller adds the line and key.
 Status ApplyConfigKey(const ConfigKey& key, const char* value, FwConfig* config);
 
+// The key's value in `from` copied into *to, and marked given there as if *to's file gave it.
+void CopyConfigKey(const ConfigKey& key, const FwConfig& from, FwConfig* to);
+
 // The key's value in *config as it would be written in a file.
 void FormatConfigValue(const ConfigKey& key, const FwConfig& config, char* out, size_t capacity);
 

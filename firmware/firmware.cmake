@@ -6,11 +6,11 @@
 # The core and the simulator pieces are libraries so the tests drive them in-process.
 stereohash_module(stereohash_fw_core
   SOURCES fw_config.cpp config_keys.cpp firmware_core.cpp can_health.cpp canopen_node.cpp
-          output_frame.cpp node_id_file.cpp recorder.cpp data_source.cpp realtime.cpp sd_notify.cpp
-          core_host_control.cpp
+          output_frame.cpp node_id_file.cpp recorder.cpp recorded_settings.cpp data_source.cpp
+          realtime.cpp sd_notify.cpp core_host_control.cpp
   HEADERS fw_config.hpp config_keys.hpp firmware_core.hpp can_health.hpp canopen_node.hpp
-          output_frame.hpp node_id_file.hpp recorder.hpp data_source.hpp recognition.hpp
-          realtime.hpp sd_notify.hpp
+          output_frame.hpp node_id_file.hpp recorder.hpp recorded_settings.hpp data_source.hpp
+          recognition.hpp realtime.hpp sd_notify.hpp
   PUBLIC stereohash_can_protocol stereohash_canopen stereohash_hal_can stereohash_hal_gpio
          stereohash_hal_camera stereohash_tables stereohash_default_tables stereohash_camera
          stereohash_geometry stereohash_base stereohash_embedded_flags Threads::Threads
@@ -57,6 +57,7 @@ add_executable(stereohash-fw-sim board_sim.cpp demo_client.cpp)
 target_link_libraries(stereohash-fw-sim PRIVATE stereohash_fw_main stereohash_fw_sim
                       stereohash_hal_can_sim stereohash_hal_gpio_sim stereohash_hal_camera_sim
                       stereohash_sim_world stereohash_can_protocol stereohash_model stereohash_base
+                      stereohash_fw_core stereohash_camera stereohash_input_file
                       stereohash_warnings)
 stereohash_headers(stereohash-fw-sim PRIVATE demo_client.hpp)
 stereohash_register(stereohash-fw-sim program)

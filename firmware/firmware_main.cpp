@@ -15,6 +15,7 @@
 #include "firmware/node_id_file.hpp"
 #include "firmware/pipeline_recognition.hpp"
 #include "firmware/realtime.hpp"
+#include "firmware/recorded_settings.hpp"
 #include "firmware/recorder.hpp"
 #include "firmware/sd_notify.hpp"
 #include "firmware/web/web_service.hpp"
@@ -370,8 +371,13 @@ Status StartRecorder(const FwConfig& config, const TablePoseSource& table,
                                                                : "dark";
   rc.model_names = names;
   rc.model_count = n_names;
-  // table.yaml only for a configured table: recognition checks hypotheses against it, so a
-  // recording replays as recognised (the rendered rig's table only bounds the volume).
+  rc.settings = RecordedSettings(config);
+  // table.yaml only for a configured table: recognition checks hypotheses against it. The board's
+  // own table (the rendered rig's) only bounds the volume and serves one camera: rig_table.yaml,
+  // which a replay takes in that role.
+  if (!table.configured && table.known && table.known_now) {
+    rc.rig_T_table = table.at_init != nullptr ? table.at_init : &table.left_T_table;
+  }
   return recorder->Start(rc, calibration, table.configured ? &table.left_T_table : nullptr,
                          observer);
 }

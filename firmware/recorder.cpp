@@ -142,20 +142,21 @@ Status Recorder::StartWriting(const StereoCalibration& calibration,
   }
   // The settings beside the calibration, in the configuration's own syntax, so that a replay
   // (camera = directory, recognize --scene) reads them as the firmware reads its file.
-  const int length = std::snprintf(yaml, sizeof(yaml),
-                                   "# the recognition settings of this recording\n"
-                                   "background = %s\n",
-                                   config_.background);
-  if (!WriteFile(Path(config_.directory.c_str(), "settings.conf").c_str(), yaml,
-                 static_cast<size_t>(length))) {
+  if (!WriteFile(Path(config_.directory.c_str(), "settings.conf").c_str(), config_.settings.data(),
+                 config_.settings.size())) {
     return Status::Error(StatusCode::kUnavailable, "record_dir %s: cannot write settings.conf: %s",
                          config_.directory.c_str(), std::strerror(errno));
   }
-  if (left_T_table != nullptr) {
-    n = WriteTableYaml(*left_T_table, yaml, sizeof(yaml));
-    if (n.ok() && !WriteFile(Path(config_.directory.c_str(), "table.yaml").c_str(), yaml, *n)) {
-      return Status::Error(StatusCode::kUnavailable, "record_dir %s: cannot write table.yaml: %s",
-                           config_.directory.c_str(), std::strerror(errno));
+  const struct {
+    const RigidTransform* pose;
+    const char* file;
+  } tables[] = {{left_T_table, "table.yaml"}, {config_.rig_T_table, "rig_table.yaml"}};
+  for (const auto& table : tables) {
+    if (table.pose == nullptr) continue;
+    n = WriteTableYaml(*table.pose, yaml, sizeof(yaml));
+    if (n.ok() && !WriteFile(Path(config_.directory.c_str(), table.file).c_str(), yaml, *n)) {
+      return Status::Error(StatusCode::kUnavailable, "record_dir %s: cannot write %s: %s",
+                           config_.directory.c_str(), table.file, std::strerror(errno));
     }
   }
   // Continue the numbering of an earlier run; keep room for max_pairs - 1 of its pairs.

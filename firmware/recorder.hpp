@@ -3,9 +3,13 @@
 // the recording replays it, `stereohash recognize --scene DIR/<n>` recognises one pair.
 //
 //   DIR/calib.yaml           the calibration in use (written at start)
-//   DIR/table.yaml           the table pose, if one is known
+//   DIR/table.yaml           the table pose, if the configuration gives one
+//   DIR/rig_table.yaml       the table the board knows without configuration (the simulator's
+//                            rendered table): it bounds the working volume and serves the
+//                            one-camera fallback, and the replay takes it in that role only
 //   DIR/settings.conf        the recognition settings in use, as firmware configuration lines
-//                            (background = auto|dark|light): the replays recognise with them
+//                            (recorded_settings.hpp: preset, working volume, table estimate,
+//                            one-camera fallback): the replays recognise with them
 //   DIR/<n>/left.png         n: 8 digits, counting up across restarts; the last record_max kept
 //   DIR/<n>/right.png        (.pgm with record_format = pgm: several times faster to write,
 //                            twice as large); on one camera only the image of the camera in use
@@ -55,6 +59,10 @@ struct RecorderConfig {
   // The detector preset the results were recognised with, as the `background` key's value: a
   // replay with another preset finds other edges and so other poses.
   const char* background = "auto";
+  // settings.conf's text (RecordedSettings): every setting that shaped the results.
+  std::string settings;
+  // The board's own table (rig_table.yaml), or nullptr: none, or the table is configured.
+  const RigidTransform* rig_T_table = nullptr;
   const char* const* model_names = nullptr;
   int model_count = 0;
 };

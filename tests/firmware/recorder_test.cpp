@@ -16,8 +16,10 @@
 #include <string>
 #include <vector>
 
+#include "firmware/recorded_settings.hpp"
 #include "hal/sim/image_files.hpp"
 #include "recog/camera/calibration_yaml.hpp"
+#include "recog/camera/table_yaml.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace sh::fw {
@@ -100,6 +102,13 @@ TEST_F(RecorderTest, KeepsTheLastPairsInTheReplayLayoutAcrossRestarts) {
   c.model_names = names;
   c.model_count = 2;
   c.background = "light";
+  FwConfig settings;
+  settings.background = BackgroundKey::kLight;
+  c.settings = RecordedSettings(settings);
+  RigidTransform rig_T_table;  // looked down on: the table's z axis towards the camera
+  rig_T_table.R = Eigen::AngleAxisf(3.14159265f, Eigen::Vector3f::UnitX()).toRotationMatrix();
+  rig_T_table.t_mm = Eigen::Vector3f(1.5f, -2.25f, 612.125f);
+  c.rig_T_table = &rig_T_table;
   {
     Recorder r;
     ASSERT_TRUE(r.Start(c, calib_, nullptr, &observer_).ok());
@@ -130,6 +139,11 @@ TEST_F(RecorderTest, KeepsTheLastPairsInTheReplayLayoutAcrossRestarts) {
   ASSERT_TRUE(back.ok()) << back.status().message();
   EXPECT_DOUBLE_EQ(back->left.fx, 60.0);
   EXPECT_FALSE(Exists(dir_ + "/table.yaml"));
+  // The board's own table, for the replay to bound its volume by.
+  const std::string rig = ReadText(dir_ + "/rig_table.yaml");
+  const Result<RigidTransform> rig_back = ParseTableYaml(rig.data(), rig.size());
+  ASSERT_TRUE(rig_back.ok()) << rig_back.status().message();
+  EXPECT_EQ(rig_back->t_mm, rig_T_table.t_mm);
 
   // A restart continues the numbering and still keeps four.
   c.directory = dir_;
@@ -222,6 +236,35 @@ TEST(ResultJson, ModelNamesAreEscaped) {
   char out[1024];
   ASSERT_GT(FormatResultJson(set, "camera", "dark", names, 1, stamps, out, sizeof(out)), 0u);
   EXPECT_NE(std::string(out).find("\"model\": \"cu\\\"be\\\\x\\u0001\""), std::string::npos) << out;
+}
+
+// What a recording's settings.conf says is read back as configuration, and a replay takes each
+// setting its own file does not give.
+TEST(RecordedSettings, AReplayTakesWhatItsOwnFileDoesNotGive) {
+  static FwConfig live, recorded, replay;  // large: off the stack
+  const std::string live_text =
+      "background = light\nvolume_frame = table\nvolume_min_mm = -150 -100 -5\n"
+      "volume_max_mm = 150.5 100 120\ntable_estimate = per_frame\nmono_fallback = false\n"
+      "threads = 2\n";
+  ASSERT_TRUE(ParseConfig(live_text.data(), live_text.size(), &live).ok());
+  const std::string text = RecordedSettings(live);
+  EXPECT_EQ(text.find("threads"), std::string::npos) << text;  // results do not depend on it
+  ASSERT_TRUE(ParseConfig(text.data(), text.size(), &recorded).ok()) << text;
+  const std::string replay_text = "background = dark\n";
+  ASSERT_TRUE(ParseConfig(replay_text.data(), replay_text.size(), &replay).ok());
+  TakeRecordedSettings(recorded, &replay);
+  EXPECT_EQ(replay.background, BackgroundKey::kDark);  // the replay's own file wins
+  EXPECT_EQ(replay.volume_frame, VolumeFrame::kTable);
+  EXPECT_TRUE(replay.volume_set());
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(replay.volume_min_mm[k], live.volume_min_mm[k]) << k;
+    EXPECT_EQ(replay.volume_max_mm[k], live.volume_max_mm[k]) << k;
+  }
+  EXPECT_EQ(replay.table_estimate, TableEstimateKey::kPerFrame);
+  EXPECT_FALSE(replay.mono_fallback);
+  EXPECT_EQ(replay.threads, FwConfig().threads);
+  // Without a working volume the recording names none, and the replay keeps its own.
+  EXPECT_EQ(RecordedSettings(FwConfig()).find("volume"), std::string::npos);
 }
 
 }  // namespace

@@ -1,0 +1,23 @@
+// The settings a recording carries in DIR/settings.conf (recorder.hpp): every configuration key
+// that shapes a result beyond the images themselves, so that a replay (camera = directory in the
+// simulator) recognises each pair as the recording did. They are the detector preset, the working
+// volume, the table estimate and the one-camera fallback. The table the volume was bounded by
+// travels beside them: table.yaml when the configuration gave it, rig_table.yaml when it was the
+// board's own (the simulator's rendered table).
+#pragma once
+
+#include <string>
+
+#include "firmware/fw_config.hpp"
+
+namespace sh::fw {
+
+// settings.conf's text: a comment, then `key = value` lines in the configuration's own syntax.
+// The volume keys only when a volume is set (given, or the simulator's box over its table).
+std::string RecordedSettings(const FwConfig& config);
+
+// The recorded keys that `recorded` (settings.conf read over the defaults) gives and `config`
+// does not, copied into *config as if its file gave them: a replay's own file wins.
+void TakeRecordedSettings(const FwConfig& recorded, FwConfig* config);
+
+}  // namespace sh::fw
