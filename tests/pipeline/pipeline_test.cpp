@@ -249,7 +249,7 @@ TEST_F(PipelineTest, SearchOnMoreThreadsGivesWhatOneGives) {
       PipelineResult result[3];
       HypothesisLog log[3];
       for (int threads = 1; threads <= 3; ++threads) {
-        PipelineConfig config = OneThread(PipelineConfig::Automatic());
+        PipelineConfig config = PipelineConfig::Automatic();
         config.threads = threads;
         ASSERT_TRUE(pipeline_->Init(pair->generated.calib, *table_, config).ok());
         pipeline_->SetSearchObserver(&log[threads - 1]);
