@@ -117,8 +117,6 @@ long long LoadInt(const uint8_t* field, size_t size, bool is_signed) {
   }
 }
 
-bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r'; }
-
 // The index of `value` among the '|'-separated names, or -1.
 int ChoiceIndex(const char* choices, const char* value) {
   const size_t n = std::strlen(value);
@@ -176,7 +174,7 @@ bool ParseBool(const char* text, bool* out) {
 bool ParseVec3(const char* text, float out[3]) {
   const char* p = text;
   for (int i = 0; i < 3; ++i) {
-    while (IsSpace(*p) || *p == ',') ++p;
+    while (IsConfigBlank(*p) || *p == ',') ++p;
     char* end = nullptr;
     errno = 0;
     const double v = std::strtod(p, &end);
@@ -184,7 +182,7 @@ bool ParseVec3(const char* text, float out[3]) {
     out[i] = static_cast<float>(v);
     p = end;
   }
-  while (IsSpace(*p)) ++p;
+  while (IsConfigBlank(*p)) ++p;
   return *p == '\0';
 }
 

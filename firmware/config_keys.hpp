@@ -261,6 +261,10 @@ struct ConfigKey {
   const char* help;
 };
 
+// The blanks of a settings file around keys, values and list items: space, tab, and the carriage
+// return of a file saved on Windows.
+inline bool IsConfigBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
 // The keys in documentation order; index = ConfigKeyId.
 const ConfigKey* ConfigKeys();
 size_t ConfigKeyCount();

@@ -13,8 +13,6 @@
 namespace sh::fw {
 namespace {
 
-bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r'; }
-
 Status LineError(int line, const char* key, const char* what, const char* value) {
   char shown_key[kPrintableNameBytes], shown_value[96];
   return Status::Error(StatusCode::kInvalidArgument, "line %d: key '%s': %s (got '%s')", line,
@@ -53,10 +51,10 @@ Status ParseConfig(const char* text, size_t length, FwConfig* config) {
       return Status::Error(StatusCode::kInvalidArgument, "line %d: longer than %zu characters",
                            line, sizeof(buf) - 1);
     }
-    while (n > 0 && IsSpace(buf[n - 1])) --n;
+    while (n > 0 && IsConfigBlank(buf[n - 1])) --n;
     buf[n] = '\0';
     char* p = buf;
-    while (IsSpace(*p)) ++p;
+    while (IsConfigBlank(*p)) ++p;
     if (*p == '\0') continue;
     char* eq = std::strchr(p, '=');
     if (eq == nullptr) {
@@ -66,10 +64,10 @@ Status ParseConfig(const char* text, size_t length, FwConfig* config) {
                            Printable(p, std::strlen(p), shown, sizeof(shown)));
     }
     char* key_end = eq;
-    while (key_end > p && IsSpace(key_end[-1])) --key_end;
+    while (key_end > p && IsConfigBlank(key_end[-1])) --key_end;
     *key_end = '\0';
     char* value = eq + 1;
-    while (IsSpace(*value)) ++value;
+    while (IsConfigBlank(*value)) ++value;
     if (*p == '\0') {
       return Status::Error(StatusCode::kInvalidArgument, "line %d: missing key before '='", line);
     }

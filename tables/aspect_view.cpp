@@ -10,7 +10,7 @@
 namespace sh {
 namespace {
 
-Status Corrupt(const char* what) {
+Status CorruptAspect(const char* what) {
   return Status::Error(StatusCode::kDataLoss, "aspect table corrupt: %s", what);
 }
 
@@ -46,13 +46,13 @@ Result<AspectTableView> AspectTableView::Open(const void* blob, size_t size) {
                          "aspect table format version %u, this build reads version %u",
                          h->format_version, kAspectFormatVersion);
   }
-  if (h->header_size != sizeof(AspectHeader)) return Corrupt("header size field");
+  if (h->header_size != sizeof(AspectHeader)) return CorruptAspect("header size field");
   if (h->total_size != size) {
     return Status::Error(StatusCode::kDataLoss,
                          "aspect table truncated or padded: header says %llu bytes, got %zu",
                          static_cast<unsigned long long>(h->total_size), size);
   }
-  if (!IsValidAspectBasisKind(h->basis_kind)) return Corrupt("basis kind not 1 or 2");
+  if (!IsValidAspectBasisKind(h->basis_kind)) return CorruptAspect("basis kind not 1 or 2");
   const uint32_t crc = BlobCrc32(bytes, size, offsetof(AspectHeader, blob_crc32));
   if (crc != h->blob_crc32) {
     return Status::Error(StatusCode::kDataLoss,
@@ -60,7 +60,7 @@ Result<AspectTableView> AspectTableView::Open(const void* blob, size_t size) {
   }
   if (h->reserved0 != 0 || !AllZero(h->build.reserved, sizeof(h->build.reserved)) ||
       (h->build.flags & ~kAspectEdgeBasesOnly) != 0) {
-    return Corrupt("reserved header bits not zero");
+    return CorruptAspect("reserved header bits not zero");
   }
   if (h->n_models == 0 || h->n_models > kMaxAspectModels) {
     return Status::Error(StatusCode::kOutOfRange, "aspect table has %u models (1..%u supported)",
@@ -83,7 +83,7 @@ Result<AspectTableView> AspectTableView::Open(const void* blob, size_t size) {
       !(h->log_size_max > h->log_size_min) ||
       uint64_t{h->size_slices} * h->point_grid.bin_count() > kMaxAspectBins ||
       uint64_t{h->size_slices} * h->line_angle_slices * h->line_grid.bin_count() > kMaxAspectBins) {
-    return Corrupt("bin slices out of range");
+    return CorruptAspect("bin slices out of range");
   }
   const uint32_t point_bins = h->size_slices * h->point_grid.bin_count();
   const uint32_t line_bins = h->size_slices * h->line_angle_slices * h->line_grid.bin_count();
@@ -114,37 +114,38 @@ Result<AspectTableView> AspectTableView::Open(const void* blob, size_t size) {
   for (uint32_t i = 0; i < h->n_models; ++i) SH_RETURN_IF_ERROR(CheckModelRecord(v.models_[i], i));
   for (uint32_t i = 0; i < h->n_aspects; ++i) {
     const AspectRecord& a = v.aspects_[i];
-    if (a.model >= h->n_models) return Corrupt("aspect refers to a missing model");
+    if (a.model >= h->n_models) return CorruptAspect("aspect refers to a missing model");
     if (!AllFinite(a.dir_model, 3) || !AllFinite(a.cam_T_model, 12) ||
         !std::isfinite(a.distance_mm) || !(a.distance_mm > 0.0f) || !std::isfinite(a.radius)) {
-      return Corrupt("aspect geometry not finite");
+      return CorruptAspect("aspect geometry not finite");
     }
     if (a.first_basis > h->n_bases || a.n_bases > h->n_bases - a.first_basis) {
-      return Corrupt("aspect basis range past the bases");
+      return CorruptAspect("aspect basis range past the bases");
     }
   }
   const int n_basis_corners = BasisCornerCount(static_cast<AspectBasisKind>(h->basis_kind));
   for (uint32_t i = 0; i < h->n_bases; ++i) {
     const AspectBasis& b = v.bases_[i];
-    if (b.aspect >= h->n_aspects) return Corrupt("basis refers to a missing aspect");
+    if (b.aspect >= h->n_aspects) return CorruptAspect("basis refers to a missing aspect");
     const AspectRecord& a = v.aspects_[b.aspect];
     if (b.model != a.model || i < a.first_basis || i >= a.first_basis + a.n_bases) {
-      return Corrupt("basis and its aspect disagree");
+      return CorruptAspect("basis and its aspect disagree");
     }
     for (int k = 0; k < n_basis_corners; ++k) {
-      if (b.corners[k] >= v.models_[b.model].n_corners) return Corrupt("basis corner index");
+      if (b.corners[k] >= v.models_[b.model].n_corners) return CorruptAspect("basis corner index");
     }
-    if (!AllFinite(b.origin, 2) || !AllFinite(b.axes, 4)) return Corrupt("basis frame not finite");
+    if (!AllFinite(b.origin, 2) || !AllFinite(b.axes, 4))
+      return CorruptAspect("basis frame not finite");
     const float det = b.axes[0] * b.axes[3] - b.axes[1] * b.axes[2];
-    if (!(std::fabs(det) > 0.0f)) return Corrupt("basis frame singular");
+    if (!(std::fabs(det) > 0.0f)) return CorruptAspect("basis frame singular");
   }
   SH_RETURN_IF_ERROR(CheckBinOffsets(v.point_bins_, point_bins, h->n_point_entries, "point"));
   SH_RETURN_IF_ERROR(CheckBinOffsets(v.line_bins_, line_bins, h->n_line_entries, "line"));
   for (uint32_t i = 0; i < h->n_point_entries; ++i) {
-    if (v.point_entries_[i].basis >= h->n_bases) return Corrupt("point entry basis index");
+    if (v.point_entries_[i].basis >= h->n_bases) return CorruptAspect("point entry basis index");
   }
   for (uint32_t i = 0; i < h->n_line_entries; ++i) {
-    if (v.line_entries_[i].basis >= h->n_bases) return Corrupt("line entry basis index");
+    if (v.line_entries_[i].basis >= h->n_bases) return CorruptAspect("line entry basis index");
   }
   return v;
 }

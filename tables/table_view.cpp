@@ -11,7 +11,7 @@
 namespace sh {
 namespace {
 
-Status Corrupt(const char* what) {
+Status CorruptTable(const char* what) {
   return Status::Error(StatusCode::kDataLoss, "table blob corrupt: %s", what);
 }
 
@@ -30,7 +30,8 @@ Status CheckLimits(const TableHeader& h) {
                           h.max_line_distance_mm,  h.min_point_spacing_mm, h.max_point_spacing_mm,
                           h.min_triangle_height_mm};
   for (float f : limits) {
-    if (!std::isfinite(f) || f < 0.0f) return Corrupt("basis limits not finite and non-negative");
+    if (!std::isfinite(f) || f < 0.0f)
+      return CorruptTable("basis limits not finite and non-negative");
   }
   return Status::Ok();
 }
@@ -88,7 +89,7 @@ Result<TableView> TableView::Open(const void* blob, size_t size) {
                          "table blob format version %u, this build reads version %u",
                          h->format_version, kTableFormatVersion);
   }
-  if (h->header_size != sizeof(TableHeader)) return Corrupt("header size field");
+  if (h->header_size != sizeof(TableHeader)) return CorruptTable("header size field");
   if (h->total_size != size) {
     return Status::Error(StatusCode::kDataLoss,
                          "table blob truncated or padded: header says %llu bytes, got %zu",
@@ -99,7 +100,7 @@ Result<TableView> TableView::Open(const void* blob, size_t size) {
     return Status::Error(StatusCode::kDataLoss, "table blob corrupt: CRC-32 %08x, header says %08x",
                          crc, h->blob_crc32);
   }
-  if (!IsValidHashFunction(h->hash_function)) return Corrupt("hash function not in 1..5");
+  if (!IsValidHashFunction(h->hash_function)) return CorruptTable("hash function not in 1..5");
   SH_RETURN_IF_ERROR(CheckLimits(*h));
   if (h->n_models == 0 || h->n_models > kMaxTableModels) {
     return Status::Error(StatusCode::kOutOfRange, "table blob has %u models (1..%u supported)",
@@ -141,18 +142,18 @@ Result<TableView> TableView::Open(const void* blob, size_t size) {
     SH_RETURN_IF_ERROR(CheckModelRecord(view.models_[i], i));
   for (uint32_t i = 0; i < h->n_bases; ++i) {
     const BasisRecord& b = view.bases_[i];
-    if (b.model >= h->n_models) return Corrupt("basis refers to a missing model");
+    if (b.model >= h->n_models) return CorruptTable("basis refers to a missing model");
     for (float f : b.basis_T_model) {
-      if (!std::isfinite(f)) return Corrupt("basis transform not finite");
+      if (!std::isfinite(f)) return CorruptTable("basis transform not finite");
     }
   }
   SH_RETURN_IF_ERROR(CheckBinOffsets(view.point_bins_, point_bins, h->n_point_entries, "point"));
   SH_RETURN_IF_ERROR(CheckBinOffsets(view.line_bins_, line_bins, h->n_line_entries, "line"));
   for (uint32_t i = 0; i < h->n_point_entries; ++i) {
-    if (view.point_entries_[i].basis >= h->n_bases) return Corrupt("point entry basis index");
+    if (view.point_entries_[i].basis >= h->n_bases) return CorruptTable("point entry basis index");
   }
   for (uint32_t i = 0; i < h->n_line_entries; ++i) {
-    if (view.line_entries_[i].basis >= h->n_bases) return Corrupt("line entry basis index");
+    if (view.line_entries_[i].basis >= h->n_bases) return CorruptTable("line entry basis index");
   }
   return view;
 }

@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "recog/base/angles.hpp"
+
 namespace sh {
 
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 constexpr uint8_t kNotEdge = 0;
 constexpr uint8_t kWeak = 1;
 constexpr uint8_t kStrongPending = 2;

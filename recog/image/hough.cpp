@@ -4,13 +4,13 @@
 #include <cmath>
 #include <cstring>
 
+#include "recog/base/angles.hpp"
 #include "recog/image/gaussian.hpp"
 
 namespace sh {
 
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 // Votes are fixed point: a pixel exactly on a bin centre adds kVoteOne there. The rho position
 // is quantised to 1/kSubBins bin to index the precomputed kernel weights (error <= 1/32 px,
 // well inside the kernel width, and removed by the least-squares refinement).

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "recog/base/angles.hpp"
+
 namespace sh {
 namespace {
 
@@ -13,7 +15,6 @@ namespace {
 constexpr float kHashUnit = 1.0f / static_cast<float>(1 << 12);
 // Q2.14 unit-vector component -> float.
 constexpr float kUnitScale = 1.0f / static_cast<float>(1 << 14);
-constexpr float kPi = 3.14159265358979f;
 // x = d^2 / sigma^2 -> the vote table's fine index (UQ8.8 plus the interpolation bits).
 constexpr float kVoteIndexScale =
     static_cast<float>(1u << (kVoteIndexFractionBits + VoteTable::kInterpolationBits));

@@ -4,12 +4,11 @@
 #include <cmath>
 #include <cstring>
 
+#include "recog/base/angles.hpp"
 #include "recog/verify/inside_object.hpp"
 
 namespace sh {
 namespace {
-
-constexpr float kRadToDeg = 57.2957795f;
 
 // FNV-1a over the bytes of scene basis k and one of its hypotheses (MonoStats::votes_digest).
 uint32_t DigestVote(uint32_t digest, uint32_t k, const AspectHypothesis& h) {

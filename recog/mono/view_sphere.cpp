@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "recog/base/angles.hpp"
+
 namespace sh {
 namespace {
-
-constexpr float kDegToRad = 3.14159265358979f / 180.0f;
-constexpr float kRadToDeg = 180.0f / 3.14159265358979f;
 
 // Fixed direction that no rotation symmetry of a polyhedron keeps in place (irrational-looking
 // components, off every axis and diagonal of the reference shapes).

@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "recog/base/angles.hpp"
+
 namespace sh {
 namespace {
 
-constexpr float kRadToDeg = 57.29577951308232f;
 // Weight of the carried plane against one agreeing estimate: the mean of the first few, then a
 // slow follow of a drifting mount.
 constexpr uint32_t kMaxMergeWeight = 10;

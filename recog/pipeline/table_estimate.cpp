@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "recog/base/angles.hpp"
+
 namespace sh {
 namespace {
-
-constexpr float kDegToRad = 0.017453292519943295f;
 
 struct Plane {
   Eigen::Vector3f up = Eigen::Vector3f::UnitZ();  // unit, towards the cameras

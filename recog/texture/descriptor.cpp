@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "recog/base/angles.hpp"
+
 namespace sh::texture {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 constexpr float kTwoPi = 2.0f * kPi;
 
 // Sampling grid of the descriptor, fixed in the point's frame: sample (i, j) sits at

@@ -4,13 +4,13 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "recog/base/angles.hpp"
 #include "recog/verify/verify.hpp"
 #include "recog/verify/visible_edges.hpp"
 
 namespace sh {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 constexpr float kDelta = 1e-3f;  // finite-difference step: rad for rotation, mm for translation
 
 bool ProjectF(const CameraIntrinsics& cam, const Eigen::Vector3f& x_cam, Eigen::Vector2f* px) {

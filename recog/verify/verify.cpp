@@ -2,10 +2,11 @@
 
 #include <cmath>
 
+#include "recog/base/angles.hpp"
+
 namespace sh {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 // Axis search reach for max_distance_px = 32 at 45 degrees, the largest the config allows.
 constexpr int kMaxSearchOffset = 46;
 

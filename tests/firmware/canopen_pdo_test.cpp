@@ -15,7 +15,7 @@
 namespace sh::canopen {
 namespace {
 
-constexpr uint8_t kNode = 7;
+constexpr uint8_t kPdoNode = 7;
 
 protocol::ResultSet TwoObjects() {
   protocol::ResultSet set;
@@ -42,7 +42,7 @@ protocol::ResultSet TwoObjects() {
 
 class CanopenPdo : public ::testing::Test {
  protected:
-  CanopenPdo() { od_->ResetCommunication(kNode); }
+  CanopenPdo() { od_->ResetCommunication(kPdoNode); }
   hal::CanFrame Pack(int n) {
     hal::CanFrame f;
     const Status s = PackTpdo(*od_, n, &f);
@@ -62,7 +62,7 @@ class CanopenPdo : public ::testing::Test {
 TEST_F(CanopenPdo, HeaderAndEndTpdosEqualTheStreamEncoding) {
   const protocol::ResultSet set = TwoObjects();
   Vector<hal::CanFrame, protocol::kMaxResultFrames> frames;
-  ASSERT_TRUE(protocol::EncodeResultSet(set, kNode, frames).ok());
+  ASSERT_TRUE(protocol::EncodeResultSet(set, kPdoNode, frames).ok());
   const hal::CanFrame& end = frames[frames.size() - 1];
   ASSERT_TRUE(results_.Store(set, end.data[3]).ok());
   ExpectSameFrame(Pack(kTpdoHeader), frames[0]);
@@ -81,7 +81,7 @@ TEST_F(CanopenPdo, AckTpdoEqualsTheCommandAckEncoding) {
   ack.request_id = 0xBEEF;
   ack.value = 0x01020304;
   StoreCommandAck(od_.get(), ack);
-  const Result<hal::CanFrame> expected = protocol::EncodeCommandAck(ack, kNode);
+  const Result<hal::CanFrame> expected = protocol::EncodeCommandAck(ack, kPdoNode);
   ASSERT_TRUE(expected.ok());
   ExpectSameFrame(Pack(kTpdoAck), *expected);
 }
@@ -96,10 +96,10 @@ TEST_F(CanopenPdo, AnswersCarryTheStreamsRawPoseOfTheRequestedObject) {
   const hal::CanFrame xy = Pack(kTpdoAnswerFirst + 1);
   const hal::CanFrame zq = Pack(kTpdoAnswerFirst + 2);
   const hal::CanFrame qq = Pack(kTpdoAnswerFirst + 3);
-  EXPECT_EQ(a.id, 0x1C0u + kNode);
-  EXPECT_EQ(xy.id, 0x2C0u + kNode);
-  EXPECT_EQ(zq.id, 0x3C0u + kNode);
-  EXPECT_EQ(qq.id, 0x4C0u + kNode);
+  EXPECT_EQ(a.id, 0x1C0u + kPdoNode);
+  EXPECT_EQ(xy.id, 0x2C0u + kPdoNode);
+  EXPECT_EQ(zq.id, 0x3C0u + kPdoNode);
+  EXPECT_EQ(qq.id, 0x4C0u + kPdoNode);
   ASSERT_EQ(a.len, 8);
   EXPECT_EQ(a.data[0], 9);     // counter
   EXPECT_EQ(a.data[1], 0);     // object index
@@ -163,7 +163,7 @@ TEST_F(CanopenPdo, ResultSetIsReadableFromTheObjectRecords) {
 
 TEST_F(CanopenPdo, RequestRpdoIsUnpackedIntoTheDictionary) {
   hal::CanFrame f;
-  f.id = 0x300 + kNode;
+  f.id = 0x300 + kPdoNode;
   f.len = 2;
   f.data[0] = 42;
   f.data[1] = 5;
@@ -173,13 +173,13 @@ TEST_F(CanopenPdo, RequestRpdoIsUnpackedIntoTheDictionary) {
   EXPECT_EQ(od_->Get(kIdxObjectRequest, kSubRequestIndex), 5u);
   f.len = 1;
   EXPECT_EQ(UnpackRpdo(od_.get(), kRpdoRequest, f), SdoAbort::kLengthTooLow);
-  f.id = 0x200 + kNode;
+  f.id = 0x200 + kPdoNode;
   EXPECT_EQ(RpdoFor(*od_, f), kRpdoCommand);
-  f.id = 0x300 + kNode + 1;
+  f.id = 0x300 + kPdoNode + 1;
   EXPECT_EQ(RpdoFor(*od_, f), -1);
   // An invalid RPDO listens to nothing.
-  od_->Set(kIdxRpdoComm + kRpdoRequest, 1, kCobIdInvalid | (0x300 + kNode));
-  f.id = 0x300 + kNode;
+  od_->Set(kIdxRpdoComm + kRpdoRequest, 1, kCobIdInvalid | (0x300 + kPdoNode));
+  f.id = 0x300 + kPdoNode;
   EXPECT_EQ(RpdoFor(*od_, f), -1);
 }
 
@@ -197,7 +197,7 @@ TEST_F(CanopenPdo, ResultModeSwitchesTheValidBits) {
   ApplyResultMode(od_.get(), ResultMode::kBoth);
   EXPECT_TRUE(CobIdValid(TpdoCobId(*od_, kTpdoStreamObject)));
   EXPECT_TRUE(CobIdValid(TpdoCobId(*od_, kTpdoAnswerFirst + 3)));
-  EXPECT_EQ(CanIdOf(TpdoCobId(*od_, kTpdoAnswerFirst + 3)), 0x4C0u + kNode);
+  EXPECT_EQ(CanIdOf(TpdoCobId(*od_, kTpdoAnswerFirst + 3)), 0x4C0u + kPdoNode);
 }
 
 TEST_F(CanopenPdo, CobIdWritesFollowCia301) {
@@ -207,7 +207,7 @@ TEST_F(CanopenPdo, CobIdWritesFollowCia301) {
     return CheckCobIdWrite(*e, value);
   };
   // Switching off and on is always allowed.
-  EXPECT_EQ(check(kTpdoHeader, kCobIdInvalid | (0x180 + kNode)), SdoAbort::kNone);
+  EXPECT_EQ(check(kTpdoHeader, kCobIdInvalid | (0x180 + kPdoNode)), SdoAbort::kNone);
   // The fixed PDOs keep their identifier.
   EXPECT_EQ(check(kTpdoHeader, 0x190), SdoAbort::kInvalidValue);
   // An answer PDO moves while invalid, not while valid, never to a reserved id or extended.

@@ -13,11 +13,11 @@
 namespace sh::canopen {
 namespace {
 
-constexpr uint8_t kNode = 5;
+constexpr uint8_t kSdoNode = 5;
 
 hal::CanFrame Request(std::initializer_list<uint8_t> bytes) {
   hal::CanFrame f;
-  f.id = 0x600 + kNode;
+  f.id = 0x600 + kSdoNode;
   f.len = 8;
   size_t i = 0;
   for (uint8_t b : bytes) f.data[i++] = b;
@@ -31,12 +31,12 @@ uint32_t AbortCode(const hal::CanFrame& f) {
 
 class CanopenSdo : public ::testing::Test {
  protected:
-  CanopenSdo() { od_->ResetCommunication(kNode); }
+  CanopenSdo() { od_->ResetCommunication(kSdoNode); }
 
   hal::CanFrame Exchange(const hal::CanFrame& request, int64_t now_ns = 0) {
     hal::CanFrame response;
     EXPECT_TRUE(server_.Handle(request, now_ns, &response));
-    EXPECT_EQ(response.id, 0x580u + kNode);
+    EXPECT_EQ(response.id, 0x580u + kSdoNode);
     EXPECT_EQ(response.len, 8);
     return response;
   }
@@ -87,7 +87,7 @@ TEST_F(CanopenSdo, ExpeditedUploadsCarryTheExactSize) {
   EXPECT_EQ(r.data[4] | r.data[5] << 8 | r.data[6] << 16 | static_cast<uint32_t>(r.data[7]) << 24,
             kProductCode);
   r = Exchange(Request({0x40, 0x14, 0x10, 0x00}));  // COB-ID EMCY follows the node id
-  EXPECT_EQ(r.data[4], 0x80 + kNode);
+  EXPECT_EQ(r.data[4], 0x80 + kSdoNode);
 }
 
 TEST_F(CanopenSdo, SegmentedUploadOfTheDeviceNameAlternatesTheToggle) {
@@ -189,7 +189,7 @@ TEST_F(CanopenSdo, ClientAbortEndsTheTransferSilently) {
 TEST_F(CanopenSdo, OtherIdentifiersAndShortFramesAreNotTakenForRequests) {
   hal::CanFrame r;
   hal::CanFrame other = Request({0x40, 0x00, 0x10, 0x00});
-  other.id = 0x600 + kNode + 1;
+  other.id = 0x600 + kSdoNode + 1;
   EXPECT_FALSE(server_.Handle(other, 0, &r));
   hal::CanFrame extended = Request({0x40, 0x00, 0x10, 0x00});
   extended.extended = true;

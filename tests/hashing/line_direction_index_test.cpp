@@ -14,6 +14,7 @@
 #include "recog/hashing/vote_lut.hpp"
 #include "tables/model_files.hpp"
 #include "tables/table_builder.hpp"
+#include "tests/support/random_geometry.hpp"
 #include "tests/support/tables_fixture.hpp"
 
 namespace sh {
@@ -26,10 +27,7 @@ using testing::ModelsOf;
 // The angle cut of the default vote width (recognizer.cpp: 12 kVoteCutoff sigma^2).
 constexpr float kAngleCutMm2 = 12.0f * float(kVoteCutoff) * 2.0f * 2.0f;
 
-Eigen::Vector3f RandomUnit(std::mt19937& rng) {
-  std::normal_distribution<float> n(0.0f, 1.0f);
-  return Eigen::Vector3f(n(rng), n(rng), n(rng)).normalized();
-}
+using testing::RandomUnit;
 
 TEST(LineDirectionIndex, HoldsEveryEntryOnceInBinOrderWithinItsClass) {
   auto view = OpenDefaultTable();

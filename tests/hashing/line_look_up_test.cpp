@@ -10,6 +10,7 @@
 #include "recog/hashing/pose_refine.hpp"
 #include "recog/hashing/vote_lut.hpp"
 #include "tables/table_file.hpp"
+#include "tests/support/random_geometry.hpp"
 
 namespace sh {
 namespace {
@@ -17,10 +18,7 @@ namespace {
 constexpr float kSigmaMm = 2.0f;  // the default vote width of lines
 constexpr float kInvSigma2 = 1.0f / (kSigmaMm * kSigmaMm);
 
-Eigen::Vector3f RandomUnit(std::mt19937& rng) {
-  std::normal_distribution<float> n(0.0f, 1.0f);
-  return Eigen::Vector3f(n(rng), n(rng), n(rng)).normalized();
-}
+using testing::RandomUnit;
 
 uint16_t VoteOf(const VoteTable& lut, const LineLookUp& q, const LineDirectionIndex::Entry& l) {
   return lut.Vote(

@@ -15,19 +15,8 @@ namespace {
 using testing::Point2;
 using testing::Polygon;
 
-struct Side {
-  Point2 a, b;
-};
-
-std::vector<Side> SidesOf(const std::vector<Polygon>& polys) {
-  std::vector<Side> sides;
-  for (const Polygon& p : polys) {
-    for (size_t i = 0; i < p.vertices.size(); ++i) {
-      sides.push_back({p.vertices[i], p.vertices[(i + 1) % p.vertices.size()]});
-    }
-  }
-  return sides;
-}
+using testing::Side;
+using testing::SidesOf;
 
 struct Buffers {
   ZeroedPtr<FilterScratch> scratch = MakeWorkspace<FilterScratch>();

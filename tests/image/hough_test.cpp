@@ -18,10 +18,7 @@ namespace {
 using testing::Point2;
 using testing::Polygon;
 
-struct Side {
-  Point2 a, b;
-  double length() const { return std::hypot(b.x - a.x, b.y - a.y); }
-};
+using testing::Side;
 
 struct Workspaces {
   ZeroedPtr<FilterScratch> scratch = MakeWorkspace<FilterScratch>();
@@ -76,12 +73,7 @@ TEST_P(HoughSceneTest, FindsEverySideOnceWithSubpixelAccuracy) {
   const std::vector<Polygon> polys = testing::TestScene(w, h, 190.0);
   std::vector<uint8_t> px;
   const ConstGrayView img = TestSceneImage(w, h, polys, 21, px);
-  std::vector<Side> sides;
-  for (const Polygon& p : polys) {
-    for (size_t i = 0; i < p.vertices.size(); ++i) {
-      sides.push_back({p.vertices[i], p.vertices[(i + 1) % p.vertices.size()]});
-    }
-  }
+  const std::vector<Side> sides = testing::SidesOf(polys);
   Workspaces ws;
   EdgeMapView edges;
   CannyConfig canny;

@@ -17,6 +17,7 @@
 #include "recog/shape/view_database.hpp"
 #include "tests/shape/colour_view_blob.hpp"
 #include "tests/shape/flat_scene.hpp"
+#include "tests/shape/symmetric_angle.hpp"
 #include "tests/support/counting_allocator.hpp"
 
 namespace sh {
@@ -25,13 +26,7 @@ namespace {
 constexpr const char* kNames[] = {"cube", "can", "hexagon"};
 constexpr int kParts = 3;
 
-float SymmetricAngleDeg(const Model& m, const Eigen::Matrix3f& a, const Eigen::Matrix3f& b) {
-  float best = 180;
-  for (int k = 0; k < m.n_symmetries; ++k) {
-    best = std::min(best, RotationAngleDeg(a.transpose() * b * m.symmetry(k)));
-  }
-  return best;
-}
+using testing::SymmetricAngleDeg;
 
 // Each part found once near its truth, as its own model, within 1 mm and 1 degree.
 void ExpectEveryPartAtItsPose(const std::vector<testing::FlatPart>& parts,

@@ -11,17 +11,18 @@
 #include "tables/model_files.hpp"
 #include "tables/model_symmetry.hpp"
 #include "tests/shape/flat_scene.hpp"
+#include "tests/shape/symmetric_angle.hpp"
 
 namespace sh {
 namespace {
 
-struct Part {
+struct ColouredPart {
   Model model;
   float kd[3];
 };
 
-Part Load(const char* name) {
-  Part p;
+ColouredPart LoadColouredPart(const char* name) {
+  ColouredPart p;
   const std::string path = std::string("models/colour/") + name + ".obj";
   Result<Model> m = LoadModelFile(path);
   EXPECT_TRUE(m.ok()) << m.status().message();
@@ -31,13 +32,7 @@ Part Load(const char* name) {
   return p;
 }
 
-float SymmetricAngleDeg(const Model& m, const Eigen::Matrix3f& a, const Eigen::Matrix3f& b) {
-  float best = 180;
-  for (int k = 0; k < m.n_symmetries; ++k) {
-    best = std::min(best, RotationAngleDeg(a.transpose() * b * m.symmetry(k)));
-  }
-  return best;
-}
+using testing::SymmetricAngleDeg;
 
 // One part at `truth` rendered flat by the thesis rig, segmented: the images refinement reads.
 struct Scene {
@@ -48,7 +43,7 @@ struct Scene {
   uint8_t colour = 0;
 };
 
-void Render(const Part& part, const RigidTransform& truth, Scene* scene) {
+void Render(const ColouredPart& part, const RigidTransform& truth, Scene* scene) {
   testing::RenderFlatPair(scene->calib,
                           {{{&part.model, truth}, {part.kd[0], part.kd[1], part.kd[2]}}}, 35, 2.0f,
                           &scene->left, &scene->right);
@@ -75,7 +70,7 @@ RigidTransform Truth() {
 class ShapeRefineTest : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ShapeRefineTest, ConvergesFromAFewMillimetresAndDegreesOff) {
-  const Part part = Load(GetParam());
+  const ColouredPart part = LoadColouredPart(GetParam());
   const RigidTransform truth = Truth();
   Scene scene;
   Render(part, truth, &scene);
@@ -113,7 +108,7 @@ INSTANTIATE_TEST_SUITE_P(Models, ShapeRefineTest,
 // With min_start_share, a start beside the part (its edges beyond the search) is given up after
 // the first pass, and a start near it is refined as without.
 TEST(ShapeRefine, GivesUpAStartThatFindsFewEdges) {
-  const Part part = Load("wedge");
+  const ColouredPart part = LoadColouredPart("wedge");
   const RigidTransform truth = Truth();
   Scene scene;
   Render(part, truth, &scene);
@@ -148,7 +143,7 @@ TEST(ShapeRefine, RefusesBadSettingsAndMismatchedImages) {
   c = ShapeRefineConfig{};
   c.iterations = 0;
   EXPECT_FALSE(CheckShapeRefineConfig(c).ok());
-  const Part part = Load("cube");
+  const ColouredPart part = LoadColouredPart("cube");
   ShapeImages images;  // empty frames
   PosedModel object{&part.model, {Eigen::Matrix3f::Identity(), {0, 0, 400}}};
   ShapeRefineResult r;

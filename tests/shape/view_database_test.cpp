@@ -20,6 +20,7 @@
 #include "recog/shape/silhouette.hpp"
 #include "tables/model_files.hpp"
 #include "tables/shape_view_builder.hpp"
+#include "tests/shape/symmetric_angle.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace sh {
@@ -95,13 +96,7 @@ ShapeWindow RenderWindow(const Model& model, const Eigen::Matrix3f& R, float dis
   return w;
 }
 
-float SymmetricAngleDeg(const Model& m, const Eigen::Matrix3f& a, const Eigen::Matrix3f& b) {
-  float best = 180;
-  for (int k = 0; k < m.n_symmetries; ++k) {
-    best = std::min(best, RotationAngleDeg(a.transpose() * b * m.symmetry(k)));
-  }
-  return best;
-}
+using testing::SymmetricAngleDeg;
 
 TEST(ViewDatabase, OpensWithItsModelsViewsAndComponents) {
   const std::vector<uint8_t>& bytes = TestBlob();

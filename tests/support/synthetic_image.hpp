@@ -22,6 +22,22 @@ struct Polygon {
   double intensity = 200.0;
 };
 
+// One straight side of a polygon: what an edge and line detector should find.
+struct Side {
+  Point2 a, b;
+  double length() const { return std::hypot(b.x - a.x, b.y - a.y); }
+};
+
+inline std::vector<Side> SidesOf(const std::vector<Polygon>& polys) {
+  std::vector<Side> sides;
+  for (const Polygon& p : polys) {
+    for (size_t i = 0; i < p.vertices.size(); ++i) {
+      sides.push_back({p.vertices[i], p.vertices[(i + 1) % p.vertices.size()]});
+    }
+  }
+  return sides;
+}
+
 class SyntheticImage {
  public:
   SyntheticImage(int width, int height, double background)

@@ -30,7 +30,7 @@ TEST(MappedTable, MapsAFileAndRefusesBadOnes) {
   ASSERT_TRUE(LoadModelFolder("models", &models).ok());
   auto blob = BuildTableBlob(models, TableBuildOptions{});
   ASSERT_TRUE(blob.ok());
-  const std::string path = testing::TempDir() + "/tables_hf5.bin";
+  const std::string path = ::testing::TempDir() + "/tables_hf5.bin";
   FILE* f = std::fopen(path.c_str(), "wb");
   ASSERT_NE(f, nullptr);
   std::fwrite(blob->data(), 1, blob->size(), f);

@@ -12,10 +12,10 @@
 namespace sh::render {
 namespace {
 
-constexpr float kEpsilonMm = 1e-2f;       // offset of secondary rays from the surface
-constexpr float kEnvironment = 0.06f;     // radiance of rays leaving the scene (dim room)
-constexpr float kObjectSpecular = 0.18f;  // Blinn-Phong weight and exponent of the objects
-constexpr int kObjectShininess = 32;      // powers of two: evaluated by squaring
+constexpr float kShadowRayOffsetMm = 1e-2f;  // offset of secondary rays from the surface
+constexpr float kEnvironment = 0.06f;        // radiance of rays leaving the scene (dim room)
+constexpr float kObjectSpecular = 0.18f;     // Blinn-Phong weight and exponent of the objects
+constexpr int kObjectShininess = 32;         // powers of two: evaluated by squaring
 constexpr int kMaxSupersampling = 8;
 
 struct TableFinish {
@@ -115,7 +115,7 @@ class Shader {
       const Eigen::Vector3f l = to_light / distance;
       const float cos_in = n.dot(l);
       if (cos_in <= 0) continue;
-      if (caster_.Blocked(p + kEpsilonMm * n, l, distance)) {
+      if (caster_.Blocked(p + kShadowRayOffsetMm * n, l, distance)) {
         shadow_bits |= 1u << k;
         continue;
       }
@@ -127,7 +127,7 @@ class Shader {
     s.code = SurfaceCode(hit.object, hit.face) | (shadow_bits << 10);
     if (is_table && allow_mirror && table_.mirror > 0) {
       const Eigen::Vector3f mirrored(d.x(), d.y(), -d.z());
-      const Sample r = Trace(p + kEpsilonMm * n, mirrored, false);
+      const Sample r = Trace(p + kShadowRayOffsetMm * n, mirrored, false);
       s.value = (1 - table_.mirror) * s.value + table_.mirror * r.value;
       s.code |= r.code << 12;
     }
