@@ -389,7 +389,9 @@ bool Fastscan(Rig& rig, uint32_t found[4]) {
       if (!scan(id, uint8_t(bit), sub, sub)) id |= 1u << bit;
     }
     if (!scan(id, 0, sub, uint8_t((sub + 1) % 4))) id |= 1u;
-    if (id & 1u) EXPECT_TRUE(scan(id, 0, sub, uint8_t((sub + 1) % 4))) << "part " << int(sub);
+    if (id & 1u) {
+      EXPECT_TRUE(scan(id, 0, sub, uint8_t((sub + 1) % 4))) << "part " << int(sub);
+    }
     found[sub] = id;
   }
   return true;
