@@ -100,8 +100,12 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
   TEXT(camera_right_id, kConfigNameMax, "", "libcamera id of the right camera")                    \
   INT(camera_left_index, int, 0, 0, 15, "", "libcamera index of the left camera")                  \
   INT(camera_right_index, int, 1, 0, 15, "", "libcamera index of the right camera")                \
-  INT(camera_width, int, 1280, 16, 1280, "px", "capture width (kMaxImageWidth)")                   \
-  INT(camera_height, int, 800, 16, 1024, "px", "capture height (kMaxImageHeight)")                 \
+  INT(camera_width, int, 1280, 16, 2592, "px",                                                     \
+      "sensor width as calibrated; above 1296 the camera is asked for frames binned to fit "        \
+      "(kMaxImageWidth, kMaxSensorWidth)")                                                         \
+  INT(camera_height, int, 800, 16, 2048, "px",                                                     \
+      "sensor height as calibrated; above 1024 frames are binned alike (kMaxImageHeight, "          \
+      "kMaxSensorHeight)")                                                                         \
   INT(capture_timeout_ms, int, 500, 10, 60000, "ms", "how long a capture waits for a stereo pair") \
   TEXT(calibration, kConfigPathMax, "",                                                            \
        "stereo calibration YAML; required on the board; empty in the simulator = the rendered "    \

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "recog/camera/binning.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "tables/input_file.hpp"
 
@@ -111,7 +112,11 @@ Result<StereoCalibration> FileDataSource::LoadCalibration() {
   if (!calib.ok()) {
     return calib.status().WithContext("%s", calibration_path_);
   }
-  return calib;
+  // A sensor larger than the pipeline's frames is captured binned (the camera's binned mode, its
+  // ISP or DirectoryCamera): the frames' calibration is the file's, binned alike.
+  Result<StereoCalibration> frames = FrameCalibration(*calib);
+  if (!frames.ok()) return frames.status().WithContext("%s", calibration_path_);
+  return frames;
 }
 
 }  // namespace sh::fw

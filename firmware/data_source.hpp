@@ -34,6 +34,8 @@ class FileDataSource final : public DataSource {
                  const StereoCalibration* fallback_calibration);
 
   Result<TableView> LoadTable() override;
+  // The calibration of the camera's frames: a file calibrated at a sensor size larger than
+  // kMaxImageWidth x kMaxImageHeight is binned by BinFactorFor(), as the frames are.
   Result<StereoCalibration> LoadCalibration() override;
   Result<FeatureDbView> LoadFeatures() override;
   // The SHAPE_VIEWS section of the model set given as tables, or an empty view.

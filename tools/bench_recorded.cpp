@@ -408,7 +408,7 @@ int RunBenchRecorded(int argc, char** argv) {
   }
   std::printf("command: %s\n", CommandLine(argc, argv).c_str());
 
-  const Result<StereoCalibration> calib = LoadCalibration((dir + "/calib.yaml").c_str());
+  const Result<StereoCalibration> calib = LoadFrameCalibration((dir + "/calib.yaml").c_str());
   if (!calib.ok()) return Fail(calib.status().message());
   TableChoice table;
   std::string table_path;

@@ -202,7 +202,7 @@ Status LoadRecorded(const std::string& dir, const StereoCalibration& calib,
     s.calib = calib;
     struct stat own {};
     if (stat((base + "calib.yaml").c_str(), &own) == 0) {  // a rig of its own (--save)
-      const Result<StereoCalibration> c = LoadCalibration((base + "calib.yaml").c_str());
+      const Result<StereoCalibration> c = LoadFrameCalibration((base + "calib.yaml").c_str());
       if (!c.ok()) return c.status();
       s.calib = *c;
     }
@@ -415,7 +415,7 @@ int RunBenchTextured(int argc, char** argv) {
     struct stat st_calib {};
     const std::string set_calib = std::string(recorded) + "/calib.yaml";
     if (stat(set_calib.c_str(), &st_calib) == 0) {
-      const Result<StereoCalibration> c = LoadCalibration(set_calib.c_str());
+      const Result<StereoCalibration> c = LoadFrameCalibration(set_calib.c_str());
       if (!c.ok()) return Fail(c.status().message());
       calib = *c;
     }

@@ -50,8 +50,8 @@ void PrintHelp() {
       "                  that takes longer is skipped\n"
       "Prints the RMS reprojection error of every pair and of the whole calibration in pixels\n"
       "and writes K1 D1 K2 D2 R T (OpenCV layout). At most %zu pairs, images up to %dx%d.\n",
-      kMaxBoardSide, kDefaultMaxRmsPx, kDefaultTimeLimitS, kMaxPairs, kMaxImageWidth,
-      kMaxImageHeight);
+      kMaxBoardSide, kDefaultMaxRmsPx, kDefaultTimeLimitS, kMaxPairs, kMaxSensorWidth,
+      kMaxSensorHeight);
 }
 
 std::vector<std::string> Glob(const char* pattern) {
@@ -257,8 +257,8 @@ int RunCalibrate(int argc, char** argv) {
   int cols = 0, rows = 0;
   CalibrateOptions options;
   options.limits.time_limit_s = kDefaultTimeLimitS;
-  options.limits.max_width = kMaxImageWidth;
-  options.limits.max_height = kMaxImageHeight;
+  options.limits.max_width = kMaxSensorWidth;
+  options.limits.max_height = kMaxSensorHeight;
   for (int i = 1; i < argc; ++i) {
     const char* a = argv[i];
     const bool has_value = i + 1 < argc;

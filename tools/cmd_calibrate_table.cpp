@@ -51,8 +51,8 @@ int CalibrateTable(const char* calib_path, const char* left_path, const char* ri
   if (!calib.ok()) return Fail("", calib.status().message());
   // Read and searched within a time and memory limit, as calibrate does.
   DetectionLimits limits;
-  limits.max_width = kMaxImageWidth;
-  limits.max_height = kMaxImageHeight;
+  limits.max_width = kMaxSensorWidth;
+  limits.max_height = kMaxSensorHeight;
   const PairDetection found = DetectBoardPair(left_path, right_path, board, limits);
   if (found.outcome != PairDetection::Outcome::kFound) return Fail("", found.message.c_str());
   if (found.image_size.width != calib->left.width ||

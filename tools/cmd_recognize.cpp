@@ -107,7 +107,7 @@ void PrintTable(const ModelSet& models, const PipelineResult& r) {
 // One camera: the monocular pipeline on its image, poses in the left camera's frame.
 int RunMonocular(const char* calib_path, const char* image_path, int camera,
                  const RecognizeOptions& options, const char* json_path, const char* overlay_path) {
-  const Result<StereoCalibration> calib = LoadCalibration(calib_path);
+  const Result<StereoCalibration> calib = LoadFrameCalibration(calib_path);
   if (!calib.ok()) return Fail("%s", calib.status().message());
   const Result<TableChoice> loaded_table = LoadTableChoice(options.table_path);
   if (!loaded_table.ok()) return Fail("%s", loaded_table.status().message());
@@ -240,7 +240,7 @@ int RunRecognize(int argc, char** argv) {
     return 2;
   }
 
-  const Result<StereoCalibration> calib = LoadCalibration(calib_path);
+  const Result<StereoCalibration> calib = LoadFrameCalibration(calib_path);
   if (!calib.ok()) return Fail("%s", calib.status().message());
   TableChoice table;
   if (options.table_path != nullptr) {

@@ -12,8 +12,10 @@
 
 #include "hal/sim/image_files.hpp"
 #include "recog/base/printable.hpp"
+#include "recog/camera/binning.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
+#include "recog/image/binning.hpp"
 #include "recog/stereo/working_volume.hpp"
 #include "tables/input_file.hpp"
 #include "tools/command.hpp"
@@ -126,12 +128,30 @@ Result<RigidTransform> LoadTablePose(const char* path) {
   return pose;
 }
 
+Result<StereoCalibration> LoadFrameCalibration(const char* path) {
+  Result<StereoCalibration> calib = LoadCalibration(path);
+  if (!calib.ok()) return calib;
+  Result<StereoCalibration> frames = FrameCalibration(*calib);
+  if (!frames.ok()) return frames.status().WithContext("%s", path);
+  return frames;
+}
+
 Status LoadImage(const char* path, const char* which, LoadedImage* out) {
-  out->pixels.assign(kMaxImagePixels * 3, 0);
+  out->pixels.assign(kMaxSensorPixels * 3, 0);
   const Result<hal::ImageInfo> info =
       hal::ReadImageFile(path, hal::PixelFormat::kRgb8, out->pixels.data(), out->pixels.size());
   if (!info.ok()) return info.status().WithContext("%s image %s", which, path);
-  const int w = info->width, h = info->height;
+  const Result<int> bin = BinFactorFor(info->width, info->height);
+  if (!bin.ok()) return bin.status().WithContext("%s image %s", which, path);
+  out->bin = *bin;
+  const int w = BinnedSize(info->width, *bin), h = BinnedSize(info->height, *bin);
+  if (*bin > 1) {
+    const ImageView<const Rgb8> full{reinterpret_cast<const Rgb8*>(out->pixels.data()), info->width,
+                                     info->height, info->width};
+    std::vector<uint8_t> binned(static_cast<size_t>(w) * h * 3);
+    SH_RETURN_IF_ERROR(BinRgb(full, *bin, {reinterpret_cast<Rgb8*>(binned.data()), w, h, w}));
+    out->pixels.swap(binned);
+  }
   const size_t n = static_cast<size_t>(w) * h;
   const ImageView<const Rgb8> rgb{reinterpret_cast<const Rgb8*>(out->pixels.data()), w, h, w};
   out->grey.assign(n, 0);

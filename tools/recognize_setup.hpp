@@ -42,6 +42,9 @@ OptionResult ParseRecognizeOption(const char* command, const char* option, const
                                   RecognizeOptions* options);
 
 Result<StereoCalibration> LoadCalibration(const char* path);
+// The calibration of the frames recognition sees (FrameCalibration): a calibration of a sensor
+// larger than kMaxImageWidth x kMaxImageHeight binned as LoadImage bins its images.
+Result<StereoCalibration> LoadFrameCalibration(const char* path);
 Result<RigidTransform> LoadTablePose(const char* path);
 
 struct LoadedImage {
@@ -49,8 +52,10 @@ struct LoadedImage {
   std::vector<uint8_t> grey;    // grey of a colour file (BT.601 luma weights)
   ConstGrayView view;           // grey
   FrameView frame;              // as the file holds it: grey or RGB
+  int bin = 1;                  // the file's image binned by this factor (BinFactorFor)
 };
-// Reads a PNG or PGM, grey or colour; `which` ("left") goes into messages.
+// Reads a PNG or PGM, grey or colour, up to kMaxSensorWidth x kMaxSensorHeight; an image larger
+// than a pipeline frame is binned by BinFactorFor() to fit. `which` ("left") goes into messages.
 Status LoadImage(const char* path, const char* which, LoadedImage* out);
 
 // The model set: hash tables (a mapped file, or the built-in ones unless only a view database

@@ -18,6 +18,7 @@
 #include <libcamera/stream.h>
 
 #include "hal/linux/libcamera_adapter.hpp"
+#include "recog/image/binning.hpp"
 
 namespace sh::hal {
 
@@ -116,6 +117,8 @@ struct LibcameraStereoCamera::Impl {
   CaptureMode mode = CaptureMode::kStereo;  // of the next Start()
   bool colour_wanted = false;               // of the next Start()
   FrameFormat frame_format = FrameFormat::kGray8;
+  int frame_width = 0;  // asked of the camera: config's size, binned to fit (Configure)
+  int frame_height = 0;
   YcbcrEncoding encoding = YcbcrEncoding::kRec601;
   YcbcrRange range = YcbcrRange::kFull;
   std::unique_ptr<lc::CameraManager> manager;
@@ -205,7 +208,7 @@ Status LibcameraStereoCamera::Impl::ConfigureFirst(Side& s) {
     if (!c || c->size() != 1) continue;
     lc::StreamConfiguration& sc = c->at(0);
     sc.pixelFormat = choice.pixel_format;
-    sc.size = lc::Size(static_cast<unsigned>(config.width), static_cast<unsigned>(config.height));
+    sc.size = lc::Size(static_cast<unsigned>(frame_width), static_cast<unsigned>(frame_height));
     sc.bufferCount = kLibcameraBufferCount;
     const bool ycbcr =
         choice.frame_format == FrameFormat::kNv12 || choice.frame_format == FrameFormat::kYuv420;
@@ -227,6 +230,12 @@ Status LibcameraStereoCamera::Impl::Configure() {
     return Status::Error(StatusCode::kInvalidArgument, "requested size %dx%d is empty",
                          config.width, config.height);
   }
+  // A sensor larger than the pipeline's frames is asked for its binned size: the sensor's
+  // binned mode or the ISP's scaler delivers it, as the calibration is binned.
+  const Result<int> bin = BinFactorFor(config.width, config.height);
+  if (!bin.ok()) return bin.status().WithContext("camera");
+  frame_width = BinnedSize(config.width, *bin);
+  frame_height = BinnedSize(config.height, *bin);
   Side& first = mode == CaptureMode::kRightOnly ? sides[1] : sides[0];
   SH_RETURN_IF_ERROR(ConfigureFirst(first));
   const lc::StreamConfiguration left_sc = first.config->at(0);

@@ -48,6 +48,10 @@ struct LibcameraStereoConfig {
   std::string right_id;
   int left_index = 0;
   int right_index = 1;
+  // The sensor's image size, as calibrated. Up to kMaxImageWidth x kMaxImageHeight it is the
+  // stream's size; a larger sensor (up to kMaxSensorWidth x kMaxSensorHeight) is asked for its
+  // size binned by BinFactorFor(), which a sensor's binned mode or the ISP's scaler delivers. A
+  // camera that offers neither adjusts the size, and a size beyond the frames is refused.
   int width = 1280;
   int height = 800;
   LibcameraRole role = LibcameraRole::kVideoRecording;

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "hal/sim/image_files.hpp"
+#include "recog/image/binning.hpp"
 #include "tables/input_file.hpp"
 
 namespace sh::hal {
@@ -327,10 +328,18 @@ Status DirectoryFrameSource::Open(int* width, int* height) {
                            r.height);
     }
     if (s.ok()) {
-      width_ = *width = l.width;
-      height_ = *height = l.height;
-      // Playback decodes into the camera's frames: the decode buffers served this check only.
-      for (auto& d : decode_) d.reset();
+      width_ = l.width;
+      height_ = l.height;
+      const Result<int> bin = BinFactorFor(l.width, l.height);
+      if (!bin.ok()) return bin.status().WithContext("recording %s", BaseName(p.left));
+      bin_ = *bin;
+      *width = frame_width_ = BinnedSize(l.width, bin_);
+      *height = frame_height_ = BinnedSize(l.height, bin_);
+      // Playback decodes into the camera's frames; a binned recording keeps the decode buffers
+      // for its full-size images, else they served this check only.
+      if (bin_ == 1) {
+        for (auto& d : decode_) d.reset();
+      }
       return Status::Ok();
     }
     if (first_error.ok()) first_error = s;
@@ -346,21 +355,24 @@ Status DirectoryFrameSource::Render(uint64_t frame_index, GrayView left, GrayVie
     return Status::Error(StatusCode::kOutOfRange, "end of recording after %zu pairs",
                          pairs_.size());
   }
-  if (left.width != width_ || left.height != height_ || left.stride < width_ ||
-      right.width != width_ || right.height != height_ || right.stride < width_) {
+  if (left.width != frame_width_ || left.height != frame_height_ || left.stride < frame_width_ ||
+      right.width != frame_width_ || right.height != frame_height_ || right.stride < frame_width_) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "recording frames are %dx%d, the camera's %dx%d (stride %d) and %dx%d "
                          "(stride %d)",
-                         width_, height_, left.width, left.height, left.stride, right.width,
-                         right.height, right.stride);
+                         frame_width_, frame_height_, left.width, left.height, left.stride,
+                         right.width, right.height, right.stride);
   }
   // Decoded straight into the camera's frames, rows packed: a frame of width_ x height_ pixels
-  // fits in a view of that size whatever its stride (stride >= width).
+  // fits in a view of that size whatever its stride (stride >= width). A binned recording is
+  // decoded into its full-size buffers and binned into the frames.
   const PathPair& p = pairs_[frame_index % pairs_.size()];
   const GrayView views[2] = {left, right};
   Decoded d[2];
-  SH_RETURN_IF_ERROR(Decode(0, p.left, views[0].data, &d[0]));
-  SH_RETURN_IF_ERROR(Decode(1, p.right, views[1].data, &d[1]));
+  for (int side = 0; side < 2; ++side) {
+    uint8_t* target = bin_ == 1 ? views[side].data : decode_[side].get();
+    SH_RETURN_IF_ERROR(Decode(side, side == 0 ? p.left : p.right, target, &d[side]));
+  }
   if (d[0].width != d[1].width || d[0].height != d[1].height) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "%s is %dx%d but %s is %dx%d; left and right must match", BaseName(p.left),
@@ -369,6 +381,13 @@ Status DirectoryFrameSource::Render(uint64_t frame_index, GrayView left, GrayVie
   if (d[0].width != width_ || d[0].height != height_) {
     return Status::Error(StatusCode::kInvalidArgument, "%s is %dx%d, expected %dx%d",
                          BaseName(p.left), d[0].width, d[0].height, width_, height_);
+  }
+  if (bin_ > 1) {
+    for (int side = 0; side < 2; ++side) {
+      const ConstGrayView full{decode_[side].get(), width_, height_, width_};
+      SH_RETURN_IF_ERROR(BinGray(full, bin_, views[side]));
+    }
+    return Status::Ok();
   }
   // Packed rows to the view's stride, the last row first (each moves to a later or the same
   // place, so no row is overwritten before it has moved).

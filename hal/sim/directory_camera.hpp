@@ -10,10 +10,15 @@
 // other files are ignored. All frames must have the size of the first readable pair; a left file
 // without its right partner (or the reverse) makes Start() fail naming it.
 //
+// Images larger than a pipeline frame (up to kMaxSensorWidth x kMaxSensorHeight) are binned by
+// BinFactorFor() into frames that fit, as a binning sensor would deliver them; the calibration
+// of the full sensor is scaled to them where it is used (recog/camera/binning.hpp).
+//
 // Memory: Start() allocates one file buffer (the largest file's size); the first readable pair is
 // decoded into two buffers of its size (not kMaxImagePixels), freed once it has set the frame
-// size. Playback reads each file into the file buffer and decodes it straight into the camera's
-// frame without further allocation; a later frame larger than the first pair is refused by name.
+// size, or kept for a binned recording, whose images are decoded there and binned into frames.
+// Playback reads each file into the file buffer and decodes it straight into the camera's frame
+// without further allocation; a later frame larger than the first pair is refused by name.
 //
 // Timestamps are synthetic (first_timestamp_ns + n * frame_period_ns on both sides) and go
 // through the same pairing as live cameras. Per-frame problems (truncated or corrupt file,
@@ -86,8 +91,11 @@ class DirectoryFrameSource final : public FrameSource {
   size_t file_capacity_ = 0;
   std::unique_ptr<uint8_t[]> decode_[2];  // decode_capacity_ pixels each, during Open() only
   size_t decode_capacity_ = 0;            // pixels of a frame (of the first pair, after Open())
-  int width_ = 0;
+  int width_ = 0;                         // of the recording's images
   int height_ = 0;
+  int bin_ = 1;  // BinFactorFor(width_, height_): larger images are binned into the frames
+  int frame_width_ = 0;
+  int frame_height_ = 0;
 };
 
 class DirectoryCamera final : public StereoCamera {

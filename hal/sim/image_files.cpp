@@ -32,9 +32,9 @@ Status CheckSize(const char* what, int width, int height, PixelFormat format, si
     return Status::Error(StatusCode::kInvalidArgument, "%s: image has zero size (%d x %d)", what,
                          width, height);
   }
-  if (width > kMaxImageWidth || height > kMaxImageHeight) {
+  if (width > kMaxSensorWidth || height > kMaxSensorHeight) {
     return Status::Error(StatusCode::kOutOfRange, "%s: image %d x %d exceeds the %d x %d limit",
-                         what, width, height, kMaxImageWidth, kMaxImageHeight);
+                         what, width, height, kMaxSensorWidth, kMaxSensorHeight);
   }
   const size_t needed = size_t(width) * size_t(height) * size_t(Channels(format));
   if (needed > capacity) {
@@ -172,9 +172,9 @@ Result<ImageInfo> DecodePgm(const uint8_t* data, size_t size, PixelFormat format
     return Status::Error(StatusCode::kUnimplemented,
                          "PGM: 16-bit samples (maximum value %ld) not supported", maxval);
   }
-  if (width > kMaxImageWidth || height > kMaxImageHeight) {
+  if (width > kMaxSensorWidth || height > kMaxSensorHeight) {
     return Status::Error(StatusCode::kOutOfRange, "PGM: image %ld x %ld exceeds the %d x %d limit",
-                         width, height, kMaxImageWidth, kMaxImageHeight);
+                         width, height, kMaxSensorWidth, kMaxSensorHeight);
   }
   SH_RETURN_IF_ERROR(
       CheckSize("PGM", static_cast<int>(width), static_cast<int>(height), format, capacity));
@@ -208,9 +208,9 @@ Result<ImageInfo> DecodePng(const uint8_t* data, size_t size, PixelFormat format
   // limits, under another code).
   if (size >= 24 && std::memcmp(data + 12, "IHDR", 4) == 0) {
     const uint32_t w = ReadBe32(data + 16), h = ReadBe32(data + 20);
-    if (w > uint32_t(kMaxImageWidth) || h > uint32_t(kMaxImageHeight)) {
+    if (w > uint32_t(kMaxSensorWidth) || h > uint32_t(kMaxSensorHeight)) {
       return Status::Error(StatusCode::kOutOfRange, "PNG: image %u x %u exceeds the %d x %d limit",
-                           w, h, kMaxImageWidth, kMaxImageHeight);
+                           w, h, kMaxSensorWidth, kMaxSensorHeight);
     }
   }
   PngImage image;
@@ -277,9 +277,9 @@ Result<ImageInfo> ImageFileSize(const uint8_t* data, size_t size) {
     }
     const uint32_t w = ReadBe32(data + 16);
     const uint32_t h = ReadBe32(data + 20);
-    if (w > uint32_t(kMaxImageWidth) || h > uint32_t(kMaxImageHeight)) {
+    if (w > uint32_t(kMaxSensorWidth) || h > uint32_t(kMaxSensorHeight)) {
       return Status::Error(StatusCode::kOutOfRange, "PNG: image %u x %u exceeds the %d x %d limit",
-                           w, h, kMaxImageWidth, kMaxImageHeight);
+                           w, h, kMaxSensorWidth, kMaxSensorHeight);
     }
     info.width = static_cast<int>(w);
     info.height = static_cast<int>(h);
@@ -294,9 +294,9 @@ Result<ImageInfo> ImageFileSize(const uint8_t* data, size_t size) {
   long height = 0;
   SH_RETURN_IF_ERROR(PgmHeaderNumber(data, size, &pos, "width", &width));
   SH_RETURN_IF_ERROR(PgmHeaderNumber(data, size, &pos, "height", &height));
-  if (width > kMaxImageWidth || height > kMaxImageHeight) {
+  if (width > kMaxSensorWidth || height > kMaxSensorHeight) {
     return Status::Error(StatusCode::kOutOfRange, "PGM: image %ld x %ld exceeds the %d x %d limit",
-                         width, height, kMaxImageWidth, kMaxImageHeight);
+                         width, height, kMaxSensorWidth, kMaxSensorHeight);
   }
   info.width = static_cast<int>(width);
   info.height = static_cast<int>(height);
@@ -329,7 +329,7 @@ size_t EncodedPngBound(int width, int height, int channels) {
 
 Result<size_t> EncodePng(const uint8_t* pixels, int width, int height, int stride_bytes,
                          int channels, uint8_t* out, size_t capacity) {
-  if (width <= 0 || height <= 0 || width > kMaxImageWidth || height > kMaxImageHeight) {
+  if (width <= 0 || height <= 0 || width > kMaxSensorWidth || height > kMaxSensorHeight) {
     return Status::Error(StatusCode::kOutOfRange, "PNG: cannot encode a %d x %d image", width,
                          height);
   }

@@ -13,7 +13,7 @@
 
 namespace sh::hal {
 
-// Largest file ReadImageFile loads (a 1280 x 1024 RGBA PNG stored uncompressed is ~5.3 MB).
+// Largest file ReadImageFile loads (a 2592 x 2048 RGBA PNG stored uncompressed is ~21 MB).
 inline constexpr size_t kMaxImageFileBytes = 64u << 20;
 
 // Layout of decoded pixels: rows packed (stride = width * channels), top row first.
@@ -30,7 +30,7 @@ struct ImageInfo {
 };
 
 // Decoders. `pixels` must hold width * height * Channels(format) bytes (else kResourceExhausted);
-// images larger than kMaxImageWidth x kMaxImageHeight are refused with kOutOfRange.
+// images larger than kMaxSensorWidth x kMaxSensorHeight are refused with kOutOfRange.
 Result<ImageInfo> DecodePgm(const uint8_t* data, size_t size, PixelFormat format, uint8_t* pixels,
                             size_t capacity);
 Result<ImageInfo> DecodePng(const uint8_t* data, size_t size, PixelFormat format, uint8_t* pixels,

@@ -9,16 +9,16 @@
 
 namespace sh {
 
-Status ValidateIntrinsics(const CameraIntrinsics& cam, const char* name) {
+Status ValidateIntrinsics(const CameraIntrinsics& cam, const char* name, ImageBounds bounds) {
   if (cam.width <= 0 || cam.height <= 0) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "%s camera: image size %dx%d must be positive", name, cam.width,
                          cam.height);
   }
-  if (cam.width > kMaxImageWidth || cam.height > kMaxImageHeight) {
+  if (cam.width > bounds.max_width || cam.height > bounds.max_height) {
     return Status::Error(StatusCode::kOutOfRange,
                          "%s camera: image size %dx%d exceeds the supported %dx%d", name, cam.width,
-                         cam.height, kMaxImageWidth, kMaxImageHeight);
+                         cam.height, bounds.max_width, bounds.max_height);
   }
   const double all[] = {cam.fx, cam.fy, cam.cx, cam.cy, cam.k1, cam.k2, cam.p1, cam.p2, cam.k3};
   for (double v : all) {
@@ -132,9 +132,9 @@ Status ValidateRotation(const Eigen::Matrix3d& R, const char* name) {
   return Status::Ok();
 }
 
-Status ValidateStereoCalibration(const StereoCalibration& calib) {
-  SH_RETURN_IF_ERROR(ValidateIntrinsics(calib.left, "left"));
-  SH_RETURN_IF_ERROR(ValidateIntrinsics(calib.right, "right"));
+Status ValidateStereoCalibration(const StereoCalibration& calib, ImageBounds bounds) {
+  SH_RETURN_IF_ERROR(ValidateIntrinsics(calib.left, "left", bounds));
+  SH_RETURN_IF_ERROR(ValidateIntrinsics(calib.right, "right", bounds));
   SH_RETURN_IF_ERROR(ValidateRotation(calib.right_R_left, "R"));
   if (!calib.right_t_left_mm.allFinite()) {
     return Status::Error(StatusCode::kInvalidArgument, "T: non-finite translation entry");

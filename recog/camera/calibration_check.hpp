@@ -4,6 +4,7 @@
 
 #include "recog/base/status.hpp"
 #include "recog/camera/camera_model.hpp"
+#include "recog/image/image.hpp"
 
 namespace sh {
 
@@ -12,10 +13,19 @@ namespace sh {
 // typed in by hand with 6 decimals.
 inline constexpr double kRotationTolerance = 1e-5;
 
-// Checks one camera: image size within 1..kMaxImageWidth x 1..kMaxImageHeight, finite positive
-// focal lengths, finite principal point and distortion. `name` ("left", "right") goes into the
-// message.
-Status ValidateIntrinsics(const CameraIntrinsics& cam, const char* name);
+// The largest image size a check accepts: a pipeline frame, or a camera's full sensor (a
+// calibration file, used on images binned to a frame; recog/camera/binning.hpp).
+struct ImageBounds {
+  int max_width;
+  int max_height;
+};
+inline constexpr ImageBounds kFrameBounds{kMaxImageWidth, kMaxImageHeight};
+inline constexpr ImageBounds kSensorBounds{kMaxSensorWidth, kMaxSensorHeight};
+
+// Checks one camera: image size within 1..bounds, finite positive focal lengths, finite
+// principal point and distortion. `name` ("left", "right") goes into the message.
+Status ValidateIntrinsics(const CameraIntrinsics& cam, const char* name,
+                          ImageBounds bounds = kFrameBounds);
 
 // Checks a rotation: finite, orthonormal within kRotationTolerance, det +1 (not a reflection).
 Status ValidateRotation(const Eigen::Matrix3d& R, const char* name);
@@ -42,7 +52,7 @@ Status CheckPlausibleIntrinsics(const CameraIntrinsics& cam, const char* name);
 
 // Checks both cameras and the rotation (ValidateIntrinsics, ValidateRotation), a finite baseline
 // within kMinBaselineMm..kMaxBaselineMm, and the plausibility of both lenses.
-Status ValidateStereoCalibration(const StereoCalibration& calib);
+Status ValidateStereoCalibration(const StereoCalibration& calib, ImageBounds bounds = kFrameBounds);
 
 // Nearest rotation to an almost-orthonormal R (polar decomposition through the SVD), so that
 // R^T is exactly its inverse for the geometry downstream.

@@ -99,13 +99,13 @@ Result<StereoCalibration> ParseCalibrationYaml(const char* text, size_t length) 
     for (int c = 0; c < 3; ++c) calib.right_R_left(r, c) = R.data[r * 3 + c];  // row-major data
     calib.right_t_left_mm(r) = T.data[r];
   }
-  SH_RETURN_IF_ERROR(ValidateStereoCalibration(calib));
+  SH_RETURN_IF_ERROR(ValidateStereoCalibration(calib, kSensorBounds));
   calib.right_R_left = NearestRotation(calib.right_R_left);
   return calib;
 }
 
 Result<size_t> WriteCalibrationYaml(const StereoCalibration& calib, char* out, size_t capacity) {
-  SH_RETURN_IF_ERROR(ValidateStereoCalibration(calib));
+  SH_RETURN_IF_ERROR(ValidateStereoCalibration(calib, kSensorBounds));
   if (calib.left.width != calib.right.width || calib.left.height != calib.right.height) {
     return Status::Error(StatusCode::kInvalidArgument,
                          "left image %dx%d and right image %dx%d differ; the file holds one size",

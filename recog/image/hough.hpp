@@ -39,7 +39,7 @@ inline constexpr size_t kMaxSegmentsPerLine = 16;
 inline constexpr int kHoughThetaBins = 360;
 inline constexpr float kHoughThetaStepRad = 3.14159265358979f / kHoughThetaBins;
 inline constexpr int kMaxVoteHalfWidthPx = 4;
-inline constexpr int kHoughMaxDiagonalPx = 1640;  // > hypot(kMaxImageWidth, kMaxImageHeight)
+inline constexpr int kHoughMaxDiagonalPx = 1660;  // > hypot(kMaxImageWidth, kMaxImageHeight)
 inline constexpr int kHoughRhoOffset = kMaxImageHeight + kMaxVoteHalfWidthPx + 2;  // bin of rho 0
 inline constexpr int kHoughRhoBins =
     kHoughRhoOffset + kHoughMaxDiagonalPx + kMaxVoteHalfWidthPx + 2;

@@ -11,10 +11,18 @@
 namespace sh {
 
 // Largest image the static buffers of the pipeline are sized for. Frames up to this size are
-// processed; larger frames are refused with kOutOfRange.
-inline constexpr int kMaxImageWidth = 1280;
+// processed; larger frames are refused with kOutOfRange. 1296 is half of the widest supported
+// sensor, so that any sensor up to kMaxSensorWidth x kMaxSensorHeight binned 2 x 2 fits whole.
+inline constexpr int kMaxImageWidth = 1296;
 inline constexpr int kMaxImageHeight = 1024;
 inline constexpr size_t kMaxImagePixels = size_t{kMaxImageWidth} * kMaxImageHeight;
+
+// Largest camera image taken at all (a 5 MP machine-vision sensor). Images larger than a
+// pipeline frame are binned (recog/image/binning.hpp) and their calibration scaled with them
+// (recog/camera/binning.hpp) before recognition.
+inline constexpr int kMaxSensorWidth = 2592;
+inline constexpr int kMaxSensorHeight = 2048;
+inline constexpr size_t kMaxSensorPixels = size_t{kMaxSensorWidth} * kMaxSensorHeight;
 
 template <typename T>
 struct ImageView {

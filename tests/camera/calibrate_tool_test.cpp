@@ -276,9 +276,9 @@ TEST(CalibrateTool, APairThatNeverArrivesIsSkippedAfterTheTimeLimit) {
   (void)std::system(("rm -rf '" + dir + "'").c_str());
 }
 
-TEST(CalibrateTool, ImagesLargerThanTheRecogniserTakesAreRefused) {
+TEST(CalibrateTool, ImagesLargerThanTheLargestSensorAreRefused) {
   const std::string dir = TempDir("large");
-  const cv::Mat big(1500, 2000, CV_8UC1, cv::Scalar(128));
+  const cv::Mat big(2200, 2800, CV_8UC1, cv::Scalar(128));
   ASSERT_TRUE(cv::imwrite(dir + "/left00.png", big));
   ASSERT_TRUE(cv::imwrite(dir + "/right00.png", big));
   std::string output;
@@ -286,7 +286,7 @@ TEST(CalibrateTool, ImagesLargerThanTheRecogniserTakesAreRefused) {
                         "/right*.png' --board 9x6 --square-mm 25 --out " + dir + "/c.yaml",
                     &output),
             1);
-  EXPECT_NE(output.find("is 2000x1500, larger than the 1280x1024"), std::string::npos) << output;
+  EXPECT_NE(output.find("is 2800x2200, larger than the 2592x2048"), std::string::npos) << output;
   (void)std::system(("rm -rf '" + dir + "'").c_str());
 }
 

@@ -332,6 +332,37 @@ TEST(FirmwareCore, ImplausibleCalibrationFileBootsIntoFaultUntilReplaced) {
   std::remove(path);
 }
 
+// A rig calibrated at a sensor size larger than the pipeline's frames (the 640 x 480 rig above
+// at 2560 x 1920) gives the calibration of its frames, binned 2 x 2 as the camera delivers them.
+TEST(FirmwareCore, ALargeSensorsCalibrationIsThatOfItsBinnedFrames) {
+  std::string text = CalibrationYaml("2000.");
+  const auto replace_all = [&text](const std::string& from, const std::string& to) {
+    for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at)) {
+      text.replace(at, from.size(), to);
+      at += to.size();
+    }
+  };
+  replace_all("image_width: 640\nimage_height: 480", "image_width: 2560\nimage_height: 1920");
+  replace_all("500., 0., 320., 0., 500., 240.", "2000., 0., 1281.5, 0., 2000., 961.5");
+  replace_all(", 0., 320., 0., 500., 240.", ", 0., 1281.5, 0., 2000., 961.5");
+  char path[] = "/tmp/stereohash_fw_calib_XXXXXX";
+  const int fd = mkstemp(path);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(write(fd, text.data(), text.size()), static_cast<ssize_t>(text.size()));
+  close(fd);
+  FileDataSource data("builtin", path, static_cast<RigCalibration*>(nullptr));
+  const Result<StereoCalibration> calib = data.LoadCalibration();
+  std::remove(path);
+  ASSERT_TRUE(calib.ok()) << calib.status().message();
+  for (const CameraIntrinsics* cam : {&calib->left, &calib->right}) {
+    EXPECT_EQ(cam->width, 1280);
+    EXPECT_EQ(cam->height, 960);
+    EXPECT_DOUBLE_EQ(cam->fx, 1000.0);
+    EXPECT_DOUBLE_EQ(cam->cx, 640.5);  // (1281.5 + 0.5) / 2 - 0.5
+    EXPECT_DOUBLE_EQ(cam->cy, 480.5);
+  }
+}
+
 TEST(FirmwareCore, RecognitionErrorGivesStatusThreeAndEmcyButStaysReady) {
   Rig rig;
   rig.Start();

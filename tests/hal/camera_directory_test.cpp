@@ -274,6 +274,46 @@ TEST(CameraDirectory, FrameWithDifferentSizeThanRecordingIsAnError) {
 
 // Frames are decoded straight into the camera's buffers, rows packed, then moved to the
 // buffer's stride: a view with a wider stride shows the same pixels as a packed one.
+// A 5 MP recording (larger than a pipeline frame) plays binned 2 x 2 into 1296 x 1024 frames,
+// each pixel the rounded mean of its block, as a binning sensor would deliver it.
+TEST(CameraDirectory, ImagesLargerThanAFrameAreBinnedToFit) {
+  TempDir dir("camera_dir_5mp");
+  const int w = kMaxSensorWidth, h = kMaxSensorHeight;
+  std::vector<uint8_t> full(static_cast<size_t>(w) * h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) full[static_cast<size_t>(y) * w + x] = Pixel(0, x * 7, y * 3);
+  }
+  for (const char* side : {"left_0.pgm", "right_0.pgm"}) {
+    ASSERT_TRUE(hal::WritePgm((dir.path() + "/" + side).c_str(), {full.data(), w, h, w}).ok());
+  }
+  DirectoryCamera cam(Config(dir));
+  ASSERT_TRUE(cam.Start().ok());
+  StereoFrame f;
+  const Status s = cam.Capture(&f, 100);
+  ASSERT_TRUE(s.ok()) << s.message();
+  ASSERT_EQ(f.left.width, w / 2);
+  ASSERT_EQ(f.left.height, h / 2);
+  for (const ConstGrayView& v : {ConstGrayView(f.left), ConstGrayView(f.right)}) {
+    for (int y = 0; y < v.height; y += 37) {
+      for (int x = 0; x < v.width; x += 41) {
+        const uint8_t* r0 = &full[(static_cast<size_t>(y) * w + x) * 2];
+        const int sum = r0[0] + r0[1] + r0[w] + r0[w + 1];
+        ASSERT_EQ(v.at(x, y), (sum + 2) / 4) << x << "," << y;
+      }
+    }
+  }
+}
+
+// Beyond the largest sensor a recording is refused by name, not cropped.
+TEST(CameraDirectory, ImagesLargerThanTheLargestSensorAreRefused) {
+  TempDir dir("camera_dir_huge");
+  WriteFlatRecording(dir, {0}, kMaxSensorWidth + 2, 8);
+  DirectoryCamera cam(Config(dir));
+  const Status s = cam.Start();
+  EXPECT_EQ(s.code(), StatusCode::kOutOfRange);
+  EXPECT_NE(std::strstr(s.message(), "2594"), nullptr) << s.message();
+}
+
 TEST(CameraDirectory, RendersIntoViewsOfAWiderStride) {
   TempDir dir("camera_dir");
   WriteFlatRecording(dir, {1, 2}, 13, 9);

@@ -89,5 +89,20 @@ TEST_F(CameraLibcameraHardware, ReleaseKeepsTheCamerasStreaming) {
   EXPECT_EQ(cam_->stats().timeouts, 0u);
 }
 
+// A sensor larger than the pipeline's frames is asked for its binned size, and delivers frames
+// that fit (or refuses to start, naming the size it offered).
+TEST(CameraLibcameraLargeSensor, IsAskedForFramesThatFit) {
+  LibcameraStereoConfig config;
+  config.width = kMaxSensorWidth;
+  config.height = kMaxSensorHeight;
+  LibcameraStereoCamera cam(config);
+  const Status s = cam.Start();
+  if (s.code() == StatusCode::kNotFound) GTEST_SKIP() << "needs two cameras: " << s.message();
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_LE(cam.stream_info().width, kMaxImageWidth);
+  EXPECT_LE(cam.stream_info().height, kMaxImageHeight);
+  EXPECT_TRUE(cam.Stop().ok());
+}
+
 }  // namespace
 }  // namespace sh::hal

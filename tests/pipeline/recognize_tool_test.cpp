@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "hal/sim/image_files.hpp"
+#include "recog/camera/calibration_yaml.hpp"
 #include "tables/aspect_file.hpp"
 #include "tables/model_set_writer.hpp"
 #include "tables/table_file.hpp"
@@ -298,6 +299,63 @@ TEST_F(RecognizeToolTest, SizeMismatchIsAClearError) {
   EXPECT_FALSE(g.signalled);
   EXPECT_NE(g.exit_code, 0);
   EXPECT_NE(g.output.find("garbage.png"), std::string::npos) << g.output;
+}
+
+// A camera larger than a pipeline frame: the pair scaled up 2 x 2 (each pixel repeated) with its
+// calibration scaled alike, as a 5 MP sensor would see the scene. `recognize` bins both back
+// exactly, so it reports the same objects at the same poses as from the pair itself.
+TEST_F(RecognizeToolTest, ALargeSensorsPairIsBinnedWithItsCalibration) {
+  const std::string calib_text = ReadText(Path("calib.yaml"));
+  Result<StereoCalibration> calib = ParseCalibrationYaml(calib_text.data(), calib_text.size());
+  ASSERT_TRUE(calib.ok()) << calib.status().message();
+  StereoCalibration big = *calib;
+  for (CameraIntrinsics* cam : {&big.left, &big.right}) {
+    cam->width *= 2, cam->height *= 2;
+    cam->fx *= 2, cam->fy *= 2;
+    cam->cx = (cam->cx + 0.5) * 2 - 0.5;
+    cam->cy = (cam->cy + 0.5) * 2 - 0.5;
+  }
+  ASSERT_LE(big.left.width, kMaxSensorWidth);
+  ASSERT_GT(big.left.width, kMaxImageWidth);
+  std::vector<char> yaml(kMaxCalibrationYamlBytes);
+  const Result<size_t> n = WriteCalibrationYaml(big, yaml.data(), yaml.size());
+  ASSERT_TRUE(n.ok()) << n.status().message();
+  WriteText(Path("big_calib.yaml"), std::string(yaml.data(), *n));
+  for (const char* side : {"left", "right"}) {
+    const std::string from = Path(side) + ".png", to = Path("big_") + side + ".png";
+    std::vector<uint8_t> px(kMaxImagePixels);
+    const Result<hal::ImageInfo> info =
+        hal::ReadImageFile(from.c_str(), hal::PixelFormat::kGray8, px.data(), px.size());
+    ASSERT_TRUE(info.ok()) << info.status().message();
+    const int w = info->width, h = info->height;
+    std::vector<uint8_t> up(static_cast<size_t>(4) * w * h);
+    for (int y = 0; y < 2 * h; ++y) {
+      for (int x = 0; x < 2 * w; ++x)
+        up[static_cast<size_t>(y) * 2 * w + x] = px[(y / 2) * w + x / 2];
+    }
+    ASSERT_TRUE(hal::WritePng(to.c_str(), ConstGrayView{up.data(), 2 * w, 2 * h, 2 * w}).ok());
+  }
+  const ToolRun small = RunTool(Inputs(Path("calib.yaml"), Path("left.png"), Path("right.png")) +
+                                " --threads 1 --json " + Path("small.json"));
+  const ToolRun large =
+      RunTool(Inputs(Path("big_calib.yaml"), Path("big_left.png"), Path("big_right.png")) +
+              " --threads 1 --json " + Path("large.json"));
+  ASSERT_EQ(small.exit_code, 0) << small.output;
+  ASSERT_EQ(large.exit_code, 0) << large.output;
+  Json a, b;
+  ASSERT_TRUE(JsonReader(ReadText(Path("small.json"))).Parse(&a));
+  ASSERT_TRUE(JsonReader(ReadText(Path("large.json"))).Parse(&b));
+  ASSERT_GT(a["objects"].size(), 0u);
+  ASSERT_EQ(a["objects"].size(), b["objects"].size());
+  for (size_t i = 0; i < a["objects"].size(); ++i) {
+    const Json& oa = a["objects"][i];
+    const Json& ob = b["objects"][i];
+    EXPECT_EQ(oa["model"].text, ob["model"].text);
+    for (int r = 0; r < 3; ++r) {
+      EXPECT_EQ(oa["t"][r].number, ob["t"][r].number) << i;
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(oa["R"][r][c].number, ob["R"][r][c].number) << i;
+    }
+  }
 }
 
 TEST_F(RecognizeToolTest, TableFileBoundsTheVolumeAndIsReported) {

@@ -392,7 +392,7 @@ TEST(ImageFileSize, ReadsPngAndPgmHeadersWithoutDecoding) {
   ASSERT_TRUE(g.ok()) << g.status().message();
   EXPECT_EQ(g->width, 640);
   EXPECT_EQ(g->height, 480);
-  const std::vector<uint8_t> large = Bytes("P5\n1281 800\n255\n");
+  const std::vector<uint8_t> large = Bytes("P5\n2593 800\n255\n");
   EXPECT_EQ(ImageFileSize(large.data(), large.size()).status().code(), StatusCode::kOutOfRange);
   const std::vector<uint8_t> junk = Bytes("JUNK");
   EXPECT_EQ(ImageFileSize(junk.data(), junk.size()).status().code(), StatusCode::kInvalidArgument);
