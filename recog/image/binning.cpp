@@ -47,10 +47,27 @@ uint32_t BlockSum(const ImageView<const Pixel>& src, int x0, int y0, int factor,
   return sum;
 }
 
+// 2 x 2, every 5 MP sensor's factor: two rows at a time, which the compiler vectorises.
+void BinGray2(ConstGrayView src, GrayView dst) {
+  for (int y = 0; y < dst.height; ++y) {
+    const uint8_t* top = src.row(2 * y);
+    const uint8_t* bottom = src.row(2 * y + 1);
+    uint8_t* out = dst.row(y);
+    for (int x = 0; x < dst.width; ++x, top += 2, bottom += 2) {
+      const unsigned sum = unsigned{top[0]} + top[1] + bottom[0] + bottom[1];
+      out[x] = static_cast<uint8_t>((sum + 2) >> 2);
+    }
+  }
+}
+
 }  // namespace
 
 Status BinGray(ConstGrayView src, int factor, GrayView dst) {
   SH_RETURN_IF_ERROR(CheckBinnedShape(src.width, src.height, factor, dst.width, dst.height));
+  if (factor == 2) {
+    BinGray2(src, dst);
+    return Status::Ok();
+  }
   const uint32_t n = static_cast<uint32_t>(factor * factor);
   for (int y = 0; y < dst.height; ++y) {
     uint8_t* out = dst.row(y);

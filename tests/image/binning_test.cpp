@@ -47,6 +47,29 @@ TEST(Binning, GrayBlocksAreRoundedMeansAndTheRemainderIsDropped) {
   EXPECT_EQ(std::memcmp(copy, px, sizeof(px)), 0);
 }
 
+// Every factor, on an image with a remainder and a wider stride, against the mean taken here.
+TEST(Binning, EveryFactorGivesTheRoundedBlockMean) {
+  const int w = 37, h = 29, stride = 40;
+  std::vector<uint8_t> px(static_cast<size_t>(stride) * h);
+  for (size_t i = 0; i < px.size(); ++i) px[i] = static_cast<uint8_t>((i * 2654435761u) >> 24);
+  for (int f = 1; f <= kMaxBinFactor; ++f) {
+    const int bw = BinnedSize(w, f), bh = BinnedSize(h, f);
+    std::vector<uint8_t> out(static_cast<size_t>(bw + 3) * bh, 0);
+    ASSERT_TRUE(BinGray({px.data(), w, h, stride}, f, {out.data(), bw, bh, bw + 3}).ok());
+    for (int y = 0; y < bh; ++y) {
+      for (int x = 0; x < bw; ++x) {
+        int sum = 0;
+        for (int dy = 0; dy < f; ++dy) {
+          const uint8_t* row = &px[static_cast<size_t>(y * f + dy) * stride];
+          for (int dx = 0; dx < f; ++dx) sum += row[(x * f) + dx];
+        }
+        ASSERT_EQ(out[static_cast<size_t>(y) * (bw + 3) + x], (sum + f * f / 2) / (f * f))
+            << f << ": " << x << "," << y;
+      }
+    }
+  }
+}
+
 TEST(Binning, ColourChannelsAreBinnedApart) {
   std::vector<Rgb8> px(8);
   for (int i = 0; i < 8; ++i) px[i] = Rgb8{uint8_t(i), uint8_t(100 + i), uint8_t(255 - i)};

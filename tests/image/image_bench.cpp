@@ -1,10 +1,11 @@
 // Speed of the per-image feature extraction on synthetic scenes of camera size (756x581) and of
-// the largest supported size (1280x1024). Run: build/<dir>/tests/image/image_bench
+// a large frame (1280x1024), and of binning a 5 MP image (2592x2048) to a frame. Run: build/<dir>/tests/image/image_bench
 #include <benchmark/benchmark.h>
 
 #include <memory>
 #include <vector>
 
+#include "recog/image/binning.hpp"
 #include "recog/image/features.hpp"
 #include "tests/support/synthetic_image.hpp"
 
@@ -96,6 +97,20 @@ void BM_ExtractFeatures(benchmark::State& state) {
   state.counters["lines"] = double(features->lines.size());
 }
 
+// Binning a 5 MP sensor's image 2 x 2 into a frame (what DirectoryCamera and `recognize` add
+// per image for such a camera; a binning sensor or ISP does it in hardware).
+void BM_BinGray(benchmark::State& state) {
+  const int w = int(state.range(0)), h = int(state.range(1)), f = int(state.range(2));
+  std::vector<uint8_t> full(size_t(w) * h), binned(size_t(w / f) * (h / f));
+  for (size_t i = 0; i < full.size(); ++i) full[i] = uint8_t(i * 2654435761u >> 24);
+  for (auto _ : state) {
+    if (!BinGray({full.data(), w, h, w}, f, {binned.data(), w / f, h / f, w / f}).ok()) {
+      state.SkipWithError("fail");
+    }
+    benchmark::DoNotOptimize(binned.data());
+  }
+}
+
 BENCHMARK(BM_Corners)
     ->ArgNames({"w", "h", "sigma_c"})
     ->Args({756, 581, 2})
@@ -120,6 +135,10 @@ BENCHMARK(BM_ExtractFeatures)
     ->Args({756, 581, 1})
     ->Args({1280, 1024, 0})
     ->Args({1280, 1024, 1})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BinGray)
+    ->ArgNames({"w", "h", "factor"})
+    ->Args({2592, 2048, 2})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace
