@@ -125,6 +125,7 @@ int RunMonocular(const char* calib_path, const char* image_path, int camera,
   LoadedImage image;
   s = LoadImage(image_path, camera == 0 ? "left" : "right", &image);
   if (!s.ok()) return Fail("%s", s.message());
+  PrintBinning(image);
   auto pipeline = MakeZeroed<MonoPipeline>();
   s = pipeline->Init(*calib, camera, aspects.view, table.present ? &table.left_T_table : nullptr,
                      MakeMonoConfig(options), NowNs);
@@ -254,6 +255,7 @@ int RunRecognize(int argc, char** argv) {
   Status s = LoadImage(left_path, "left", &left);
   if (s.ok()) s = LoadImage(right_path, "right", &right);
   if (!s.ok()) return Fail("%s", s.message());
+  PrintBinning(left);
   // Printed models (a feature database, alone or as a model set's section) go through the
   // texture path; the polyhedra and colour parts of the same set through the pipeline.
   uint32_t kinds = 0;

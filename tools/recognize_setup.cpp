@@ -144,6 +144,8 @@ Status LoadImage(const char* path, const char* which, LoadedImage* out) {
   const Result<int> bin = BinFactorFor(info->width, info->height);
   if (!bin.ok()) return bin.status().WithContext("%s image %s", which, path);
   out->bin = *bin;
+  out->file_width = info->width;
+  out->file_height = info->height;
   const int w = BinnedSize(info->width, *bin), h = BinnedSize(info->height, *bin);
   if (*bin > 1) {
     const ImageView<const Rgb8> full{reinterpret_cast<const Rgb8*>(out->pixels.data()), info->width,
@@ -161,6 +163,12 @@ Status LoadImage(const char* path, const char* which, LoadedImage* out) {
   // Grey files (grey replicated into RGB by the decoder) stay grey frames.
   out->frame = info->file_channels <= 2 ? FrameView::Gray(grey) : FrameView::Rgb(rgb);
   return Status::Ok();
+}
+
+void PrintBinning(const LoadedImage& image) {
+  if (image.bin <= 1) return;
+  std::printf("image %dx%d binned %d x %d to %dx%d (the calibration alike)\n", image.file_width,
+              image.file_height, image.bin, image.bin, image.view.width, image.view.height);
 }
 
 Status LoadTables(const RecognizeOptions& options, LoadedTables* out) {

@@ -53,10 +53,15 @@ struct LoadedImage {
   ConstGrayView view;           // grey
   FrameView frame;              // as the file holds it: grey or RGB
   int bin = 1;                  // the file's image binned by this factor (BinFactorFor)
+  int file_width = 0;           // the file's image size, before binning
+  int file_height = 0;
 };
 // Reads a PNG or PGM, grey or colour, up to kMaxSensorWidth x kMaxSensorHeight; an image larger
 // than a pipeline frame is binned by BinFactorFor() to fit. `which` ("left") goes into messages.
 Status LoadImage(const char* path, const char* which, LoadedImage* out);
+// "image 2592x2048 binned 2 x 2 to 1296x1024 (the calibration alike)" for a binned image;
+// nothing otherwise.
+void PrintBinning(const LoadedImage& image);
 
 // The model set: hash tables (a mapped file, or the built-in ones unless only a view database
 // is given) and the view database of colour parts (a mapped file, optional).

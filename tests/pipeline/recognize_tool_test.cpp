@@ -342,6 +342,8 @@ TEST_F(RecognizeToolTest, ALargeSensorsPairIsBinnedWithItsCalibration) {
               " --threads 1 --json " + Path("large.json"));
   ASSERT_EQ(small.exit_code, 0) << small.output;
   ASSERT_EQ(large.exit_code, 0) << large.output;
+  EXPECT_NE(large.output.find("binned 2 x 2 to"), std::string::npos) << large.output;
+  EXPECT_EQ(small.output.find("binned"), std::string::npos) << small.output;
   Json a, b;
   ASSERT_TRUE(JsonReader(ReadText(Path("small.json"))).Parse(&a));
   ASSERT_TRUE(JsonReader(ReadText(Path("large.json"))).Parse(&b));
