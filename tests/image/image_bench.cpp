@@ -1,5 +1,6 @@
 // Speed of the per-image feature extraction on synthetic scenes of camera size (756x581) and of
-// a large frame (1280x1024), and of binning a 5 MP image (2592x2048) to a frame. Run: build/<dir>/tests/image/image_bench
+// a large frame (1280x1024), and of binning a 5 MP image (2592x2048) to a frame. Run:
+// build/<dir>/tests/image/image_bench
 #include <benchmark/benchmark.h>
 
 #include <memory>
