@@ -101,7 +101,7 @@ struct LibcameraStereoCamera::Impl {
   void Teardown();
   Status SelectCameras();
   Status Configure();
-  Status ConfigureFirst(Side& s);
+  Status ConfigureFirst(Side& s, const lc::Size& size);
   bool Used(const Side& s) const {
     return mode == CaptureMode::kStereo ||
            (mode == CaptureMode::kLeftOnly) == (s.side == StereoSide::kLeft);
@@ -117,8 +117,6 @@ struct LibcameraStereoCamera::Impl {
   CaptureMode mode = CaptureMode::kStereo;  // of the next Start()
   bool colour_wanted = false;               // of the next Start()
   FrameFormat frame_format = FrameFormat::kGray8;
-  int frame_width = 0;  // asked of the camera: config's size, binned to fit (Configure)
-  int frame_height = 0;
   YcbcrEncoding encoding = YcbcrEncoding::kRec601;
   YcbcrRange range = YcbcrRange::kFull;
   std::unique_ptr<lc::CameraManager> manager;
@@ -197,8 +195,8 @@ Status LibcameraStereoCamera::Impl::SelectCameras() {
 
 // Tries the formats in order (colour or grey, as asked) on the first camera used (the left one
 // in stereo); the first format that validates without being replaced wins. Size adjustments by
-// the camera are accepted (reported in stream_info()).
-Status LibcameraStereoCamera::Impl::ConfigureFirst(Side& s) {
+// the camera are accepted (reported in stream_info()); `size` is what is asked for.
+Status LibcameraStereoCamera::Impl::ConfigureFirst(Side& s, const lc::Size& size) {
   const FormatChoice* choices = colour_wanted ? kColourFormats : kGreyFormats;
   const size_t n_choices = colour_wanted ? std::size(kColourFormats) : std::size(kGreyFormats);
   for (size_t i = 0; i < n_choices; ++i) {
@@ -208,7 +206,7 @@ Status LibcameraStereoCamera::Impl::ConfigureFirst(Side& s) {
     if (!c || c->size() != 1) continue;
     lc::StreamConfiguration& sc = c->at(0);
     sc.pixelFormat = choice.pixel_format;
-    sc.size = lc::Size(static_cast<unsigned>(frame_width), static_cast<unsigned>(frame_height));
+    sc.size = size;
     sc.bufferCount = kLibcameraBufferCount;
     const bool ycbcr =
         choice.frame_format == FrameFormat::kNv12 || choice.frame_format == FrameFormat::kYuv420;
@@ -234,10 +232,10 @@ Status LibcameraStereoCamera::Impl::Configure() {
   // binned mode or the ISP's scaler delivers it, as the calibration is binned.
   const Result<int> bin = BinFactorFor(config.width, config.height);
   if (!bin.ok()) return bin.status().WithContext("camera");
-  frame_width = BinnedSize(config.width, *bin);
-  frame_height = BinnedSize(config.height, *bin);
   Side& first = mode == CaptureMode::kRightOnly ? sides[1] : sides[0];
-  SH_RETURN_IF_ERROR(ConfigureFirst(first));
+  const lc::Size frames(static_cast<unsigned>(BinnedSize(config.width, *bin)),
+                        static_cast<unsigned>(BinnedSize(config.height, *bin)));
+  SH_RETURN_IF_ERROR(ConfigureFirst(first, frames));
   const lc::StreamConfiguration left_sc = first.config->at(0);
 
   // The right camera must produce exactly what the left one settled on: stereo matching assumes

@@ -1,5 +1,6 @@
 #include "recog/image/binning.hpp"
 
+#include <cstddef>
 #include <cstdint>
 
 namespace sh {
@@ -36,15 +37,26 @@ Status CheckBinnedShape(int src_w, int src_h, int factor, int dst_w, int dst_h) 
   return Status::Ok();
 }
 
-// Sums one channel over the factor x factor block whose top-left pixel is (x0, y0).
-template <typename Pixel, typename Channel>
-uint32_t BlockSum(const ImageView<const Pixel>& src, int x0, int y0, int factor, Channel channel) {
-  uint32_t sum = 0;
-  for (int dy = 0; dy < factor; ++dy) {
-    const Pixel* row = src.row(y0 + dy) + x0;
-    for (int dx = 0; dx < factor; ++dx) sum += channel(row[dx]);
+// Block means of interleaved 8-bit pixels of `channels` bytes each (1 grey, 3 RGB), every
+// channel apart; strides in bytes, dst_width x dst_height output pixels.
+void BinInterleaved(const uint8_t* src, ptrdiff_t src_stride, uint8_t* dst, ptrdiff_t dst_stride,
+                    int dst_width, int dst_height, int channels, int factor) {
+  const uint32_t n = static_cast<uint32_t>(factor * factor);
+  const ptrdiff_t block_bytes = static_cast<ptrdiff_t>(factor) * channels;
+  for (int y = 0; y < dst_height; ++y) {
+    const uint8_t* block_top = src + static_cast<ptrdiff_t>(y) * factor * src_stride;
+    uint8_t* out = dst + (y * dst_stride);
+    for (int x = 0; x < dst_width; ++x, block_top += block_bytes) {
+      for (int c = 0; c < channels; ++c) {
+        uint32_t sum = 0;
+        for (int dy = 0; dy < factor; ++dy) {
+          const uint8_t* row = block_top + (dy * src_stride) + c;
+          for (int dx = 0; dx < factor; ++dx) sum += row[static_cast<ptrdiff_t>(dx) * channels];
+        }
+        *out++ = static_cast<uint8_t>((sum + n / 2) / n);
+      }
+    }
   }
-  return sum;
 }
 
 // 2 x 2, every 5 MP sensor's factor: two rows at a time, which the compiler vectorises.
@@ -68,32 +80,16 @@ Status BinGray(ConstGrayView src, int factor, GrayView dst) {
     BinGray2(src, dst);
     return Status::Ok();
   }
-  const uint32_t n = static_cast<uint32_t>(factor * factor);
-  for (int y = 0; y < dst.height; ++y) {
-    uint8_t* out = dst.row(y);
-    for (int x = 0; x < dst.width; ++x) {
-      const uint32_t sum =
-          BlockSum(src, x * factor, y * factor, factor, [](uint8_t p) { return uint32_t{p}; });
-      out[x] = static_cast<uint8_t>((sum + n / 2) / n);
-    }
-  }
+  BinInterleaved(src.data, src.stride, dst.data, dst.stride, dst.width, dst.height, 1, factor);
   return Status::Ok();
 }
 
 Status BinRgb(ImageView<const Rgb8> src, int factor, ImageView<Rgb8> dst) {
   SH_RETURN_IF_ERROR(CheckBinnedShape(src.width, src.height, factor, dst.width, dst.height));
-  const uint32_t n = static_cast<uint32_t>(factor * factor);
-  for (int y = 0; y < dst.height; ++y) {
-    Rgb8* out = dst.row(y);
-    for (int x = 0; x < dst.width; ++x) {
-      const int x0 = x * factor, y0 = y * factor;
-      const uint32_t r = BlockSum(src, x0, y0, factor, [](Rgb8 p) { return uint32_t{p.r}; });
-      const uint32_t g = BlockSum(src, x0, y0, factor, [](Rgb8 p) { return uint32_t{p.g}; });
-      const uint32_t b = BlockSum(src, x0, y0, factor, [](Rgb8 p) { return uint32_t{p.b}; });
-      out[x] = Rgb8{static_cast<uint8_t>((r + n / 2) / n), static_cast<uint8_t>((g + n / 2) / n),
-                    static_cast<uint8_t>((b + n / 2) / n)};
-    }
-  }
+  constexpr int kRgb = static_cast<int>(sizeof(Rgb8));
+  BinInterleaved(reinterpret_cast<const uint8_t*>(src.data), src.stride * ptrdiff_t{kRgb},
+                 reinterpret_cast<uint8_t*>(dst.data), dst.stride * ptrdiff_t{kRgb}, dst.width,
+                 dst.height, kRgb, factor);
   return Status::Ok();
 }
 

@@ -5,7 +5,6 @@
 #include <cstring>
 
 #include "recog/camera/calibration_check.hpp"
-#include "recog/image/binning.hpp"
 
 namespace sh {
 namespace {

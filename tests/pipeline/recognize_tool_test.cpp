@@ -49,6 +49,22 @@ RigidTransform PoseOf(const Json& o) {
   return T;
 }
 
+// Two `recognize --json` outputs report the same models at the same poses, in the same order,
+// and at least one object.
+void ExpectSameObjects(const std::string& json_a, const std::string& json_b) {
+  Json a, b;
+  ASSERT_TRUE(JsonReader(ReadText(json_a)).Parse(&a)) << json_a;
+  ASSERT_TRUE(JsonReader(ReadText(json_b)).Parse(&b)) << json_b;
+  ASSERT_GT(a["objects"].size(), 0u) << json_a;
+  ASSERT_EQ(a["objects"].size(), b["objects"].size());
+  for (size_t i = 0; i < a["objects"].size(); ++i) {
+    EXPECT_EQ(a["objects"][i]["model"].text, b["objects"][i]["model"].text) << i;
+    const RigidTransform pa = PoseOf(a["objects"][i]), pb = PoseOf(b["objects"][i]);
+    EXPECT_EQ(pa.t_mm, pb.t_mm) << i;
+    EXPECT_EQ(pa.R, pb.R) << i;
+  }
+}
+
 class RecognizeToolTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -344,20 +360,7 @@ TEST_F(RecognizeToolTest, ALargeSensorsPairIsBinnedWithItsCalibration) {
   ASSERT_EQ(large.exit_code, 0) << large.output;
   EXPECT_NE(large.output.find("binned 2 x 2 to"), std::string::npos) << large.output;
   EXPECT_EQ(small.output.find("binned"), std::string::npos) << small.output;
-  Json a, b;
-  ASSERT_TRUE(JsonReader(ReadText(Path("small.json"))).Parse(&a));
-  ASSERT_TRUE(JsonReader(ReadText(Path("large.json"))).Parse(&b));
-  ASSERT_GT(a["objects"].size(), 0u);
-  ASSERT_EQ(a["objects"].size(), b["objects"].size());
-  for (size_t i = 0; i < a["objects"].size(); ++i) {
-    const Json& oa = a["objects"][i];
-    const Json& ob = b["objects"][i];
-    EXPECT_EQ(oa["model"].text, ob["model"].text);
-    for (int r = 0; r < 3; ++r) {
-      EXPECT_EQ(oa["t"][r].number, ob["t"][r].number) << i;
-      for (int c = 0; c < 3; ++c) EXPECT_EQ(oa["R"][r][c].number, ob["R"][r][c].number) << i;
-    }
-  }
+  ExpectSameObjects(Path("small.json"), Path("large.json"));
 }
 
 TEST_F(RecognizeToolTest, TableFileBoundsTheVolumeAndIsReported) {
@@ -809,15 +812,7 @@ TEST_F(RecognizeToolTest, AFolderRecordedOnOneCameraIsRecognisedFromThatImage) {
   r = RunTool("recognize --calib " + Path("calib.yaml") + " --right " + Path("right.png") +
               " --table " + Path("table.yaml") + " --json " + Path("mono_right.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  Json scene, right;
-  ASSERT_TRUE(JsonReader(ReadText(Path("mono_scene.json"))).Parse(&scene));
-  ASSERT_TRUE(JsonReader(ReadText(Path("mono_right.json"))).Parse(&right));
-  ASSERT_GT(right["objects"].size(), 0u);
-  ASSERT_EQ(scene["objects"].size(), right["objects"].size());
-  for (size_t i = 0; i < scene["objects"].size(); ++i) {
-    EXPECT_EQ(scene["objects"][i]["model"].text, right["objects"][i]["model"].text);
-    EXPECT_EQ(PoseOf(scene["objects"][i]).t_mm, PoseOf(right["objects"][i]).t_mm);
-  }
+  ExpectSameObjects(Path("mono_right.json"), Path("mono_scene.json"));
 }
 
 }  // namespace
