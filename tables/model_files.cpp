@@ -3,6 +3,7 @@
 #include <dirent.h>
 #include <sys/stat.h>
 
+#include <strings.h>
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
@@ -15,9 +16,18 @@
 namespace sh {
 namespace {
 
-bool IsObjName(const char* name) {
+// The length of the stem of a model file name (kModelFileExtensions, any case), or 0.
+size_t ModelFileStemLength(const char* name) {
   const size_t len = std::strlen(name);
-  return len > 4 && std::strcmp(name + len - 4, ".obj") == 0;
+  for (const char* ext : kModelFileExtensions) {
+    const size_t n = std::strlen(ext);
+    if (len > n && strcasecmp(name + len - n, ext) == 0) return len - n;
+  }
+  return 0;
+}
+
+bool IsObjPath(const std::string& path) {
+  return path.size() > 4 && strcasecmp(path.c_str() + path.size() - 4, ".obj") == 0;
 }
 
 Status ParseManifest(const std::string& path, const std::string& text,
@@ -113,13 +123,47 @@ Result<Model> LoadModelFile(const std::string& path) {
   return model;
 }
 
+Result<std::string> ModelFilePath(const std::string& dir, const std::string& name) {
+  DIR* d = opendir(dir.c_str());
+  if (d == nullptr) {
+    return Status::Error(StatusCode::kNotFound, "models: cannot open directory %s: %s", dir.c_str(),
+                         std::strerror(errno));
+  }
+  std::string found;
+  bool twice = false;
+  while (const dirent* entry = readdir(d)) {
+    const size_t stem = ModelFileStemLength(entry->d_name);
+    if (stem == 0 || name.compare(0, std::string::npos, entry->d_name, stem) != 0) continue;
+    twice = twice || !found.empty();
+    if (found.empty() || std::strcmp(entry->d_name, found.c_str()) < 0) found = entry->d_name;
+  }
+  closedir(d);
+  if (found.empty()) {
+    return Status::Error(StatusCode::kNotFound,
+                         "models: %s/%s.obj not found (nor .stl, .ply or .3mf)", dir.c_str(),
+                         name.c_str());
+  }
+  if (twice) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "models: model '%s' has more than one file in %s (%s and another of "
+                         ".obj, .stl, .ply, .3mf); keep one",
+                         name.c_str(), dir.c_str(), found.c_str());
+  }
+  return dir + "/" + found;
+}
+
 Status LoadModels(const std::string& dir, const std::vector<std::string>& names,
-                  std::vector<Model>* models) {
+                  std::vector<Model>* models, const ModelFileReader& read) {
   models->clear();
   for (const std::string& name : names) {
-    std::string path = dir;
-    path.append("/").append(name).append(".obj");
-    Result<Model> m = LoadModelFile(path);
+    SH_ASSIGN_OR_RETURN(const std::string path, ModelFilePath(dir, name));
+    if (!read && !IsObjPath(path)) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "%s: STL, PLY and 3MF models are read on a host by `stereohash tables "
+                           "build`; give the model set it writes",
+                           path.c_str());
+    }
+    Result<Model> m = read ? read(path) : LoadModelFile(path);
     if (!m.ok()) return m.status();
     models->push_back(*m);
   }
@@ -142,12 +186,13 @@ Status ModelFolderNames(const std::string& dir, std::vector<std::string>* names)
                            dir.c_str(), std::strerror(errno));
     }
     while (const dirent* entry = readdir(d)) {
-      if (IsObjName(entry->d_name)) {
-        names->emplace_back(entry->d_name, std::strlen(entry->d_name) - 4);
-      }
+      const size_t stem = ModelFileStemLength(entry->d_name);
+      if (stem > 0) names->emplace_back(entry->d_name, stem);
     }
     closedir(d);
     std::sort(names->begin(), names->end());
+    // cube.obj beside cube.stl: one name; ModelFilePath refuses the pair when it is loaded.
+    names->erase(std::unique(names->begin(), names->end()), names->end());
   }
   if (names->empty()) {
     return Status::Error(StatusCode::kNotFound, "models: no models in %s", dir.c_str());

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,12 +37,26 @@ Status CheckModelNames(const std::vector<std::string>& names, const char* source
 // names no material or library; kInvalidArgument when it uses more than one material.
 Status LoadModelColour(const std::string& obj_path, const Model& model, float kd[3]);
 
-// Reads `<dir>/<name>.obj` for each name, in that order.
+// The extensions a model file may have (any case): OBJ, read here, and the CAD exports that the
+// host tools read (tables/cad_import.hpp).
+inline constexpr const char* kModelFileExtensions[] = {".obj", ".stl", ".ply", ".3mf"};
+
+// The file of model `name` in `dir`: `<dir>/<name>.<ext>` for the one extension of
+// kModelFileExtensions present. kNotFound when there is none; kInvalidArgument when two are
+// (cube.obj beside cube.stl), since which one is meant cannot be guessed.
+Result<std::string> ModelFilePath(const std::string& dir, const std::string& name);
+
+// Reads one model file; the default reads OBJ (LoadModelFile) and refuses the CAD formats,
+// naming the host command that reads them.
+using ModelFileReader = std::function<Result<Model>(const std::string& path)>;
+
+// Reads each name's file (ModelFilePath), in that order.
 Status LoadModels(const std::string& dir, const std::vector<std::string>& names,
-                  std::vector<Model>* models);
+                  std::vector<Model>* models, const ModelFileReader& read = nullptr);
 
 // The names a folder's manifest lists (comments after '#', blank lines skipped), or, for a
-// folder without a manifest, the stems of its *.obj files in file-name order.
+// folder without a manifest, the stems of its model files (kModelFileExtensions) in file-name
+// order.
 Status ModelFolderNames(const std::string& dir, std::vector<std::string>* names);
 
 // Every model of a folder, in the order of ModelFolderNames (model i has id i).

@@ -10,6 +10,7 @@
 
 #include "recog/base/printable.hpp"
 #include "tables/aspect_file.hpp"
+#include "tables/cad_import.hpp"
 #include "tables/model_files.hpp"
 #include "tables/model_set.hpp"
 #include "tables/model_set_writer.hpp"
@@ -42,7 +43,7 @@ void BuildUsage() {
       "usage: stereohash tables build --out FILE [--models DIR] [--names cube,hexagon,...]\n"
       "                               [--hash-fn 1..5] [--spacing-deg D] [--components N]\n"
       "                               [--hash-2d similarity|affine ... | --no-hash-2d]\n"
-      "                               [--views-out FILE]\n"
+      "                               [--views-out FILE] [--units mm|cm|m|in] [--sharp-deg A]\n"
       "                               [--bare]\n"
       "Builds one model set (docs/tables.md) holding whatever the models need, each kind as a\n"
       "section; a folder may mix them:\n"
@@ -54,9 +55,15 @@ void BuildUsage() {
       "  polyhedra         -> ASPECTS_2D: their aspect table for the one-camera fallback and the\n"
       "                one-image rescue (similarity bases unless --hash-2d says; not with\n"
       "                --no-hash-2d or --bare)\n"
-      "Models: those of DIR/models.txt, or every DIR/*.obj (default DIR: ./models), or --names.\n"
+      "Models: those of DIR/models.txt, or every model file of DIR (default DIR: ./models), or\n"
+      "--names. A model file is an OBJ or a CAD export as STL (binary or ASCII), PLY or 3MF\n"
+      "(docs/models.md); coplanar triangles are merged into faces, and an edge must bend by the\n"
+      "sharp angle at least (a curved surface is refused by name).\n"
       "%s"
       "  --views-out FILE  write the colour parts' view database to FILE instead\n"
+      "  --units U     the length unit of the model files (STL has none): mm (default), cm, m, in\n"
+      "  --sharp-deg A the least bend of an edge between facets, degrees (default 20, 2..89)\n"
+      "                (with --units or --sharp-deg, OBJ files are read as CAD exports too)\n"
       "  --bare        write the single-kind blob itself when the set has one section (the\n"
       "                format older builds read)\n",
       kAspectOptionsHelp);
@@ -273,6 +280,7 @@ int RunBuild(int argc, char** argv) {
   int hf = 5;
   ShapeViewBuildOptions view_options;
   AspectBuildOptions aspect_options;
+  CadImportOptions cad;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const int aspect = ParseAspectOption(argc, argv, &i, &aspect_options, &want_aspects);
@@ -313,6 +321,19 @@ int RunBuild(int argc, char** argv) {
       bare = true;
     } else if (a == "--no-hash-2d") {
       no_aspects = true;
+    } else if (a == "--units") {
+      if (!ParseLengthUnit(value().c_str(), &cad.mm_per_unit)) {
+        std::fprintf(stderr, "stereohash tables build: --units takes mm, cm, m or in\n");
+        return 2;
+      }
+      cad.unit = argv[i];  // the value just read
+      cad.obj_through_import = true;
+    } else if (a == "--sharp-deg") {
+      if (!OptionNumber(kBuild, "--sharp-deg", value().c_str(), kMinSharpDeg, kMaxSharpDeg,
+                        &cad.sharp_deg)) {
+        return 2;
+      }
+      cad.obj_through_import = true;
     } else {
       std::fprintf(stderr, "stereohash tables build: unknown option '%s'\n", a.c_str());
       BuildUsage();
@@ -358,7 +379,9 @@ int RunBuild(int argc, char** argv) {
     list = WithoutPrinted(models_dir, list, printed);
   }
   std::vector<Model> all;
-  const Status loaded = LoadModels(models_dir, list, &all);
+  const Status loaded = LoadModels(models_dir, list, &all, [&cad](const std::string& path) {
+    return ImportModelFile(path, cad);
+  });
   if (!loaded.ok()) {
     std::fprintf(stderr, "stereohash tables build: %s\n", loaded.message());
     return 1;
@@ -369,7 +392,11 @@ int RunBuild(int argc, char** argv) {
   for (size_t i = 0; i < all.size(); ++i) {
     ShapeModelInput part;
     part.model = all[i];
-    const Status colour = LoadModelColour(models_dir + "/" + list[i] + ".obj", all[i], part.kd);
+    // A colour is an OBJ's material; CAD exports are polyhedra.
+    const Result<std::string> path = ModelFilePath(models_dir, list[i]);
+    const Status colour = !path.ok() || IsCadFileName(*path)
+                              ? Status::Error(StatusCode::kNotFound, "no material")
+                              : LoadModelColour(*path, all[i], part.kd);
     if (colour.ok()) {
       parts.push_back(part);
     } else if (colour.code() == StatusCode::kNotFound) {

@@ -11,3 +11,9 @@ target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/tables_printed.cpp)
 stereohash_headers(stereohash PRIVATE tables_printed.hpp)
 target_link_libraries(stereohash PRIVATE stereohash_feature_db_builder stereohash_feature_db
                       stereohash_textured_model_files)
+# CAD exports (tables/cad_import, through assimp): `tables build --models` reads STL, PLY and 3MF.
+if(NOT TARGET stereohash_cad_import)
+  message(FATAL_ERROR "the host tools read CAD exports with assimp: install Debian's "
+                      "libassimp-dev (tools/ci/install-deps.sh does)")
+endif()
+target_link_libraries(stereohash PRIVATE stereohash_cad_import)

@@ -5,6 +5,7 @@
 
 #include "hal/sim/textured_model_files.hpp"
 #include "recog/base/printable.hpp"
+#include "tables/cad_import.hpp"
 #include "tables/feature_db_builder.hpp"
 #include "tables/model_files.hpp"
 
@@ -19,7 +20,11 @@ Status ClassifyModelFolder(const std::string& dir, std::vector<std::string>* pri
   std::vector<std::string> names;
   SH_RETURN_IF_ERROR(ModelFolderNames(dir, &names));
   for (const std::string& name : names) {
-    const std::string f = std::string(dir).append("/").append(name).append(".obj");
+    SH_ASSIGN_OR_RETURN(const std::string f, ModelFilePath(dir, name));
+    if (IsCadFileName(f)) {  // CAD exports carry no texture: polyhedra
+      plain->push_back(f);
+      continue;
+    }
     Result<TexturedModel> m = LoadTexturedModelFile(f);
     if (!m.ok()) return m.status();
     (m->texturing.textured() ? printed : plain)->push_back(f);

@@ -2,6 +2,7 @@
 // models.txt deciding which OBJ files are read (printed ones included), numbers read whole.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -72,6 +73,49 @@ TEST(ModelNamesTool, RenderTruthEscapesModelNames) {
   std::ifstream in(dir.Sub("scene/truth.json"));
   const std::string truth((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(truth.find("\"model\": \"cu\\\"be\\\\x\""), std::string::npos) << truth;
+}
+
+// An ASCII STL of a cube of side 0.5 (in the file's unit) about the origin, wound
+// counter-clockwise from outside.
+void WriteHalfCubeStl(const std::string& path) {
+  static constexpr int kQuads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  std::ofstream out(path);
+  out << "solid cube\n";
+  for (const auto& q : kQuads) {
+    const std::array<int, 3> halves[2] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
+    for (const std::array<int, 3>& tri : halves) {
+      out << "facet normal 0 0 0\nouter loop\n";
+      for (int k = 0; k < 3; ++k) {
+        out << "vertex " << (tri[k] & 1) * 0.5 - 0.25 << " " << ((tri[k] >> 1) & 1) * 0.5 - 0.25
+            << " " << (tri[k] >> 2) * 0.5 - 0.25 << "\n";
+      }
+      out << "endloop\nendfacet\n";
+    }
+  }
+  out << "endsolid cube\n";
+}
+
+TEST(ModelNamesTool, CadExportsAreModelsReadInTheirUnit) {
+  TempDir dir("names");
+  const std::string d = dir.Mkdir("models");
+  WriteHalfCubeStl(d + "/block.stl");
+  const std::string out = " --out " + dir.Sub("t.bin");
+  ToolRun r = RunTool("tables build --models " + d + out);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("block.stl: STL: the model is 0.866 mm across"), std::string::npos)
+      << r.output;
+  r = RunTool("tables build --models " + d + " --units ft" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--units takes mm, cm, m or in"), std::string::npos) << r.output;
+  r = RunTool("tables build --models " + d + " --units in" + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("model 0 block       8 corners 12 edges  6 faces, symmetry group of "
+                          "order 24"),
+            std::string::npos)
+      << r.output;
+  r = RunTool("tables build --models " + d + " --sharp-deg 95" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
 }
 
 TEST(ModelNamesTool, OptionNumbersAreReadWholeAndNamed) {

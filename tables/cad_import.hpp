@@ -1,0 +1,51 @@
+// Models from CAD exports (host tools: `tables build`, `tables info`; the board reads blobs).
+//
+// STL (binary and ASCII), PLY, 3MF and OBJ are read with assimp, scaled to millimetres, their
+// vertices welded within kCadWeldMm, and merged into faces, corners and edges exactly as an OBJ
+// is (ModelFromMesh): coplanar triangles become one face, and the bend between adjacent faces must
+// reach the sharp angle. A part whose facets bend by less (a tessellated fillet, bore or cylinder)
+// is refused by name: curved surfaces are not modelled. See docs/tables.md and docs/limits.md.
+#pragma once
+
+#include <string>
+
+#include "recog/base/status.hpp"
+#include "recog/model/model.hpp"
+
+namespace sh {
+
+// Files are read whole (through InputFile: regular files only, never blocking) up to this size,
+// before assimp sees a byte; their triangles are bounded by kMaxObjPolygons after that.
+inline constexpr long kMaxCadFileBytes = 8L << 20;
+// Vertices closer than this (after scaling to millimetres) are one vertex: STL repeats every
+// vertex once per triangle, and exporters print coordinates rounded.
+inline constexpr double kCadWeldMm = 1e-3;
+// The bend between adjacent facets, in degrees, below which they are not an edge: tessellated
+// curves bend 3..15 degrees per facet in CAD exports, a machined edge 30 or more.
+inline constexpr double kDefaultSharpDeg = 20.0;
+inline constexpr double kMinSharpDeg = 2.0;
+inline constexpr double kMaxSharpDeg = 89.0;
+
+struct CadImportOptions {
+  double mm_per_unit = 1.0;  // --units: mm 1, cm 10, m 1000, in 25.4
+  const char* unit = "mm";
+  double sharp_deg = kDefaultSharpDeg;  // --sharp-deg
+  // OBJ files are read by the board's own reader (millimetres, edges of 2 degrees and more) unless
+  // a unit or a sharp angle was asked for.
+  bool obj_through_import = false;
+};
+
+// "mm", "cm", "m" or "in" -> millimetres per unit; false for anything else.
+bool ParseLengthUnit(const char* text, double* mm_per_unit);
+
+// Whether `path` names a file this importer reads: .stl, .ply, .3mf (any case).
+bool IsCadFileName(const std::string& path);
+
+// One model from a CAD export, named after its file stem.
+Result<Model> ImportCadModel(const std::string& path, const CadImportOptions& options);
+
+// Any model file of a folder: OBJ through LoadModelFile unless options say otherwise, the rest
+// through ImportCadModel.
+Result<Model> ImportModelFile(const std::string& path, const CadImportOptions& options);
+
+}  // namespace sh

@@ -1,0 +1,308 @@
+// CAD exports -> models (tables/cad_import): the reference models exported by assimp's writers as
+// binary and ASCII STL, binary and ASCII PLY, triangulated OBJ and 3MF become the same models as
+// their OBJ; units scale; curved surfaces and malformed files are refused by name.
+#include "tables/cad_import.hpp"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <array>
+#include <assimp/Exporter.hpp>
+#include <assimp/Importer.hpp>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "tables/model_files.hpp"
+#include "tables/table_builder.hpp"
+#include "tests/support/temp_dir.hpp"
+
+namespace sh {
+namespace {
+
+using testing::TempDir;
+
+const char* const kReference[] = {"cube", "hexagon", "wedge", "star", "pentagon", "trapezium"};
+
+// `obj` triangulated by assimp and written by its exporter `format_id` ("stlb", "ply", ...).
+void Export(const std::string& obj, const char* format_id, const std::string& out) {
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(obj, aiProcess_Triangulate);
+  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  Assimp::Exporter exporter;
+  ASSERT_EQ(exporter.Export(scene, format_id, out), aiReturn_SUCCESS)
+      << format_id << ": " << exporter.GetErrorString();
+}
+
+bool Near(const float a[3], const float b[3], double tol) {
+  return std::abs(a[0] - b[0]) <= tol && std::abs(a[1] - b[1]) <= tol &&
+         std::abs(a[2] - b[2]) <= tol;
+}
+
+int FindCorner(const Model& m, const float p[3]) {
+  for (int i = 0; i < m.n_corners; ++i) {
+    if (Near(m.corners_mm[i], p, 1e-3)) return i;
+  }
+  return -1;
+}
+
+// The same corners, edges (between the same corners) and face planes, in any order.
+void ExpectSameModel(const Model& want, const Model& got, const std::string& what) {
+  ASSERT_EQ(got.n_corners, want.n_corners) << what;
+  ASSERT_EQ(got.n_edges, want.n_edges) << what;
+  ASSERT_EQ(got.n_faces, want.n_faces) << what;
+  EXPECT_STREQ(got.name, want.name) << what;
+  int corner_of[kMaxModelCorners];
+  for (int i = 0; i < want.n_corners; ++i) {
+    corner_of[i] = FindCorner(got, want.corners_mm[i]);
+    ASSERT_GE(corner_of[i], 0) << what << ": corner " << i << " missing";
+  }
+  for (int e = 0; e < want.n_edges; ++e) {
+    const int a = corner_of[want.edges[e].a], b = corner_of[want.edges[e].b];
+    bool found = false;
+    for (int g = 0; g < got.n_edges && !found; ++g) {
+      found = (got.edges[g].a == a && got.edges[g].b == b) ||
+              (got.edges[g].a == b && got.edges[g].b == a);
+    }
+    EXPECT_TRUE(found) << what << ": edge " << e << " missing";
+  }
+  for (int f = 0; f < want.n_faces; ++f) {
+    bool found = false;
+    for (int g = 0; g < got.n_faces && !found; ++g) {
+      found = Near(got.faces[g].normal, want.faces[f].normal, 1e-5) &&
+              std::abs(got.faces[g].offset_mm - want.faces[f].offset_mm) <= 1e-3 &&
+              got.faces[g].n_vertices == want.faces[f].n_vertices;
+    }
+    EXPECT_TRUE(found) << what << ": face " << f << " missing";
+  }
+}
+
+struct ExportCase {
+  const char* format_id;  // assimp's exporter
+  const char* extension;
+  bool through_import;  // an OBJ export: read as a CAD export
+};
+
+class ReferenceExports : public ::testing::TestWithParam<ExportCase> {};
+
+TEST_P(ReferenceExports, AreTheSameModelsAsTheirObj) {
+  const ExportCase& c = GetParam();
+  TempDir dir("cad");
+  CadImportOptions options;
+  options.obj_through_import = c.through_import;
+  for (const char* name : kReference) {
+    const std::string obj = std::string("models/") + name + ".obj";
+    const std::string out = dir.Sub(std::string(name) + c.extension);
+    Export(obj, c.format_id, out);
+    const Result<Model> want = LoadModelFile(obj);
+    ASSERT_TRUE(want.ok()) << want.status().message();
+    const Result<Model> got = ImportModelFile(out, options);
+    ASSERT_TRUE(got.ok()) << out << ": " << got.status().message();
+    ExpectSameModel(*want, *got, out);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Formats, ReferenceExports,
+    ::testing::Values(ExportCase{"stlb", ".stl", false}, ExportCase{"stl", ".stl", false},
+                      ExportCase{"plyb", ".ply", false}, ExportCase{"ply", ".ply", false},
+                      ExportCase{"obj", ".obj", true}, ExportCase{"3mf", ".3mf", false}),
+    [](const auto& info) { return std::string(info.param.format_id); });
+
+TEST(CadImport, AFolderOfExportsBuildsTheTablesOfItsObjs) {
+  TempDir dir("cad");
+  const std::string d = dir.Mkdir("models");
+  std::vector<std::string> names;
+  for (const char* name : kReference) {
+    Export(std::string("models/") + name + ".obj", "stlb", d + "/" + name + ".stl");
+    names.push_back(name);
+  }
+  std::vector<Model> want, got;
+  ASSERT_TRUE(LoadModels("models", names, &want).ok());
+  const Status loaded = LoadModels(d, names, &got, [](const std::string& path) {
+    return ImportModelFile(path, CadImportOptions{});
+  });
+  ASSERT_TRUE(loaded.ok()) << loaded.message();
+  TableBuildReport want_report, got_report;
+  ASSERT_TRUE(BuildTableBlob(want, TableBuildOptions{}, &want_report).ok());
+  ASSERT_TRUE(BuildTableBlob(got, TableBuildOptions{}, &got_report).ok());
+  EXPECT_EQ(got_report.bases, want_report.bases);
+  EXPECT_EQ(got_report.point_entries, want_report.point_entries);
+  EXPECT_EQ(got_report.line_entries, want_report.line_entries);
+  for (size_t m = 0; m < want.size(); ++m) {
+    EXPECT_EQ(got[m].n_symmetries, want[m].n_symmetries) << want[m].name;
+  }
+}
+
+TEST(CadImport, FolderListingsTakeEveryFormatAndRefuseAModelInTwo) {
+  TempDir dir("cad");
+  const std::string d = dir.Mkdir("models");
+  Export("models/cube.obj", "stlb", d + "/cube.STL");
+  Export("models/wedge.obj", "ply", d + "/wedge.ply");
+  std::vector<std::string> names;
+  ASSERT_TRUE(ModelFolderNames(d, &names).ok());
+  EXPECT_EQ(names, (std::vector<std::string>{"cube", "wedge"}));
+  std::vector<Model> models;
+  // The board's reader names the host command rather than reading STL as OBJ text.
+  Status s = LoadModels(d, names, &models);
+  EXPECT_NE(std::string(s.message()).find("read on a host by `stereohash tables build`"),
+            std::string::npos)
+      << s.message();
+  Export("models/cube.obj", "obj", d + "/cube.obj");
+  s = LoadModels(d, names, &models,
+                 [](const std::string& path) { return ImportModelFile(path, {}); });
+  EXPECT_NE(std::string(s.message()).find("model 'cube' has more than one file"), std::string::npos)
+      << s.message();
+}
+
+// An ASCII STL of the given triangles.
+void WriteAsciiStl(const std::string& path, const std::vector<std::array<double, 9>>& triangles) {
+  std::ofstream out(path);
+  out << "solid part\n";
+  for (const auto& t : triangles) {
+    out << " facet normal 0 0 0\n  outer loop\n";
+    for (size_t k = 0; k < 9; k += 3) {
+      out << "   vertex " << t[k] << " " << t[k + 1] << " " << t[k + 2] << "\n";
+    }
+    out << "  endloop\n endfacet\n";
+  }
+  out << "endsolid part\n";
+}
+
+// A closed n-sided prism (radius r, height h), wound counter-clockwise from outside.
+std::vector<std::array<double, 9>> Prism(int n, double r, double h) {
+  std::vector<std::array<double, 9>> t;
+  auto x = [&](int i) { return r * std::cos(2 * M_PI * i / n); };
+  auto y = [&](int i) { return r * std::sin(2 * M_PI * i / n); };
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    t.push_back({x(i), y(i), 0, x(j), y(j), 0, x(j), y(j), h});
+    t.push_back({x(i), y(i), 0, x(j), y(j), h, x(i), y(i), h});
+    if (i > 0 && j > 0) {
+      t.push_back({x(0), y(0), h, x(i), y(i), h, x(j), y(j), h});
+      t.push_back({x(0), y(0), 0, x(j), y(j), 0, x(i), y(i), 0});
+    }
+  }
+  return t;
+}
+
+TEST(CadImport, UnitsScaleToMillimetresAndAMissingUnitIsNamed) {
+  TempDir dir("cad");
+  std::vector<std::array<double, 9>> prism = Prism(6, 0.02, 0.03);  // metres
+  WriteAsciiStl(dir.Sub("hex.stl"), prism);
+  Result<Model> m = ImportCadModel(dir.Sub("hex.stl"), {});
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(std::string(m.status().message()).find("read in mm: give its unit with --units"),
+            std::string::npos)
+      << m.status().message();
+  CadImportOptions metres;
+  ASSERT_TRUE(ParseLengthUnit("m", &metres.mm_per_unit));
+  metres.unit = "m";
+  m = ImportCadModel(dir.Sub("hex.stl"), metres);
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_EQ(m->n_corners, 12);
+  EXPECT_EQ(m->n_faces, 8);
+  EXPECT_NEAR(m->corners_mm[0][0] * m->corners_mm[0][0] + m->corners_mm[0][1] * m->corners_mm[0][1],
+              400.0, 1e-3);
+  double in = 0;
+  EXPECT_TRUE(ParseLengthUnit("in", &in));
+  EXPECT_EQ(in, 25.4);
+  EXPECT_FALSE(ParseLengthUnit("ft", &in));
+}
+
+TEST(CadImport, ACurvedSurfaceIsRefusedByNameAndASharperBoundTakesItAsFacets) {
+  TempDir dir("cad");
+  WriteAsciiStl(dir.Sub("can.stl"), Prism(32, 20, 30));  // facets bend by 11.25 degrees
+  Result<Model> m = ImportCadModel(dir.Sub("can.stl"), {});
+  ASSERT_FALSE(m.ok());
+  const std::string message = m.status().message();
+  EXPECT_NE(message.find("bend by 11 degrees, under --sharp-deg 20: a curved surface"),
+            std::string::npos)
+      << message;
+  CadImportOptions facets;
+  facets.sharp_deg = 10;
+  m = ImportCadModel(dir.Sub("can.stl"), facets);
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_EQ(m->n_corners, 64);
+  EXPECT_EQ(m->n_edges, 96);
+  EXPECT_EQ(m->n_faces, 34);
+}
+
+// A binary STL: 80-byte header, the triangle count, then 50 bytes a triangle.
+std::string BinaryStl(uint32_t count, const std::vector<std::array<float, 9>>& triangles) {
+  std::string bytes(80, ' ');
+  bytes.append(reinterpret_cast<const char*>(&count), 4);
+  for (const auto& t : triangles) {
+    const float normal[3] = {0, 0, 0};
+    bytes.append(reinterpret_cast<const char*>(normal), 12);
+    bytes.append(reinterpret_cast<const char*>(t.data()), 36);
+    bytes.append(2, '\0');
+  }
+  return bytes;
+}
+
+std::vector<std::array<float, 9>> AsFloat(const std::vector<std::array<double, 9>>& in) {
+  std::vector<std::array<float, 9>> out;
+  for (const auto& t : in) {
+    std::array<float, 9> f{};
+    for (int k = 0; k < 9; ++k) f[k] = static_cast<float>(t[k]);
+    out.push_back(f);
+  }
+  return out;
+}
+
+std::string Import(const std::string& path) {
+  const Result<Model> m = ImportCadModel(path, {});
+  return m.ok() ? std::string("ok") : std::string(m.status().message());
+}
+
+TEST(CadImport, MalformedFilesAreRefusedClearly) {
+  TempDir dir("cad");
+  const std::vector<std::array<float, 9>> cube = AsFloat(Prism(4, 20, 20));
+  const std::string whole = BinaryStl(uint32_t(cube.size()), cube);
+  std::ofstream(dir.Sub("whole.stl"), std::ios::binary) << whole;
+  EXPECT_EQ(Import(dir.Sub("whole.stl")), "ok");
+
+  std::ofstream(dir.Sub("truncated.stl"), std::ios::binary) << whole.substr(0, whole.size() - 70);
+  std::string message = Import(dir.Sub("truncated.stl"));
+  EXPECT_NE(message.find("not a readable STL file"), std::string::npos) << message;
+
+  std::ofstream(dir.Sub("lies.stl"), std::ios::binary) << BinaryStl(10000000, cube);
+  message = Import(dir.Sub("lies.stl"));
+  EXPECT_NE(message.find("not a readable STL file"), std::string::npos) << message;
+
+  std::vector<std::array<float, 9>> nan = cube;
+  nan[3][4] = std::nanf("");
+  std::ofstream(dir.Sub("nan.stl"), std::ios::binary) << BinaryStl(uint32_t(nan.size()), nan);
+  message = Import(dir.Sub("nan.stl"));
+  EXPECT_NE(message.find("non-finite vertex coordinate"), std::string::npos) << message;
+
+  const std::vector<std::array<float, 9>> many = AsFloat(Prism(300, 20, 20));
+  std::ofstream(dir.Sub("many.stl"), std::ios::binary) << BinaryStl(uint32_t(many.size()), many);
+  message = Import(dir.Sub("many.stl"));
+  EXPECT_NE(message.find("1196 triangles; at most 512"), std::string::npos) << message;
+
+  // Ten million triangles (500 MB) are refused from the file's size: a sparse file, never read.
+  { std::ofstream(dir.Sub("huge.stl"), std::ios::binary) << BinaryStl(10000000, {}); }
+  ASSERT_EQ(truncate(dir.Sub("huge.stl").c_str(), 84 + 50L * 10000000), 0);
+  message = Import(dir.Sub("huge.stl"));
+  EXPECT_NE(message.find("huge.stl"), std::string::npos) << message;
+  EXPECT_NE(message.find("8388608"), std::string::npos) << message;
+
+  ASSERT_EQ(mkfifo(dir.Sub("fifo.stl").c_str(), 0600), 0);
+  message = Import(dir.Sub("fifo.stl"));
+  EXPECT_NE(message.find("FIFO"), std::string::npos) << message;
+
+  std::ofstream(dir.Sub("text.ply")) << "this is no PLY\n";
+  message = Import(dir.Sub("text.ply"));
+  EXPECT_NE(message.find("not a readable PLY file"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace sh
