@@ -107,7 +107,33 @@ Status SceneToMesh(const aiScene& scene, const std::string& format, double mm_pe
   return Status::Ok();
 }
 
+// The centre of volume of the closed, outward-wound triangle mesh: the volume-weighted mean of the
+// centroids of the tetrahedra each triangle spans with a reference vertex.
+Eigen::Vector3d VolumeCentroid(const PolygonMesh& mesh) {
+  const Eigen::Vector3d& o = mesh.vertices[0];
+  double volume6 = 0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  for (int f = 0; f < mesh.n_polygons; ++f) {
+    const int h = mesh.polygon_start[f];
+    const Eigen::Vector3d a = mesh.vertices[mesh.from(h)] - o;
+    const Eigen::Vector3d b = mesh.vertices[mesh.from(h + 1)] - o;
+    const Eigen::Vector3d c = mesh.vertices[mesh.from(h + 2)] - o;
+    const double v = a.dot(b.cross(c));
+    volume6 += v;
+    moment += v * (a + b + c) / 4.0;
+  }
+  return o + moment / volume6;  // volume6 > 0: ModelFromMesh checked the winding
+}
+
 }  // namespace
+
+void MoveModelOrigin(Model& model, const Eigen::Vector3d& origin_mm) {
+  const Eigen::Vector3f o = origin_mm.cast<float>();
+  for (int i = 0; i < model.n_corners; ++i) {
+    for (int k = 0; k < 3; ++k) model.corners_mm[i][k] -= o[k];
+  }
+  for (int f = 0; f < model.n_faces; ++f) model.faces[f].offset_mm -= model.face_normal(f).dot(o);
+}
 
 bool ParseLengthUnit(const char* text, double* mm_per_unit) {
   static constexpr struct {
@@ -128,7 +154,8 @@ bool IsCadFileName(const std::string& path) {
   return ext == ".stl" || ext == ".ply" || ext == ".3mf";
 }
 
-Result<Model> ImportCadModel(const std::string& path, const CadImportOptions& options) {
+Result<Model> ImportCadModel(const std::string& path, const CadImportOptions& options,
+                             CadImportReport* report) {
   const std::string ext = LowerExtension(path);
   const std::string format = FormatName(ext.empty() ? std::string(".mesh") : ext);
   std::string bytes;
@@ -167,12 +194,20 @@ Result<Model> ImportCadModel(const std::string& path, const CadImportOptions& op
   mesh_options.edge_angle_hint = angle_hint;
   Result<Model> model = ModelFromMesh(*mesh, stem.c_str(), mesh_options);
   if (!model.ok()) return model.status().WithContext("%s", path.c_str());
+  CadImportReport done;
+  done.centroid_in_file_mm = VolumeCentroid(*mesh);
+  if (options.origin == ModelOrigin::kCentroid) {
+    done.origin_in_file_mm = done.centroid_in_file_mm;
+    MoveModelOrigin(*model, done.origin_in_file_mm);
+  }
+  if (report != nullptr) *report = done;
   return model;
 }
 
-Result<Model> ImportModelFile(const std::string& path, const CadImportOptions& options) {
+Result<Model> ImportModelFile(const std::string& path, const CadImportOptions& options,
+                              CadImportReport* report) {
   if (LowerExtension(path) == ".obj" && !options.obj_through_import) return LoadModelFile(path);
-  return ImportCadModel(path, options);
+  return ImportCadModel(path, options, report);
 }
 
 }  // namespace sh

@@ -3,6 +3,8 @@
 // their OBJ; units scale; curved surfaces and malformed files are refused by name.
 #include "tables/cad_import.hpp"
 
+#include <Eigen/Core>
+
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <gtest/gtest.h>
@@ -232,6 +234,36 @@ TEST(CadImport, ACurvedSurfaceIsRefusedByNameAndASharperBoundTakesItAsFacets) {
   EXPECT_EQ(m->n_corners, 64);
   EXPECT_EQ(m->n_edges, 96);
   EXPECT_EQ(m->n_faces, 34);
+}
+
+TEST(CadImport, TheCentroidOriginIsReportedAndMovesThePart) {
+  TempDir dir("cad");
+  std::vector<std::array<double, 9>> prism = Prism(4, 20, 30);  // z from 0 to 30
+  for (auto& t : prism) {
+    for (size_t k = 0; k < 9; k += 3) t[k] += 50;  // and off the z axis
+  }
+  WriteAsciiStl(dir.Sub("block.stl"), prism);
+  CadImportReport report;
+  Result<Model> in_file = ImportCadModel(dir.Sub("block.stl"), {}, &report);
+  ASSERT_TRUE(in_file.ok()) << in_file.status().message();
+  EXPECT_TRUE(report.origin_in_file_mm.isZero());
+  EXPECT_NEAR((report.centroid_in_file_mm - Eigen::Vector3d(50, 0, 15)).norm(), 0, 1e-9);
+  CadImportOptions centroid;
+  centroid.origin = ModelOrigin::kCentroid;
+  Result<Model> centred = ImportCadModel(dir.Sub("block.stl"), centroid, &report);
+  ASSERT_TRUE(centred.ok()) << centred.status().message();
+  EXPECT_NEAR((report.origin_in_file_mm - Eigen::Vector3d(50, 0, 15)).norm(), 0, 1e-9);
+  for (int i = 0; i < centred->n_corners; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(centred->corners_mm[i][k],
+                  in_file->corners_mm[i][k] - float(report.origin_in_file_mm[k]), 1e-4);
+    }
+  }
+  for (int f = 0; f < centred->n_faces; ++f) {
+    // The box about its centroid: caps 15 mm out, sides 20 / sqrt(2) (its corners are 20 mm out).
+    const double half = std::abs(centred->faces[f].normal[2]) > 0.5 ? 15.0 : 20.0 / std::sqrt(2.0);
+    EXPECT_NEAR(centred->faces[f].offset_mm, half, 1e-4) << f;
+  }
 }
 
 // A binary STL: 80-byte header, the triangle count, then 50 bytes a triangle.
