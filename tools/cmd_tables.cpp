@@ -22,6 +22,7 @@
 #include "tools/recognize_texture.hpp"
 #include "tools/report_util.hpp"
 #include "tools/tables_aspects.hpp"
+#include "tools/tables_cad.hpp"
 #include "tools/tables_printed.hpp"
 
 namespace sh::tools {
@@ -44,6 +45,7 @@ void BuildUsage() {
       "                               [--hash-fn 1..5] [--spacing-deg D] [--components N]\n"
       "                               [--hash-2d similarity|affine ... | --no-hash-2d]\n"
       "                               [--views-out FILE] [--units mm|cm|m|in] [--sharp-deg A]\n"
+      "                               [--origin file|centroid]\n"
       "                               [--bare]\n"
       "Builds one model set (docs/tables.md) holding whatever the models need, each kind as a\n"
       "section; a folder may mix them:\n"
@@ -57,16 +59,14 @@ void BuildUsage() {
       "                --no-hash-2d or --bare)\n"
       "Models: those of DIR/models.txt, or every model file of DIR (default DIR: ./models), or\n"
       "--names. A model file is an OBJ or a CAD export as STL (binary or ASCII), PLY or 3MF\n"
-      "(docs/models.md); coplanar triangles are merged into faces, and an edge must bend by the\n"
+      "(docs/tables.md); coplanar triangles are merged into faces, and an edge must bend by the\n"
       "sharp angle at least (a curved surface is refused by name).\n"
       "%s"
       "  --views-out FILE  write the colour parts' view database to FILE instead\n"
-      "  --units U     the length unit of the model files (STL has none): mm (default), cm, m, in\n"
-      "  --sharp-deg A the least bend of an edge between facets, degrees (default 20, 2..89)\n"
-      "                (with --units or --sharp-deg, OBJ files are read as CAD exports too)\n"
+      "%s"
       "  --bare        write the single-kind blob itself when the set has one section (the\n"
       "                format older builds read)\n",
-      kAspectOptionsHelp);
+      kAspectOptionsHelp, kCadOptionsHelp);
 }
 
 void InfoUsage() {
@@ -109,6 +109,14 @@ void PrintModels(const TableView& view) {
         "%4u bases\n",
         m, Printable(model.name, sizeof(model.name), shown, sizeof(shown)), model.n_corners,
         model.n_edges, model.n_faces, model.n_symmetries, bases[m]);
+    if (bases[m] == 0) {
+      const BasisLimits l = view.limits();
+      std::printf(
+          "  warning: model %u offers no basis within this table's limits (points %.0f..%.0f mm "
+          "apart, a point %.0f..%.0f mm from a line): the stereo path cannot find it\n",
+          m, double(l.min_point_spacing_mm), double(l.max_point_spacing_mm),
+          double(l.min_point_line_mm), double(l.max_point_line_mm));
+    }
   }
 }
 
@@ -222,15 +230,17 @@ int DescribeFile(const std::string& file) {
 }
 
 // The names of `list` whose DIR/<name>.obj is not one of `printed` (paths).
-std::vector<std::string> WithoutPrinted(const std::string& dir,
-                                        const std::vector<std::string>& list,
-                                        const std::vector<std::string>& printed) {
-  std::vector<std::string> out;
-  for (const std::string& name : list) {
+// The names of `dir`'s models that are not among the `printed` OBJ files.
+Status PlainModelNames(const std::string& dir, const std::vector<std::string>& printed,
+                       std::vector<std::string>* names) {
+  std::vector<std::string> all;
+  SH_RETURN_IF_ERROR(ModelFolderNames(dir, &all));
+  names->clear();
+  for (const std::string& name : all) {
     const std::string path = std::string(dir).append("/").append(name).append(".obj");
-    if (std::find(printed.begin(), printed.end(), path) == printed.end()) out.push_back(name);
+    if (std::find(printed.begin(), printed.end(), path) == printed.end()) names->push_back(name);
   }
-  return out;
+  return Status::Ok();
 }
 
 struct BuiltSection {
@@ -274,6 +284,46 @@ bool WriteSections(const std::string& path, const std::vector<BuiltSection>& sec
 
 constexpr const char* kBuild = "tables build";
 
+// The HASH3D section of `models` for hash function `hf`; prints what each model became (a
+// changed model shows there: other counts, a smaller symmetry group), or the error.
+Result<std::vector<uint8_t>> BuildHashSection(const std::vector<Model>& models, int hf) {
+  TableBuildOptions options;
+  options.hash_function = static_cast<HashFunction>(hf);
+  TableBuildReport report;
+  Result<std::vector<uint8_t>> blob = BuildTableBlob(models, options, &report);
+  if (!blob.ok()) {
+    std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
+    return blob;
+  }
+  std::printf("  HASH3D: ");
+  if (!DescribeBlob(uint32_t(SectionKind::kHash3d), {blob->data(), blob->size()})) {
+    return Status::Error(StatusCode::kInternal, "the HASH3D section as built does not open");
+  }
+  return blob;
+}
+
+// `all` (the models `list` of `dir`) split into polyhedra and colour parts, whose OBJ names a
+// material with a diffuse colour; CAD exports carry no material and are polyhedra.
+Status SplitColourParts(const std::string& dir, const std::vector<std::string>& list,
+                        const std::vector<Model>& all, std::vector<Model>* polyhedra,
+                        std::vector<ShapeModelInput>* parts) {
+  for (size_t i = 0; i < all.size(); ++i) {
+    ShapeModelInput part;
+    part.model = all[i];
+    SH_ASSIGN_OR_RETURN(const std::string path, ModelFilePath(dir, list[i]));
+    const Status colour = IsCadFileName(path) ? Status::Error(StatusCode::kNotFound, "no material")
+                                              : LoadModelColour(path, all[i], part.kd);
+    if (colour.ok()) {
+      parts->push_back(part);
+    } else if (colour.code() == StatusCode::kNotFound) {
+      polyhedra->push_back(all[i]);
+    } else {
+      return colour;
+    }
+  }
+  return Status::Ok();
+}
+
 int RunBuild(int argc, char** argv) {
   std::string out, models_dir = "models", names, views_out;
   bool models_given = false, bare = false, want_aspects = false, no_aspects = false;
@@ -286,6 +336,9 @@ int RunBuild(int argc, char** argv) {
     const int aspect = ParseAspectOption(argc, argv, &i, &aspect_options, &want_aspects);
     if (aspect < 0) return 2;
     if (aspect > 0) continue;
+    const int cad_option = ParseCadOption(argc, argv, &i, &cad);
+    if (cad_option < 0) return 2;
+    if (cad_option > 0) continue;
     auto value = [&]() -> std::string {
       if (i + 1 >= argc) {
         std::fprintf(stderr, "stereohash tables build: %s needs a value\n", a.c_str());
@@ -321,19 +374,6 @@ int RunBuild(int argc, char** argv) {
       bare = true;
     } else if (a == "--no-hash-2d") {
       no_aspects = true;
-    } else if (a == "--units") {
-      if (!ParseLengthUnit(value().c_str(), &cad.mm_per_unit)) {
-        std::fprintf(stderr, "stereohash tables build: --units takes mm, cm, m or in\n");
-        return 2;
-      }
-      cad.unit = argv[i];  // the value just read
-      cad.obj_through_import = true;
-    } else if (a == "--sharp-deg") {
-      if (!OptionNumber(kBuild, "--sharp-deg", value().c_str(), kMinSharpDeg, kMaxSharpDeg,
-                        &cad.sharp_deg)) {
-        return 2;
-      }
-      cad.obj_through_import = true;
     } else {
       std::fprintf(stderr, "stereohash tables build: unknown option '%s'\n", a.c_str());
       BuildUsage();
@@ -371,40 +411,20 @@ int RunBuild(int argc, char** argv) {
       return 2;
     }
   } else if (!models_given || !plain.empty()) {
-    const Status named = ModelFolderNames(models_dir, &list);
+    const Status named = PlainModelNames(models_dir, printed, &list);
     if (!named.ok()) {
       std::fprintf(stderr, "stereohash tables build: %s\n", named.message());
       return 1;
     }
-    list = WithoutPrinted(models_dir, list, printed);
   }
-  std::vector<Model> all;
-  const Status loaded = LoadModels(models_dir, list, &all, [&cad](const std::string& path) {
-    return ImportModelFile(path, cad);
-  });
+  // Colour parts (a material with a diffuse colour) go to the view database.
+  std::vector<Model> all, models;
+  std::vector<ShapeModelInput> parts;
+  Status loaded = LoadFolderModels(models_dir, list, cad, &all);
+  if (loaded.ok()) loaded = SplitColourParts(models_dir, list, all, &models, &parts);
   if (!loaded.ok()) {
     std::fprintf(stderr, "stereohash tables build: %s\n", loaded.message());
     return 1;
-  }
-  // Colour parts (a material with a diffuse colour) go to the view database.
-  std::vector<Model> models;
-  std::vector<ShapeModelInput> parts;
-  for (size_t i = 0; i < all.size(); ++i) {
-    ShapeModelInput part;
-    part.model = all[i];
-    // A colour is an OBJ's material; CAD exports are polyhedra.
-    const Result<std::string> path = ModelFilePath(models_dir, list[i]);
-    const Status colour = !path.ok() || IsCadFileName(*path)
-                              ? Status::Error(StatusCode::kNotFound, "no material")
-                              : LoadModelColour(*path, all[i], part.kd);
-    if (colour.ok()) {
-      parts.push_back(part);
-    } else if (colour.code() == StatusCode::kNotFound) {
-      models.push_back(all[i]);
-    } else {
-      std::fprintf(stderr, "stereohash tables build: %s\n", colour.message());
-      return 1;
-    }
   }
   if (aspects_asked && models.empty()) {
     std::fprintf(stderr, "stereohash tables build: --hash-2d needs polyhedra; %s holds none\n",
@@ -419,17 +439,8 @@ int RunBuild(int argc, char** argv) {
               out.c_str(), models_dir.c_str(), models.size(), parts.size(), printed.size());
   std::vector<BuiltSection> sections, views_sections;
   if (!models.empty()) {
-    TableBuildOptions options;
-    options.hash_function = static_cast<HashFunction>(hf);
-    TableBuildReport report;
-    Result<std::vector<uint8_t>> blob = BuildTableBlob(models, options, &report);
-    if (!blob.ok()) {
-      std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
-      return 1;
-    }
-    std::printf("  HASH3D: ");
-    // What each model became (a changed model shows here: other counts, a smaller symmetry group).
-    if (!DescribeBlob(uint32_t(SectionKind::kHash3d), {blob->data(), blob->size()})) return 1;
+    Result<std::vector<uint8_t>> blob = BuildHashSection(models, hf);
+    if (!blob.ok()) return 1;
     sections.push_back({uint32_t(SectionKind::kHash3d), std::move(*blob)});
   }
   if (!parts.empty()) {

@@ -16,4 +16,6 @@ if(NOT TARGET stereohash_cad_import)
   message(FATAL_ERROR "the host tools read CAD exports with assimp: install Debian's "
                       "libassimp-dev (tools/ci/install-deps.sh does)")
 endif()
+target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/tables_cad.cpp)
+stereohash_headers(stereohash PRIVATE tables_cad.hpp)
 target_link_libraries(stereohash PRIVATE stereohash_cad_import)

@@ -75,9 +75,9 @@ TEST(ModelNamesTool, RenderTruthEscapesModelNames) {
   EXPECT_NE(truth.find("\"model\": \"cu\\\"be\\\\x\""), std::string::npos) << truth;
 }
 
-// An ASCII STL of a cube of side 0.5 (in the file's unit) about the origin, wound
-// counter-clockwise from outside.
-void WriteHalfCubeStl(const std::string& path) {
+// An ASCII STL of a cube of side 0.5 (in the file's unit) from -0.25 + shift to 0.25 + shift
+// on each axis, wound counter-clockwise from outside.
+void WriteHalfCubeStl(const std::string& path, double shift = 0) {
   static constexpr int kQuads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
                                        {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   std::ofstream out(path);
@@ -87,8 +87,9 @@ void WriteHalfCubeStl(const std::string& path) {
     for (const std::array<int, 3>& tri : halves) {
       out << "facet normal 0 0 0\nouter loop\n";
       for (int k = 0; k < 3; ++k) {
-        out << "vertex " << (tri[k] & 1) * 0.5 - 0.25 << " " << ((tri[k] >> 1) & 1) * 0.5 - 0.25
-            << " " << (tri[k] >> 2) * 0.5 - 0.25 << "\n";
+        out << "vertex " << (tri[k] & 1) * 0.5 - 0.25 + shift << " "
+            << ((tri[k] >> 1) & 1) * 0.5 - 0.25 + shift << " " << (tri[k] >> 2) * 0.5 - 0.25 + shift
+            << "\n";
       }
       out << "endloop\nendfacet\n";
     }
@@ -116,6 +117,26 @@ TEST(ModelNamesTool, CadExportsAreModelsReadInTheirUnit) {
       << r.output;
   r = RunTool("tables build --models " + d + " --sharp-deg 95" + out);
   EXPECT_EQ(r.exit_code, 2) << r.output;
+  // 5 mm across: corners too close for any basis of the stereo path.
+  r = RunTool("tables build --models " + d + " --units cm" + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: model 0 offers no basis within this table's limits"),
+            std::string::npos)
+      << r.output;
+  // With the file's origin at a corner the rotations about it are only those about the diagonal.
+  WriteHalfCubeStl(d + "/block.stl", 0.25);
+  r = RunTool("tables build --models " + d + " --units in" + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("block.stl has a symmetry group of order 24 about its centroid, (6.350, "
+                          "6.350, 6.350) mm, but of order 3 about the file's origin"),
+            std::string::npos)
+      << r.output;
+  r = RunTool("tables build --models " + d + " --units in --origin centroid" + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("block.stl: model origin at its centroid, (6.350, 6.350, 6.350) mm"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("symmetry group of order 24"), std::string::npos) << r.output;
 }
 
 TEST(ModelNamesTool, OptionNumbersAreReadWholeAndNamed) {
