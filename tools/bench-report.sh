@@ -16,6 +16,8 @@
 #                 stereohash bench recorded DIR --noise 0,1.5,3,4.5,6: sets noise-NAME
 #   memory        resident memory of stereohash recognize on a thesis-camera pair and of the
 #                 firmware simulator's demo, unlocked and with mlock (needs ../shared/scenes)
+#   web-latency   trigger-to-result latency of the firmware simulator with the commissioning page
+#                 closed, open, and open four times (tools/bench_web_latency.py, python-can)
 #   micro         the Google Benchmark programs build/host-release/tests/**/*_bench
 #                 (or name one, e.g. image_bench), --benchmark_format=json
 #
@@ -128,7 +130,7 @@ run_part() {
   local count="" tool="" rc=0 start end
   echo "== $name: $(shown "$@")"
   start=$(date +%s.%N)
-  if [[ $kind == memory ]]; then
+  if [[ $kind == memory || $kind == web ]]; then
     "$@" >"$work/$name.out" 2>&1 || rc=$?
   elif ((perf_ok)); then
     perf stat -x, -e instructions:u -o "$work/$name.perf" -- "$@" >"$work/$name.out" 2>&1 || rc=$?
@@ -229,6 +231,11 @@ if ((!quick)); then
       python3 tools/bench_report.py memory --work "$work" --out "$work/memory.json" \
       --stereohash "$sh_bin" --firmware "$build/firmware/stereohash-fw-sim" \
       --scene-set "$scenes_root/thesis-camera"
+  fi
+  if wanted web-latency && [[ -x $build/firmware/stereohash-fw-sim ]]; then
+    run_part web-latency web "$work/web-latency.json" -- \
+      /usr/bin/python3 tools/bench_web_latency.py --firmware "$build/firmware/stereohash-fw-sim" \
+      --work "$work" --out "$work/web-latency.json" --triggers 200 --period-ms 200
   fi
   while IFS= read -r prog; do
     name=$(basename "$prog")

@@ -292,7 +292,7 @@ def append(args):
                        "degradation": data.get("degradation")}
         elif e["kind"] == "scenes":
             figures = rendered_bench(data)
-        elif e["kind"] == "memory":
+        elif e["kind"] in ("memory", "web"):
             figures = dict(data)
         elif e["kind"] == "textured":
             figures = texture_score(data.get("texture"), data.get("scenes"))
@@ -608,9 +608,11 @@ def render(args):
       "error | frame median / p95 / worst | instructions | measured |")
     w("|---|---|---|---|---|---|---|---|")
     mem = latest.get("memory")
+    web = latest.get("web-latency")
     sweeps = [n for n in names if latest[n][1].get("kind") == "sweep"]
     names = [n for n in names
-             if n != "memory" and latest[n][1].get("kind") not in ("noise", "sweep")]
+             if n not in ("memory", "web-latency")
+             and latest[n][1].get("kind") not in ("noise", "sweep")]
     for name in names:
         r, s = latest[name]
         if s.get("error"):
@@ -774,6 +776,31 @@ def render(args):
                   f"{fmt(fw.get('rss_kib_at_6s'))} | {fmt(fw.get('hwm_kib_at_6s'))} | "
                   f"{fmt(fw.get('locked_kib_at_6s'))} |")
         w("")
+
+    if web and not web[1].get("error"):
+        r, m = web
+        w("## Trigger-to-result latency with the commissioning page open")
+        w("")
+        w("The firmware simulator (rendered world, the recognition pipeline) triggered over "
+          "socketcand by python-can; the latency is the firmware's own, from a trigger's arrival "
+          f"to its result set on the bus (docs/web.md). Measured {when(r)} by `{m.get('command')}`:")
+        w("")
+        w("| page | viewers | answered | median | p95 | p99 | worst | page requests |")
+        w("|---|---|---|---|---|---|---|---|")
+        for c in m.get("cases", []):
+            req = c.get("page_requests") or {}
+            w(f"| {c.get('case')} | {c.get('viewers')}"
+              f"{'' if not c.get('viewers') else ' every ' + str(c.get('viewer_period_ms')) + ' ms'} "
+              f"| {c.get('answered')}/{c.get('triggers')} | {fmt(c.get('median_ms'), 1, ' ms')} | "
+              f"{fmt(c.get('p95_ms'), 1, ' ms')} | {fmt(c.get('p99_ms'), 1, ' ms')} | "
+              f"{fmt(c.get('max_ms'), 1, ' ms')} | {req.get('status', 0)} status, "
+              f"{req.get('images', 0)} images |")
+        w("")
+        ratio = m.get("page_p99_ratio")
+        if ratio:
+            w(f"The p99 with one page open is {fmt(100.0 * ratio, 1, ' %')} of the p99 with the "
+              "page closed.")
+            w("")
 
     micro = latest_micro(records)
     if micro:
