@@ -235,7 +235,7 @@ if ((!quick)); then
   if wanted web-latency && [[ -x $build/firmware/stereohash-fw-sim ]]; then
     run_part web-latency web "$work/web-latency.json" -- \
       /usr/bin/python3 tools/bench_web_latency.py --firmware "$build/firmware/stereohash-fw-sim" \
-      --work "$work" --out "$work/web-latency.json" --triggers 200 --period-ms 200
+      --work "$work" --out "$work/web-latency.json" --triggers 200 --block 25 --period-ms 200
   fi
   while IFS= read -r prog; do
     name=$(basename "$prog")

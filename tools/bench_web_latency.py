@@ -2,9 +2,10 @@
 """Trigger-to-result latency of the firmware simulator with the commissioning page closed and open.
 
 Starts `stereohash-fw-sim` (rendered world, the real recognition pipeline, the page on
-127.0.0.1) once per case. A PLC on its socketcand bus (python-can, Debian's python3-can) sends a
-trigger every --period-ms; the firmware's RESULT lines give each trigger's processing time, from
-the trigger's arrival to its result set on the bus. The cases:
+127.0.0.1). A PLC on its socketcand bus (python-can, Debian's python3-can) sends a trigger every
+--period-ms; the firmware's RESULT lines give each trigger's processing time, from the trigger's
+arrival to its result set on the bus. The cases take turns in blocks of --block triggers until
+each has had --triggers:
   closed   nobody looks at the page
   page     one browser's worth of polling, as firmware/web/assets/app.js does it: /api/status
            every 500 ms, and both live images whenever the result changed
@@ -12,7 +13,7 @@ the trigger's arrival to its result set on the bus. The cases:
 Writes the median, p95 and p99 of each case and the p99 ratio of `page` to `closed` as JSON.
 
   bench_web_latency.py --firmware build/host-release/firmware/stereohash-fw-sim --out web.json
-                       [--triggers 100] [--period-ms 250]
+                       [--triggers 100] [--block 20] [--period-ms 250]
 """
 import argparse
 import json
@@ -101,40 +102,57 @@ def viewer(port, period_s, stopping, counts):
         stopping.wait(period_s)
 
 
-def run_case(args, name, viewers, viewer_period_s):
+CASES = (("closed", 0, 0.0), ("page", 1, 0.5), ("4 pages", 4, 0.1))
+
+
+def run_cases(args):
+    """One firmware run; the cases take turns in blocks of --block triggers, so that a drift of
+    the machine's load falls on every case alike."""
     import can
-    sim = Sim(args.firmware, args.work, name.replace(" ", "-"))
-    stopping = threading.Event()
-    counts = {"status": 0, "images": 0, "image_bytes": 0, "errors": 0}
-    threads = [threading.Thread(target=viewer, args=(sim.http_port, viewer_period_s, stopping,
-                                                      counts), daemon=True)
-               for _ in range(viewers)]
+    sim = Sim(args.firmware, args.work, "run")
+    case_of = {}  # request id -> case index
+    counts = [{"status": 0, "images": 0, "image_bytes": 0, "errors": 0} for _ in CASES]
     try:
         bus = can.Bus(interface="socketcand", host="127.0.0.1", port=sim.can_port,
                       channel="can0")
         try:
-            for t in threads:
-                t.start()
-            time.sleep(1.0)  # the world rendered, the viewers polling
-            for request_id in range(1, args.triggers + 1):
-                bus.send(can.Message(arbitration_id=COMMAND_ID, is_extended_id=False,
-                                     data=[CMD_TRIGGER, request_id & 0xFF, request_id >> 8]))
-                time.sleep(args.period_ms / 1000.0)
+            time.sleep(1.0)  # the world rendered
+            request_id = 0
+            while request_id < args.triggers * len(CASES):
+                for k, (_, viewers, period_s) in enumerate(CASES):
+                    stopping = threading.Event()
+                    threads = [threading.Thread(target=viewer, args=(sim.http_port, period_s,
+                                                                     stopping, counts[k]),
+                                                daemon=True) for _ in range(viewers)]
+                    for t in threads:
+                        t.start()
+                    time.sleep(0.5)  # the viewers polling
+                    for _ in range(args.block):
+                        request_id += 1
+                        case_of[request_id] = k
+                        bus.send(can.Message(arbitration_id=COMMAND_ID, is_extended_id=False,
+                                             data=[CMD_TRIGGER, request_id & 0xFF,
+                                                   request_id >> 8]))
+                        time.sleep(args.period_ms / 1000.0)
+                    stopping.set()
+                    for t in threads:
+                        t.join(10)
             time.sleep(2.0)  # the last results
         finally:
             bus.shutdown()
     finally:
-        stopping.set()
-        for t in threads:
-            t.join(10)
         sim.stop()
-    ms = [sim.results[i] / 1000.0 for i in range(1, args.triggers + 1) if i in sim.results]
-    return {"case": name, "viewers": viewers,
-            "viewer_period_ms": round(viewer_period_s * 1000) if viewers else None,
-            "triggers": args.triggers, "answered": len(ms),
-            "median_ms": percentile(ms, 50), "p95_ms": percentile(ms, 95),
-            "p99_ms": percentile(ms, 99), "max_ms": max(ms) if ms else None,
-            "page_requests": counts}
+    cases = []
+    for k, (name, viewers, period_s) in enumerate(CASES):
+        ids = [i for i, c in case_of.items() if c == k]
+        ms = [sim.results[i] / 1000.0 for i in ids if i in sim.results]
+        cases.append({"case": name, "viewers": viewers,
+                      "viewer_period_ms": round(period_s * 1000) if viewers else None,
+                      "triggers": len(ids), "answered": len(ms),
+                      "median_ms": percentile(ms, 50), "p95_ms": percentile(ms, 95),
+                      "p99_ms": percentile(ms, 99), "max_ms": max(ms) if ms else None,
+                      "page_requests": counts[k]})
+    return cases
 
 
 def main():
@@ -142,7 +160,8 @@ def main():
     p.add_argument("--firmware", required=True)
     p.add_argument("--out", required=True)
     p.add_argument("--work", default=tempfile.gettempdir())
-    p.add_argument("--triggers", type=int, default=100)
+    p.add_argument("--triggers", type=int, default=100, help="per case")
+    p.add_argument("--block", type=int, default=20, help="triggers of one case in a row")
     p.add_argument("--period-ms", type=int, default=250)
     args = p.parse_args()
     try:
@@ -151,12 +170,12 @@ def main():
         print("bench_web_latency: needs python-can (Debian python3-can)", file=sys.stderr)
         return 1
     os.makedirs(args.work, exist_ok=True)
-    cases = [run_case(args, "closed", 0, 0), run_case(args, "page", 1, 0.5),
-             run_case(args, "4 pages", 4, 0.1)]
+    cases = run_cases(args)
     closed, page = cases[0], cases[1]
     result = {
-        "command": "tools/bench_web_latency.py --firmware %s --triggers %d --period-ms %d"
-                   % (os.path.relpath(args.firmware), args.triggers, args.period_ms),
+        "command": "tools/bench_web_latency.py --firmware %s --triggers %d --block %d "
+                   "--period-ms %d" % (os.path.relpath(args.firmware), args.triggers, args.block,
+                                       args.period_ms),
         "cases": cases,
         "page_p99_ratio": (page["p99_ms"] / closed["p99_ms"]
                            if page["p99_ms"] and closed["p99_ms"] else None),
