@@ -28,14 +28,15 @@ void PrintHelp() {
   std::printf(
       "usage: stereohash render --out DIR [--seed N] [--objects N] [--background dark|light]\n"
       "                         [--occlusion none|some|severe] [--distance-mm MM]\n"
-      "                         [--baseline-mm MM] [--noise SIGMA] [--models DIR]\n"
+      "                         [--baseline-mm MM] [--noise SIGMA] [--models DIR | --tables F]\n"
       "                         [--camera thesis|wide|tele|hd] [--scenes-per-row N]\n"
       "Renders reference objects lying on a table, seen by a calibrated stereo pair, and writes\n"
       "DIR/left.png, DIR/right.png, DIR/calib.yaml (OpenCV FileStorage: K1 D1 K2 D2 R T, mm),\n"
       "DIR/table.yaml (R_table, t_table: x_left = R_table x_table + t_table, table z up)\n"
       "and DIR/truth.json (per object: model name, R and t with x_left_cam = R x_model + t, mm).\n"
       "Colour parts (an OBJ whose material has an MTL Kd, e.g. models/colour) are drawn in their\n"
-      "colour and the images are then RGB PNGs.\n"
+      "colour and the images are then RGB PNGs. --tables F renders the polyhedra of a model set\n"
+      "as `tables build` made them (STL, PLY, 3MF parts included), in place of --models.\n"
       "--scenes-per-row N writes a recorded set instead (the layout of ../shared/scenes, scored\n"
       "by `stereohash bench recorded DIR`): N scenes per dark/light x none/some/severe row,\n"
       "seeds from --seed on, one rig over one table, 4 and 5 objects unless --objects.\n"
@@ -89,6 +90,7 @@ std::string TruthJson(const render::GeneratedScene& g, const Model* models, uint
 int RunRender(int argc, char** argv) {
   const char* out_dir = nullptr;
   const char* models_dir = STEREOHASH_DEFAULT_MODELS_DIR;
+  const char* tables_path = "";  // --tables: a model set's polyhedra instead
   const char* background = "dark";
   const char* occlusion = "some";
   uint64_t seed = 1;
@@ -110,6 +112,8 @@ int RunRender(int argc, char** argv) {
       out_dir = value;
     } else if (std::strcmp(arg, "--models") == 0) {
       models_dir = value;
+    } else if (std::strcmp(arg, "--tables") == 0) {
+      tables_path = value;
     } else if (std::strcmp(arg, "--seed") == 0 && whole && number >= 0 && number < 1.8e19) {
       seed = static_cast<uint64_t>(number);
     } else if (std::strcmp(arg, "--objects") == 0 && whole && number >= 1 &&
@@ -152,6 +156,7 @@ int RunRender(int argc, char** argv) {
     RenderSetOptions set;
     set.out_dir = out_dir;
     set.models_dir = models_dir;
+    set.tables_path = tables_path;
     set.seed = seed;
     set.per_row = per_row;
     set.objects = set_objects;
@@ -167,8 +172,7 @@ int RunRender(int argc, char** argv) {
 
   std::vector<Model> model_set;
   std::vector<render::ModelColour> colours;
-  Status loaded = LoadModelFolder(models_dir, &model_set);
-  if (loaded.ok()) loaded = render::LoadModelColours(models_dir, model_set, &colours);
+  const Status loaded = LoadWorldModels(models_dir, tables_path, &model_set, &colours);
   if (!loaded.ok()) {
     std::fprintf(stderr, "stereohash render: %s\n", loaded.message());
     return 1;

@@ -13,6 +13,7 @@
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
 #include "tables/model_files.hpp"
+#include "tables/table_file.hpp"
 #include "tools/eval/rendered_eval.hpp"
 #include "tools/report_util.hpp"
 
@@ -72,15 +73,31 @@ std::string TruthJson(const RowSpec& row, const render::GeneratedScene& g,
 
 }  // namespace
 
+Status LoadWorldModels(const std::string& models_dir, const std::string& tables_path,
+                       std::vector<Model>* models, std::vector<render::ModelColour>* colours) {
+  if (tables_path.empty()) {
+    SH_RETURN_IF_ERROR(LoadModelFolder(models_dir, models));
+    return render::LoadModelColours(models_dir, *models, colours);
+  }
+  MappedTable table;
+  const Status opened = table.Open(tables_path.c_str());
+  if (!opened.ok()) return opened.WithContext("--tables %s", tables_path.c_str());
+  models->clear();
+  for (uint32_t i = 0; i < table.view().model_count(); ++i) {
+    models->push_back(table.view().model(i));
+  }
+  colours->assign(models->size(), render::ModelColour{});
+  return Status::Ok();
+}
+
 Status RenderRecordedSet(const RenderSetOptions& options) {
   if (options.per_row < 1 || options.per_row > 100) {
     return Status::Error(StatusCode::kOutOfRange, "scenes per row %d outside 1..100",
                          options.per_row);
   }
   std::vector<Model> models;
-  SH_RETURN_IF_ERROR(LoadModelFolder(options.models_dir, &models));
   std::vector<render::ModelColour> colours;
-  SH_RETURN_IF_ERROR(render::LoadModelColours(options.models_dir, models, &colours));
+  SH_RETURN_IF_ERROR(LoadWorldModels(options.models_dir, options.tables_path, &models, &colours));
   const bool colour = render::AnyColoured(colours);
   SH_RETURN_IF_ERROR(MakeDir(options.out_dir));
 

@@ -111,6 +111,14 @@ TEST(ModelNamesTool, CadExportsAreModelsReadInTheirUnit) {
   EXPECT_NE(r.output.find("--units takes mm, cm, m or in"), std::string::npos) << r.output;
   r = RunTool("tables build --models " + d + " --units in" + out);
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // The set's models as built render a scene to try it on: the part, in millimetres.
+  const ToolRun rendered =
+      RunTool("render --tables " + dir.Sub("t.bin") + " --objects 1 --out " + dir.Sub("scene"));
+  ASSERT_EQ(rendered.exit_code, 0) << rendered.output;
+  std::ifstream truth_file(dir.Sub("scene/truth.json"));
+  const std::string truth((std::istreambuf_iterator<char>(truth_file)),
+                          std::istreambuf_iterator<char>());
+  EXPECT_NE(truth.find("\"model\": \"block\""), std::string::npos) << truth;
   EXPECT_NE(r.output.find("model 0 block       8 corners 12 edges  6 faces, symmetry group of "
                           "order 24"),
             std::string::npos)
