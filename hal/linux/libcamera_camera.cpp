@@ -80,9 +80,13 @@ struct LibcameraStereoCamera::Impl {
     Mapping mappings[kMaxLibcameraBuffers][kMaxPlanes];
     ConstGrayView views[kMaxLibcameraBuffers];  // grey: in place, or `luma` of an RGB frame
     FrameView frames[kMaxLibcameraBuffers];     // the delivered format
-    // RGB888 only: one grey image per buffer, converted on libcamera's thread when the frame
-    // completes (allocated at Start).
+    // RGB888 or software binning: one grey image per buffer, converted (binned) on libcamera's
+    // thread when the frame completes (allocated at Start).
     std::unique_ptr<uint8_t[]> luma;
+    // Software binning: the mapped frames at the sensor's size, and for RGB888 the binned RGB
+    // image of each buffer.
+    FrameView sensor_frames[kMaxLibcameraBuffers];
+    std::unique_ptr<Rgb8[]> binned_rgb;
     unsigned buffer_count = 0;
 
     const char* name() const { return StereoSideName(side); }
@@ -107,6 +111,9 @@ struct LibcameraStereoCamera::Impl {
            (mode == CaptureMode::kLeftOnly) == (s.side == StereoSide::kLeft);
   }
   Status MapBuffers(Side& s);
+  Status AllocateConverted(Side& s, int width, int height);
+  void HandOutBinned(Side& s, unsigned i, int width, int height);
+  void Convert(Side& s, uint32_t id);
   Status StartStreaming();
   void Requeue(StereoSide side, uint32_t buffer_id);
   void RequeueAll(const Vector<RecycledFrame>& recycled);
@@ -114,9 +121,10 @@ struct LibcameraStereoCamera::Impl {
   void OnDisconnected(Side& s);
 
   LibcameraStereoConfig config;
-  CaptureMode mode = CaptureMode::kStereo;  // of the next Start()
-  bool colour_wanted = false;               // of the next Start()
-  FrameFormat frame_format = FrameFormat::kGray8;
+  CaptureMode mode = CaptureMode::kStereo;         // of the next Start()
+  bool colour_wanted = false;                      // of the next Start()
+  FrameFormat frame_format = FrameFormat::kGray8;  // as the camera delivers it
+  int software_bin = 1;                            // see LibcameraStreamInfo::software_bin
   YcbcrEncoding encoding = YcbcrEncoding::kRec601;
   YcbcrRange range = YcbcrRange::kFull;
   std::unique_ptr<lc::CameraManager> manager;
@@ -236,6 +244,22 @@ Status LibcameraStereoCamera::Impl::Configure() {
   const lc::Size frames(static_cast<unsigned>(BinnedSize(config.width, *bin)),
                         static_cast<unsigned>(BinnedSize(config.height, *bin)));
   SH_RETURN_IF_ERROR(ConfigureFirst(first, frames));
+  software_bin = 1;
+  if (*bin > 1 && (first.config->at(0).size.width > static_cast<unsigned>(kMaxImageWidth) ||
+                   first.config->at(0).size.height > static_cast<unsigned>(kMaxImageHeight))) {
+    // Neither a binned mode nor a scaler: the sensor's size, binned here as each frame completes.
+    const lc::Size sensor(static_cast<unsigned>(config.width),
+                          static_cast<unsigned>(config.height));
+    SH_RETURN_IF_ERROR(ConfigureFirst(first, sensor));
+    if (first.config->at(0).size != sensor) {
+      return Status::Error(StatusCode::kFailedPrecondition,
+                           "camera offers neither %ux%u nor the sensor's %ux%u (it settled on "
+                           "%ux%u)",
+                           frames.width, frames.height, sensor.width, sensor.height,
+                           first.config->at(0).size.width, first.config->at(0).size.height);
+    }
+    software_bin = *bin;
+  }
   const lc::StreamConfiguration left_sc = first.config->at(0);
 
   // The right camera must produce exactly what the left one settled on: stereo matching assumes
@@ -263,8 +287,9 @@ Status LibcameraStereoCamera::Impl::Configure() {
           rsc.pixelFormat.toString().c_str(), rsc.size.width, rsc.size.height);
     }
   }
-  if (left_sc.size.width > static_cast<unsigned>(kMaxImageWidth) ||
-      left_sc.size.height > static_cast<unsigned>(kMaxImageHeight)) {
+  const int delivered_width = BinnedSize(static_cast<int>(left_sc.size.width), software_bin);
+  const int delivered_height = BinnedSize(static_cast<int>(left_sc.size.height), software_bin);
+  if (delivered_width > kMaxImageWidth || delivered_height > kMaxImageHeight) {
     return Status::Error(StatusCode::kOutOfRange, "camera size %ux%u exceeds %dx%d",
                          left_sc.size.width, left_sc.size.height, kMaxImageWidth, kMaxImageHeight);
   }
@@ -278,13 +303,15 @@ Status LibcameraStereoCamera::Impl::Configure() {
     s.configured = true;
     s.stream = s.config->at(0).stream();
   }
+  const bool ycbcr = frame_format == FrameFormat::kNv12 || frame_format == FrameFormat::kYuv420;
   info.pixel_format = left_sc.pixelFormat.toString();
-  info.format = frame_format;
+  info.format = software_bin > 1 && ycbcr ? FrameFormat::kGray8 : frame_format;
   info.encoding = encoding;
   info.range = range;
-  info.width = static_cast<int>(left_sc.size.width);
-  info.height = static_cast<int>(left_sc.size.height);
-  info.stride = static_cast<int>(left_sc.stride);
+  info.width = delivered_width;
+  info.height = delivered_height;
+  info.stride = software_bin > 1 ? delivered_width : static_cast<int>(left_sc.stride);
+  info.software_bin = software_bin;
   return Status::Ok();
 }
 
@@ -325,10 +352,7 @@ Status LibcameraStereoCamera::Impl::MapBuffers(Side& s) {
   s.buffer_count = static_cast<unsigned>(
       buffers.size() < kMaxLibcameraBuffers ? buffers.size() : kMaxLibcameraBuffers);
   info.buffers_per_camera = s.buffer_count;
-  if (frame_format == FrameFormat::kRgb888) {
-    s.luma.reset(new (std::nothrow) uint8_t[size_t(width) * size_t(height) * s.buffer_count]);
-    if (!s.luma) return Status::Error(StatusCode::kInternal, "%s grey buffers", s.name());
-  }
+  SH_RETURN_IF_ERROR(AllocateConverted(s, width, height));
   for (unsigned i = 0; i < s.buffer_count; ++i) {
     lc::FrameBuffer* buffer = buffers[i].get();
     const std::vector<lc::FrameBuffer::Plane>& planes = buffer->planes();
@@ -402,6 +426,7 @@ Status LibcameraStereoCamera::Impl::MapBuffers(Side& s) {
     }
     const Status frame_ok = CheckFrame(s.frames[i]);
     if (!frame_ok.ok()) return frame_ok.WithContext("%s buffer %u", s.name(), i);
+    if (software_bin > 1) HandOutBinned(s, i, width, height);
 
     std::unique_ptr<lc::Request> request = s.camera->createRequest(i);
     if (!request) {
@@ -462,6 +487,53 @@ void LibcameraStereoCamera::Impl::RequeueAll(const Vector<RecycledFrame>& recycl
   for (const RecycledFrame& r : recycled) Requeue(r.side, r.frame.buffer_id);
 }
 
+// The images converted from each delivered frame: the grey image of an RGB frame, and with
+// software binning the binned image (grey, and RGB for an RGB frame), one per buffer.
+Status LibcameraStereoCamera::Impl::AllocateConverted(Side& s, int width, int height) {
+  const size_t per_buffer =
+      size_t(BinnedSize(width, software_bin)) * size_t(BinnedSize(height, software_bin));
+  if (frame_format == FrameFormat::kRgb888 || software_bin > 1) {
+    s.luma.reset(new (std::nothrow) uint8_t[per_buffer * s.buffer_count]);
+    if (!s.luma) return Status::Error(StatusCode::kInternal, "%s grey buffers", s.name());
+  }
+  if (frame_format == FrameFormat::kRgb888 && software_bin > 1) {
+    s.binned_rgb.reset(new (std::nothrow) Rgb8[per_buffer * s.buffer_count]);
+    if (!s.binned_rgb) return Status::Error(StatusCode::kInternal, "%s binned buffers", s.name());
+  }
+  return Status::Ok();
+}
+
+// Software binning: buffer i's mapped frame becomes the source, and what is handed out is its
+// binned image (grey; RGB for an RGB camera, whose grey is converted from the binned RGB).
+void LibcameraStereoCamera::Impl::HandOutBinned(Side& s, unsigned i, int width, int height) {
+  const int w = BinnedSize(width, software_bin), h = BinnedSize(height, software_bin);
+  const size_t offset = size_t(w) * size_t(h) * i;
+  s.sensor_frames[i] = s.frames[i];
+  s.views[i] = ConstGrayView{s.luma.get() + offset, w, h, w};
+  s.frames[i] = frame_format == FrameFormat::kRgb888
+                    ? FrameView::Rgb(ImageView<const Rgb8>{s.binned_rgb.get() + offset, w, h, w})
+                    : FrameView::Gray(s.views[i]);
+}
+
+// On libcamera's thread, into buffer `id`'s own images (no allocation; the conversions fail only
+// on sizes, which MapBuffers set).
+void LibcameraStereoCamera::Impl::Convert(Side& s, uint32_t id) {
+  const ConstGrayView& v = s.views[id];
+  const GrayView grey{const_cast<uint8_t*>(v.data), v.width, v.height, v.stride};
+  if (software_bin > 1 && frame_format == FrameFormat::kRgb888) {
+    const FrameView& binned = s.frames[id];
+    (void)BinRgb(s.sensor_frames[id].rgb, software_bin,
+                 ImageView<Rgb8>{const_cast<Rgb8*>(binned.rgb.data), binned.rgb.width,
+                                 binned.rgb.height, binned.rgb.stride});
+    (void)FrameToGray(binned, grey);
+  } else if (software_bin > 1) {
+    // The Y plane of every grey or Y'CbCr format.
+    (void)BinGray(s.sensor_frames[id].luma, software_bin, grey);
+  } else if (frame_format == FrameFormat::kRgb888) {
+    (void)FrameToGray(s.frames[id], grey);
+  }
+}
+
 // Runs on libcamera's thread.
 void LibcameraStereoCamera::Impl::OnRequestCompleted(Side& s, lc::Request* request) {
   if (libcamera_adapter::RequestWasCancelled(*request) || !running) return;
@@ -474,13 +546,7 @@ void LibcameraStereoCamera::Impl::OnRequestCompleted(Side& s, lc::Request* reque
     Requeue(s.side, id);
     return;
   }
-  if (frame_format == FrameFormat::kRgb888) {
-    // The grey view of an RGB frame: converted here, into this buffer's own grey image (no
-    // allocation; FrameToGray fails only on sizes, which MapBuffers checked).
-    const ConstGrayView& v = s.views[id];
-    (void)FrameToGray(s.frames[id],
-                      GrayView{const_cast<uint8_t*>(v.data), v.width, v.height, v.stride});
-  }
+  Convert(s, id);
   TimestampedFrame frame;
   frame.view = s.views[id];
   frame.frame = s.frames[id];

@@ -51,7 +51,8 @@ struct LibcameraStereoConfig {
   // The sensor's image size, as calibrated. Up to kMaxImageWidth x kMaxImageHeight it is the
   // stream's size; a larger sensor (up to kMaxSensorWidth x kMaxSensorHeight) is asked for its
   // size binned by BinFactorFor(), which a sensor's binned mode or the ISP's scaler delivers. A
-  // camera that offers neither adjusts the size, and a size beyond the frames is refused.
+  // camera that offers neither is asked for the sensor's size, and each frame is binned here
+  // (LibcameraStreamInfo::software_bin); one that offers that neither is refused.
   int width = 1280;
   int height = 800;
   LibcameraRole role = LibcameraRole::kVideoRecording;
@@ -70,6 +71,10 @@ struct LibcameraStreamInfo {
   int height = 0;
   int stride = 0;  // bytes per row of the grey plane
   unsigned buffers_per_camera = 0;
+  // 1, or the factor this HAL bins each frame by itself: a sensor larger than the pipeline's
+  // frames whose camera offered neither a binned mode nor a scaled stream of the binned size.
+  // width and height are then the binned size; Y'CbCr frames are then handed out grey.
+  int software_bin = 1;
 };
 
 class LibcameraStereoCamera final : public StereoCamera {
