@@ -17,21 +17,14 @@
 namespace sh {
 namespace {
 
-std::string LowerExtension(const std::string& path) {
-  const size_t slash = path.find_last_of('/');
-  const size_t dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
-// "STL", "PLY", "3MF", "OBJ": what messages call the file.
-std::string FormatName(const std::string& ext) {
-  std::string name = ext.substr(1);
+// "STL", "PLY", "3MF", "OBJ": what messages call a file of extension `ext` (kModelFileExtensions).
+std::string FormatName(const char* ext) {
+  std::string name = ext == nullptr ? "mesh" : ext + 1;
   for (char& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   return name;
 }
+
+bool IsObj(const char* ext) { return ext != nullptr && std::strcmp(ext, ".obj") == 0; }
 
 // Index of a vertex within kCadWeldMm of p among the first n, or -1. Quadratic, over at most
 // kMaxObjVertices welded vertices.
@@ -150,14 +143,14 @@ bool ParseLengthUnit(const char* text, double* mm_per_unit) {
 }
 
 bool IsCadFileName(const std::string& path) {
-  const std::string ext = LowerExtension(path);
-  return ext == ".stl" || ext == ".ply" || ext == ".3mf";
+  const char* ext = ModelFileExtension(path);
+  return ext != nullptr && !IsObj(ext);
 }
 
 Result<Model> ImportCadModel(const std::string& path, const CadImportOptions& options,
                              CadImportReport* report) {
-  const std::string ext = LowerExtension(path);
-  const std::string format = FormatName(ext.empty() ? std::string(".mesh") : ext);
+  const char* ext = ModelFileExtension(path);
+  const std::string format = FormatName(ext);
   std::string bytes;
   SH_RETURN_IF_ERROR(ReadInputFile(path, format.c_str(), size_t(kMaxCadFileBytes), &bytes));
   SH_ASSIGN_OR_RETURN(const std::string stem, ModelNameOfFile(path));
@@ -171,7 +164,7 @@ Result<Model> ImportCadModel(const std::string& path, const CadImportOptions& op
   const aiScene* scene = importer.ReadFileFromMemory(
       bytes.data(), bytes.size(),
       aiProcess_RemoveComponent | aiProcess_Triangulate | aiProcess_PreTransformVertices,
-      ext.empty() ? "" : ext.c_str() + 1);
+      ext == nullptr ? "" : ext + 1);
   if (scene == nullptr) {
     return Status::Error(StatusCode::kInvalidArgument, "%s: not a readable %s file: %s",
                          path.c_str(), format.c_str(), importer.GetErrorString());
@@ -206,7 +199,7 @@ Result<Model> ImportCadModel(const std::string& path, const CadImportOptions& op
 
 Result<Model> ImportModelFile(const std::string& path, const CadImportOptions& options,
                               CadImportReport* report) {
-  if (LowerExtension(path) == ".obj" && !options.obj_through_import) return LoadModelFile(path);
+  if (IsObj(ModelFileExtension(path)) && !options.obj_through_import) return LoadModelFile(path);
   return ImportCadModel(path, options, report);
 }
 

@@ -18,16 +18,8 @@ namespace {
 
 // The length of the stem of a model file name (kModelFileExtensions, any case), or 0.
 size_t ModelFileStemLength(const char* name) {
-  const size_t len = std::strlen(name);
-  for (const char* ext : kModelFileExtensions) {
-    const size_t n = std::strlen(ext);
-    if (len > n && strcasecmp(name + len - n, ext) == 0) return len - n;
-  }
-  return 0;
-}
-
-bool IsObjPath(const std::string& path) {
-  return path.size() > 4 && strcasecmp(path.c_str() + path.size() - 4, ".obj") == 0;
+  const char* ext = ModelFileExtension(name);
+  return ext == nullptr ? 0 : std::strlen(name) - std::strlen(ext);
 }
 
 Status ParseManifest(const std::string& path, const std::string& text,
@@ -123,6 +115,14 @@ Result<Model> LoadModelFile(const std::string& path) {
   return model;
 }
 
+const char* ModelFileExtension(const std::string& path) {
+  for (const char* ext : kModelFileExtensions) {
+    const size_t n = std::strlen(ext);
+    if (path.size() > n && strcasecmp(path.c_str() + path.size() - n, ext) == 0) return ext;
+  }
+  return nullptr;
+}
+
 Result<std::string> ModelFilePath(const std::string& dir, const std::string& name) {
   DIR* d = opendir(dir.c_str());
   if (d == nullptr) {
@@ -157,7 +157,8 @@ Status LoadModels(const std::string& dir, const std::vector<std::string>& names,
   models->clear();
   for (const std::string& name : names) {
     SH_ASSIGN_OR_RETURN(const std::string path, ModelFilePath(dir, name));
-    if (!read && !IsObjPath(path)) {
+    const char* ext = ModelFileExtension(path);
+    if (!read && (ext == nullptr || std::strcmp(ext, ".obj") != 0)) {
       return Status::Error(StatusCode::kInvalidArgument,
                            "%s: STL, PLY and 3MF models are read on a host by `stereohash tables "
                            "build`; give the model set it writes",

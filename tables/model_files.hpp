@@ -41,6 +41,10 @@ Status LoadModelColour(const std::string& obj_path, const Model& model, float kd
 // host tools read (tables/cad_import.hpp).
 inline constexpr const char* kModelFileExtensions[] = {".obj", ".stl", ".ply", ".3mf"};
 
+// The entry of kModelFileExtensions that `path` ends in (any case; the lower-case entry is
+// returned), or null.
+const char* ModelFileExtension(const std::string& path);
+
 // The file of model `name` in `dir`: `<dir>/<name>.<ext>` for the one extension of
 // kModelFileExtensions present. kNotFound when there is none; kInvalidArgument when two are
 // (cube.obj beside cube.stl), since which one is meant cannot be guessed.
