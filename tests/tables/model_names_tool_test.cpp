@@ -100,17 +100,21 @@ void WriteHalfCubeStl(const std::string& path, double shift = 0) {
 TEST(ModelNamesTool, CadExportsAreModelsReadInTheirUnit) {
   TempDir dir("names");
   const std::string d = dir.Mkdir("models");
+  // `tables build` of the folder with `options`: its exit code, and a line its output must hold.
+  auto build = [&](const std::string& options, int exit_code, const char* expected) {
+    const ToolRun r =
+        RunTool("tables build --models " + d + options + " --out " + dir.Sub("t.bin"));
+    EXPECT_EQ(r.exit_code, exit_code) << options << "\n" << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << options << "\n" << r.output;
+  };
   WriteHalfCubeStl(d + "/block.stl");
-  const std::string out = " --out " + dir.Sub("t.bin");
-  ToolRun r = RunTool("tables build --models " + d + out);
-  EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_NE(r.output.find("block.stl: STL: the model is 0.866 mm across"), std::string::npos)
-      << r.output;
-  r = RunTool("tables build --models " + d + " --units ft" + out);
-  EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("--units takes mm, cm, m or in"), std::string::npos) << r.output;
-  r = RunTool("tables build --models " + d + " --units in" + out);
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+  build("", 1, "block.stl: STL: the model is 0.866 mm across");
+  build(" --units ft", 2, "--units takes mm, cm, m or in");
+  build(" --sharp-deg 95", 2, "--sharp-deg '95'");
+  // 5 mm across: corners too close for any basis of the stereo path.
+  build(" --units cm", 0, "warning: model 0 offers no basis within this table's limits");
+  build(" --units in", 0,
+        "model 0 block       8 corners 12 edges  6 faces, symmetry group of order 24");
   // The set's models as built render a scene to try it on: the part, in millimetres.
   const ToolRun rendered =
       RunTool("render --tables " + dir.Sub("t.bin") + " --objects 1 --out " + dir.Sub("scene"));
@@ -119,32 +123,14 @@ TEST(ModelNamesTool, CadExportsAreModelsReadInTheirUnit) {
   const std::string truth((std::istreambuf_iterator<char>(truth_file)),
                           std::istreambuf_iterator<char>());
   EXPECT_NE(truth.find("\"model\": \"block\""), std::string::npos) << truth;
-  EXPECT_NE(r.output.find("model 0 block       8 corners 12 edges  6 faces, symmetry group of "
-                          "order 24"),
-            std::string::npos)
-      << r.output;
-  r = RunTool("tables build --models " + d + " --sharp-deg 95" + out);
-  EXPECT_EQ(r.exit_code, 2) << r.output;
-  // 5 mm across: corners too close for any basis of the stereo path.
-  r = RunTool("tables build --models " + d + " --units cm" + out);
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("warning: model 0 offers no basis within this table's limits"),
-            std::string::npos)
-      << r.output;
   // With the file's origin at a corner the rotations about it are only those about the diagonal.
   WriteHalfCubeStl(d + "/block.stl", 0.25);
-  r = RunTool("tables build --models " + d + " --units in" + out);
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("block.stl has a symmetry group of order 24 about its centroid, (6.350, "
-                          "6.350, 6.350) mm, but of order 3 about the file's origin"),
-            std::string::npos)
-      << r.output;
-  r = RunTool("tables build --models " + d + " --units in --origin centroid" + out);
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("block.stl: model origin at its centroid, (6.350, 6.350, 6.350) mm"),
-            std::string::npos)
-      << r.output;
-  EXPECT_NE(r.output.find("symmetry group of order 24"), std::string::npos) << r.output;
+  build(" --units in", 0,
+        "block.stl has a symmetry group of order 24 about its centroid, (6.350, 6.350, 6.350) "
+        "mm, but of order 3 about the file's origin");
+  build(" --units in --origin centroid", 0,
+        "block.stl: model origin at its centroid, (6.350, 6.350, 6.350) mm");
+  build(" --units in --origin centroid", 0, "symmetry group of order 24");
 }
 
 TEST(ModelNamesTool, OptionNumbersAreReadWholeAndNamed) {
