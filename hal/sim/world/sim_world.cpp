@@ -6,6 +6,8 @@
 
 #include "hal/sim/textured_model_files.hpp"
 #include "hal/sim/world/renderer.hpp"
+#include "recog/camera/calibration_yaml.hpp"
+#include "recog/camera/table_yaml.hpp"
 #include "tables/model_files.hpp"
 
 namespace sh::render {
@@ -38,6 +40,28 @@ void RgbToNv12(ImageView<const Rgb8> rgb, GrayView y_plane, ImageView<CbCr8> chr
                                 byte(128.0f + 0.5f * r - 0.418688f * g - 0.081312f * b)};
     }
   }
+}
+
+// The rig as its files carry it. A recording writes the calibration and the table pose as text,
+// and a replay reads them back, where the readers replace each rotation by the nearest exact one.
+// The rig is taken through that round trip until it no longer moves (twice suffices: the first
+// projection moves a float-derived rotation by about 1e-7, the second by about 1e-16), so that
+// a replay recognises with the very numbers the simulator recognised with.
+Status SnapRigToFiles(StereoCalibration* calib, RigidTransform* left_T_table) {
+  std::vector<char> text(size_t{16} * 1024);
+  for (int round = 0; round < 3; ++round) {
+    Result<size_t> n = WriteCalibrationYaml(*calib, text.data(), text.size());
+    if (!n.ok()) return n.status().WithContext("the simulator's calibration");
+    Result<StereoCalibration> read = ParseCalibrationYaml(text.data(), *n);
+    if (!read.ok()) return read.status().WithContext("the simulator's calibration");
+    n = WriteTableYaml(*left_T_table, text.data(), text.size());
+    if (!n.ok()) return n.status().WithContext("the simulator's table pose");
+    Result<RigidTransform> table = ParseTableYaml(text.data(), *n);
+    if (!table.ok()) return table.status().WithContext("the simulator's table pose");
+    *calib = *read;
+    *left_T_table = *table;
+  }
+  return Status::Ok();
 }
 
 }  // namespace
@@ -135,6 +159,9 @@ Status SimWorld::BuildNow() {
       return Status::Error(StatusCode::kInternal, "sim scene %d uses a different rig", i);
     }
     // One calibration for every scene (the rigs agree up to float rounding).
+    if (i == 0) {
+      SH_RETURN_IF_ERROR(SnapRigToFiles(&scenes_[0].calib, &scenes_[0].scene.left_T_table));
+    }
     scenes_[i].calib = c0;
   }
   width_ = scenes_[0].calib.left.width;
