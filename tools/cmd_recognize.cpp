@@ -10,6 +10,7 @@
 #include "hal/sim/image_files.hpp"
 #include "recog/base/zeroed.hpp"
 #include "recog/pipeline/pipeline.hpp"
+#include "recog/stereo/working_volume.hpp"
 #include "tools/command.hpp"
 #include "tools/mono_setup.hpp"
 #include "tools/overlay.hpp"
@@ -40,9 +41,10 @@ void PrintHelp() {
       "                (blue), line segments (yellow), corners (green: paired into a 3-D point)\n"
       "  --scene DIR   a recorded pair instead of --left/--right: DIR/left.png and right.png (or\n"
       "                .pgm) of a recorded-scenes set or a firmware recording; --calib and\n"
-      "                --table default to calib.yaml and table.yaml beside DIR, --background\n"
-      "                to a recording's settings.conf; a folder recorded on one camera\n"
-      "                holds one image and is recognised from it\n"
+      "                --table default to calib.yaml and table.yaml beside DIR; a firmware\n"
+      "                recording's settings.conf gives the preset (unless --background) and\n"
+      "                the working volume, its rig_table.yaml the board's own table; a folder\n"
+      "                recorded on one camera holds one image and is recognised from it\n"
       "  --monocular left|right  one camera only (2-D aspect hashing; with --table, objects\n"
       "                rest on the table); also chosen by giving only --left or only --right\n"
       "%s",
@@ -54,6 +56,28 @@ int Fail(const char* fmt, const char* a, const char* b = "") {
   std::fprintf(stderr, fmt, a, b);
   std::fprintf(stderr, "\n");
   return 1;
+}
+
+// A firmware recording's working volume (settings.conf), in its frame: the table file the board
+// had, else the board's own table (rig_table.yaml), else the left camera. The replay then bounds
+// the scene as the board did and gives the recorded poses.
+Status ApplyRecordedVolume(const RecordedVolume& v, const TableChoice& table,
+                           const RigidTransform* rig_T_table, PipelineConfig* config) {
+  if (!v.present) return Status::Ok();
+  const Eigen::Vector3f min_mm(v.min_mm[0], v.min_mm[1], v.min_mm[2]);
+  const Eigen::Vector3f max_mm(v.max_mm[0], v.max_mm[1], v.max_mm[2]);
+  if (!v.in_table_frame) {
+    config->stereo.volume = WorkingVolume::InLeftCamera(min_mm, max_mm);
+    return Status::Ok();
+  }
+  const RigidTransform* left_T_table = table.present ? &table.left_T_table : rig_T_table;
+  if (left_T_table == nullptr) {
+    return Status::Error(StatusCode::kNotFound,
+                         "the recording's volume is in the table frame, but it has neither "
+                         "table.yaml nor rig_table.yaml (give the table with --table)");
+  }
+  config->stereo.volume = WorkingVolume::InFrame(*left_T_table, min_mm, max_mm);
+  return Status::Ok();
 }
 
 void PrintTable(const ModelSet& models, const PipelineResult& r) {
@@ -232,6 +256,11 @@ int RunRecognize(int argc, char** argv) {
                    monocular);
       return 2;
     }
+    // A recording made on one camera without a table file: the board laid its objects onto its
+    // own table (rig_table.yaml), and so does the replay.
+    if (options.table_path == nullptr && !recorded.rig_table.empty()) {
+      options.table_path = recorded.rig_table.c_str();
+    }
     return RunMonocular(calib_path, image_path, camera, options, json_path, overlay_path);
   }
   if (calib_path == nullptr || left_path == nullptr || right_path == nullptr) {
@@ -284,7 +313,21 @@ int RunRecognize(int argc, char** argv) {
   s = LoadTables(options, &tables);
   if (!s.ok()) return Fail("%s", s.message());
 
-  const PipelineConfig config = MakePipelineConfig(options, table);
+  // A recording made without a table file: the board's own table bounded its volume and served
+  // its one-image rescue, so it does the same here (it is no table pose of the scene).
+  RigidTransform rig_T_table;
+  const bool rig_table = !table.present && !recorded.rig_table.empty();
+  if (rig_table) {
+    const Result<RigidTransform> rig = LoadTablePose(recorded.rig_table.c_str());
+    if (!rig.ok()) return Fail("%s", rig.status().message());
+    rig_T_table = *rig;
+  }
+  const RigidTransform* one_camera_table = table.present ? &table.left_T_table
+                                           : rig_table   ? &rig_T_table
+                                                         : nullptr;
+  PipelineConfig config = MakePipelineConfig(options, table);
+  s = ApplyRecordedVolume(recorded.volume, table, rig_table ? &rig_T_table : nullptr, &config);
+  if (!s.ok()) return Fail("%s", s.message());
   auto pipeline = MakeZeroed<Pipeline>();  // ~118 MiB, resident as used (docs/memory.md)
   s = pipeline->Init(*calib, tables.view, config, NowNs, tables.shape());
   if (!s.ok()) return Fail("%s", s.message());
@@ -302,8 +345,8 @@ int RunRecognize(int argc, char** argv) {
   ZeroedPtr<MonoRecognizer> rescue;
   if (config.rescue.enabled && pipeline->models().hash_count() > 0 &&
       LoadAspects(options, &aspects).ok()) {
-    s = LendRescueRecognizer(aspects.view, *calib, table.present ? &table.left_T_table : nullptr,
-                             MakeMonoConfig(options).mono, pipeline.get(), &rescue);
+    s = LendRescueRecognizer(aspects.view, *calib, one_camera_table, MakeMonoConfig(options).mono,
+                             pipeline.get(), &rescue);
     if (!s.ok()) std::fprintf(stderr, "stereohash recognize: no rescue: %s\n", s.message());
   }
   // The printed models first: the cartons found are hidden from the polyhedral path (their

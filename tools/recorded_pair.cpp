@@ -2,7 +2,10 @@
 
 #include <unistd.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
+#include <map>
 
 namespace sh::tools {
 namespace {
@@ -19,23 +22,66 @@ std::string Image(const std::string& dir, const char* side) {
   return "";
 }
 
-// The `background` value of a recording's settings.conf ("" without one): the same
-// `key = value` lines, # comments and spaces as the firmware's configuration file.
-std::string RecordedBackground(const std::string& path) {
+// The `key = value` lines of a recording's settings.conf (none without one): the same syntax,
+// # comments and spaces as the firmware's configuration file; a later line wins.
+std::map<std::string, std::string> RecordedSettings(const std::string& path) {
+  std::map<std::string, std::string> settings;
   std::ifstream in(path);
-  std::string line, value;
+  std::string line;
+  const auto trim = [](const std::string& s) {
+    const size_t a = s.find_first_not_of(" \t\r");
+    const size_t b = s.find_last_not_of(" \t\r");
+    return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
+  };
   while (std::getline(in, line)) {
     line = line.substr(0, line.find('#'));
     const size_t eq = line.find('=');
     if (eq == std::string::npos) continue;
-    const auto trim = [](const std::string& s) {
-      const size_t a = s.find_first_not_of(" \t\r");
-      const size_t b = s.find_last_not_of(" \t\r");
-      return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
-    };
-    if (trim(line.substr(0, eq)) == "background") value = trim(line.substr(eq + 1));
+    settings[trim(line.substr(0, eq))] = trim(line.substr(eq + 1));
   }
-  return value;
+  return settings;
+}
+
+// Three finite numbers separated by spaces, as the firmware writes volume_min_mm.
+bool ParseVector3(const std::string& text, float out[3]) {
+  const char* p = text.c_str();
+  for (int k = 0; k < 3; ++k) {
+    char* end = nullptr;
+    const float v = std::strtof(p, &end);
+    if (end == p || !std::isfinite(v)) return false;
+    out[k] = v;
+    p = end;
+  }
+  while (*p == ' ' || *p == '\t') ++p;
+  return *p == '\0';
+}
+
+Status ReadVolume(const std::string& path, const std::map<std::string, std::string>& settings,
+                  RecordedVolume* out) {
+  const auto min = settings.find("volume_min_mm"), max = settings.find("volume_max_mm");
+  if (min == settings.end() || max == settings.end()) return Status::Ok();
+  if (!ParseVector3(min->second, out->min_mm) || !ParseVector3(max->second, out->max_mm)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "%s: volume_min_mm and volume_max_mm: expected three numbers each",
+                         path.c_str());
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (!(out->min_mm[k] < out->max_mm[k])) {
+      return Status::Error(StatusCode::kInvalidArgument,
+                           "%s: volume_min_mm must be below volume_max_mm on every axis",
+                           path.c_str());
+    }
+  }
+  const auto frame = settings.find("volume_frame");
+  const std::string frame_name = frame == settings.end() ? "camera" : frame->second;
+  if (frame_name != "camera" && frame_name != "table") {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "%s: volume_frame %s: expected camera or table", path.c_str(),
+                         frame_name.c_str());
+  }
+  out->in_table_frame = frame_name == "table";
+  out->present = true;
+  return Status::Ok();
 }
 
 }  // namespace
@@ -53,16 +99,21 @@ Status FindRecordedPair(const char* scene_dir, RecordedPair* out) {
   // Missing: "" (the caller refuses it unless --calib gives the calibration).
   out->calib = Readable(parent + "/calib.yaml") ? parent + "/calib.yaml" : "";
   out->table = Readable(parent + "/table.yaml") ? parent + "/table.yaml" : "";
-  const std::string settings = parent + "/settings.conf";
-  const std::string background = Readable(settings) ? RecordedBackground(settings) : "";
+  out->rig_table = Readable(parent + "/rig_table.yaml") ? parent + "/rig_table.yaml" : "";
+  const std::string settings_path = parent + "/settings.conf";
+  const std::map<std::string, std::string> settings = Readable(settings_path)
+                                                          ? RecordedSettings(settings_path)
+                                                          : std::map<std::string, std::string>();
+  const auto found = settings.find("background");
+  const std::string background = found == settings.end() ? "" : found->second;
   if (!background.empty() && background != "auto" && background != "dark" &&
       background != "light") {
     return Status::Error(StatusCode::kInvalidArgument,
-                         "%s: background %s: expected auto, dark or light", settings.c_str(),
+                         "%s: background %s: expected auto, dark or light", settings_path.c_str(),
                          background.c_str());
   }
   out->background = background == "auto" ? "" : background;
-  return Status::Ok();
+  return ReadVolume(settings_path, settings, &out->volume);
 }
 
 }  // namespace sh::tools
