@@ -5,13 +5,19 @@
 namespace sh::fw {
 namespace {
 
-// Every key here changes which edges, features or hypotheses a frame yields. Not here: the
-// threads (one or several give the same result) and the budget (a replay on a desk is not timed
-// as the board was).
-constexpr ConfigKeyId kRecordedKeys[] = {
-    ConfigKeyId::background,         ConfigKeyId::volume_frame,   ConfigKeyId::volume_min_mm,
-    ConfigKeyId::volume_max_mm,      ConfigKeyId::table_estimate, ConfigKeyId::table_confirm_frames,
-    ConfigKeyId::table_check_frames, ConfigKeyId::mono_fallback};
+// Every key here changes which models, edges, features or hypotheses a frame yields. Not here:
+// the threads (one or several give the same result) and the budget (a replay on a desk is not
+// timed as the board was).
+constexpr ConfigKeyId kRecordedKeys[] = {ConfigKeyId::tables,
+                                         ConfigKeyId::features,
+                                         ConfigKeyId::background,
+                                         ConfigKeyId::volume_frame,
+                                         ConfigKeyId::volume_min_mm,
+                                         ConfigKeyId::volume_max_mm,
+                                         ConfigKeyId::table_estimate,
+                                         ConfigKeyId::table_confirm_frames,
+                                         ConfigKeyId::table_check_frames,
+                                         ConfigKeyId::mono_fallback};
 
 bool IsVolumeKey(ConfigKeyId id) {
   return id == ConfigKeyId::volume_frame || id == ConfigKeyId::volume_min_mm ||
@@ -24,6 +30,7 @@ std::string RecordedSettings(const FwConfig& config) {
   std::string text = "# the recognition settings of this recording\n";
   for (const ConfigKeyId id : kRecordedKeys) {
     if (IsVolumeKey(id) && !config.volume_set()) continue;
+    if (id == ConfigKeyId::features && config.features[0] == '\0') continue;  // the tables' own
     const ConfigKey& key = ConfigKeys()[static_cast<size_t>(id)];
     char value[kConfigPathMax];
     FormatConfigValue(key, config, value, sizeof(value));

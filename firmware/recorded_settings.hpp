@@ -1,7 +1,8 @@
 // The settings a recording carries in DIR/settings.conf (recorder.hpp): every configuration key
 // that shapes a result beyond the images themselves, so that a replay (camera = directory in the
-// simulator) recognises each pair as the recording did. They are the detector preset, the working
-// volume, the table estimate and the one-camera fallback. The table the volume was bounded by
+// simulator) recognises each pair as the recording did. They are the model set (tables,
+// features), the detector preset, the working volume, the table estimate and the one-camera
+// fallback. The table the volume was bounded by
 // travels beside them: table.yaml when the configuration gave it, rig_table.yaml when it was the
 // board's own (the simulator's rendered table).
 #pragma once

@@ -42,8 +42,9 @@ void PrintHelp() {
       "  --scene DIR   a recorded pair instead of --left/--right: DIR/left.png and right.png (or\n"
       "                .pgm) of a recorded-scenes set or a firmware recording; --calib and\n"
       "                --table default to calib.yaml and table.yaml beside DIR; a firmware\n"
-      "                recording's settings.conf gives the preset (unless --background) and\n"
-      "                the working volume, its rig_table.yaml the board's own table; a folder\n"
+      "                recording's settings.conf gives the model set (unless --tables), the\n"
+      "                preset (unless --background) and the working volume, its\n"
+      "                rig_table.yaml the board's own table; a folder\n"
       "                recorded on one camera holds one image and is recognised from it\n"
       "  --monocular left|right  one camera only (2-D aspect hashing; with --table, objects\n"
       "                rest on the table); also chosen by giving only --left or only --right\n"
@@ -234,6 +235,10 @@ int RunRecognize(int argc, char** argv) {
     if (calib_path == nullptr) calib_path = recorded.calib.c_str();
     if (options.table_path == nullptr && !recorded.table.empty()) {
       options.table_path = recorded.table.c_str();
+    }
+    // The recording's model set unless --tables gives one: the models as recorded.
+    if (options.tables_path == nullptr && !recorded.tables.empty()) {
+      options.tables_path = recorded.tables.c_str();
     }
     // The recording's preset unless --background gives one: the poses as recorded.
     if (options.background == nullptr && !recorded.background.empty()) {

@@ -113,6 +113,8 @@ Status FindRecordedPair(const char* scene_dir, RecordedPair* out) {
                          background.c_str());
   }
   out->background = background == "auto" ? "" : background;
+  const auto tables = settings.find("tables");
+  if (tables != settings.end() && tables->second != "builtin") out->tables = tables->second;
   return ReadVolume(settings_path, settings, &out->volume);
 }
 

@@ -31,6 +31,9 @@ struct RecordedPair {
   // The detector preset of a firmware recording (DIR/../settings.conf, `background = dark` or
   // `light`), "" when the recording was recognised automatically or names no preset.
   std::string background;
+  // The model set a firmware recording was recognised with (settings.conf `tables`), "" for the
+  // built-in tables or a recording that does not say.
+  std::string tables;
 };
 
 // kNotFound when the folder holds neither image; kInvalidArgument for a settings.conf whose

@@ -245,7 +245,7 @@ TEST(RecordedSettings, AReplayTakesWhatItsOwnFileDoesNotGive) {
   const std::string live_text =
       "background = light\nvolume_frame = table\nvolume_min_mm = -150 -100 -5\n"
       "volume_max_mm = 150.5 100 120\ntable_estimate = per_frame\nmono_fallback = false\n"
-      "threads = 2\n";
+      "threads = 2\ntables = /opt/cell/models.bin\n";
   ASSERT_TRUE(ParseConfig(live_text.data(), live_text.size(), &live).ok());
   const std::string text = RecordedSettings(live);
   EXPECT_EQ(text.find("threads"), std::string::npos) << text;  // results do not depend on it
@@ -263,8 +263,24 @@ TEST(RecordedSettings, AReplayTakesWhatItsOwnFileDoesNotGive) {
   EXPECT_EQ(replay.table_estimate, TableEstimateKey::kPerFrame);
   EXPECT_FALSE(replay.mono_fallback);
   EXPECT_EQ(replay.threads, FwConfig().threads);
+  EXPECT_STREQ(replay.tables, "/opt/cell/models.bin");  // the model set recognised with
+  EXPECT_STREQ(replay.features, "");  // none given: the tables' own cartons, as recorded
   // Without a working volume the recording names none, and the replay keeps its own.
   EXPECT_EQ(RecordedSettings(FwConfig()).find("volume"), std::string::npos);
+  EXPECT_NE(RecordedSettings(FwConfig()).find("tables = builtin\n"), std::string::npos);
+  EXPECT_EQ(RecordedSettings(FwConfig()).find("features"), std::string::npos);
+}
+
+// A replay's own model set wins over the recorded one, as every other recorded key does.
+TEST(RecordedSettings, AReplaysOwnModelSetWins) {
+  static FwConfig recorded, replay;
+  const std::string recorded_text = "tables = /opt/cell/models.bin\nfeatures = /opt/cell/f.bin\n";
+  ASSERT_TRUE(ParseConfig(recorded_text.data(), recorded_text.size(), &recorded).ok());
+  const std::string replay_text = "tables = here.bin\n";
+  ASSERT_TRUE(ParseConfig(replay_text.data(), replay_text.size(), &replay).ok());
+  TakeRecordedSettings(recorded, &replay);
+  EXPECT_STREQ(replay.tables, "here.bin");
+  EXPECT_STREQ(replay.features, "/opt/cell/f.bin");
 }
 
 }  // namespace

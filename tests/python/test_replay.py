@@ -280,12 +280,13 @@ class ReplayTest(unittest.TestCase):
             # frames before: the recording's own tolerance, not the JSON's rounding.
             self.assertLessEqual(worst["alone"][0], ARGS.max_alone_position_mm)
             self.assertLessEqual(worst["alone"][1], ARGS.max_alone_rotation_deg)
-            self.check_recorded_volume_refusals(record, pairs[0])
+            self.check_recorded_settings_refusals(record, pairs[0])
         finally:
             shutil.rmtree(work, ignore_errors=True)
 
-    def check_recorded_volume_refusals(self, record, pair):
-        """A recording whose volume cannot be rebuilt is refused by name, not replayed unbounded."""
+    def check_recorded_settings_refusals(self, record, pair):
+        """A recording whose model set or volume cannot be had again is refused by name, not
+        replayed on other models or unbounded."""
         settings = os.path.join(record, "settings.conf")
         with open(settings) as f:
             original = f.read()
@@ -299,6 +300,7 @@ class ReplayTest(unittest.TestCase):
             self.assertNotEqual(proc.returncode, 0, extra)
             return proc.stderr
 
+        self.assertIn("/nonexistent/models.bin", replay_error("tables = /nonexistent/models.bin\n"))
         self.assertIn("volume_min_mm", replay_error("volume_min_mm = 1 2\n"))
         self.assertIn("below", replay_error("volume_min_mm = 0 0 400\n"))
         self.assertIn("volume_frame", replay_error("volume_frame = robot\n"))
