@@ -4,8 +4,10 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <map>
+#include <sstream>
+
+#include "tables/input_file.hpp"
 
 namespace sh::tools {
 namespace {
@@ -22,24 +24,29 @@ std::string Image(const std::string& dir, const char* side) {
   return "";
 }
 
-// The `key = value` lines of a recording's settings.conf (none without one): the same syntax,
-// # comments and spaces as the firmware's configuration file; a later line wins.
-std::map<std::string, std::string> RecordedSettings(const std::string& path) {
-  std::map<std::string, std::string> settings;
-  std::ifstream in(path);
-  std::string line;
+// A settings.conf is a firmware configuration file, bounded as one (kMaxConfigFileBytes).
+constexpr size_t kMaxSettingsBytes = size_t{64} * 1024;
+
+// The `key = value` lines of a recording's settings.conf: the same syntax, # comments and spaces
+// as the firmware's configuration file; a later line wins. Read as every input is (a regular
+// file within its bound, never blocking).
+Status ReadRecordedSettings(const std::string& path, std::map<std::string, std::string>* out) {
+  std::string text;
+  SH_RETURN_IF_ERROR(ReadInputFile(path, "recording settings", kMaxSettingsBytes, &text));
   const auto trim = [](const std::string& s) {
     const size_t a = s.find_first_not_of(" \t\r");
     const size_t b = s.find_last_not_of(" \t\r");
     return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
   };
+  std::istringstream in(text);
+  std::string line;
   while (std::getline(in, line)) {
     line = line.substr(0, line.find('#'));
     const size_t eq = line.find('=');
     if (eq == std::string::npos) continue;
-    settings[trim(line.substr(0, eq))] = trim(line.substr(eq + 1));
+    (*out)[trim(line.substr(0, eq))] = trim(line.substr(eq + 1));
   }
-  return settings;
+  return Status::Ok();
 }
 
 // Three finite numbers separated by spaces, as the firmware writes volume_min_mm.
@@ -101,9 +108,10 @@ Status FindRecordedPair(const char* scene_dir, RecordedPair* out) {
   out->table = Readable(parent + "/table.yaml") ? parent + "/table.yaml" : "";
   out->rig_table = Readable(parent + "/rig_table.yaml") ? parent + "/rig_table.yaml" : "";
   const std::string settings_path = parent + "/settings.conf";
-  const std::map<std::string, std::string> settings = Readable(settings_path)
-                                                          ? RecordedSettings(settings_path)
-                                                          : std::map<std::string, std::string>();
+  std::map<std::string, std::string> settings;
+  if (access(settings_path.c_str(), F_OK) == 0) {
+    SH_RETURN_IF_ERROR(ReadRecordedSettings(settings_path, &settings));
+  }
   const auto found = settings.find("background");
   const std::string background = found == settings.end() ? "" : found->second;
   if (!background.empty() && background != "auto" && background != "dark" &&

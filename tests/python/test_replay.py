@@ -306,6 +306,14 @@ class ReplayTest(unittest.TestCase):
         self.assertIn("volume_frame", replay_error("volume_frame = robot\n"))
         os.rename(os.path.join(record, "rig_table.yaml"), os.path.join(record, "moved.yaml"))
         self.assertIn("rig_table.yaml", replay_error(""))
+        # A settings.conf that is a FIFO is refused at once, not waited on.
+        os.remove(settings)
+        os.mkfifo(settings)
+        proc = subprocess.run([ARGS.stereohash, "recognize", "--scene", os.path.join(record, pair)],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                              timeout=60)
+        self.assertNotEqual(proc.returncode, 0)
+        self.assertIn("FIFO", proc.stderr)
 
     def compare(self, directory, scenes, firmware_results, work):
         worst_mm = worst_deg = 0.0
