@@ -24,8 +24,6 @@ std::string FormatName(const char* ext) {
   return name;
 }
 
-bool IsObj(const char* ext) { return ext != nullptr && std::strcmp(ext, ".obj") == 0; }
-
 // Index of a vertex within kCadWeldMm of p among the first n, or -1. Quadratic, over at most
 // kMaxObjVertices welded vertices.
 int FindWelded(const PolygonMesh& mesh, const Eigen::Vector3d& p) {
@@ -143,8 +141,7 @@ bool ParseLengthUnit(const char* text, double* mm_per_unit) {
 }
 
 bool IsCadFileName(const std::string& path) {
-  const char* ext = ModelFileExtension(path);
-  return ext != nullptr && !IsObj(ext);
+  return ModelFileExtension(path) != nullptr && !IsObjModelFile(path);
 }
 
 Result<Model> ImportCadModel(const std::string& path, const CadImportOptions& options,
@@ -199,7 +196,7 @@ Result<Model> ImportCadModel(const std::string& path, const CadImportOptions& op
 
 Result<Model> ImportModelFile(const std::string& path, const CadImportOptions& options,
                               CadImportReport* report) {
-  if (IsObj(ModelFileExtension(path)) && !options.obj_through_import) return LoadModelFile(path);
+  if (IsObjModelFile(path) && !options.obj_through_import) return LoadModelFile(path);
   return ImportCadModel(path, options, report);
 }
 

@@ -123,6 +123,11 @@ const char* ModelFileExtension(const std::string& path) {
   return nullptr;
 }
 
+bool IsObjModelFile(const std::string& path) {
+  const char* ext = ModelFileExtension(path);
+  return ext != nullptr && std::strcmp(ext, ".obj") == 0;
+}
+
 Result<std::string> ModelFilePath(const std::string& dir, const std::string& name) {
   DIR* d = opendir(dir.c_str());
   if (d == nullptr) {
@@ -157,8 +162,7 @@ Status LoadModels(const std::string& dir, const std::vector<std::string>& names,
   models->clear();
   for (const std::string& name : names) {
     SH_ASSIGN_OR_RETURN(const std::string path, ModelFilePath(dir, name));
-    const char* ext = ModelFileExtension(path);
-    if (!read && (ext == nullptr || std::strcmp(ext, ".obj") != 0)) {
+    if (!read && !IsObjModelFile(path)) {
       return Status::Error(StatusCode::kInvalidArgument,
                            "%s: STL, PLY and 3MF models are read on a host by `stereohash tables "
                            "build`; give the model set it writes",

@@ -44,6 +44,9 @@ inline constexpr const char* kModelFileExtensions[] = {".obj", ".stl", ".ply", "
 // The entry of kModelFileExtensions that `path` ends in (any case; the lower-case entry is
 // returned), or null.
 const char* ModelFileExtension(const std::string& path);
+// Whether `path` is an OBJ file (".obj", any case): the format every reader takes, where the
+// others need the host's CAD import.
+bool IsObjModelFile(const std::string& path);
 
 // The file of model `name` in `dir`: `<dir>/<name>.<ext>` for the one extension of
 // kModelFileExtensions present. kNotFound when there is none; kInvalidArgument when two are
