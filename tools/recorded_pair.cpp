@@ -49,10 +49,12 @@ Status ReadRecordedSettings(const std::string& path, std::map<std::string, std::
   return Status::Ok();
 }
 
-// Three finite numbers separated by spaces, as the firmware writes volume_min_mm.
+// Three finite numbers separated by spaces or commas, as the firmware's configuration reads
+// volume_min_mm (its parser is the firmware's own, which the host tools do not link).
 bool ParseVector3(const std::string& text, float out[3]) {
   const char* p = text.c_str();
   for (int k = 0; k < 3; ++k) {
+    while (*p == ' ' || *p == '\t' || *p == ',') ++p;
     char* end = nullptr;
     const float v = std::strtof(p, &end);
     if (end == p || !std::isfinite(v)) return false;

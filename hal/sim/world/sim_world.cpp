@@ -44,9 +44,11 @@ void RgbToNv12(ImageView<const Rgb8> rgb, GrayView y_plane, ImageView<CbCr8> chr
 
 // The rig as its files carry it. A recording writes the calibration and the table pose as text,
 // and a replay reads them back, where the readers replace each rotation by the nearest exact one.
-// The rig is taken through that round trip until it no longer moves (twice suffices: the first
-// projection moves a float-derived rotation by about 1e-7, the second by about 1e-16), so that
-// a replay recognises with the very numbers the simulator recognised with.
+// The rig is taken through that round trip three times: the first projection moves the
+// calibration's float-derived rotation by about 1e-7, the second by about 1e-16, the third not
+// at all, so a replay recognises with the numbers the simulator recognised with (the table
+// pose, kept in float, need not reach an exact fixed point; tests/python/test_replay.py checks
+// the replayed poses).
 Status SnapRigToFiles(StereoCalibration* calib, RigidTransform* left_T_table) {
   std::vector<char> text(size_t{16} * 1024);
   for (int round = 0; round < 3; ++round) {
