@@ -7,6 +7,7 @@
 
 #include "firmware/fw_config.hpp"
 #include "recog/pipeline/worker_pool.hpp"
+#include "tables/model_set.hpp"
 
 namespace sh::fw {
 namespace {
@@ -22,6 +23,8 @@ static_assert(std::is_standard_layout_v<FwConfig>, "keys address FwConfig fields
   {#name, KeyType::kIntOrOff, SH_FIELD(name), std::is_signed_v<type>, lo, hi, nullptr, unit, help},
 #define SH_MASK(name, type, def, help) \
   {#name, KeyType::kMask, SH_FIELD(name), false, 1, 0xFFFFFFFFll, nullptr, "", help},
+#define SH_CRC32(name, help) \
+  {#name, KeyType::kCrc32, SH_FIELD(name), false, 0, 0xFFFFFFFFll, nullptr, "", help},
 #define SH_BOOL(name, def, help) \
   {#name, KeyType::kBool, SH_FIELD(name), false, 0, 1, nullptr, "", help},
 #define SH_CHOICE(name, type, def, choices, help) \
@@ -31,16 +34,16 @@ static_assert(std::is_standard_layout_v<FwConfig>, "keys address FwConfig fields
 #define SH_VEC3(name, x, y, z, unit, help) \
   {#name, KeyType::kVec3, SH_FIELD(name), true, 0, 0, nullptr, unit, help},
 
-const ConfigKey kKeys[] = {STEREOHASH_FW_CONFIG_KEYS(SH_INT, SH_INT_OR_OFF, SH_MASK, SH_BOOL,
-                                                     SH_CHOICE, SH_TEXT, SH_VEC3)};
+const ConfigKey kKeys[] = {STEREOHASH_FW_CONFIG_KEYS(SH_INT, SH_INT_OR_OFF, SH_MASK, SH_CRC32,
+                                                     SH_BOOL, SH_CHOICE, SH_TEXT, SH_VEC3)};
 static_assert(sizeof(kKeys) / sizeof(kKeys[0]) == static_cast<size_t>(ConfigKeyId::kCount));
 
 // Choice fields hold the index of the name: one byte, enumerators in the order of the names.
 #define SH_CHOICE_TYPE(name, type, def, choices, help) \
   static_assert(sizeof(type) == 1, #name ": a choice is a one-byte enumeration");
 #define SH_IGNORE(...)
-STEREOHASH_FW_CONFIG_KEYS(SH_IGNORE, SH_IGNORE, SH_IGNORE, SH_IGNORE, SH_CHOICE_TYPE, SH_IGNORE,
-                          SH_IGNORE)
+STEREOHASH_FW_CONFIG_KEYS(SH_IGNORE, SH_IGNORE, SH_IGNORE, SH_IGNORE, SH_IGNORE, SH_CHOICE_TYPE,
+                          SH_IGNORE, SH_IGNORE)
 static_assert(
     static_cast<int>(Backend::kSim) == 1 && static_cast<int>(RecognitionKind::kTruth) == 1 &&
     static_cast<int>(SimCameraFault::kDropRight) == 2 &&
@@ -53,6 +56,7 @@ static_assert(
 #undef SH_INT
 #undef SH_INT_OR_OFF
 #undef SH_MASK
+#undef SH_CRC32
 #undef SH_BOOL
 #undef SH_CHOICE
 #undef SH_TEXT
@@ -233,6 +237,15 @@ Status ApplyConfigKey(const ConfigKey& key, const char* value, FwConfig* config)
       StoreInt(field, key.size, v);
       break;
     }
+    case KeyType::kCrc32: {
+      uint32_t crc = 0;
+      if (!ParseBlobCrc32(value, &crc)) {
+        return Status::Error(StatusCode::kInvalidArgument,
+                             "expected 0 (not checked) or a CRC-32 of up to 8 hex digits");
+      }
+      std::memcpy(field, &crc, sizeof(crc));
+      break;
+    }
     case KeyType::kBool: {
       bool b = false;
       if (!ParseBool(value, &b)) {
@@ -293,6 +306,12 @@ void FormatConfigValue(const ConfigKey& key, const FwConfig& config, char* out, 
       std::snprintf(out, capacity, "0x%llX",
                     static_cast<unsigned long long>(LoadInt(field, key.size, false)));
       break;
+    case KeyType::kCrc32: {
+      uint32_t crc = 0;
+      std::memcpy(&crc, field, sizeof(crc));
+      std::snprintf(out, capacity, crc == 0 ? "0" : "%08x", crc);
+      break;
+    }
     case KeyType::kBool: {
       bool b = false;
       std::memcpy(&b, field, sizeof(b));
@@ -326,6 +345,9 @@ void FormatConfigType(const ConfigKey& key, char* out, size_t capacity) {
       break;
     case KeyType::kMask:
       std::snprintf(out, capacity, "32-bit mask, not 0");
+      break;
+    case KeyType::kCrc32:
+      std::snprintf(out, capacity, "0 (not checked) or CRC-32 (8 hex digits)");
       break;
     case KeyType::kBool:
       std::snprintf(out, capacity, "true | false");

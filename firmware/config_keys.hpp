@@ -10,6 +10,7 @@
 //   INT(name, type, default, min, max, unit, help)         integer in min..max
 //   INT_OR_OFF(name, type, default, min, max, unit, help)  0 (off) or min..max
 //   MASK(name, type, default, help)                        32-bit mask, not 0 (hex)
+//   CRC32(name, help)                           0 (not checked) or a CRC-32 in hex, uint32_t
 //   BOOL(name, default, help)                              true/yes/on/1, false/no/off/0
 //   CHOICE(name, type, default, "a|b|c", help)  one of the names; `type` is a one-byte enum
 //                                               whose enumerators are the names in order
@@ -64,7 +65,7 @@ enum class TableEstimateKey : uint8_t { kOff, kPerFrame, kCarry };
 enum class RecordFormat : uint8_t { kPng, kPgm };
 
 // clang-format off
-#define STEREOHASH_FW_CONFIG_KEYS(INT, INT_OR_OFF, MASK, BOOL, CHOICE, TEXT, VEC3)                 \
+#define STEREOHASH_FW_CONFIG_KEYS(INT, INT_OR_OFF, MASK, CRC32, BOOL, CHOICE, TEXT, VEC3)          \
   CHOICE(backend, Backend, Backend::kLinux, "linux|sim",                                           \
          "the program this file is for: linux (stereohash-fw: SocketCAN, libgpiod, libcamera) "    \
          "or sim (stereohash-fw-sim)")                                                             \
@@ -117,6 +118,11 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
   TEXT(features, kConfigPathMax, "",                                                               \
        "feature database of printed cartons (a model set or a feature database file), mapped; "    \
        "their model ids follow the tables' models; empty = the tables' model set's, if any")       \
+  CRC32(tables_crc32,                                                                              \
+        "the CRC-32 the tables must carry, as `stereohash tables info` prints it (for builtin: "   \
+        "the linked-in tables'); other tables are a data fault. A recording pins its own")         \
+  CRC32(features_crc32,                                                                            \
+        "the CRC-32 the features file must carry (tables info); other files are a data fault")     \
   TEXT(models_dir, kConfigPathMax, "",                                                             \
        "simulator: the model folder it renders; empty = the installed share/stereohash/models, "   \
        "else the source tree's models/")                                                           \
@@ -233,7 +239,7 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
 enum class ConfigKeyId : uint8_t {
   STEREOHASH_FW_CONFIG_KEYS(STEREOHASH_FW_KEY_ID, STEREOHASH_FW_KEY_ID, STEREOHASH_FW_KEY_ID,
                             STEREOHASH_FW_KEY_ID, STEREOHASH_FW_KEY_ID, STEREOHASH_FW_KEY_ID,
-                            STEREOHASH_FW_KEY_ID) kCount
+                            STEREOHASH_FW_KEY_ID, STEREOHASH_FW_KEY_ID) kCount
 };
 #undef STEREOHASH_FW_KEY_ID
 
@@ -250,7 +256,7 @@ class ConfigKeySet {
 
 struct FwConfig;
 
-enum class KeyType : uint8_t { kInt, kIntOrOff, kMask, kBool, kChoice, kText, kVec3 };
+enum class KeyType : uint8_t { kInt, kIntOrOff, kMask, kCrc32, kBool, kChoice, kText, kVec3 };
 
 // A row of the key table: where the field is and what it accepts.
 struct ConfigKey {

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "firmware/config_keys.hpp"
 #include "recog/camera/binning.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "tables/input_file.hpp"
@@ -20,7 +21,38 @@ FileDataSource::FileDataSource(const char* tables_path, const char* calibration_
       calibration_path_(calibration_path),
       fallback_(fallback_calibration) {}
 
+Status FileDataSource::CheckPinned(const char* what, uint32_t crc32, uint32_t pinned,
+                                   const char* key) {
+  if (pinned == 0 || crc32 == pinned) return Status::Ok();
+  return Status::Error(StatusCode::kFailedPrecondition,
+                       "%s carry CRC-32 %08x, not the %08x that %s pins: another model set than "
+                       "the one configured",
+                       what, crc32, pinned, key);
+}
+
 Result<TableView> FileDataSource::LoadTable() {
+  tables_crc32_ = 0;
+  Result<TableView> table = OpenTable();
+  if (!table.ok()) return table;
+  const bool builtin = std::strcmp(tables_path_, "builtin") == 0;
+  uint32_t crc32 = 0;
+  if (builtin) {
+    crc32 = BlobHeaderCrc32(DefaultTableBlob(), DefaultTableBlobSize());
+  } else {
+    SH_ASSIGN_OR_RETURN(crc32, FileBlobCrc32(tables_path_));
+  }
+  char what[kConfigPathMax + 16];
+  std::snprintf(what, sizeof(what), builtin ? "the built-in tables" : "tables '%s'", tables_path_);
+  const Status pinned = CheckPinned(what, crc32, pinned_tables_crc32_, "tables_crc32");
+  if (!pinned.ok()) {
+    table_ = TableView();
+    return pinned;
+  }
+  tables_crc32_ = crc32;
+  return table_;
+}
+
+Result<TableView> FileDataSource::OpenTable() {
   // Whatever happens below, the previous view may point into a mapping about to be replaced.
   table_ = TableView();
   const bool builtin = std::strcmp(tables_path_, "builtin") == 0;
@@ -63,8 +95,18 @@ Result<TableView> FileDataSource::LoadTable() {
 Result<FeatureDbView> FileDataSource::LoadFeatures() {
   // The previous view points into the mapping about to be replaced.
   mapped_features_.Close();
+  features_crc32_ = 0;
   if (features_path_[0] != '\0') {
     SH_RETURN_IF_ERROR(mapped_features_.Open(features_path_));
+    SH_ASSIGN_OR_RETURN(const uint32_t crc32, FileBlobCrc32(features_path_));
+    char what[kConfigPathMax + 16];
+    std::snprintf(what, sizeof(what), "features '%s'", features_path_);
+    const Status pinned = CheckPinned(what, crc32, pinned_features_crc32_, "features_crc32");
+    if (!pinned.ok()) {
+      mapped_features_.Close();
+      return pinned;
+    }
+    features_crc32_ = crc32;
     return mapped_features_.view();
   }
   // Without `features`, a model set given as `tables` supplies its TEXTURE_FEATURES section. A

@@ -48,6 +48,17 @@ class FileDataSource final : public DataSource {
   // texture path's buffers at boot).
   bool TablesHoldPrintedModels() const;
 
+  // The CRC-32s the tables and the features file must carry (tables_crc32, features_crc32 of the
+  // configuration; 0 = any): loading other data is a data fault naming both values.
+  void PinIdentity(uint32_t tables_crc32, uint32_t features_crc32) {
+    pinned_tables_crc32_ = tables_crc32;
+    pinned_features_crc32_ = features_crc32;
+  }
+  // The identity (BlobHeaderCrc32) of the tables and of the features file as last loaded: 0
+  // before a load succeeded, and for features that come from the tables' model set.
+  uint32_t tables_crc32() const { return tables_crc32_; }
+  uint32_t features_crc32() const { return features_crc32_; }
+
   // Fault injection (simulator and tests): the next loads see a copy of the tables with one
   // payload byte flipped, or no calibration.
   void InjectCorruptTables(bool corrupt) { corrupt_tables_ = corrupt; }
@@ -58,6 +69,10 @@ class FileDataSource final : public DataSource {
   const TableView& table() const { return table_; }
 
  private:
+  Result<TableView> OpenTable();
+  // The identity of what was just loaded checked against its pin; `key` names the pin.
+  static Status CheckPinned(const char* what, uint32_t crc32, uint32_t pinned, const char* key);
+
   const char* tables_path_;
   const char* calibration_path_;
   RigCalibration* rig_ = nullptr;
@@ -65,6 +80,10 @@ class FileDataSource final : public DataSource {
   bool corrupt_tables_ = false;
   bool missing_calibration_ = false;
   const char* features_path_ = "";
+  uint32_t pinned_tables_crc32_ = 0;
+  uint32_t pinned_features_crc32_ = 0;
+  uint32_t tables_crc32_ = 0;
+  uint32_t features_crc32_ = 0;
   MappedTable mapped_;
   MappedFeatureDb mapped_features_;
   MappedShapeViews mapped_views_;

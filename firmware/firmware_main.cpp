@@ -371,7 +371,7 @@ Status StartRecorder(const FwConfig& config, const TablePoseSource& table,
                                                                : "dark";
   rc.model_names = names;
   rc.model_count = n_names;
-  rc.settings = RecordedSettings(config);
+  rc.settings = RecordedSettings(config, {data->tables_crc32(), data->features_crc32()});
   // table.yaml only for a configured table: recognition checks hypotheses against it. The board's
   // own table (the rendered rig's) only bounds the volume and serves one camera: rig_table.yaml,
   // which a replay takes in that role.
@@ -465,6 +465,7 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   data = std::make_unique<FileDataSource>(config.tables, config.calibration,
                                           board->BuiltinCalibration());
   data->SetFeaturesPath(config.features);
+  data->PinIdentity(config.tables_crc32, config.features_crc32);
   const CellGeometry cell = LoadCellGeometry(*board, config);
 
   Recognition* recognition = MakeRecognition(board, config, data.get(), cell.table);

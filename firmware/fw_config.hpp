@@ -20,14 +20,16 @@ inline constexpr size_t kMaxConfigFileBytes = size_t{64} * 1024;
 struct FwConfig {
 #define STEREOHASH_FW_FIELD(name, type, def, ...) type name = def;
 #define STEREOHASH_FW_MASK_FIELD(name, type, def, help) type name = def;
+#define STEREOHASH_FW_CRC32_FIELD(name, help) uint32_t name = 0;
 #define STEREOHASH_FW_BOOL_FIELD(name, def, help) bool name = def;
 #define STEREOHASH_FW_TEXT_FIELD(name, capacity, def, help) char name[capacity] = def;
 #define STEREOHASH_FW_VEC3_FIELD(name, x, y, z, unit, help) float name[3] = {x, y, z};
   STEREOHASH_FW_CONFIG_KEYS(STEREOHASH_FW_FIELD, STEREOHASH_FW_FIELD, STEREOHASH_FW_MASK_FIELD,
-                            STEREOHASH_FW_BOOL_FIELD, STEREOHASH_FW_FIELD, STEREOHASH_FW_TEXT_FIELD,
-                            STEREOHASH_FW_VEC3_FIELD)
+                            STEREOHASH_FW_CRC32_FIELD, STEREOHASH_FW_BOOL_FIELD,
+                            STEREOHASH_FW_FIELD, STEREOHASH_FW_TEXT_FIELD, STEREOHASH_FW_VEC3_FIELD)
 #undef STEREOHASH_FW_FIELD
 #undef STEREOHASH_FW_MASK_FIELD
+#undef STEREOHASH_FW_CRC32_FIELD
 #undef STEREOHASH_FW_BOOL_FIELD
 #undef STEREOHASH_FW_TEXT_FIELD
 #undef STEREOHASH_FW_VEC3_FIELD

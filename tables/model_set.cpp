@@ -80,6 +80,32 @@ const char* SectionKindName(uint32_t kind) {
   return info == nullptr ? "unknown" : info->name;
 }
 
+uint32_t BlobHeaderCrc32(const void* data, size_t size) {
+  uint32_t crc = 0;
+  if (data == nullptr || size < kBlobCrc32Offset + sizeof(crc)) return 0;
+  std::memcpy(&crc, static_cast<const uint8_t*>(data) + kBlobCrc32Offset, sizeof(crc));
+  return crc;
+}
+
+bool ParseBlobCrc32(const char* text, uint32_t* out) {
+  const char* digits = text;
+  if (digits[0] == '0' && (digits[1] == 'x' || digits[1] == 'X')) digits += 2;
+  const size_t n = std::strlen(digits);
+  if (n == 0 || n > 8) return false;
+  uint32_t v = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const char c = digits[i];
+    const int d = c >= '0' && c <= '9'   ? c - '0'
+                  : c >= 'a' && c <= 'f' ? c - 'a' + 10
+                  : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                         : -1;
+    if (d < 0) return false;
+    v = v << 4 | static_cast<uint32_t>(d);
+  }
+  *out = v;
+  return true;
+}
+
 uint32_t ModelSetCrc32(const uint8_t* blob, size_t size) {
   ModelSetHeader header{};
   std::memcpy(&header, blob, sizeof(header));

@@ -29,6 +29,14 @@ const char* SectionKindName(uint32_t kind);
 // least sizeof(ModelSetHeader) bytes.
 uint32_t ModelSetCrc32(const uint8_t* blob, size_t size);
 
+// A blob's identity: the whole-blob CRC-32 its header carries (a model set's, or a bare blob's of
+// any kind), as `stereohash tables info` prints it. Read, not checked: the blob's view checks it.
+// 0 when `size` is shorter than the header's prefix and CRC.
+uint32_t BlobHeaderCrc32(const void* data, size_t size);
+// A CRC-32 as text: "0", or one to eight hex digits with an optional 0x (as `tables info` prints
+// it, or as a C literal). Nothing else: no sign, no blanks, no ninth digit.
+bool ParseBlobCrc32(const char* text, uint32_t* out);
+
 class ModelSetView {
  public:
   ModelSetView() = default;

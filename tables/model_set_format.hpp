@@ -72,6 +72,10 @@ struct SectionBlobPrefix {
   uint64_t total_size;
 };
 static_assert(sizeof(SectionBlobPrefix) == 24);
+// Right after the prefix every stereohash header (the model set's too) holds its blob_crc32: the
+// CRC-32 of the whole blob, the blob's identity (BlobHeaderCrc32). Each format asserts it.
+inline constexpr size_t kBlobCrc32Offset = sizeof(SectionBlobPrefix);
+static_assert(offsetof(ModelSetHeader, blob_crc32) == kBlobCrc32Offset);
 
 // What the container knows of each kind: its name for messages and the magic of its payload.
 struct SectionKindInfo {

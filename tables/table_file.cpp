@@ -42,4 +42,14 @@ Result<uint32_t> FileBlobKinds(const char* path) {
   return kinds;
 }
 
+Result<uint32_t> FileBlobCrc32(const char* path) {
+  MappedFile file;
+  SH_RETURN_IF_ERROR(file.Open(path, "file"));
+  if (file.size() < sizeof(SectionBlobPrefix) + sizeof(uint32_t)) {
+    return Status::Error(StatusCode::kDataLoss, "'%s' is too short for a blob header (%zu bytes)",
+                         path, file.size());
+  }
+  return BlobHeaderCrc32(file.data(), file.size());
+}
+
 }  // namespace sh

@@ -74,6 +74,10 @@ class MappedView {
 // errors name the file.
 Result<uint32_t> FileBlobKinds(const char* path);
 
+// The identity of the blob in a file (BlobHeaderCrc32 of the model set or bare blob it holds);
+// errors name the file (missing, special, empty, shorter than a header).
+Result<uint32_t> FileBlobCrc32(const char* path);
+
 class MappedTable : public MappedView<TableView> {
  public:
   MappedTable() : MappedView("table file", SectionKind::kHash3d) {}

@@ -236,9 +236,12 @@ int RunRecognize(int argc, char** argv) {
     if (options.table_path == nullptr && !recorded.table.empty()) {
       options.table_path = recorded.table.c_str();
     }
-    // The recording's model set unless --tables gives one: the models as recorded.
-    if (options.tables_path == nullptr && !recorded.tables.empty()) {
-      options.tables_path = recorded.tables.c_str();
+    // The recording's model set unless --tables gives one: the models as recorded, if the file
+    // is still the one recorded.
+    if (options.tables_path == nullptr) {
+      if (!recorded.tables.empty()) options.tables_path = recorded.tables.c_str();
+      const Status same = CheckRecordedTables(recorded, options.tables_path);
+      if (!same.ok()) return Fail("%s", same.message());
     }
     // The recording's preset unless --background gives one: the poses as recorded.
     if (options.background == nullptr && !recorded.background.empty()) {

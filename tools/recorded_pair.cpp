@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "tables/input_file.hpp"
+#include "tables/model_set.hpp"
+#include "tables/table_file.hpp"
 
 namespace sh::tools {
 namespace {
@@ -125,7 +127,28 @@ Status FindRecordedPair(const char* scene_dir, RecordedPair* out) {
   out->background = background == "auto" ? "" : background;
   const auto tables = settings.find("tables");
   if (tables != settings.end() && tables->second != "builtin") out->tables = tables->second;
+  const auto crc32 = settings.find("tables_crc32");
+  if (crc32 != settings.end() && !ParseBlobCrc32(crc32->second.c_str(), &out->tables_crc32)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "%s: tables_crc32 %s: expected 0 or a CRC-32 of up to 8 hex digits",
+                         settings_path.c_str(), crc32->second.c_str());
+  }
   return ReadVolume(settings_path, settings, &out->volume);
+}
+
+Status CheckRecordedTables(const RecordedPair& recorded, const char* tables_path) {
+  if (recorded.tables_crc32 == 0) return Status::Ok();
+  uint32_t crc32 = BlobHeaderCrc32(DefaultTableBlob(), DefaultTableBlobSize());
+  if (tables_path != nullptr) {
+    SH_ASSIGN_OR_RETURN(crc32, FileBlobCrc32(tables_path));
+  }
+  if (crc32 == recorded.tables_crc32) return Status::Ok();
+  return Status::Error(StatusCode::kFailedPrecondition,
+                       "the recording's model set %s carries CRC-32 %08x, not the %08x it was "
+                       "recognised with (settings.conf tables_crc32): rebuilt or replaced since; "
+                       "give --tables to replay with another set",
+                       tables_path != nullptr ? tables_path : "(built-in)", crc32,
+                       recorded.tables_crc32);
 }
 
 }  // namespace sh::tools

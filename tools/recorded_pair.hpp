@@ -3,6 +3,7 @@
 // level up.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "recog/base/status.hpp"
@@ -34,11 +35,18 @@ struct RecordedPair {
   // The model set a firmware recording was recognised with (settings.conf `tables`), "" for the
   // built-in tables or a recording that does not say.
   std::string tables;
+  // The CRC-32 of that model set as recorded (settings.conf tables_crc32), 0 if it names none.
+  uint32_t tables_crc32 = 0;
 };
 
 // kNotFound when the folder holds neither image; kInvalidArgument for a settings.conf whose
 // background is none of auto, dark and light, or whose volume keys do not parse (three numbers
 // each, min below max, frame camera or table).
 Status FindRecordedPair(const char* scene_dir, RecordedPair* out);
+
+// Whether the recording's own model set, `tables_path` (nullptr = the built-in tables), is still
+// the one it was recognised with: kFailedPrecondition naming both CRC-32s when the file was
+// rebuilt or replaced since. OK when the recording pins none.
+Status CheckRecordedTables(const RecordedPair& recorded, const char* tables_path);
 
 }  // namespace sh::tools

@@ -74,6 +74,8 @@ struct ShapeViewsHeader {
   uint8_t reserved1[96];  // zero; pads the header to 256 bytes
 };
 static_assert(sizeof(ShapeViewsHeader) == 256, "header layout is part of the format");
+static_assert(offsetof(ShapeViewsHeader, blob_crc32) == 24,
+              "the identity's place (kBlobCrc32Offset)");
 static_assert(std::is_standard_layout_v<ShapeViewsHeader>);
 
 struct ShapeModelRecord {

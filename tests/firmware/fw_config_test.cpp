@@ -83,6 +83,10 @@ TEST(FwConfig, ErrorsNameLineAndKey) {
       {"camera = usb\n", "expected libcamera, sim or directory"},
       {"serial_number = -1\n", "key 'serial_number'"},
       {"record_max = 0\n", "key 'record_max'"},
+      {"tables_crc32 = 123456789\n", "up to 8 hex digits"},
+      {"tables_crc32 = -1\n", "key 'tables_crc32'"},
+      {"features_crc32 = 0xbeefcafg\n", "key 'features_crc32'"},
+      {"features_crc32 = 0x\n", "CRC-32"},
   };
   for (const BadCase& bad : cases) {
     FwConfig c;
@@ -301,6 +305,14 @@ TEST(FwConfigKeys, TypesSayWhatIsAccepted) {
   EXPECT_STREQ(value, "0xFFFFFFFF");
   FormatConfigValue(*FindConfigKey("volume_min_mm"), FwConfig(), value, sizeof(value));
   EXPECT_STREQ(value, "-1000 -1000 100");
+  FormatConfigValue(*FindConfigKey("tables_crc32"), FwConfig(), value, sizeof(value));
+  EXPECT_STREQ(value, "0");
+  FwConfig pinned;
+  ASSERT_TRUE(Parse("tables_crc32 = 0x0000ABCD\nfeatures_crc32 = ebf49a5f\n", &pinned).ok());
+  EXPECT_EQ(pinned.tables_crc32, 0xabcdu);
+  EXPECT_EQ(pinned.features_crc32, 0xebf49a5fu);
+  FormatConfigValue(*FindConfigKey("tables_crc32"), pinned, value, sizeof(value));
+  EXPECT_STREQ(value, "0000abcd");  // as `tables info` prints it, and read back alike
 }
 
 // Keys given by a file are marked: the volume box and the table pose are "set" by their keys,

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstring>
 #include <string>
 
 #include "tests/support/firmware_doubles.hpp"
@@ -253,12 +254,7 @@ TEST(FirmwareCore, CorruptTablesBootIntoFaultAndRecoverOnceRepaired) {
   Rig rig;
   rig.data->InjectCorruptTables(true);
   rig.Start();
-  std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kDataSet));
-  ASSERT_TRUE(e);
-  EXPECT_EQ(e->detail, kDetailTables);
-  EXPECT_EQ(rig.core.state(), FirmwareState::kFault);
-  EXPECT_EQ(rig.recognition.inits.load(), 0);
-  EXPECT_TRUE(rig.SeeHeartbeats(2));
+  rig.ExpectBootDataFault(kDetailTables);
 
   rig.ClearFault();  // still corrupt: refused, fault stays
   std::optional<CommandAck> ack = rig.WaitAck(0x04);
@@ -275,6 +271,57 @@ TEST(FirmwareCore, CorruptTablesBootIntoFaultAndRecoverOnceRepaired) {
   EXPECT_EQ(rig.recognition.inits.load(), 1);
   rig.Trigger(5);
   ASSERT_TRUE(rig.WaitSet());
+}
+
+// tables_crc32 pins the model set: other tables (a file rebuilt since, another cell's set) are
+// a tables fault naming both CRC-32s, the node keeps its heartbeat, and the pinned set clears it.
+TEST(FirmwareCore, TablesOtherThanThePinnedOnesAreATablesFault) {
+  const uint32_t builtin = BlobHeaderCrc32(DefaultTableBlob(), DefaultTableBlobSize());
+  ASSERT_NE(builtin, 0u);
+  Rig rig;
+  rig.data->PinIdentity(builtin ^ 0x00010000u, 0);
+  rig.Start();
+  rig.ExpectBootDataFault(kDetailTables);
+  const Result<TableView> refused = rig.data->LoadTable();
+  ASSERT_FALSE(refused.ok());
+  char expected[96];
+  std::snprintf(expected, sizeof(expected), "carry CRC-32 %08x, not the %08x that tables_crc32",
+                builtin, builtin ^ 0x00010000u);
+  EXPECT_NE(std::strstr(refused.status().message(), expected), nullptr)
+      << refused.status().message();
+  EXPECT_EQ(rig.data->tables_crc32(), 0u);
+
+  rig.data->PinIdentity(builtin, 0);  // the pinned set is what the board now holds
+  rig.ClearFault();
+  std::optional<CommandAck> ack = rig.WaitAck(0x04);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, 0);
+  EXPECT_TRUE(rig.WaitState(FirmwareState::kReady));
+  EXPECT_EQ(rig.data->tables_crc32(), builtin);
+}
+
+// A tables file's identity is its header's CRC-32 (what `tables info` prints), whatever the file
+// is called. A file that is no feature database is refused as such, before any pin is read.
+TEST(FileDataSource, TheIdentityOfATablesFileIsItsHeadersCrc) {
+  char path[] = "/tmp/stereohash_fw_tables_XXXXXX";
+  const int fd = mkstemp(path);
+  ASSERT_GE(fd, 0);
+  const auto size = static_cast<ssize_t>(DefaultTableBlobSize());
+  ASSERT_EQ(write(fd, DefaultTableBlob(), DefaultTableBlobSize()), size);
+  close(fd);
+  const uint32_t crc = BlobHeaderCrc32(DefaultTableBlob(), DefaultTableBlobSize());
+  const StereoCalibration calib;
+  FileDataSource data(path, "", &calib);
+  data.PinIdentity(crc, 0);
+  EXPECT_TRUE(data.LoadTable().ok());
+  EXPECT_EQ(data.tables_crc32(), crc);
+  data.SetFeaturesPath(path);  // not a feature database: refused as such before any pin
+  data.PinIdentity(crc, 1);
+  const Result<FeatureDbView> features = data.LoadFeatures();
+  EXPECT_FALSE(features.ok());
+  EXPECT_EQ(std::strstr(features.status().message(), "features_crc32"), nullptr)
+      << features.status().message();
+  std::remove(path);
 }
 
 TEST(FirmwareCore, MissingCalibrationBootsIntoFault) {

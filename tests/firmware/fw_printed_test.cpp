@@ -295,12 +295,8 @@ TEST(FirmwarePrinted, DamagedOrMissingFeatureDatabaseIsADataFaultUntilReplaced) 
     Rig rig;
     rig.data->SetFeaturesPath(configured.c_str());
     rig.Start();
-    std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kDataSet));
-    ASSERT_TRUE(e) << path;
-    EXPECT_EQ(e->detail, kDetailFeatures);
-    EXPECT_EQ(rig.core.state(), FirmwareState::kFault);
-    EXPECT_EQ(rig.recognition.inits.load(), 0);
-    EXPECT_TRUE(rig.SeeHeartbeats(2));
+    SCOPED_TRACE(path);
+    rig.ExpectBootDataFault(kDetailFeatures);
 
     ASSERT_TRUE(WriteFile(configured, files.blob));
     rig.ClearFault();
@@ -313,6 +309,31 @@ TEST(FirmwarePrinted, DamagedOrMissingFeatureDatabaseIsADataFaultUntilReplaced) 
     rig.Trigger(7);
     EXPECT_TRUE(rig.WaitSet());
   }
+}
+
+// features_crc32 pins the features file: its header's CRC-32 loads, another is refused naming
+// both values and the key, and a model set's own cartons (no features file) carry no pin.
+TEST(FirmwarePrinted, AFeaturesFileOtherThanThePinnedOneIsRefused) {
+  const Files& files = TestFiles();
+  ASSERT_FALSE(files.blob.empty());
+  const uint32_t crc = BlobHeaderCrc32(files.blob.data(), files.blob.size());
+  const StereoCalibration calib;
+  FileDataSource data("builtin", "", &calib);
+  data.SetFeaturesPath(files.features.c_str());
+  data.PinIdentity(0, crc);
+  ASSERT_TRUE(data.LoadFeatures().ok());
+  EXPECT_EQ(data.features_crc32(), crc);
+  data.PinIdentity(0, crc + 1);
+  const Result<FeatureDbView> refused = data.LoadFeatures();
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code(), StatusCode::kFailedPrecondition);
+  EXPECT_NE(std::string(refused.status().message()).find("features_crc32"), std::string::npos)
+      << refused.status().message();
+  EXPECT_EQ(data.features_crc32(), 0u);
+  FileDataSource set(files.set.c_str(), "", &calib);
+  set.PinIdentity(0, crc + 1);
+  ASSERT_TRUE(set.LoadFeatures().ok());
+  EXPECT_EQ(set.features_crc32(), 0u);
 }
 
 // `tables = ` one model set (hash tables and the cartons' database as its sections, no
@@ -385,12 +406,7 @@ TEST(FirmwarePrinted, DamagedModelSetIsATablesFaultUntilReplaced) {
   Rig rig;
   rig.data = std::make_unique<FileDataSource>(configured.c_str(), "", &rig.calib);
   rig.Start();
-  std::optional<Emcy> e = rig.WaitEmcy(uint16_t(EmcyCode::kDataSet));
-  ASSERT_TRUE(e);
-  EXPECT_EQ(e->detail, kDetailTables);
-  EXPECT_EQ(rig.core.state(), FirmwareState::kFault);
-  EXPECT_EQ(rig.recognition.inits.load(), 0);
-  EXPECT_TRUE(rig.SeeHeartbeats(2));
+  rig.ExpectBootDataFault(kDetailTables);
   // The log names the damaged section.
   const std::string why = rig.data->LoadTable().status().message();
   EXPECT_NE(why.find("section 1 (TEXTURE_FEATURES) CRC-32"), std::string::npos) << why;

@@ -104,7 +104,7 @@ TEST_F(RecorderTest, KeepsTheLastPairsInTheReplayLayoutAcrossRestarts) {
   c.background = "light";
   FwConfig settings;
   settings.background = BackgroundKey::kLight;
-  c.settings = RecordedSettings(settings);
+  c.settings = RecordedSettings(settings, ModelSetIdentity{});
   RigidTransform rig_T_table;  // looked down on: the table's z axis towards the camera
   rig_T_table.R = Eigen::AngleAxisf(3.14159265f, Eigen::Vector3f::UnitX()).toRotationMatrix();
   rig_T_table.t_mm = Eigen::Vector3f(1.5f, -2.25f, 612.125f);
@@ -247,7 +247,7 @@ TEST(RecordedSettings, AReplayTakesWhatItsOwnFileDoesNotGive) {
       "volume_max_mm = 150.5 100 120\ntable_estimate = per_frame\nmono_fallback = false\n"
       "threads = 2\ntables = /opt/cell/models.bin\n";
   ASSERT_TRUE(ParseConfig(live_text.data(), live_text.size(), &live).ok());
-  const std::string text = RecordedSettings(live);
+  const std::string text = RecordedSettings(live, {0x0badcafe, 0});
   EXPECT_EQ(text.find("threads"), std::string::npos) << text;  // results do not depend on it
   ASSERT_TRUE(ParseConfig(text.data(), text.size(), &recorded).ok()) << text;
   const std::string replay_text = "background = dark\n";
@@ -264,23 +264,47 @@ TEST(RecordedSettings, AReplayTakesWhatItsOwnFileDoesNotGive) {
   EXPECT_FALSE(replay.mono_fallback);
   EXPECT_EQ(replay.threads, FwConfig().threads);
   EXPECT_STREQ(replay.tables, "/opt/cell/models.bin");  // the model set recognised with
-  EXPECT_STREQ(replay.features, "");  // none given: the tables' own cartons, as recorded
+  EXPECT_STREQ(replay.features, "");            // none given: the tables' own cartons, as recorded
+  EXPECT_EQ(replay.tables_crc32, 0x0badcafeu);  // the identity of the set recognised with
+  EXPECT_EQ(replay.features_crc32, 0u);
   // Without a working volume the recording names none, and the replay keeps its own.
-  EXPECT_EQ(RecordedSettings(FwConfig()).find("volume"), std::string::npos);
-  EXPECT_NE(RecordedSettings(FwConfig()).find("tables = builtin\n"), std::string::npos);
-  EXPECT_EQ(RecordedSettings(FwConfig()).find("features"), std::string::npos);
+  const std::string plain = RecordedSettings(FwConfig(), ModelSetIdentity{});
+  EXPECT_EQ(plain.find("volume"), std::string::npos);
+  EXPECT_NE(plain.find("tables = builtin\n"), std::string::npos);
+  EXPECT_EQ(plain.find("features"), std::string::npos);
+  EXPECT_EQ(plain.find("crc32"), std::string::npos);  // nothing loaded: nothing pinned
+}
+
+// A recording pins the model data it was recognised with: the tables' CRC-32 always, the
+// features file's when the configuration named one (else its cartons are the tables' own).
+TEST(RecordedSettings, PinsTheIdentityOfTheModelDataItLoaded) {
+  static FwConfig live, recorded;
+  const std::string live_text = "tables = /opt/cell/models.bin\nfeatures = /opt/cell/f.bin\n";
+  ASSERT_TRUE(ParseConfig(live_text.data(), live_text.size(), &live).ok());
+  const std::string text = RecordedSettings(live, {0x89abcdef, 0x00001234});
+  EXPECT_NE(text.find("tables_crc32 = 89abcdef\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("features_crc32 = 00001234\n"), std::string::npos) << text;
+  ASSERT_TRUE(ParseConfig(text.data(), text.size(), &recorded).ok()) << text;
+  EXPECT_EQ(recorded.tables_crc32, 0x89abcdefu);
+  EXPECT_EQ(recorded.features_crc32, 0x1234u);
 }
 
 // A replay's own model set wins over the recorded one, as every other recorded key does.
 TEST(RecordedSettings, AReplaysOwnModelSetWins) {
   static FwConfig recorded, replay;
-  const std::string recorded_text = "tables = /opt/cell/models.bin\nfeatures = /opt/cell/f.bin\n";
+  const std::string recorded_text =
+      "tables = /opt/cell/models.bin\ntables_crc32 = 11111111\nfeatures = /opt/cell/f.bin\n"
+      "features_crc32 = 0x22222222\n";
   ASSERT_TRUE(ParseConfig(recorded_text.data(), recorded_text.size(), &recorded).ok());
   const std::string replay_text = "tables = here.bin\n";
   ASSERT_TRUE(ParseConfig(replay_text.data(), replay_text.size(), &replay).ok());
   TakeRecordedSettings(recorded, &replay);
   EXPECT_STREQ(replay.tables, "here.bin");
   EXPECT_STREQ(replay.features, "/opt/cell/f.bin");
+  // A pin travels with its file: the replay's own tables are not held to the recorded CRC-32,
+  // the recorded features file is.
+  EXPECT_EQ(replay.tables_crc32, 0u);
+  EXPECT_EQ(replay.features_crc32, 0x22222222u);
 }
 
 }  // namespace

@@ -227,7 +227,10 @@ class ReplayTest(unittest.TestCase):
             pairs = sorted(p for p in os.listdir(record) if p.isdigit())
             self.assertGreaterEqual(len(pairs), ARGS.scenes, "pairs recorded")
             with open(os.path.join(record, "settings.conf")) as f:
-                self.assertIn("background = light", f.read())
+                settings = f.read()
+            self.assertIn("background = light", settings)
+            # The identity of the tables recognised with (the built-in ones' header CRC-32).
+            self.assertRegex(settings, r"\ntables_crc32 = [0-9a-f]{8}\n")
             recorded = []
             for pair in pairs:
                 with open(os.path.join(record, pair, "result.json")) as f:
@@ -301,6 +304,10 @@ class ReplayTest(unittest.TestCase):
             return proc.stderr
 
         self.assertIn("/nonexistent/models.bin", replay_error("tables = /nonexistent/models.bin\n"))
+        # Tables rebuilt since the recording (another CRC-32) are refused, naming both values.
+        self.assertIn("not the 0badcafe it was recognised with",
+                      replay_error("tables_crc32 = 0badcafe\n"))
+        self.assertIn("tables_crc32", replay_error("tables_crc32 = 0xnothex\n"))
         self.assertIn("volume_min_mm", replay_error("volume_min_mm = 1 2\n"))
         self.assertIn("below", replay_error("volume_min_mm = 0 0 400\n"))
         self.assertIn("volume_frame", replay_error("volume_frame = robot\n"))

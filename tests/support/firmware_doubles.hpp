@@ -285,6 +285,17 @@ class Rig {
     return seen >= n;
   }
 
+  // A data fault at boot: its EMCY with `detail`, the fault state, no recognition initialised,
+  // and the heartbeat going on.
+  void ExpectBootDataFault(uint8_t detail) {
+    const std::optional<Emcy> e = WaitEmcy(uint16_t(EmcyCode::kDataSet));
+    ASSERT_TRUE(e);
+    EXPECT_EQ(e->detail, detail);
+    EXPECT_EQ(core.state(), FirmwareState::kFault);
+    EXPECT_EQ(recognition.inits.load(), 0);
+    EXPECT_TRUE(SeeHeartbeats(2));
+  }
+
   // Heartbeats seen by the PLC within `ms`.
   int CountHeartbeats(int ms) {
     int n = 0;
