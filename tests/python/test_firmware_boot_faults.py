@@ -165,23 +165,25 @@ class BootFaultTest(unittest.TestCase):
         self.assertEqual(frames[-1][1]["HB_NmtState"], 0, "boot-up first")
 
     def expect_fault(self, code, detail=None):
-        """The fault EMCY, then heartbeats for three seconds from a process that stays alive."""
+        """The fault EMCY, then heartbeats from a process that stays alive."""
         frames = self.plc.receive_until(
             lambda n, v, m: n == "SH_Emcy" and v["EMCY_ErrorCode"] == code and
             (detail is None or v["EMCY_Detail"] == detail), timeout=60)
         self.assertEqual(frames[-1][1]["EMCY_FirmwareState"], STATE_FAULT)
         self.expect_alive()
 
-    def expect_alive(self):
-        heartbeats = 0
-        watch_until = time.time() + 3.0
-        while time.time() < watch_until:
+    def expect_alive(self, heartbeats=10):
+        """`heartbeats` more heartbeats (a second at HEARTBEAT_MS) from a process still running
+        after them; a heartbeat that stops fails within ten times that."""
+        seen = 0
+        watch_until = time.time() + 10.0
+        while seen < heartbeats and time.time() < watch_until:
             msg = self.plc.bus.recv(0.1)
             if msg is not None and self.plc.decode(msg)[0] == "SH_Heartbeat":
-                heartbeats += 1
+                seen += 1
         self.assertIsNone(self.fw.proc.poll(), "stereohash-fw exited (rc %s) in fault:\n%s" % (
             self.fw.proc.returncode, "\n".join(self.fw.stderr_lines[-20:])))
-        self.assertGreaterEqual(heartbeats, 5, "heartbeat stopped in fault")
+        self.assertEqual(seen, heartbeats, "heartbeat stopped in fault")
 
     def clear_fault(self):
         self.plc.send("SH_Command", {"CMD_Code": CMD_CLEAR_FAULT})
@@ -243,6 +245,23 @@ class BootFaultTest(unittest.TestCase):
         self.expect_fault(EMCY_DATA_SET, DETAIL_TABLES)
         with open(table, "wb") as f:
             f.write(good)
+        self.expect_recovery()
+
+    def test_tables_other_than_the_pinned_ones(self):
+        """tables_crc32 pins the model set: another file, sound but not the pinned one (here the
+        same tables in a model-set container), is a tables fault whose message names both
+        CRC-32s; the pinned file copied onto the board clears it."""
+        with open(ARGS.table, "rb") as f:
+            blob = f.read()
+        pinned = struct.unpack_from("<I", blob, 24)[0]  # blob_crc32, as `tables info` prints it
+        table = self.path("models.bin")
+        with open(table, "wb") as f:
+            f.write(model_set([(1, blob)]))
+        self.boot("tables = " + table, "tables_crc32 = %08x" % pinned)
+        self.expect_fault(EMCY_DATA_SET, DETAIL_TABLES)
+        log = "\n".join(self.fw.stderr_lines)
+        self.assertIn("not the %08x that tables_crc32 pins" % pinned, log)
+        shutil.copyfile(ARGS.table, table)
         self.expect_recovery()
 
     def test_injected_corrupt_tables_stay_in_fault(self):
