@@ -14,10 +14,10 @@
 #                                 latest landings; "all": every source)
 #   STEREOHASH_TIDY_STRICT=0|1    clang-tidy findings fail the run (default 1 on the changed
 #                                 sources; 0, report only, when every source is checked)
-#   STEREOHASH_FUZZ_SECONDS=S     how long each fuzz target extends its corpus (default 10; the
+#   STEREOHASH_FUZZ_SECONDS=S     how long each fuzz target extends its corpus (default 5; the
 #                                 committed corpus is replayed in full first)
 #   STEREOHASH_GUARD_S=S          the run fails, naming the stage it was in, once the whole run has
-#                                 passed S seconds (default 5100, 85 minutes; CI allows 90)
+#                                 passed S seconds (default 3000, 50 minutes; CI allows 90)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -33,7 +33,7 @@ jobs=$(nproc)
 if [ "$mode" = all ]; then tools/ci/install-deps.sh --cross; else tools/ci/install-deps.sh; fi
 
 run_start=$(date +%s)
-guard_s=${STEREOHASH_GUARD_S:-5100}
+guard_s=${STEREOHASH_GUARD_S:-3000}
 durations=()
 over_guard=""
 stage=""
@@ -109,7 +109,7 @@ stage "ASan+UBSan tests"
 ctest --preset host-asan -j "$jobs" --timeout 1800
 
 stage "fuzzers"
-tools/ci/fuzz.sh "${STEREOHASH_FUZZ_SECONDS:-10}"
+tools/ci/fuzz.sh "${STEREOHASH_FUZZ_SECONDS:-5}"
 
 if [ "$mode" = all ]; then
   stage "aarch64 build"
