@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "recog/base/blob_start.hpp"
 #include "recog/base/fixed_point.hpp"
 #include "recog/model/model.hpp"
 #include "tables/table_format.hpp"
@@ -119,7 +120,7 @@ struct AspectHeader {
   SectionRef models, aspects, bases, point_bins, point_entries, line_bins, line_entries;
 };
 static_assert(sizeof(AspectHeader) == 256, "header layout is part of the format");
-static_assert(offsetof(AspectHeader, blob_crc32) == 24, "the identity's place (kBlobCrc32Offset)");
+static_assert(offsetof(AspectHeader, blob_crc32) == kBlobCrc32Offset);
 static_assert(std::is_standard_layout_v<AspectHeader>);
 
 // One view of one model.

@@ -34,30 +34,11 @@ bool AllFinite(const float* v, int n) {
 }  // namespace
 
 Result<AspectTableView> AspectTableView::Open(const void* blob, size_t size) {
-  SH_RETURN_IF_ERROR(CheckBlobStart(blob, size, 8, sizeof(AspectHeader), "aspect table"));
+  SH_RETURN_IF_ERROR(CheckBlobHeader(
+      blob, size, {"aspect table", kAspectMagic, kAspectFormatVersion, sizeof(AspectHeader), 8}));
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = reinterpret_cast<const AspectHeader*>(bytes);
-  if (std::memcmp(h->magic, kAspectMagic, sizeof(kAspectMagic)) != 0) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "not a stereohash aspect table (bad magic number)");
-  }
-  if (h->format_version != kAspectFormatVersion) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "aspect table format version %u, this build reads version %u",
-                         h->format_version, kAspectFormatVersion);
-  }
-  if (h->header_size != sizeof(AspectHeader)) return CorruptAspect("header size field");
-  if (h->total_size != size) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "aspect table truncated or padded: header says %llu bytes, got %zu",
-                         static_cast<unsigned long long>(h->total_size), size);
-  }
   if (!IsValidAspectBasisKind(h->basis_kind)) return CorruptAspect("basis kind not 1 or 2");
-  const uint32_t crc = BlobCrc32(bytes, size, offsetof(AspectHeader, blob_crc32));
-  if (crc != h->blob_crc32) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "aspect table corrupt: CRC-32 %08x, header says %08x", crc, h->blob_crc32);
-  }
   if (h->reserved0 != 0 || !AllZero(h->build.reserved, sizeof(h->build.reserved)) ||
       (h->build.flags & ~kAspectEdgeBasesOnly) != 0) {
     return CorruptAspect("reserved header bits not zero");

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "recog/base/blob_start.hpp"
 #include "recog/model/model.hpp"
 #include "recog/texture/kd_tree.hpp"
 #include "recog/texture/texture_features.hpp"
@@ -71,8 +72,7 @@ struct FeatureDbHeader {
   uint8_t reserved[40];  // zero; pads the header to 256 bytes
 };
 static_assert(sizeof(FeatureDbHeader) == 256, "header layout is part of the format");
-static_assert(offsetof(FeatureDbHeader, blob_crc32) == 24,
-              "the identity's place (kBlobCrc32Offset)");
+static_assert(offsetof(FeatureDbHeader, blob_crc32) == kBlobCrc32Offset);
 static_assert(std::is_standard_layout_v<FeatureDbHeader>);
 
 // A printed face. Face frame: model point = origin + a * axis_a + b * axis_b (millimetres), with

@@ -115,22 +115,11 @@ uint32_t ModelSetCrc32(const uint8_t* blob, size_t size) {
 }
 
 Result<ModelSetView> ModelSetView::Open(const void* blob, size_t size) {
-  SH_RETURN_IF_ERROR(CheckBlobStart(blob, size, 8, sizeof(ModelSetHeader), "model set"));
+  SH_RETURN_IF_ERROR(CheckBlobPrefix(
+      blob, size,
+      {"model set", kModelSetMagic, kModelSetFormatVersion, sizeof(ModelSetHeader), 8}));
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = static_cast<const ModelSetHeader*>(blob);
-  if (!IsModelSet(blob, size)) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "not a stereohash model set (bad magic number)");
-  }
-  if (h->format_version != kModelSetFormatVersion) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "model set format version %u, this build reads version %u",
-                         h->format_version, kModelSetFormatVersion);
-  }
-  if (h->header_size != sizeof(ModelSetHeader)) {
-    return Status::Error(StatusCode::kDataLoss, "model set corrupt: header size field is %u",
-                         h->header_size);
-  }
   if (h->entry_size != sizeof(ModelSetSection)) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set corrupt: directory entry size field is %u", h->entry_size);
@@ -138,11 +127,6 @@ Result<ModelSetView> ModelSetView::Open(const void* blob, size_t size) {
   if (h->reserved0 != 0 || !AllZero(h->reserved1, sizeof(h->reserved1))) {
     return Status::Error(StatusCode::kDataLoss,
                          "model set corrupt: non-zero reserved header fields");
-  }
-  if (h->total_size != size) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "model set truncated or padded: header says %llu bytes, got %zu",
-                         static_cast<unsigned long long>(h->total_size), size);
   }
   if (h->section_count == 0 || h->section_count > kMaxModelSetSections) {
     return Status::Error(StatusCode::kDataLoss, "model set corrupt: %u sections (1..%u supported)",
@@ -174,11 +158,7 @@ Result<ModelSetView> ModelSetView::Open(const void* blob, size_t size) {
     }
   }
   // Last, the whole blob: header, directory and padding (a damaged section was named above).
-  const uint32_t crc = ModelSetCrc32(bytes, size);
-  if (crc != h->blob_crc32) {
-    return Status::Error(StatusCode::kDataLoss, "model set corrupt: CRC-32 %08x, header says %08x",
-                         crc, h->blob_crc32);
-  }
+  SH_RETURN_IF_ERROR(CheckBlobCrc32(bytes, size, "model set"));
   ModelSetView view;
   view.bytes_ = bytes;
   view.header_ = h;

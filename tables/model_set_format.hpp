@@ -18,6 +18,8 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "recog/base/blob_start.hpp"
+
 namespace sh {
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "blobs are read in place: little-endian");
@@ -74,7 +76,7 @@ struct SectionBlobPrefix {
 static_assert(sizeof(SectionBlobPrefix) == 24);
 // Right after the prefix every stereohash header (the model set's too) holds its blob_crc32: the
 // CRC-32 of the whole blob, the blob's identity (BlobHeaderCrc32). Each format asserts it.
-inline constexpr size_t kBlobCrc32Offset = sizeof(SectionBlobPrefix);
+static_assert(sizeof(SectionBlobPrefix) == kBlobCrc32Offset);
 static_assert(offsetof(ModelSetHeader, blob_crc32) == kBlobCrc32Offset);
 
 // What the container knows of each kind: its name for messages and the magic of its payload.

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "recog/base/blob_start.hpp"
 #include "recog/base/fixed_point.hpp"
 #include "recog/model/model.hpp"
 
@@ -111,7 +112,7 @@ struct TableHeader {
   uint8_t reserved3[24];  // zero; pads the header to 256 bytes
 };
 static_assert(sizeof(TableHeader) == 256, "header layout is part of the format");
-static_assert(offsetof(TableHeader, blob_crc32) == 24, "the identity's place (kBlobCrc32Offset)");
+static_assert(offsetof(TableHeader, blob_crc32) == kBlobCrc32Offset);
 static_assert(std::is_standard_layout_v<TableHeader>);
 
 // The blob's CRC-32: every byte of [0, size), the header included, with blob_crc32 read as zero,

@@ -77,29 +77,10 @@ Status CheckModelRecord(const Model& m, uint32_t index) {
 }
 
 Result<TableView> TableView::Open(const void* blob, size_t size) {
-  SH_RETURN_IF_ERROR(CheckBlobStart(blob, size, 8, sizeof(TableHeader), "table blob"));
+  SH_RETURN_IF_ERROR(CheckBlobHeader(
+      blob, size, {"table blob", kTableMagic, kTableFormatVersion, sizeof(TableHeader), 8}));
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = reinterpret_cast<const TableHeader*>(bytes);
-  if (std::memcmp(h->magic, kTableMagic, sizeof(kTableMagic)) != 0) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "not a stereohash table blob (bad magic number)");
-  }
-  if (h->format_version != kTableFormatVersion) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "table blob format version %u, this build reads version %u",
-                         h->format_version, kTableFormatVersion);
-  }
-  if (h->header_size != sizeof(TableHeader)) return CorruptTable("header size field");
-  if (h->total_size != size) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "table blob truncated or padded: header says %llu bytes, got %zu",
-                         static_cast<unsigned long long>(h->total_size), size);
-  }
-  const uint32_t crc = TableBlobCrc32(bytes, size);
-  if (crc != h->blob_crc32) {
-    return Status::Error(StatusCode::kDataLoss, "table blob corrupt: CRC-32 %08x, header says %08x",
-                         crc, h->blob_crc32);
-  }
   if (!IsValidHashFunction(h->hash_function)) return CorruptTable("hash function not in 1..5");
   SH_RETURN_IF_ERROR(CheckLimits(*h));
   if (h->n_models == 0 || h->n_models > kMaxTableModels) {

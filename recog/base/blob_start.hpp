@@ -1,6 +1,7 @@
 // The first checks of every read-in-place blob view (tables, model sets, feature, view and
-// aspect databases) before its header is read: data present, aligned for its records, and long
-// enough for the header. Each refusal names the blob.
+// aspect databases): data present, aligned for its records and long enough for the header, then
+// the header every stereohash blob starts with (magic, format version, header size, total size)
+// and the whole blob's CRC-32 it carries right after them. Each refusal names the blob.
 #pragma once
 
 #include <cstddef>
@@ -9,6 +10,33 @@
 #include "recog/base/status.hpp"
 
 namespace sh {
+
+// The common start of every stereohash blob header: magic (8 bytes), u16 format version, 2 bytes
+// of the kind's own, u32 header size, u64 total size, then the u32 CRC-32 of the whole blob
+// with that field read as zero (the blob's identity, as `tables info` prints it).
+inline constexpr size_t kBlobFormatVersionOffset = 8;
+inline constexpr size_t kBlobHeaderSizeOffset = 12;
+inline constexpr size_t kBlobTotalSizeOffset = 16;
+inline constexpr size_t kBlobCrc32Offset = 24;
+
+// What a reader expects of its blob's common header.
+struct BlobFormat {
+  const char* what;    // names the blob in messages: "table blob", "aspect table"
+  const char* magic;   // 8 bytes
+  uint16_t version;    // the one format version this build reads
+  size_t header_size;  // sizeof the kind's header
+  size_t alignment;    // of `blob` in memory, for the kind's records
+};
+
+// CheckBlobStart, then magic, version, header size and total size (== `size`), in that order.
+Status CheckBlobPrefix(const void* blob, size_t size, const BlobFormat& format);
+// The whole blob's CRC-32 against the one its header carries; `blob` holds the header prefix.
+Status CheckBlobCrc32(const void* blob, size_t size, const char* what);
+// Both: a blob whose common header and CRC-32 hold, ready for the kind's own checks.
+inline Status CheckBlobHeader(const void* blob, size_t size, const BlobFormat& format) {
+  SH_RETURN_IF_ERROR(CheckBlobPrefix(blob, size, format));
+  return CheckBlobCrc32(blob, size, format.what);
+}
 
 inline Status CheckBlobStart(const void* blob, size_t size, size_t alignment, size_t header_size,
                              const char* what) {

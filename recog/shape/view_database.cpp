@@ -58,30 +58,11 @@ void Insert(Vector<ViewMatch>& best, size_t k, ViewMatch m) {
 }  // namespace
 
 Result<ShapeViewsView> ShapeViewsView::Open(const void* blob, size_t size) {
-  SH_RETURN_IF_ERROR(CheckBlobStart(blob, size, 8, sizeof(ShapeViewsHeader), "view database"));
+  SH_RETURN_IF_ERROR(CheckBlobHeader(
+      blob, size,
+      {"view database", kShapeViewsMagic, kShapeViewsVersion, sizeof(ShapeViewsHeader), 8}));
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = reinterpret_cast<const ShapeViewsHeader*>(bytes);
-  if (std::memcmp(h->magic, kShapeViewsMagic, sizeof(kShapeViewsMagic)) != 0) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "not a stereohash view database (bad magic number)");
-  }
-  if (h->format_version != kShapeViewsVersion) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "view database format version %u, this build reads version %u",
-                         h->format_version, kShapeViewsVersion);
-  }
-  if (h->header_size != sizeof(ShapeViewsHeader)) return Corrupt("header size field");
-  if (h->total_size != size) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "view database truncated or padded: header says %llu bytes, got %zu",
-                         static_cast<unsigned long long>(h->total_size), size);
-  }
-  const uint32_t crc = BlobCrc32(bytes, size, offsetof(ShapeViewsHeader, blob_crc32));
-  if (crc != h->blob_crc32) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "view database corrupt: CRC-32 %08x, header says %08x", crc,
-                         h->blob_crc32);
-  }
   if (h->reserved0 != 0 || !AllZero(h->reserved1, sizeof(h->reserved1))) {
     return Corrupt("reserved header bytes not zero");
   }

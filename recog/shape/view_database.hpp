@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "recog/base/blob_start.hpp"
 #include "recog/base/fixed_point.hpp"
 #include "recog/base/status.hpp"
 #include "recog/base/vector.hpp"
@@ -74,8 +75,7 @@ struct ShapeViewsHeader {
   uint8_t reserved1[96];  // zero; pads the header to 256 bytes
 };
 static_assert(sizeof(ShapeViewsHeader) == 256, "header layout is part of the format");
-static_assert(offsetof(ShapeViewsHeader, blob_crc32) == 24,
-              "the identity's place (kBlobCrc32Offset)");
+static_assert(offsetof(ShapeViewsHeader, blob_crc32) == kBlobCrc32Offset);
 static_assert(std::is_standard_layout_v<ShapeViewsHeader>);
 
 struct ShapeModelRecord {
