@@ -85,7 +85,9 @@ if(TARGET stereohash-fw-sim AND TARGET stereohash_default_tables)
                    --dbc ${PROJECT_SOURCE_DIR}/firmware/stereohash.dbc
                    --table ${PROJECT_BINARY_DIR}/tables/reference_hf5.bin
                    --models ${PROJECT_SOURCE_DIR}/models)
-  set_tests_properties(python_firmware_boot_faults PROPERTIES TIMEOUT 300 SKIP_RETURN_CODE 77)
+  # The stage's longest test: started first (COST), not left to run alone at the end.
+  set_tests_properties(python_firmware_boot_faults PROPERTIES TIMEOUT 300 SKIP_RETURN_CODE 77
+                                                              COST 1000)
   if(CMAKE_CROSSCOMPILING)
     set_tests_properties(python_firmware_boot_faults PROPERTIES LABELS host_only)
   endif()
