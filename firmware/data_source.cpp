@@ -35,9 +35,12 @@ Result<TableView> FileDataSource::LoadTable() {
   Result<TableView> table = OpenTable();
   if (!table.ok()) return table;
   const bool builtin = std::strcmp(tables_path_, "builtin") == 0;
+  // The file mapped for the tables, or (a set of colour parts alone maps none) read for it.
   uint32_t crc32 = 0;
   if (builtin) {
     crc32 = BlobHeaderCrc32(DefaultTableBlob(), DefaultTableBlobSize());
+  } else if (table_.model_count() > 0) {
+    crc32 = mapped_.file_crc32();
   } else {
     SH_ASSIGN_OR_RETURN(crc32, FileBlobCrc32(tables_path_));
   }
@@ -98,7 +101,7 @@ Result<FeatureDbView> FileDataSource::LoadFeatures() {
   features_crc32_ = 0;
   if (features_path_[0] != '\0') {
     SH_RETURN_IF_ERROR(mapped_features_.Open(features_path_));
-    SH_ASSIGN_OR_RETURN(const uint32_t crc32, FileBlobCrc32(features_path_));
+    const uint32_t crc32 = mapped_features_.file_crc32();
     char what[kConfigPathMax + 16];
     std::snprintf(what, sizeof(what), "features '%s'", features_path_);
     const Status pinned = CheckPinned(what, crc32, pinned_features_crc32_, "features_crc32");

@@ -61,6 +61,9 @@ class MappedView {
   // The blob the view reads: the whole file, or its section of a model set.
   const void* blob() const { return blob_.data; }
   size_t size() const { return blob_.size; }
+  // The identity of the whole file (its model set's or bare blob's header CRC-32), 0 when none
+  // is open.
+  uint32_t file_crc32() const { return BlobHeaderCrc32(file_.data(), file_.size()); }
 
  private:
   const char* what_;
