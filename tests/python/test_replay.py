@@ -219,7 +219,9 @@ class ReplayTest(unittest.TestCase):
         work = tempfile.mkdtemp(prefix="stereohash_simrecord_")
         try:
             record = os.path.join(work, "record")
-            self.run_firmware(None, ARGS.scenes, work,
+            # A few results more than the pairs needed: the recording's writer runs at the lowest
+            # priority and may still hold the last pairs, or have dropped some, on a busy machine.
+            self.run_firmware(None, ARGS.scenes + 3, work,
                               ["record_dir = %s" % record, "record_max = 50",
                                "record_format = pgm"],
                               source=["camera = sim", "sim_background = light",
@@ -236,9 +238,16 @@ class ReplayTest(unittest.TestCase):
                 with open(os.path.join(record, pair, "result.json")) as f:
                     recorded.append(json.load(f))
                 self.assertEqual(recorded[-1]["background"], "light", pair)
-            # The worst position and rotation difference of each replay.
+            # The worst position and rotation difference of each replay. The board carries the
+            # table plane through every frame it processed; a pair the recording's writer dropped
+            # (its slot ring full: the writer yields to recognition) changes what the replay
+            # carries, so the pairs after the first gap in the sequence count as pairs replayed
+            # alone.
             worst = {"alone": [0.0, 0.0], "firmware": [0.0, 0.0]}
             objects = 0
+            gap = next((k for k, rec in enumerate(recorded) if rec["sequence"] != k),
+                       len(recorded))
+            self.assertGreater(gap, 0, "the recording's first pair")
 
             def match(replay, pair, got, want):
                 nonlocal objects
@@ -267,14 +276,15 @@ class ReplayTest(unittest.TestCase):
             replayed = self.run_firmware(record, len(pairs), work,
                                          source=["camera = directory",
                                                  "camera_directory = %s" % record])
-            for pair, rec, fw in zip(pairs, recorded, replayed):
+            for k, (pair, rec, fw) in enumerate(zip(pairs, recorded, replayed)):
                 names = self.model_names
-                match("firmware", pair, [(names[o["model_id"]], o["t_mm"], o["q_wxyz"])
+                match("firmware" if k < gap else "alone", pair, [(names[o["model_id"]], o["t_mm"], o["q_wxyz"])
                              for o in fw["objects"]],
                       [(o["model"], o["t_mm"], o["q_wxyz"]) for o in rec["objects"]])
-            print("simulator recording: %d pairs, %d objects; the replay in the simulator differs "
-                  "by at most %.4f mm, %.4f deg, recognize --scene by %.4f mm, %.4f deg"
-                  % (len(pairs), objects, *worst["firmware"], *worst["alone"]))
+            print("simulator recording: %d pairs (%d in sequence), %d objects; the replay "
+                  "in the simulator differs by at most %.4f mm, %.4f deg, recognize --scene (and "
+                  "the pairs after a drop) by %.4f mm, %.4f deg"
+                  % (len(pairs), gap, objects, *worst["firmware"], *worst["alone"]))
             sys.stdout.flush()
             self.assertGreater(objects, 0)
             self.assertLessEqual(worst["firmware"][0], ARGS.max_position_mm)
