@@ -20,16 +20,14 @@ stereohash_module(stereohash_fw_core
 stereohash_module(stereohash_fw_pipeline
   SOURCES pipeline_recognition.cpp
   HEADERS pipeline_recognition.hpp
-  PUBLIC stereohash_fw_core stereohash_pipeline stereohash_texture_recognizer stereohash_mono
-         stereohash_tables
-  PRIVATE stereohash_default_aspects)
+  PUBLIC stereohash_fw_core stereohash_recognizer)
 
 stereohash_module(stereohash_fw_main
   SOURCES firmware_main.cpp
   HEADERS board.hpp
   PUBLIC stereohash_fw_core stereohash_canopen stereohash_hal_camera stereohash_hal_can
          stereohash_hal_gpio stereohash_camera stereohash_geometry stereohash_base
-  PRIVATE stereohash_fw_pipeline stereohash_mono stereohash_can_protocol stereohash_input_file
+  PRIVATE stereohash_fw_pipeline stereohash_recognizer stereohash_can_protocol stereohash_input_file
           stereohash_fw_web)
 
 # The simulator's pieces of the firmware: ground-truth recognition and the simulator's defaults.

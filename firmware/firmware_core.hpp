@@ -35,7 +35,6 @@
 #include "recog/base/vector.hpp"
 #include "recog/camera/camera_model.hpp"
 #include "recog/pipeline/model_set.hpp"
-#include "recog/shape/view_database.hpp"
 #include "tables/feature_db_view.hpp"
 #include "tables/table_view.hpp"
 

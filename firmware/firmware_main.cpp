@@ -24,7 +24,6 @@
 #include "recog/base/zeroed.hpp"
 #include "recog/camera/handeye_yaml.hpp"
 #include "recog/camera/table_yaml.hpp"
-#include "recog/mono/mono_pipeline.hpp"
 #include "tables/input_file.hpp"
 
 namespace sh::fw {
@@ -255,8 +254,8 @@ CellGeometry LoadCellGeometry(const Board& board, const FwConfig& config) {
   return cell;
 }
 
-PipelineRecognitionConfig PipelineSettings(const FwConfig& config, const TablePoseSource& table) {
-  PipelineRecognitionConfig pc;
+ObjectRecognizerConfig PipelineSettings(const FwConfig& config, const TablePoseSource& table) {
+  ObjectRecognizerConfig pc;
   pc.automatic = config.background == BackgroundKey::kAuto;
   pc.light_background = config.background == BackgroundKey::kLight;
   pc.threads = config.threads;
@@ -302,43 +301,21 @@ Recognition* MakeRecognition(Board* board, const FwConfig& config, FileDataSourc
     }
     return other;
   }
-  static Pipeline pipeline;  // 11 MiB of static storage (its image blocks are taken at Init)
-  // The texture path's buffers (about 63 MiB) only when printed models are configured (the
-  // features key, or a tables model set holding them);
-  // unlocked, only the pages a frame uses become resident (docs/memory.md).
-  static ZeroedPtr<texture::TextureRecognizer> texture;
-  static ZeroedPtr<texture::TextureResult> texture_result;
-  if (config.features[0] != '\0' || data->TablesHoldPrintedModels()) {
-    texture = MakeZeroed<texture::TextureRecognizer>();
-    texture_result = MakeZeroed<texture::TextureResult>();
-    if (texture == nullptr || texture_result == nullptr) {
-      (void)Fail(
-          *board, "memory",
-          Status::Error(StatusCode::kUnavailable, "cannot allocate the texture path's %zu bytes",
-                        sizeof(texture::TextureRecognizer)));
-      return nullptr;
-    }
-  }
-  // The one-camera fallback when a camera fails (1.0 MiB here and its voter's counters, sized
-  // by the aspect table at Init), only when configured: allocated here, once, zeroed; without
-  // it no page of it is mapped or locked.
-  static ZeroedPtr<MonoPipeline> mono;
-  static ZeroedPtr<MonoResult> mono_result;
-  if (config.mono_fallback) {
-    mono = MakeZeroed<MonoPipeline>();
-    mono_result = MakeZeroed<MonoResult>();
-    if (mono == nullptr || mono_result == nullptr) {
-      (void)Fail(*board, "memory",
-                 Status::Error(StatusCode::kUnavailable,
-                               "cannot allocate the one-camera fallback's %zu bytes",
-                               sizeof(MonoPipeline) + sizeof(MonoResult)));
-      return nullptr;
-    }
+  // The stereo pipeline in static storage (11 MiB; its image blocks are taken at Init). The
+  // texture path's buffers (about 63 MiB) only when printed models are configured (the features
+  // key, or a tables model set holding them), the one-camera fallback (1.0 MiB and its voter's
+  // counters, sized by the aspect table at Init) only when configured: allocated here, once,
+  // zeroed; unlocked, only the pages a frame uses become resident (docs/memory.md).
+  static RecognitionPaths paths;
+  const Status allocated = paths.Allocate(
+      config.features[0] != '\0' || data->TablesHoldPrintedModels(), config.mono_fallback);
+  if (!allocated.ok()) {
+    (void)Fail(*board, "memory", allocated);
+    return nullptr;
   }
   static std::unique_ptr<PipelineRecognition> pipeline_recognition;
-  pipeline_recognition = std::make_unique<PipelineRecognition>(
-      &pipeline, PipelineSettings(config, table), texture.get(), texture_result.get(), mono.get(),
-      mono_result.get());
+  pipeline_recognition =
+      std::make_unique<PipelineRecognition>(paths.set(), PipelineSettings(config, table));
   return pipeline_recognition.get();
 }
 

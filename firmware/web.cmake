@@ -20,5 +20,5 @@ stereohash_module(stereohash_fw_web
           web/web_target.hpp web/core_target.hpp web/web_service.hpp
   PUBLIC stereohash_fw_core stereohash_can_protocol stereohash_hal_camera stereohash_hal_can
          stereohash_camera stereohash_geometry stereohash_model stereohash_base
-  PRIVATE stereohash_verify stereohash_canopen stereohash_pipeline stereohash_image
+  PRIVATE stereohash_canopen stereohash_pipeline stereohash_image
           stereohash_input_file PNG::PNG PkgConfig::MICROHTTPD ${STEREOHASH_LIBCRYPT})

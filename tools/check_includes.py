@@ -5,7 +5,8 @@ header, PUBLIC or INTERFACE only, as its users see no more; tests may also use w
 along publicly), the
 graph must have no cycle, and the rooms must not lean on each other (recognition and tables know
 nothing of hal/, firmware/, tools/ or tests/; hal/ knows nothing of firmware/, tools/ or tests/;
-the board's code nothing of the simulated world). Reads the manifest CMake writes
+the board's code nothing of the simulated world), and the firmware and the recognise command
+include no recognition path's own header (they use the facade, recog/pipeline/object_recognizer). Reads the manifest CMake writes
 (build/<preset>/module_graph.txt).
 
   tools/check_includes.py MANIFEST            check; exit 1 with one line per problem
@@ -30,6 +31,10 @@ ROOMS = [
 # recordings (firmware/recorder, record_dir) with it.
 BOARD_FORBIDDEN = ("hal/sim/",)
 BOARD_ALLOWED = ("stereohash_image_files",)
+# One recognition facade (recog/pipeline/object_recognizer.hpp) owns every path: the firmware
+# and the recognise command reach the paths through it and include none of a path's own headers.
+FACADE_USERS = ("firmware/", "tools/cmd_recognize.cpp")
+PATH_HEADERS = re.compile(r"^recog/(texture|shape|mono|hashing|stereo|verify)/")
 
 
 def parse_manifest(path):
@@ -117,6 +122,17 @@ def main():
                     how = "publicly " if allowed is allowed_headers and o in t["deps"] else ""
                     problems.append(
                         f"{f}: includes {inc} ({o}), which {name} does not declare {how}".rstrip())
+
+    # The facade's users.
+    for t in targets.values():
+        for f in t["files"]:
+            if not f.startswith(FACADE_USERS) or not os.path.isfile(os.path.join(root, f)):
+                continue
+            with open(os.path.join(root, f), encoding="utf-8", errors="replace") as src:
+                for inc in INCLUDE.findall(src.read()):
+                    if PATH_HEADERS.match(inc):
+                        problems.append(f"{f}: includes {inc}, a recognition path's own header "
+                                        "(use recog/pipeline/object_recognizer.hpp)")
 
     # Cycles among declared deps.
     state = {}

@@ -9,8 +9,8 @@
 
 #include "hal/sim/image_files.hpp"
 #include "recog/base/zeroed.hpp"
-#include "recog/pipeline/pipeline.hpp"
-#include "recog/stereo/working_volume.hpp"
+#include "recog/pipeline/object_recognizer.hpp"
+#include "recog/pipeline/recognition_paths.hpp"
 #include "tools/command.hpp"
 #include "tools/mono_setup.hpp"
 #include "tools/overlay.hpp"
@@ -60,24 +60,22 @@ int Fail(const char* fmt, const char* a, const char* b = "") {
 }
 
 // A firmware recording's working volume (settings.conf), in its frame: the table file the board
-// had, else the board's own table (rig_table.yaml), else the left camera. The replay then bounds
-// the scene as the board did and gives the recorded poses.
-Status ApplyRecordedVolume(const RecordedVolume& v, const TableChoice& table,
-                           const RigidTransform* rig_T_table, PipelineConfig* config) {
+// had, else the board's own table (rig_table.yaml, config->left_T_table then), else the left
+// camera. The replay then bounds the scene as the board did and gives the recorded poses.
+Status ApplyRecordedVolume(const RecordedVolume& v, bool table_pose_known,
+                           ObjectRecognizerConfig* config) {
   if (!v.present) return Status::Ok();
-  const Eigen::Vector3f min_mm(v.min_mm[0], v.min_mm[1], v.min_mm[2]);
-  const Eigen::Vector3f max_mm(v.max_mm[0], v.max_mm[1], v.max_mm[2]);
-  if (!v.in_table_frame) {
-    config->stereo.volume = WorkingVolume::InLeftCamera(min_mm, max_mm);
-    return Status::Ok();
-  }
-  const RigidTransform* left_T_table = table.present ? &table.left_T_table : rig_T_table;
-  if (left_T_table == nullptr) {
+  if (v.in_table_frame && !table_pose_known) {
     return Status::Error(StatusCode::kNotFound,
                          "the recording's volume is in the table frame, but it has neither "
                          "table.yaml nor rig_table.yaml (give the table with --table)");
   }
-  config->stereo.volume = WorkingVolume::InFrame(*left_T_table, min_mm, max_mm);
+  config->volume_set = true;
+  config->volume_in_table_frame = v.in_table_frame;
+  for (int k = 0; k < 3; ++k) {
+    config->volume_min_mm[k] = v.min_mm[k];
+    config->volume_max_mm[k] = v.max_mm[k];
+  }
   return Status::Ok();
 }
 
@@ -176,7 +174,8 @@ int RunMonocular(const char* calib_path, const char* image_path, int camera,
   return 0;
 }
 
-int RunRecognize(int argc, char** argv) {
+// The command line: the images, the calibration and where the results go.
+struct Invocation {
   const char* calib_path = nullptr;
   const char* left_path = nullptr;
   const char* right_path = nullptr;
@@ -186,218 +185,250 @@ int RunRecognize(int argc, char** argv) {
   const char* scene_dir = nullptr;
   const char* monocular = nullptr;
   RecognizeOptions options;
+};
+
+// Reads the options into *run; false with *exit_code set when the command ends here (--help, a
+// bad option).
+bool ParseInvocation(int argc, char** argv, Invocation* run, int* exit_code) {
   for (int i = 1; i < argc; ++i) {
     const char *arg = nullptr, *value = nullptr;
-    int exit_code = 0;
-    if (!NextOption("recognize", argc, argv, PrintHelp, &i, &arg, &value, &exit_code)) {
-      return exit_code;
+    if (!NextOption("recognize", argc, argv, PrintHelp, &i, &arg, &value, exit_code)) return false;
+    const OptionResult common = ParseRecognizeOption("recognize", arg, value, &run->options);
+    if (common == OptionResult::kBadValue) {
+      *exit_code = 2;
+      return false;
     }
-    const OptionResult common = ParseRecognizeOption("recognize", arg, value, &options);
-    if (common == OptionResult::kBadValue) return 2;
     if (common == OptionResult::kTaken) continue;
-    if (std::strcmp(arg, "--calib") == 0) {
-      calib_path = value;
-    } else if (std::strcmp(arg, "--left") == 0) {
-      left_path = value;
-    } else if (std::strcmp(arg, "--right") == 0) {
-      right_path = value;
-    } else if (std::strcmp(arg, "--json") == 0) {
-      json_path = value;
-    } else if (std::strcmp(arg, "--overlay") == 0) {
-      overlay_path = value;
-    } else if (std::strcmp(arg, "--overlay-features") == 0) {
-      features_overlay_path = value;
-    } else if (std::strcmp(arg, "--scene") == 0) {
-      scene_dir = value;
-    } else if (std::strcmp(arg, "--monocular") == 0 &&
-               (std::strcmp(value, "left") == 0 || std::strcmp(value, "right") == 0)) {
-      monocular = value;
-    } else {
+    const char** target = std::strcmp(arg, "--calib") == 0     ? &run->calib_path
+                          : std::strcmp(arg, "--left") == 0    ? &run->left_path
+                          : std::strcmp(arg, "--right") == 0   ? &run->right_path
+                          : std::strcmp(arg, "--json") == 0    ? &run->json_path
+                          : std::strcmp(arg, "--overlay") == 0 ? &run->overlay_path
+                          : std::strcmp(arg, "--overlay-features") == 0
+                              ? &run->features_overlay_path
+                          : std::strcmp(arg, "--scene") == 0 ? &run->scene_dir
+                                                             : nullptr;
+    if (target == nullptr && std::strcmp(arg, "--monocular") == 0 &&
+        (std::strcmp(value, "left") == 0 || std::strcmp(value, "right") == 0)) {
+      target = &run->monocular;
+    }
+    if (target == nullptr) {
       std::fprintf(stderr, "stereohash recognize: bad option or value: %s %s (see --help)\n", arg,
                    value);
-      return 2;
+      *exit_code = 2;
+      return false;
+    }
+    *target = value;
+  }
+  return true;
+}
+
+// A recorded pair (--scene): its images, and the calibration, table, model set and preset it was
+// recorded with unless the options give them. Returns the exit code, 0 to go on.
+int TakeRecording(Invocation* run, RecordedPair* recorded) {
+  if (run->left_path != nullptr || run->right_path != nullptr) {
+    std::fprintf(stderr, "stereohash recognize: --scene replaces --left and --right\n");
+    return 2;
+  }
+  const Status found = FindRecordedPair(run->scene_dir, recorded);
+  if (!found.ok()) return Fail("%s", found.message());
+  // A pair recorded on one camera holds that camera's image alone: recognised from it.
+  if (!recorded->left.empty()) run->left_path = recorded->left.c_str();
+  if (!recorded->right.empty()) run->right_path = recorded->right.c_str();
+  if (run->calib_path == nullptr && recorded->calib.empty()) {
+    return Fail("no calib.yaml beside %s (give the calibration with --calib)", run->scene_dir);
+  }
+  if (run->calib_path == nullptr) run->calib_path = recorded->calib.c_str();
+  RecognizeOptions& options = run->options;
+  if (options.table_path == nullptr && !recorded->table.empty()) {
+    options.table_path = recorded->table.c_str();
+  }
+  // The recording's model set unless --tables gives one: the models as recorded, if the file is
+  // still the one recorded.
+  if (options.tables_path == nullptr) {
+    if (!recorded->tables.empty()) options.tables_path = recorded->tables.c_str();
+    const Status same = CheckRecordedTables(*recorded, options.tables_path);
+    if (!same.ok()) return Fail("%s", same.message());
+  }
+  // The recording's preset unless --background gives one: the poses as recorded.
+  if (options.background == nullptr && !recorded->background.empty()) {
+    options.background = recorded->background.c_str();
+  }
+  return 0;
+}
+
+// One image (--monocular, or only one of --left and --right).
+int RunOneCamera(Invocation* run, const RecordedPair& recorded) {
+  if (run->calib_path == nullptr) {
+    std::fprintf(stderr, "stereohash recognize: --calib is required (see --help)\n");
+    return 2;
+  }
+  const int camera = run->monocular[0] == 'l' ? 0 : 1;
+  const char* image_path = camera == 0 ? run->left_path : run->right_path;
+  if (image_path == nullptr) {
+    std::fprintf(stderr, "stereohash recognize: --monocular %s needs the %s image\n",
+                 run->monocular, run->monocular);
+    return 2;
+  }
+  // A recording made on one camera without a table file: the board laid its objects onto its own
+  // table (rig_table.yaml), and so does the replay.
+  if (run->options.table_path == nullptr && !recorded.rig_table.empty()) {
+    run->options.table_path = recorded.rig_table.c_str();
+  }
+  return RunMonocular(run->calib_path, image_path, camera, run->options, run->json_path,
+                      run->overlay_path);
+}
+
+// What the stereo path needs besides the images: the calibration, the table pose (--table, else
+// a recording's rig table, which only the rescue uses) and the model set.
+struct StereoSetup {
+  StereoCalibration calib;
+  TableChoice table;
+  bool rig_table = false;
+  RigidTransform rig_T_table;
+  LoadedTables tables;
+  MappedFeatureDb printed;    // the printed models, when the set holds them
+  bool printed_only = false;  // ... and nothing else: no tables loaded
+};
+
+Status LoadStereoSetup(const Invocation& run, const RecordedPair& recorded, StereoSetup* setup) {
+  SH_ASSIGN_OR_RETURN(setup->calib, LoadFrameCalibration(run.calib_path));
+  const RecognizeOptions& options = run.options;
+  if (options.table_path != nullptr) {
+    SH_ASSIGN_OR_RETURN(setup->table.left_T_table, LoadTablePose(options.table_path));
+    setup->table.present = true;
+    setup->table.source = options.table_path;
+  }
+  // A recording made without a table file: the board's own table bounded its volume and served
+  // its one-image rescue, so it does the same here (it is no table pose of the scene).
+  setup->rig_table = !setup->table.present && !recorded.rig_table.empty();
+  if (setup->rig_table) {
+    SH_ASSIGN_OR_RETURN(setup->rig_T_table, LoadTablePose(recorded.rig_table.c_str()));
+  }
+  if (options.tables_path != nullptr) {
+    const Result<uint32_t> kinds = FileBlobKinds(options.tables_path);
+    if (!kinds.ok()) return kinds.status().WithContext("tables");
+    if ((*kinds & KindBit(SectionKind::kTextureFeatures)) != 0) {
+      SH_RETURN_IF_ERROR(setup->printed.Open(options.tables_path));
+      const uint32_t others = KindBit(SectionKind::kHash3d) | KindBit(SectionKind::kShapeViews);
+      setup->printed_only = options.views_path == nullptr && (*kinds & others) == 0;
+      if (setup->printed_only) return Status::Ok();
     }
   }
+  return LoadTables(options, &setup->tables);
+}
+
+// Colour parts are found by their colour alone: in grey images the path finds nothing, which
+// would read as "0 objects" with nothing said.
+void WarnGreyForColourParts(const ModelSet& models, const LoadedImage& left,
+                            const LoadedImage& right) {
+  if (models.shape_count() == 0) return;
+  if (left.frame.format != FrameFormat::kGray8 && right.frame.format != FrameFormat::kGray8) return;
+  std::fprintf(stderr,
+               "stereohash recognize: warning: the model set holds %u colour parts, but the "
+               "images are grey: colour parts cannot be found in them\n",
+               models.shape_count());
+}
+
+// The printed, JSON and overlay outputs of a stereo pair recognised by `recognizer`.
+int ReportStereo(const Invocation& run, const StereoSetup& setup,
+                 const ObjectRecognizer& recognizer, const LoadedImage& left,
+                 const LoadedImage& right) {
+  const PipelineResult& result = recognizer.stereo_result();
+  const texture::TextureResult* printed = recognizer.printed_result();
+  if (printed != nullptr) PrintTextureObjects(setup.printed.view(), *printed);
+  const ModelSet stereo_models = setup.tables.models();
+  PrintTable(stereo_models, result);
+  std::string json =
+      ResultJson(stereo_models, result, setup.table, recognizer.pipeline().threads());
+  if (printed != nullptr) {
+    // The set's printed models: their results as a "printed" member of the same JSON.
+    const std::string printed_json =
+        TextureResultJson(setup.printed.view(), *printed, recognizer.pipeline().threads());
+    json.insert(json.find_last_of('}'),
+                ", \"printed\": " + printed_json.substr(0, printed_json.find_last_of('}') + 1));
+  }
+  if (run.json_path != nullptr && !WriteTextFile(run.json_path, json)) {
+    return Fail("cannot write %s: %s", run.json_path, std::strerror(errno));
+  }
+  std::vector<uint8_t> rgb;
+  int w = 0, h = 0;
+  if (run.overlay_path != nullptr) {
+    Status s = BuildOverlay(recognizer.pipeline(), result, left.view, right.view, &rgb, &w, &h);
+    if (s.ok()) s = hal::WritePngRgb(run.overlay_path, rgb.data(), w, h, 3 * w);
+    if (!s.ok()) return Fail("overlay %s: %s", run.overlay_path, s.message());
+  }
+  if (run.features_overlay_path != nullptr) {
+    Status s = BuildFeatureOverlay(recognizer.pipeline(), left.view, right.view, &rgb, &w, &h);
+    if (s.ok()) s = hal::WritePngRgb(run.features_overlay_path, rgb.data(), w, h, 3 * w);
+    if (!s.ok()) return Fail("overlay %s: %s", run.features_overlay_path, s.message());
+  }
+  return 0;
+}
+
+// Both images through the recognition facade, as the board runs them: the printed cartons first
+// (hidden from the next paths), the colour parts, the polyhedra and the one-image rescue.
+int RunStereo(const Invocation& run, const RecordedPair& recorded) {
+  LoadedImage left, right;
+  Status s = LoadImage(run.left_path, "left", &left);
+  if (s.ok()) s = LoadImage(run.right_path, "right", &right);
+  if (!s.ok()) return Fail("%s", s.message());
+  PrintBinning(left);
+  auto setup = std::make_unique<StereoSetup>();
+  s = LoadStereoSetup(run, recorded, setup.get());
+  if (!s.ok()) return Fail("%s", s.message());
+  const bool printed = !setup->printed.view().empty();
+  if (setup->printed_only) {
+    // Printed models alone: the texture path's own report.
+    TextureRun texture_run;
+    texture_run.threads = run.options.threads;
+    texture_run.json_path = run.json_path;
+    texture_run.overlay_path = run.overlay_path;
+    return RecognizePrinted(setup->calib, setup->printed.view(), left.view, right.view,
+                            texture_run);
+  }
+  ObjectRecognizerConfig config = MakeRecognizerConfig(
+      run.options, setup->table, setup->rig_table ? &setup->rig_T_table : nullptr);
+  s = ApplyRecordedVolume(recorded.volume, setup->table.present || setup->rig_table, &config);
+  if (!s.ok()) return Fail("%s", s.message());
+  auto paths = MakeZeroed<RecognitionPaths>();  // resident as used (docs/memory.md)
+  if (paths == nullptr) return Fail("%s", "cannot allocate the recognition paths");
+  s = paths->Allocate(printed, /*one_camera=*/true);
+  if (!s.ok()) return Fail("%s", s.message());
+  auto recognizer = std::make_unique<ObjectRecognizer>(paths->set(), config);
+  const ModelSet models(&setup->tables.view, setup->tables.shape(),
+                        printed ? &setup->printed.view() : nullptr);
+  s = recognizer->Init(setup->calib, models, ~0u);
+  if (!s.ok()) return Fail("%s", s.message());
+  WarnGreyForColourParts(models, left, right);
+  auto output = std::make_unique<RecognitionOutput>();
+  const StereoInput pair{left.frame, right.frame, left.view, right.view};
+  s = recognizer->Process(pair, run.options.budget_ms, output.get());
+  if (!s.ok()) return Fail("%s", s.message());
+  return ReportStereo(run, *setup, *recognizer, left, right);
+}
+
+int RunRecognize(int argc, char** argv) {
+  Invocation run;
+  int exit_code = 0;
+  if (!ParseInvocation(argc, argv, &run, &exit_code)) return exit_code;
   RecordedPair recorded;
-  if (scene_dir != nullptr) {
-    if (left_path != nullptr || right_path != nullptr) {
-      std::fprintf(stderr, "stereohash recognize: --scene replaces --left and --right\n");
-      return 2;
-    }
-    const Status found = FindRecordedPair(scene_dir, &recorded);
-    if (!found.ok()) return Fail("%s", found.message());
-    // A pair recorded on one camera holds that camera's image alone: recognised from it.
-    if (!recorded.left.empty()) left_path = recorded.left.c_str();
-    if (!recorded.right.empty()) right_path = recorded.right.c_str();
-    if (calib_path == nullptr && recorded.calib.empty()) {
-      return Fail("no calib.yaml beside %s (give the calibration with --calib)", scene_dir);
-    }
-    if (calib_path == nullptr) calib_path = recorded.calib.c_str();
-    if (options.table_path == nullptr && !recorded.table.empty()) {
-      options.table_path = recorded.table.c_str();
-    }
-    // The recording's model set unless --tables gives one: the models as recorded, if the file
-    // is still the one recorded.
-    if (options.tables_path == nullptr) {
-      if (!recorded.tables.empty()) options.tables_path = recorded.tables.c_str();
-      const Status same = CheckRecordedTables(recorded, options.tables_path);
-      if (!same.ok()) return Fail("%s", same.message());
-    }
-    // The recording's preset unless --background gives one: the poses as recorded.
-    if (options.background == nullptr && !recorded.background.empty()) {
-      options.background = recorded.background.c_str();
-    }
+  if (run.scene_dir != nullptr) {
+    exit_code = TakeRecording(&run, &recorded);
+    if (exit_code != 0) return exit_code;
   }
-  if (monocular == nullptr && calib_path != nullptr &&
-      (left_path == nullptr) != (right_path == nullptr)) {
-    monocular = left_path != nullptr ? "left" : "right";
+  if (run.monocular == nullptr && run.calib_path != nullptr &&
+      (run.left_path == nullptr) != (run.right_path == nullptr)) {
+    run.monocular = run.left_path != nullptr ? "left" : "right";
   }
-  if (monocular != nullptr) {
-    if (calib_path == nullptr) {
-      std::fprintf(stderr, "stereohash recognize: --calib is required (see --help)\n");
-      return 2;
-    }
-    const int camera = monocular[0] == 'l' ? 0 : 1;
-    const char* image_path = camera == 0 ? left_path : right_path;
-    if (image_path == nullptr) {
-      std::fprintf(stderr, "stereohash recognize: --monocular %s needs the %s image\n", monocular,
-                   monocular);
-      return 2;
-    }
-    // A recording made on one camera without a table file: the board laid its objects onto its
-    // own table (rig_table.yaml), and so does the replay.
-    if (options.table_path == nullptr && !recorded.rig_table.empty()) {
-      options.table_path = recorded.rig_table.c_str();
-    }
-    return RunMonocular(calib_path, image_path, camera, options, json_path, overlay_path);
-  }
-  if (calib_path == nullptr || left_path == nullptr || right_path == nullptr) {
+  if (run.monocular != nullptr) return RunOneCamera(&run, recorded);
+  if (run.calib_path == nullptr || run.left_path == nullptr || run.right_path == nullptr) {
     std::fprintf(stderr,
                  "stereohash recognize: --calib with --left and --right, or --scene, are required "
                  "(see --help)\n");
     return 2;
   }
-
-  const Result<StereoCalibration> calib = LoadFrameCalibration(calib_path);
-  if (!calib.ok()) return Fail("%s", calib.status().message());
-  TableChoice table;
-  if (options.table_path != nullptr) {
-    const Result<RigidTransform> pose = LoadTablePose(options.table_path);
-    if (!pose.ok()) return Fail("%s", pose.status().message());
-    table.present = true;
-    table.left_T_table = *pose;
-    table.source = options.table_path;
-  }
-  LoadedImage left, right;
-  Status s = LoadImage(left_path, "left", &left);
-  if (s.ok()) s = LoadImage(right_path, "right", &right);
-  if (!s.ok()) return Fail("%s", s.message());
-  PrintBinning(left);
-  // Printed models (a feature database, alone or as a model set's section) go through the
-  // texture path; the polyhedra and colour parts of the same set through the pipeline.
-  uint32_t kinds = 0;
-  if (options.tables_path != nullptr) {
-    const Result<uint32_t> k = FileBlobKinds(options.tables_path);
-    if (!k.ok()) return Fail("tables: %s", k.status().message());
-    kinds = *k;
-  }
-  const bool printed = (kinds & KindBit(SectionKind::kTextureFeatures)) != 0;
-  const bool others =
-      options.views_path != nullptr ||
-      (kinds & (KindBit(SectionKind::kHash3d) | KindBit(SectionKind::kShapeViews))) != 0;
-  MappedFeatureDb db;
-  TextureRun run;
-  run.threads = options.threads;
-  if (printed) {
-    s = db.Open(options.tables_path);
-    if (!s.ok()) return Fail("%s", s.message());
-    if (!others) {
-      run.json_path = json_path;
-      run.overlay_path = overlay_path;
-      return RecognizePrinted(*calib, db.view(), left.view, right.view, run);
-    }
-  }
-  LoadedTables tables;
-  s = LoadTables(options, &tables);
-  if (!s.ok()) return Fail("%s", s.message());
-
-  // A recording made without a table file: the board's own table bounded its volume and served
-  // its one-image rescue, so it does the same here (it is no table pose of the scene).
-  RigidTransform rig_T_table;
-  const bool rig_table = !table.present && !recorded.rig_table.empty();
-  if (rig_table) {
-    const Result<RigidTransform> rig = LoadTablePose(recorded.rig_table.c_str());
-    if (!rig.ok()) return Fail("%s", rig.status().message());
-    rig_T_table = *rig;
-  }
-  const RigidTransform* one_camera_table = table.present ? &table.left_T_table
-                                           : rig_table   ? &rig_T_table
-                                                         : nullptr;
-  PipelineConfig config = MakePipelineConfig(options, table);
-  s = ApplyRecordedVolume(recorded.volume, table, rig_table ? &rig_T_table : nullptr, &config);
-  if (!s.ok()) return Fail("%s", s.message());
-  auto pipeline = MakeZeroed<Pipeline>();  // ~118 MiB, resident as used (docs/memory.md)
-  s = pipeline->Init(*calib, tables.view, config, NowNs, tables.shape());
-  if (!s.ok()) return Fail("%s", s.message());
-  // Colour parts are found by their colour alone: in grey images the path finds nothing, which
-  // would read as "0 objects" with nothing said.
-  if (tables.shape() != nullptr &&
-      (left.frame.format == FrameFormat::kGray8 || right.frame.format == FrameFormat::kGray8)) {
-    std::fprintf(stderr,
-                 "stereohash recognize: warning: the model set holds %u colour parts, but the "
-                 "images are grey: colour parts cannot be found in them\n",
-                 tables.shape()->model_count());
-  }
-  // The one-image rescue, with the monocular mode's aspect table when it lists the same models.
-  LoadedAspects aspects;
-  ZeroedPtr<MonoRecognizer> rescue;
-  if (config.rescue.enabled && pipeline->models().hash_count() > 0 &&
-      LoadAspects(options, &aspects).ok()) {
-    s = LendRescueRecognizer(aspects.view, *calib, one_camera_table, MakeMonoConfig(options).mono,
-                             pipeline.get(), &rescue);
-    if (!s.ok()) std::fprintf(stderr, "stereohash recognize: no rescue: %s\n", s.message());
-  }
-  // The printed models first: the cartons found are hidden from the polyhedral path (their
-  // edges and print would crowd its features and search), as in the firmware.
-  std::string printed_json;
-  std::vector<PosedModel> cartons;
-  if (printed) {
-    run.json_text = &printed_json;
-    run.found = &cartons;
-    const int rc = RecognizePrinted(*calib, db.view(), left.view, right.view, run);
-    if (rc != 0) return rc;
-  }
-  auto result = std::make_unique<PipelineResult>();
-  s = pipeline->Process(left.frame, right.frame, options.budget_ms, result.get(), cartons.data(),
-                        cartons.size());
-  if (!s.ok()) return Fail("%s", s.message());
-
-  PrintTable(pipeline->models(), *result);
-  std::string json = ResultJson(pipeline->models(), *result, table, pipeline->threads());
-  if (printed) {
-    // The set's printed models: their results as a "printed" member of the same JSON.
-    const size_t end = json.find_last_of('}');
-    json.insert(end,
-                ", \"printed\": " + printed_json.substr(0, printed_json.find_last_of('}') + 1));
-  }
-  if (json_path != nullptr && !WriteTextFile(json_path, json)) {
-    return Fail("cannot write %s: %s", json_path, std::strerror(errno));
-  }
-  if (overlay_path != nullptr) {
-    std::vector<uint8_t> rgb;
-    int w = 0, h = 0;
-    s = BuildOverlay(*pipeline, *result, left.view, right.view, &rgb, &w, &h);
-    if (s.ok()) s = hal::WritePngRgb(overlay_path, rgb.data(), w, h, 3 * w);
-    if (!s.ok()) return Fail("overlay %s: %s", overlay_path, s.message());
-  }
-  if (features_overlay_path != nullptr) {
-    std::vector<uint8_t> rgb;
-    int w = 0, h = 0;
-    s = BuildFeatureOverlay(*pipeline, left.view, right.view, &rgb, &w, &h);
-    if (s.ok()) s = hal::WritePngRgb(features_overlay_path, rgb.data(), w, h, 3 * w);
-    if (!s.ok()) return Fail("overlay %s: %s", features_overlay_path, s.message());
-  }
-  return 0;
+  return RunStereo(run, recorded);
 }
 
 }  // namespace

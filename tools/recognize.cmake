@@ -5,7 +5,7 @@ target_sources(stereohash PRIVATE ${CMAKE_CURRENT_LIST_DIR}/cmd_recognize.cpp
                                   ${CMAKE_CURRENT_LIST_DIR}/recorded_pair.cpp
                                   ${CMAKE_CURRENT_LIST_DIR}/recognize_texture.cpp)
 stereohash_headers(stereohash PRIVATE recognize_texture.hpp)
-target_link_libraries(stereohash PRIVATE stereohash_pipeline stereohash_image_files
+target_link_libraries(stereohash PRIVATE stereohash_pipeline stereohash_recognizer stereohash_image_files
                       stereohash_default_tables stereohash_tables stereohash_camera stereohash_stereo
                       stereohash_texture_recognizer stereohash_feature_db
                       stereohash_shape_views_file stereohash_input_file)

@@ -219,6 +219,35 @@ PipelineConfig MakePipelineConfig(const RecognizeOptions& options, const TableCh
 
 namespace {
 
+void LogRecognition(const char* line) { std::fprintf(stderr, "stereohash recognize: %s\n", line); }
+
+}  // namespace
+
+ObjectRecognizerConfig MakeRecognizerConfig(const RecognizeOptions& options,
+                                            const TableChoice& table,
+                                            const RigidTransform* rig_T_table) {
+  ObjectRecognizerConfig config;
+  config.automatic = options.background == nullptr;
+  config.light_background = options.background != nullptr && options.background[0] == 'l';
+  config.threads = options.threads;
+  config.table_known = table.present;
+  config.volume_over_table = table.present;
+  config.table_carry = false;
+  if (table.present) {
+    config.left_T_table = table.left_T_table;
+  } else if (rig_T_table != nullptr) {
+    config.left_T_table = *rig_T_table;
+  }
+  config.mono_table_known = table.present || rig_T_table != nullptr;
+  config.aspects_file =
+      options.aspects_path != nullptr ? options.aspects_path : options.tables_path;
+  config.now_ns = &NowNs;
+  config.log = &LogRecognition;
+  return config;
+}
+
+namespace {
+
 // The settings worth exploring from the bench commands, one entry each.
 constexpr Setting<PipelineConfig> kPipelineSettings[] = {
     {"shape.neck_ratio", SettingKind::kReal,

@@ -15,6 +15,7 @@
 #include "recog/image/frame.hpp"
 #include "recog/image/image.hpp"
 #include "recog/pipeline/model_set.hpp"
+#include "recog/pipeline/object_recognizer.hpp"
 #include "recog/pipeline/pipeline.hpp"
 #include "tables/shape_views_file.hpp"
 #include "tables/table_file.hpp"
@@ -84,6 +85,16 @@ struct TableChoice {
 // The pipeline configuration for the options: the preset (or the automatic default) and, with
 // a table pose, the working volume over the table.
 PipelineConfig MakePipelineConfig(const RecognizeOptions& options, const TableChoice& table);
+
+// The recognition facade's settings for the options, as the board's keys give them: the preset,
+// the threads, the table pose (the stereo path's table and the space over it) and the aspect
+// table of the one-image rescue (--aspects, else the --tables model set's). `rig_T_table`, when
+// no table pose is given: the rig's own table (a recording's rig_table.yaml), which the rescue
+// lays its objects onto but which is no table of the scene. Each pair stands alone: no plane is
+// carried between pairs.
+ObjectRecognizerConfig MakeRecognizerConfig(const RecognizeOptions& options,
+                                            const TableChoice& table,
+                                            const RigidTransform* rig_T_table);
 
 // `--set name=value` of the bench commands: one of the settings worth exploring (shape.*,
 // verify.*, recognizer.*, stereo.*, features.*, table_estimate.*, table_carry.*). An unknown

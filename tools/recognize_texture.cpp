@@ -22,7 +22,9 @@ int Fail(const char* fmt, const char* a, const char* b = "") {
   return 1;
 }
 
-void PrintObjects(const FeatureDbView& db, const texture::TextureResult& r) {
+}  // namespace
+
+void PrintTextureObjects(const FeatureDbView& db, const texture::TextureResult& r) {
   std::printf("%zu printed object%s recognised\n", r.objects.size(),
               r.objects.size() == 1 ? "" : "s");
   if (!r.objects.empty()) {
@@ -49,8 +51,6 @@ void PrintObjects(const FeatureDbView& db, const texture::TextureResult& r) {
       "verification %.1f ms, total %.1f ms\n",
       t.features_ms, t.matching_ms, t.clustering_ms, t.stereo_ms, t.verify_ms, t.total_ms);
 }
-
-}  // namespace
 
 std::string TextureResultJson(const FeatureDbView& db, const texture::TextureResult& r,
                               int threads) {
@@ -94,15 +94,8 @@ int RecognizePrinted(const StereoCalibration& calib, const FeatureDbView& db, Co
   auto result = std::make_unique<texture::TextureResult>();
   s = recognizer->Process(left, right, result.get());
   if (!s.ok()) return Fail("%s", s.message());
-  PrintObjects(db, *result);
-  if (run.found != nullptr) {
-    run.found->clear();
-    for (const texture::TextureObject& o : result->objects) {
-      run.found->push_back({&db.model(o.model), o.cam_T_model});
-    }
-  }
-  if (run.json_text != nullptr) *run.json_text = TextureResultJson(db, *result, pool.threads());
-  if (run.json_text == nullptr && run.json_path != nullptr &&
+  PrintTextureObjects(db, *result);
+  if (run.json_path != nullptr &&
       !WriteTextFile(run.json_path, TextureResultJson(db, *result, pool.threads()))) {
     return Fail("cannot write %s: %s", run.json_path, std::strerror(errno));
   }

@@ -19,16 +19,16 @@ namespace sh::tools {
 
 struct TextureRun {
   const char* json_path = nullptr;
-  std::string* json_text = nullptr;  // when set, the JSON goes here instead of to json_path
   const char* overlay_path = nullptr;
   int threads = 0;  // 0: all cores
-  // When set, receives the objects found (models of the database), to hide from the pipeline.
-  std::vector<PosedModel>* found = nullptr;
 };
 
 // Recognises the printed models of `db` in the pair and reports them; returns the exit code.
 int RecognizePrinted(const StereoCalibration& calib, const FeatureDbView& db, ConstGrayView left,
                      ConstGrayView right, const TextureRun& run);
+
+// The objects found, a line each, on stdout.
+void PrintTextureObjects(const FeatureDbView& db, const texture::TextureResult& result);
 
 // {"frame": "camera", "objects": [{"model", "R", "t", "verify": [left, right], "faces",
 // "feature_matches", "stereo_points"}], "texture": {...}, "time_ms": {...}, "threads": N}

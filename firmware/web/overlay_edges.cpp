@@ -2,77 +2,9 @@
 
 #include <memory>
 
-#include "recog/verify/view_camera.hpp"
-#include "recog/verify/visible_edges.hpp"
+#include "recog/pipeline/outline_projection.hpp"
 
 namespace sh::fw::web {
-namespace {
-
-constexpr float kSampleStepPx = 2.0f;
-constexpr float kMinDepthMm = 1.0f;
-constexpr int kMaxPointsPerRun = 24;  // a polyline follows the lens's bending with this many
-
-// The visible runs of `visible` as polylines of distorted pixels.
-void AppendRuns(const ViewCamera& view, const VisibleEdgeSet& visible,
-                std::vector<std::vector<float>>* lines) {
-  const double max_r2 = MaxImageRadius2(view.intrinsics);
-  for (int e = 0; e < visible.n_edges; ++e) {
-    const VisibleEdge& edge = visible.edges[e];
-    for (int r = 0; r < edge.n_runs; ++r) {
-      const VisibleRun& run = edge.runs[r];
-      const int samples = run.end - run.first;
-      if (samples < 2) continue;
-      const int step = (samples + kMaxPointsPerRun - 1) / kMaxPointsPerRun;
-      std::vector<float> line;
-      for (int i = run.first;; i += step) {
-        if (i > run.end - 1) i = run.end - 1;
-        Eigen::Vector2f px;
-        const Eigen::Vector3f x =
-            PointAtImageFraction(edge, SampleImageFraction(i, edge.n_samples));
-        if (ProjectInView(view.intrinsics, max_r2, x, &px)) {
-          line.push_back(px.x());
-          line.push_back(px.y());
-        }
-        if (i == run.end - 1) break;
-      }
-      if (line.size() >= 4) lines->push_back(std::move(line));
-    }
-  }
-}
-
-constexpr int kSegmentSteps = 32;  // points along each straight segment (the lens bends them)
-
-// Straight segments ends[2k]..ends[2k+1] (in the frame left_T_frame maps into the left camera)
-// projected into image `side`: polylines in full-size pixels, cut where they leave the image or
-// pass behind the camera.
-std::vector<std::vector<float>> ProjectSegments(const StereoCalibration& calibration,
-                                                const RigidTransform& left_T_frame,
-                                                const std::vector<Eigen::Vector3f>& ends,
-                                                int side) {
-  const ViewCamera view = side == 0 ? LeftView(calibration) : RightView(calibration);
-  const double max_r2 = MaxImageRadius2(view.intrinsics);
-  const RigidTransform cam_T_frame = view.cam_T_left * left_T_frame;
-  std::vector<std::vector<float>> lines;
-  for (size_t s = 0; s + 1 < ends.size(); s += 2) {
-    std::vector<float> line;
-    for (int i = 0; i <= kSegmentSteps; ++i) {
-      const float t = float(i) / kSegmentSteps;
-      const Eigen::Vector3f x = cam_T_frame * ((1 - t) * ends[s] + t * ends[s + 1]);
-      Eigen::Vector2f px;
-      if (x.z() > 0 && ProjectInView(view.intrinsics, max_r2, x, &px)) {
-        line.push_back(px.x());
-        line.push_back(px.y());
-      } else {
-        if (line.size() >= 4) lines.push_back(line);
-        line.clear();
-      }
-    }
-    if (line.size() >= 4) lines.push_back(std::move(line));
-  }
-  return lines;
-}
-
-}  // namespace
 
 std::vector<std::vector<float>> VolumeLines(const StereoCalibration& calibration,
                                             const RigidTransform& left_T_box, const float min_mm[3],
@@ -124,20 +56,11 @@ std::vector<OverlayObject> ComputeOverlay(const StereoCalibration& calibration,
     posed.push_back({&models[i], snapshot.camera_T_out() * protocol::PoseTransform(p)});
     posed_object.push_back(i);
   }
-  const ViewCamera views[2] = {LeftView(calibration), RightView(calibration)};
-  std::unique_ptr<VisibleEdgeSet> visible = std::make_unique<VisibleEdgeSet>();
-  std::vector<PosedModel> occluders;
-  for (size_t k = 0; k < posed.size(); ++k) {
-    occluders.clear();
-    for (size_t j = 0; j < posed.size() && occluders.size() < kMaxOccluders; ++j) {
-      if (j != k) occluders.push_back(posed[j]);
-    }
-    for (int side = 0; side < 2; ++side) {
-      const Status s =
-          ComputeVisibleEdges(views[side], posed[k], occluders.data(), occluders.size(),
-                              kSampleStepPx, kMinDepthMm, visible.get());
-      if (s.ok()) AppendRuns(views[side], *visible, &out[posed_object[k]].lines[side]);
-    }
+  for (int side = 0; side < 2; ++side) {
+    std::vector<std::vector<PixelPolyline>> lines =
+        VisibleOutlines(calibration, posed.data(), posed.size(), side);
+    for (size_t k = 0; k < posed.size(); ++k)
+      out[posed_object[k]].lines[side] = std::move(lines[k]);
   }
   return out;
 }

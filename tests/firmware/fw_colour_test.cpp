@@ -151,7 +151,7 @@ TEST(FirmwareColour, PartsInResultSetsAtTheirTruthFromNv12FramesWithoutTouchingT
   hal::SimCamera camera(&world, hal::SimCameraConfig{});
   FileDataSource data(files.set.c_str(), "", &world.calibration());
   static Pipeline pipeline;
-  PipelineRecognition recognition(&pipeline, PipelineRecognitionConfig{});
+  PipelineRecognition recognition({&pipeline}, ObjectRecognizerConfig{});
   SceneObserver observer(&world);
   CoreConfig config;
   config.node_id = 1;

@@ -155,13 +155,14 @@ struct FallbackRig {
     static Pipeline pipeline;
     static MonoPipeline mono;
     static MonoResult mono_result;
-    PipelineRecognitionConfig pc;
+    ObjectRecognizerConfig pc;
     pc.mono_table_known = table_configured;
     pc.left_T_table_at_init = table_configured ? &world->left_T_table() : nullptr;
     pc.table_confirm_frames = confirm_frames;
-    recognition = std::make_unique<PipelineRecognition>(&pipeline, pc, nullptr, nullptr,
-                                                        fallback ? &mono : nullptr,
-                                                        fallback ? &mono_result : nullptr);
+    recognition = std::make_unique<PipelineRecognition>(
+        RecognitionPathSet{&pipeline, nullptr, nullptr, fallback ? &mono : nullptr,
+                           fallback ? &mono_result : nullptr},
+        pc);
     const Result<TableView> table = data->LoadTable();
     ASSERT_TRUE(table.ok());
     MapWorldModelsToIds(*world, ModelSet(&*table, nullptr), table_ids);
@@ -234,16 +235,17 @@ TEST(FirmwareMonocular, AModelSetsAspectSectionReplacesTheLinkedInTable) {
   const Result<TableView> table = OpenDefaultTable();
   ASSERT_TRUE(table.ok());
   for (const std::string& path : {with_path, without_path}) {
-    PipelineRecognitionConfig pc;
+    ObjectRecognizerConfig pc;
     pc.aspects_file = path.c_str();
-    PipelineRecognition recognition(&pipeline, pc, nullptr, nullptr, &mono, &mono_result);
+    PipelineRecognition recognition({&pipeline, nullptr, nullptr, &mono, &mono_result}, pc);
     const Status s =
         recognition.Init(FallbackRig::World().calibration(), ModelSet(&*table, nullptr), 0x3F);
     ASSERT_TRUE(s.ok()) << s.message();
-    const bool linked_in =
-        static_cast<const void*>(&recognition.aspects().header()) == DefaultAspectBlob();
+    const bool linked_in = static_cast<const void*>(&recognition.recognizer().aspects().header()) ==
+                           DefaultAspectBlob();
     EXPECT_EQ(linked_in, path == without_path) << path;
-    EXPECT_EQ(recognition.aspects().aspect_count(), OpenDefaultAspectTable()->aspect_count());
+    EXPECT_EQ(recognition.recognizer().aspects().aspect_count(),
+              OpenDefaultAspectTable()->aspect_count());
   }
 }
 
@@ -346,7 +348,7 @@ TEST(FirmwareMonocular, WithoutATablePoseTheFallbackUsesTheCarriedPlane) {
     correct += c.correct;
     false_alarms += c.false_alarms;
   }
-  EXPECT_TRUE(rig.recognition->mono_on_carried_plane());
+  EXPECT_TRUE(rig.recognition->recognizer().mono_on_carried_plane());
   std::printf("monocular sets on the carried plane: %d of %d within 5 mm / 5 deg, %d false\n",
               correct, truth_objects, false_alarms);
   EXPECT_GE(correct, truth_objects / 2);
@@ -458,7 +460,7 @@ TEST(FirmwareMonocular, WithoutAnyTablePlaneTheFallbackReportsNoPoses) {
     EXPECT_EQ(e->detail >> 16, uint32_t(StatusCode::kFailedPrecondition));
   }
   EXPECT_EQ(rig.core.state(), FirmwareState::kReady);
-  EXPECT_FALSE(rig.recognition->mono_on_carried_plane());
+  EXPECT_FALSE(rig.recognition->recognizer().mono_on_carried_plane());
 }
 
 // A busier cell: one scene of 8 objects in which the stereo search misses one (seed 31).
@@ -481,7 +483,7 @@ TEST(FirmwareRescue, TheFallbacksRecogniserAddsWhatStereoMissed) {
   for (const bool fallback : {false, true}) {
     FallbackRig rig(hal::SimCameraConfig{}, &BusyWorld());
     rig.Start(/*table_configured=*/true, /*confirm_frames=*/3, fallback);
-    EXPECT_EQ(rig.recognition->rescue_lent(), fallback);
+    EXPECT_EQ(rig.recognition->recognizer().rescue_lent(), fallback);
     const uint64_t allocations_before = HeapAllocations();
     for (int i = 0; i < kSets; ++i) {
       rig.plc.Trigger(uint16_t(i + 1));
@@ -493,7 +495,7 @@ TEST(FirmwareRescue, TheFallbacksRecogniserAddsWhatStereoMissed) {
       score[fallback].correct += c.correct;
       score[fallback].false_alarms += c.false_alarms;
     }
-    counters[fallback] = rig.recognition->rescue_counters();
+    counters[fallback] = rig.recognition->recognizer().rescue_counters();
     EXPECT_EQ(HeapAllocations() - allocations_before, 0u) << "heap allocations in triggers";
   }
   const RescueCounters& r = counters[1];
@@ -531,8 +533,8 @@ TEST(FirmwareRescue, WithoutTheFallbackTheRescueNeverRuns) {
     ASSERT_TRUE(s);
     EXPECT_EQ(s->status, ResultStatus::kOk);
   }
-  EXPECT_FALSE(rig.recognition->rescue_lent());
-  const RescueCounters r = rig.recognition->rescue_counters();
+  EXPECT_FALSE(rig.recognition->recognizer().rescue_lent());
+  const RescueCounters r = rig.recognition->recognizer().rescue_counters();
   EXPECT_EQ(r.lends, 0u);
   EXPECT_EQ(r.frames_lent, 0u);
   EXPECT_EQ(r.frames_ran, 0u);
@@ -551,7 +553,7 @@ TEST(FirmwareRescue, AfterARightCameraFallbackItIsLentForTheLeftCameraAgain) {
   std::optional<ResultSet> s = rig.plc.WaitSet();
   ASSERT_TRUE(s);
   EXPECT_EQ(s->status, ResultStatus::kOk);
-  const RescueCounters before = rig.recognition->rescue_counters();
+  const RescueCounters before = rig.recognition->recognizer().rescue_counters();
   EXPECT_EQ(before.frames_lent, 1u);
 
   rig.plc.Trigger(2);  // answered from the right camera
@@ -559,7 +561,7 @@ TEST(FirmwareRescue, AfterARightCameraFallbackItIsLentForTheLeftCameraAgain) {
   ASSERT_TRUE(s);
   EXPECT_EQ(s->status, ResultStatus::kMonocular);
   EXPECT_EQ(rig.core.capture_mode(), hal::CaptureMode::kRightOnly);
-  EXPECT_FALSE(rig.recognition->rescue_lent());
+  EXPECT_FALSE(rig.recognition->recognizer().rescue_lent());
 
   rig.plc.Send({0x04, 0, 0, 0, 0, 0, 0, 0});
   const std::optional<CommandAck> ack = rig.plc.WaitAck(0x04);
@@ -570,8 +572,8 @@ TEST(FirmwareRescue, AfterARightCameraFallbackItIsLentForTheLeftCameraAgain) {
   s = rig.plc.WaitSet();
   ASSERT_TRUE(s);
   EXPECT_EQ(s->status, ResultStatus::kOk);
-  EXPECT_TRUE(rig.recognition->rescue_lent());
-  const RescueCounters after = rig.recognition->rescue_counters();
+  EXPECT_TRUE(rig.recognition->recognizer().rescue_lent());
+  const RescueCounters after = rig.recognition->recognizer().rescue_counters();
   EXPECT_EQ(after.lends, before.lends + 1);
   EXPECT_EQ(after.frames_lent, before.frames_lent + 1);
   EXPECT_EQ(after.frames_ran, before.frames_ran + 1);
@@ -585,7 +587,7 @@ TEST(FirmwareRescue, AModelMaskChangeLendsItAgain) {
   rig.plc.Trigger(1);
   std::optional<ResultSet> s = rig.plc.WaitSet();
   ASSERT_TRUE(s);
-  const RescueCounters before = rig.recognition->rescue_counters();
+  const RescueCounters before = rig.recognition->recognizer().rescue_counters();
   const uint32_t mask = rig.core.model_mask() & ~rig.ModelBitOf(kRescuedObject);
   rig.plc.Send(
       {0x02, uint8_t(mask), uint8_t(mask >> 8), uint8_t(mask >> 16), uint8_t(mask >> 24), 0, 0, 0});
@@ -597,8 +599,8 @@ TEST(FirmwareRescue, AModelMaskChangeLendsItAgain) {
   ASSERT_TRUE(s);
   EXPECT_EQ(s->status, ResultStatus::kOk);
   EXPECT_EQ(rig.core.model_mask(), mask);
-  EXPECT_TRUE(rig.recognition->rescue_lent());
-  const RescueCounters after = rig.recognition->rescue_counters();
+  EXPECT_TRUE(rig.recognition->recognizer().rescue_lent());
+  const RescueCounters after = rig.recognition->recognizer().rescue_counters();
   EXPECT_EQ(after.lends, before.lends + 1);
   EXPECT_EQ(after.frames_lent, before.frames_lent + 1);
   EXPECT_EQ(after.frames_ran, before.frames_ran + 1);

@@ -41,7 +41,7 @@ TEST(FirmwareNoAlloc, TriggersAfterBootAllocateNothing) {
   FileDataSource data("builtin", "", &world.calibration());
 #ifdef STEREOHASH_FW_HAVE_PIPELINE
   static Pipeline pipeline;
-  PipelineRecognition recognition(&pipeline, PipelineRecognitionConfig{});
+  PipelineRecognition recognition({&pipeline}, ObjectRecognizerConfig{});
   const char* kind = "pipeline";
 #else
   TruthRecognition recognition(&world);

@@ -194,8 +194,7 @@ TEST(FirmwarePrinted, CartonsInResultSetsAtTheirTruthWithIdsAfterThePolyhedra) {
   static Pipeline pipeline;
   static texture::TextureRecognizer texture;
   static texture::TextureResult texture_result;
-  PipelineRecognition recognition(&pipeline, PipelineRecognitionConfig{}, &texture,
-                                  &texture_result);
+  PipelineRecognition recognition({&pipeline, &texture, &texture_result}, ObjectRecognizerConfig{});
   SceneObserver observer(&world);
   const CoreConfig config = CartonCoreConfig();
   const CoreDevices devices = SimCoreDevices(fw, &gpio, &camera, &recognition, &data, &observer);
@@ -353,8 +352,8 @@ TEST(FirmwarePrinted, OneModelSetAsTablesGivesTheSamePosesAsTheSeparateBlobs) {
     hal::SimCamera camera(&world, hal::SimCameraConfig{});
     FileDataSource data(tables, "", &world.calibration());
     data.SetFeaturesPath(features);
-    PipelineRecognition recognition(&pipeline, PipelineRecognitionConfig{}, &texture,
-                                    &texture_result);
+    PipelineRecognition recognition({&pipeline, &texture, &texture_result},
+                                    ObjectRecognizerConfig{});
     SceneObserver observer(&world);
     const CoreDevices devices =
         SimCoreDevices(can.fw, &gpio, &camera, &recognition, &data, &observer);

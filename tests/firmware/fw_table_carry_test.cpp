@@ -24,9 +24,9 @@ namespace sh::testing {
 namespace {
 
 using fw::PipelineRecognition;
-using fw::PipelineRecognitionConfig;
 using protocol::ResultSet;
 using protocol::TablePlane;
+using sh::ObjectRecognizerConfig;
 
 constexpr uint32_t kMask = 0x3F;  // the six reference polyhedra
 
@@ -44,8 +44,8 @@ render::SimWorld& World() {
 // The board's recogniser on the simulated cameras, one frame per Next().
 class Cell {
  public:
-  explicit Cell(const PipelineRecognitionConfig& config)
-      : camera_(&World(), hal::SimCameraConfig{}), recognition_(&pipeline_, config) {
+  explicit Cell(const ObjectRecognizerConfig& config)
+      : camera_(&World(), hal::SimCameraConfig{}), recognition_({&pipeline_}, config) {
     const Result<TableView> t = OpenDefaultTable();
     EXPECT_TRUE(t.ok());
     table_ = *t;
@@ -91,7 +91,7 @@ TEST(FirmwareTableCarry, ThePlaneIsEstimatedConfirmedAndCarriedWithoutTheHeap) {
   // reference for the carried frames' poses.
   SetScore reference[kFrames];
   {
-    PipelineRecognitionConfig per_frame;
+    ObjectRecognizerConfig per_frame;
     per_frame.table_carry = false;
     Cell cell(per_frame);
     for (int i = 0; i < kFrames; ++i) {
@@ -103,7 +103,7 @@ TEST(FirmwareTableCarry, ThePlaneIsEstimatedConfirmedAndCarriedWithoutTheHeap) {
     EXPECT_EQ(Cell::pipeline().table_carry().state(), TableCarryState::kSearching);
   }
 
-  Cell cell{PipelineRecognitionConfig{}};  // the defaults: no table pose, table_estimate = carry
+  Cell cell{ObjectRecognizerConfig{}};  // the defaults: no table pose, table_estimate = carry
   SetScore carried, carried_reference;
   int estimated_frames = 0, carried_frames = 0;
   uint64_t carried_allocations = 0;
@@ -158,7 +158,7 @@ TEST(FirmwareTableCarry, ThePlaneIsEstimatedConfirmedAndCarriedWithoutTheHeap) {
 }
 
 TEST(FirmwareTableCarry, TheCarryKeysReachThePipeline) {
-  PipelineRecognitionConfig keys;
+  ObjectRecognizerConfig keys;
   keys.table_confirm_frames = 5;  // table_confirm_frames = 5
   keys.table_check_frames = 0;    // table_check_frames = 0: only after a misfit
   Cell cell(keys);
@@ -167,14 +167,14 @@ TEST(FirmwareTableCarry, TheCarryKeysReachThePipeline) {
   EXPECT_EQ(carry.confirm_frames, 5u);
   EXPECT_EQ(carry.check_every_frames, 0u);
   // table_confirm_frames = 0 would never confirm: the pipeline refuses it at Init.
-  PipelineRecognitionConfig never;
+  ObjectRecognizerConfig never;
   never.table_confirm_frames = 0;
-  PipelineRecognition refused(&Cell::pipeline(), never);
+  PipelineRecognition refused({&Cell::pipeline()}, never);
   EXPECT_FALSE(refused.Init(World().calibration(), cell.model_set(), kMask).ok());
 }
 
 TEST(FirmwareTableCarry, OffUsesNoTable) {
-  PipelineRecognitionConfig off;
+  ObjectRecognizerConfig off;
   off.table_estimate = false;
   Cell cell(off);
   static ResultSet set;

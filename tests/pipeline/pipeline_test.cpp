@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tables/table_file.hpp"
+#include "tests/support/rendered_fixture.hpp"
 #include "tests/support/same_objects.hpp"
 #include "tools/eval/rendered_eval.hpp"
 
@@ -33,27 +34,19 @@ float Median(std::vector<float> v) {
 class PipelineTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    auto t = OpenDefaultTable();
-    ASSERT_TRUE(t.ok()) << t.status().message();
-    table_ = new TableView(*t);
-    models_ = new RenderModels();
-    const Status s = LoadRenderModels(STEREOHASH_MODELS_DIR, *table_, models_);
-    ASSERT_TRUE(s.ok()) << s.message();
+    setup_ = testing::LoadRenderSetup(STEREOHASH_MODELS_DIR).release();
+    ASSERT_NE(setup_, nullptr);
+    table_ = &setup_->table;
+    models_ = &setup_->models;
     pipeline_ = new Pipeline();  // tens of MiB: one for the whole suite
   }
   static void TearDownTestSuite() {
     delete pipeline_;
-    delete models_;
-    delete table_;
+    delete setup_;
   }
 
   static render::ScenarioParams Scenario(render::Background bg) {
-    render::ScenarioParams p;
-    p.background = bg;
-    p.occlusion = render::Occlusion::kSome;
-    p.n_objects = 4;
-    p.camera_distance_mm = 400.0f;
-    return p;
+    return testing::FourObjectScenario(bg);
   }
 
   // A dark-table scene with some occlusion; null (and a test failure) if it cannot be rendered.
@@ -80,10 +73,13 @@ class PipelineTest : public ::testing::Test {
                                                      : PipelineConfig::LightBackground());
   }
 
+  static testing::RenderSetup* setup_;
   static TableView* table_;
   static RenderModels* models_;
   static Pipeline* pipeline_;
 };
+
+testing::RenderSetup* PipelineTest::setup_ = nullptr;
 
 TableView* PipelineTest::table_ = nullptr;
 RenderModels* PipelineTest::models_ = nullptr;

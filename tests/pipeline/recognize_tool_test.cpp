@@ -514,7 +514,8 @@ TEST_F(RecognizeToolTest, OwnModelSetKeepsTheOneImageRescue) {
   EXPECT_NE(built.output.find("ASPECTS_2D"), std::string::npos) << built.output;
   const ToolRun with = RunTool(stereo + " --tables " + Path("own.bin"));
   ASSERT_EQ(with.exit_code, 0) << with.output;
-  EXPECT_EQ(with.output.find("no rescue"), std::string::npos) << with.output;
+  EXPECT_NE(with.output.find("one-image rescue on"), std::string::npos) << with.output;
+  EXPECT_EQ(with.output.find("one-image rescue off"), std::string::npos) << with.output;
 
   const ToolRun plain =
       RunTool("tables build --models " + dir + " --no-hash-2d --out " + Path("own_plain.bin"));
@@ -522,7 +523,7 @@ TEST_F(RecognizeToolTest, OwnModelSetKeepsTheOneImageRescue) {
   EXPECT_EQ(plain.output.find("ASPECTS_2D"), std::string::npos) << plain.output;
   const ToolRun without = RunTool(stereo + " --tables " + Path("own_plain.bin"));
   ASSERT_EQ(without.exit_code, 0) << without.output;
-  EXPECT_NE(without.output.find("no rescue"), std::string::npos) << without.output;
+  EXPECT_NE(without.output.find("one-image rescue off"), std::string::npos) << without.output;
   EXPECT_EQ(RunTool("tables build --models " + dir + " --no-hash-2d --hash-2d affine --out " +
                     Path("both.bin"))
                 .exit_code,
