@@ -15,7 +15,7 @@
 
 #include <cstdint>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/canopen/emcy.hpp"
 #include "hal/can.hpp"
 
 namespace sh::fw {

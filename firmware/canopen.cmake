@@ -1,3 +1,10 @@
+# The CANopen messages every codec shares: COB-IDs and node ids, NMT, boot-up and heartbeat, EMCY
+# (CiA 301), and the little-endian field helpers. Below the PLC protocol and the CANopen slave.
+stereohash_module(stereohash_canopen_messages
+  SOURCES canopen/cob_id.cpp canopen/nmt.cpp canopen/emcy.cpp
+  HEADERS canopen/cob_id.hpp canopen/nmt.hpp canopen/emcy.hpp le_bytes.hpp
+  PUBLIC stereohash_hal_can stereohash_base)
+
 # CANopen slave (CiA 301 object dictionary, SDO server, PDOs, EMCY error state; CiA 305 LSS) and
 # the EDS written from the same declared table. Pure classes on CanFrame values, no threads.
 stereohash_module(stereohash_canopen
@@ -7,7 +14,7 @@ stereohash_module(stereohash_canopen
   HEADERS canopen/od_types.hpp canopen/od_table.hpp canopen/object_dictionary.hpp
           canopen/sdo_server.hpp canopen/lss_slave.hpp canopen/error_state.hpp canopen/pdo.hpp
           canopen/result_objects.hpp canopen/eds_writer.hpp
-  PUBLIC stereohash_can_protocol stereohash_hal_can stereohash_base)
+  PUBLIC stereohash_can_protocol stereohash_canopen_messages stereohash_hal_can stereohash_base)
 target_compile_definitions(stereohash_canopen PUBLIC
   STEREOHASH_VERSION_MAJOR=${PROJECT_VERSION_MAJOR}
   STEREOHASH_VERSION_MINOR=${PROJECT_VERSION_MINOR}

@@ -12,13 +12,16 @@
 #include <cstdint>
 #include <mutex>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/canopen/cob_id.hpp"
 #include "firmware/canopen/error_state.hpp"
 #include "firmware/canopen/lss_slave.hpp"
+#include "firmware/canopen/nmt.hpp"
 #include "firmware/canopen/object_dictionary.hpp"
 #include "firmware/canopen/pdo.hpp"
 #include "firmware/canopen/result_objects.hpp"
 #include "firmware/canopen/sdo_server.hpp"
+#include "firmware/command_codec.hpp"
+#include "firmware/result_codec.hpp"
 #include "recog/base/vector.hpp"
 
 namespace sh::fw {

@@ -22,8 +22,9 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/canopen/cob_id.hpp"
 #include "firmware/canopen/od_table.hpp"
+#include "firmware/command_codec.hpp"
 #include "recog/base/status.hpp"
 
 namespace sh::fw {

@@ -3,7 +3,11 @@
 #include <cmath>
 #include <cstdio>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/canopen/cob_id.hpp"
+#include "firmware/canopen/emcy.hpp"
+#include "firmware/canopen/nmt.hpp"
+#include "firmware/plc/result_assembler.hpp"
+#include "firmware/result_codec.hpp"
 
 namespace sh::fw {
 

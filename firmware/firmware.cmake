@@ -11,8 +11,8 @@ stereohash_module(stereohash_fw_core
   HEADERS fw_config.hpp config_keys.hpp firmware_core.hpp can_health.hpp canopen_node.hpp
           output_frame.hpp node_id_file.hpp recorder.hpp recorded_settings.hpp data_source.hpp
           recognition.hpp realtime.hpp sd_notify.hpp
-  PUBLIC stereohash_can_protocol stereohash_canopen stereohash_hal_can stereohash_hal_gpio
-         stereohash_hal_camera stereohash_tables stereohash_default_tables stereohash_camera
+  PUBLIC stereohash_can_protocol stereohash_canopen_messages stereohash_canopen stereohash_hal_can
+         stereohash_hal_gpio stereohash_hal_camera stereohash_tables stereohash_default_tables stereohash_camera
          stereohash_geometry stereohash_base stereohash_embedded_flags Threads::Threads
          stereohash_pipeline stereohash_feature_db stereohash_shape_views_file stereohash_shape
   PRIVATE stereohash_image_files stereohash_image stereohash_input_file)
@@ -54,7 +54,8 @@ endif()
 add_executable(stereohash-fw-sim board_sim.cpp demo_client.cpp)
 target_link_libraries(stereohash-fw-sim PRIVATE stereohash_fw_main stereohash_fw_sim
                       stereohash_hal_can_sim stereohash_hal_gpio_sim stereohash_hal_camera_sim
-                      stereohash_sim_world stereohash_can_protocol stereohash_model stereohash_base
+                      stereohash_sim_world stereohash_can_protocol stereohash_canopen_messages
+                      stereohash_result_assembler stereohash_model stereohash_base
                       stereohash_fw_core stereohash_camera stereohash_input_file
                       stereohash_warnings)
 stereohash_headers(stereohash-fw-sim PRIVATE demo_client.hpp)

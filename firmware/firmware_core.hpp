@@ -24,10 +24,13 @@
 #include <optional>
 #include <thread>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/canopen/emcy.hpp"
+#include "firmware/canopen/nmt.hpp"
 #include "firmware/canopen_node.hpp"
+#include "firmware/command_codec.hpp"
 #include "firmware/recognition.hpp"
 #include "firmware/recorder.hpp"
+#include "firmware/result_codec.hpp"
 #include "hal/camera.hpp"
 #include "hal/can.hpp"
 #include "hal/gpio.hpp"

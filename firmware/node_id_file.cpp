@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/canopen/cob_id.hpp"
 #include "recog/base/printable.hpp"
 #include "tables/input_file.hpp"
 

@@ -3,7 +3,7 @@
 // constant transform out_T_camera from the table pose or the hand-eye calibration.
 #pragma once
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/result_codec.hpp"
 #include "recog/geometry/rigid_transform.hpp"
 
 namespace sh::fw {

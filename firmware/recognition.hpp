@@ -6,7 +6,8 @@
 
 #include <cstdint>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/command_codec.hpp"
+#include "firmware/result_codec.hpp"
 #include "hal/camera.hpp"
 #include "recog/base/status.hpp"
 #include "recog/camera/camera_model.hpp"

@@ -31,7 +31,7 @@
 #include <string>
 #include <thread>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/result_codec.hpp"
 #include "hal/camera.hpp"
 #include "recog/base/status.hpp"
 #include "recog/camera/camera_model.hpp"

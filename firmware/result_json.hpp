@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/result_codec.hpp"
 
 namespace sh::protocol {
 

@@ -18,7 +18,7 @@ stereohash_module(stereohash_fw_web
           web/overlay_edges.hpp web/png_encode.hpp web/json_writer.hpp web/status_json.hpp
           web/web_settings.hpp web/recordings.hpp web/web_assets.hpp web/web_app.hpp
           web/web_target.hpp web/core_target.hpp web/web_service.hpp
-  PUBLIC stereohash_fw_core stereohash_can_protocol stereohash_hal_camera stereohash_hal_can
-         stereohash_camera stereohash_geometry stereohash_model stereohash_base
+  PUBLIC stereohash_fw_core stereohash_can_protocol stereohash_canopen_messages stereohash_hal_camera
+         stereohash_hal_can stereohash_camera stereohash_geometry stereohash_model stereohash_base
   PRIVATE stereohash_canopen stereohash_pipeline stereohash_image
           stereohash_input_file PNG::PNG PkgConfig::MICROHTTPD ${STEREOHASH_LIBCRYPT})

@@ -1,5 +1,6 @@
 #include "firmware/canopen/error_state.hpp"
 
+#include "firmware/canopen/emcy.hpp"
 #include "firmware/canopen/od_table.hpp"
 
 namespace sh::canopen {

@@ -12,7 +12,6 @@
 
 #include <cstdint>
 
-#include "firmware/can_protocol.hpp"
 #include "firmware/canopen/object_dictionary.hpp"
 
 namespace sh::canopen {

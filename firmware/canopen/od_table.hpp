@@ -14,8 +14,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "firmware/can_protocol.hpp"
 #include "firmware/canopen/od_types.hpp"
+#include "firmware/command_codec.hpp"
+#include "firmware/result_codec.hpp"
 
 #ifndef STEREOHASH_VERSION_MAJOR
 #define STEREOHASH_VERSION_MAJOR 0

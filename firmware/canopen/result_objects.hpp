@@ -6,8 +6,9 @@
 
 #include <cstdint>
 
-#include "firmware/can_protocol.hpp"
 #include "firmware/canopen/object_dictionary.hpp"
+#include "firmware/command_codec.hpp"
+#include "firmware/result_codec.hpp"
 
 namespace sh::canopen {
 

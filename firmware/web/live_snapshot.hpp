@@ -13,8 +13,8 @@
 #include <mutex>
 #include <vector>
 
-#include "firmware/can_protocol.hpp"
 #include "firmware/firmware_core.hpp"
+#include "firmware/result_codec.hpp"
 #include "hal/camera.hpp"
 #include "recog/base/status.hpp"
 #include "recog/geometry/rigid_transform.hpp"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/result_codec.hpp"
 #include "firmware/web/live_snapshot.hpp"
 #include "recog/camera/camera_model.hpp"
 #include "recog/geometry/rigid_transform.hpp"

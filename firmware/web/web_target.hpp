@@ -6,7 +6,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/canopen/emcy.hpp"
+#include "firmware/canopen/nmt.hpp"
 #include "firmware/config_keys.hpp"
 #include "firmware/firmware_core.hpp"
 #include "firmware/fw_config.hpp"

@@ -6,11 +6,12 @@
 #include <cmath>
 #include <memory>
 
-#include "firmware/can_protocol.hpp"
 #include "firmware/canopen/error_state.hpp"
 #include "firmware/canopen/object_dictionary.hpp"
 #include "firmware/canopen/pdo.hpp"
 #include "firmware/canopen/result_objects.hpp"
+#include "firmware/command_codec.hpp"
+#include "firmware/result_codec.hpp"
 
 namespace sh::canopen {
 namespace {

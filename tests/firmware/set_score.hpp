@@ -4,7 +4,7 @@
 
 #include <Eigen/Geometry>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/result_codec.hpp"
 #include "hal/sim/world/sim_world.hpp"
 #include "recog/mono/aspect.hpp"
 #include "tables/table_view.hpp"

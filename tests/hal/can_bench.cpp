@@ -4,7 +4,8 @@
 
 #include <cmath>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/plc/result_assembler.hpp"
+#include "firmware/result_codec.hpp"
 #include "hal/sim/can_sim_bus.hpp"
 
 namespace {

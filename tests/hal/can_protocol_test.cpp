@@ -5,7 +5,12 @@
 #include <random>
 #include <string>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/canopen/cob_id.hpp"
+#include "firmware/canopen/emcy.hpp"
+#include "firmware/canopen/nmt.hpp"
+#include "firmware/command_codec.hpp"
+#include "firmware/plc/result_assembler.hpp"
+#include "firmware/result_codec.hpp"
 
 namespace sh::protocol {
 namespace {

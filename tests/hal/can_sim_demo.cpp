@@ -18,7 +18,11 @@
 #include <cstring>
 #include <random>
 
-#include "firmware/can_protocol.hpp"
+#include "firmware/canopen/cob_id.hpp"
+#include "firmware/canopen/emcy.hpp"
+#include "firmware/canopen/nmt.hpp"
+#include "firmware/command_codec.hpp"
+#include "firmware/result_codec.hpp"
 #include "firmware/result_json.hpp"
 #include "hal/can_log.hpp"
 #include "hal/sim/can_sim_bus.hpp"

@@ -13,6 +13,7 @@
 
 #include "firmware/data_source.hpp"
 #include "firmware/firmware_core.hpp"
+#include "firmware/plc/result_assembler.hpp"
 #include "hal/sim/can_sim_bus.hpp"
 #include "hal/sim/gpio_sim.hpp"
 #include "hal/sim/sim_camera.hpp"
