@@ -4,9 +4,9 @@
   check_firmware.py symbols NM PROGRAM
       The board program holds no simulator code: none of the simulated world (sh::render), the
       simulator backends (SimCanBus, SocketcandServer, SimCamera, SimGpio, the recorded-pair
-      camera), the demo PLC, ground-truth recognition or the simulator's defaults is among its
-      symbols; and it does hold the core. The image files (PNG on libpng, PGM) are allowed: the
-      board writes its recordings (record_dir) with them.
+      camera), the demo PLC and its result reassembler, ground-truth recognition or the
+      simulator's defaults is among its symbols; and it does hold the core. The image files (PNG
+      on libpng, PGM) are allowed: the board writes its recordings (record_dir) with them.
   check_firmware.py docs DOC PROGRAM [ARGS...]
       docs/firmware.md's configuration key table is what `PROGRAM --config-keys-markdown` prints
       (the key list of firmware/config_keys.hpp). With --write, rewrites the table in DOC.
@@ -18,7 +18,8 @@ import sys
 FORBIDDEN = re.compile(
     r"sh::render::|sh::hal::SimCanBus|sh::hal::SimCanEndpoint|sh::hal::SocketcandServer|"
     r"sh::hal::SimCamera|sh::hal::SimGpio|sh::hal::DirectoryCamera|"
-    r"sh::fw::DemoClient|sh::fw::TruthRecognition|sh::fw::SimDefaults")
+    r"sh::fw::DemoClient|sh::protocol::ResultAssembler|sh::fw::TruthRecognition|"
+    r"sh::fw::SimDefaults")
 REQUIRED = ("sh::fw::FirmwareCore::Start", "sh::fw::FirmwareMain")
 BEGIN = "<!-- configuration keys: stereohash-fw-sim --config-keys-markdown -->"
 END = "<!-- end of configuration keys -->"
