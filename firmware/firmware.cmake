@@ -7,8 +7,10 @@
 stereohash_module(stereohash_fw_core
   SOURCES fw_config.cpp config_keys.cpp firmware_core.cpp can_health.cpp canopen_node.cpp
           output_frame.cpp node_id_file.cpp recorder.cpp recorded_settings.cpp data_source.cpp
-          realtime.cpp sd_notify.cpp core_host_control.cpp
-  HEADERS fw_config.hpp config_keys.hpp firmware_core.hpp can_health.hpp canopen_node.hpp
+          realtime.cpp sd_notify.cpp core_host_control.cpp core_support.cpp core_trigger_worker.cpp
+          core_camera_supervisor.cpp core_can_dispatcher.cpp core_heartbeat_faults.cpp
+  HEADERS fw_config.hpp config_keys.hpp firmware_core.hpp fault_bits.hpp core_support.hpp
+          can_health.hpp canopen_node.hpp
           output_frame.hpp node_id_file.hpp recorder.hpp recorded_settings.hpp data_source.hpp
           recognition.hpp realtime.hpp sd_notify.hpp
   PUBLIC stereohash_can_protocol stereohash_canopen_messages stereohash_canopen stereohash_hal_can
