@@ -16,6 +16,7 @@
 #include "recog/image/frame.hpp"
 #include "recog/image/image.hpp"
 #include "recog/mono/mono_recognizer.hpp"
+#include "recog/pipeline/edge_map_verifier.hpp"
 #include "recog/pipeline/hidden_mask.hpp"
 #include "recog/pipeline/model_set.hpp"
 #include "recog/pipeline/table_carry.hpp"
@@ -30,16 +31,6 @@
 #include "tables/table_view.hpp"
 
 namespace sh {
-
-// The table the objects stand on, when the installation knows its pose (table.yaml): a
-// hypothesis that sinks into it deeper than max_below_mm is rejected before verification.
-struct TableConstraint {
-  bool known = false;
-  RigidTransform left_T_table;  // table frame: z up, top at z = 0
-  // Bottom corners triangulate a little below the top, and a tilted object leaning on another
-  // may touch the table with an edge: 5 mm is several times the stereo depth error.
-  float max_below_mm = 5.0f;
-};
 
 // The one-image rescue after the stereo search (Pipeline::LendRescue): the monocular recogniser
 // searches the left image's features that the accepted objects do not explain, and each object
@@ -187,48 +178,6 @@ struct PipelineResult {
   // lies inside a hidden object (inside_object.hpp): one object, one report.
   uint32_t inside_hidden = 0;
   RescueStats rescue;
-};
-
-// The verifier of the stereo pipeline: projects the refined hypothesis into both images and
-// checks it against their edge pixels, with the objects accepted so far as occluders (the
-// kMaxOccluders nearest to the candidate when there are more). Scores go to
-// candidate.verify_score = {left, right}.
-class EdgeMapVerifier : public HypothesisVerifier {
- public:
-  // `hidden` (n_hidden objects, may be null): objects of another path, occluders of every
-  // candidate before the accepted ones.
-  // `left_grey`/`right_grey`: the images behind the edge maps, for the faint-edge test.
-  void Reset(const StereoCalibration* calib, const TableView* table, ConstEdgeMapView left,
-             ConstEdgeMapView right, const GreyEvidence& left_grey, const GreyEvidence& right_grey,
-             const VerifyConfig* config, const TableConstraint* support, int64_t (*now_ns)(),
-             const PosedModel* hidden = nullptr, size_t n_hidden = 0);
-  bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
-              RecognizedObject& candidate) override;
-  // The verdict depends on the arguments and the frame alone, and the counts are sums: the
-  // search verifies a scene basis's hypotheses on the pool's threads at once.
-  bool ConcurrentVerify() const override { return true; }
-
-  // Time spent verifying since Reset, summed over the threads that verified.
-  int64_t elapsed_ns() const { return elapsed_ns_.load(std::memory_order_relaxed); }
-  uint32_t errors() const { return errors_.load(std::memory_order_relaxed); }
-  uint32_t below_table() const { return below_table_.load(std::memory_order_relaxed); }
-  uint32_t inside_hidden() const { return inside_hidden_.load(std::memory_order_relaxed); }
-
- private:
-  const StereoCalibration* calib_ = nullptr;
-  const TableView* table_ = nullptr;
-  ConstEdgeMapView left_{}, right_{};
-  GreyEvidence left_grey_{}, right_grey_{};
-  const VerifyConfig* config_ = nullptr;
-  const TableConstraint* support_ = nullptr;
-  const PosedModel* hidden_ = nullptr;
-  size_t n_hidden_ = 0;
-  int64_t (*now_ns_)() = nullptr;
-  // Counts of concurrent calls (ConcurrentVerify).
-  std::atomic<int64_t> elapsed_ns_{0};
-  std::atomic<uint32_t> errors_{0};
-  std::atomic<uint32_t> below_table_{0};
-  std::atomic<uint32_t> inside_hidden_{0};
 };
 
 class Pipeline {

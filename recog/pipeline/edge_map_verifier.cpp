@@ -1,0 +1,84 @@
+#include "recog/pipeline/edge_map_verifier.hpp"
+
+#include "recog/pipeline/table_estimate.hpp"
+#include "recog/verify/inside_object.hpp"
+
+namespace sh {
+
+void EdgeMapVerifier::Reset(const StereoCalibration* calib, const TableView* table,
+                            ConstEdgeMapView left, ConstEdgeMapView right,
+                            const GreyEvidence& left_grey, const GreyEvidence& right_grey,
+                            const VerifyConfig* config, const TableConstraint* support,
+                            int64_t (*now_ns)(), const PosedModel* hidden, size_t n_hidden) {
+  calib_ = calib;
+  support_ = support;
+  hidden_ = hidden;
+  n_hidden_ = hidden != nullptr ? n_hidden : 0;
+  below_table_ = 0;
+  inside_hidden_ = 0;
+  table_ = table;
+  left_ = left;
+  right_ = right;
+  left_grey_ = left_grey;
+  right_grey_ = right_grey;
+  config_ = config;
+  now_ns_ = now_ns;
+  elapsed_ns_ = 0;
+  errors_ = 0;
+}
+
+bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>& accepted,
+                             RecognizedObject& candidate) {
+  if (support_ != nullptr && support_->known) {
+    if (LowestCornerHeightMm(model, candidate.cam_T_model, support_->left_T_table) <
+        -support_->max_below_mm) {
+      below_table_.fetch_add(1, std::memory_order_relaxed);
+      return false;
+    }
+  }
+  // An object another path found already (a colour part's outline, a carton's box edges).
+  if (CentreInsideAny(model, candidate.cam_T_model, hidden_, n_hidden_) >= 0) {
+    inside_hidden_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  const int64_t start = now_ns_ ? now_ns_() : 0;
+  // Occluders: the hidden objects of another path, then the accepted objects; of each, the
+  // ones whose centres are nearest to the candidate when there are more than the slots left (far
+  // objects cannot hide it anyway in a table scene).
+  PosedModel occluders[kMaxOccluders];
+  size_t n_occluders = 0;
+  float dist2[kMaxOccluders];
+  const auto add_nearest = [&](const PosedModel& o, size_t first_slot) {
+    const float d2 = (o.cam_T_model.t_mm - candidate.cam_T_model.t_mm).squaredNorm();
+    size_t slot = n_occluders;
+    if (n_occluders == kMaxOccluders) {
+      slot =
+          static_cast<size_t>(std::max_element(dist2 + first_slot, dist2 + kMaxOccluders) - dist2);
+      if (dist2[slot] <= d2) return;
+    } else {
+      ++n_occluders;
+    }
+    occluders[slot] = o;
+    dist2[slot] = d2;
+  };
+  for (size_t i = 0; i < n_hidden_; ++i) add_nearest(hidden_[i], 0);
+  const size_t first_accepted = n_occluders;
+  for (const RecognizedObject& o : accepted) {
+    if (first_accepted == kMaxOccluders) break;
+    add_nearest({&table_->model(o.model), o.cam_T_model}, first_accepted);
+  }
+  const PosedModel hypothesis{&model, candidate.cam_T_model};
+  const Result<VerifyResult> r = VerifyHypothesis(*calib_, left_, right_, hypothesis, occluders,
+                                                  n_occluders, *config_, left_grey_, right_grey_);
+  if (now_ns_) elapsed_ns_.fetch_add(now_ns_() - start, std::memory_order_relaxed);
+  if (!r.ok()) {
+    errors_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  candidate.verify_score[0] = r->score_left;
+  candidate.verify_score[1] = r->score_right;
+  candidate.verify_evidence = float(r->confirmed_left + r->confirmed_right);
+  return r->accepted;
+}
+
+}  // namespace sh
