@@ -188,6 +188,11 @@ enum class RecordFormat : uint8_t { kPng, kPgm };
   TEXT(http_password_file, kConfigPathMax, "",                                                     \
        "file holding a crypt(3) hash of the web password (mkpasswd -m sha-512, openssl passwd "   \
        "-6) instead of http_password")                                                             \
+  TEXT(http_tls_cert, kConfigPathMax, "",                                                          \
+       "PEM certificate (chain) of the web page; with http_tls_key the page is served over HTTPS "  \
+       "only (docs/web.md)")                                                                       \
+  TEXT(http_tls_key, kConfigPathMax, "",                                                           \
+       "PEM private key of http_tls_cert (unencrypted; readable by the firmware's user only)")      \
   TEXT(gpio_chip, kConfigNameMax, "gpiochip0", "GPIO chip (name, path, label or number)")          \
   INT(gpio_trigger_line, int, -1, -1, 1023, "", "trigger input line offset, -1 = not wired")       \
   INT(gpio_ready_line, int, -1, -1, 1023, "", "ready output line, -1 = not wired")                 \

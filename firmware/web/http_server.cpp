@@ -193,17 +193,39 @@ Status HttpServer::Start(const HttpServerConfig& config, HttpHandler* handler) {
   // beyond FD_SETSIZE).
   unsigned flags = 0;
   if (address.ipv6) flags |= MHD_USE_IPv6;
+  // HTTPS: libmicrohttpd's GnuTLS, the PEM pair given in memory (MHD_OPTION_ARRAY so that one
+  // call serves both cases).
+  const bool https = config.tls_cert_pem != nullptr && config.tls_key_pem != nullptr;
+  MHD_OptionItem tls[] = {
+      {MHD_OPTION_END, 0, nullptr}, {MHD_OPTION_END, 0, nullptr}, {MHD_OPTION_END, 0, nullptr}};
+  if (https) {
+    if (MHD_is_feature_supported(MHD_FEATURE_TLS) != MHD_YES) {
+      return Status::Error(StatusCode::kUnimplemented,
+                           "web server: this libmicrohttpd has no TLS (keys 'http_tls_cert', "
+                           "'http_tls_key')");
+    }
+    flags |= MHD_USE_TLS;
+    tls[0] = {MHD_OPTION_HTTPS_MEM_CERT, 0, const_cast<char*>(config.tls_cert_pem)};
+    tls[1] = {MHD_OPTION_HTTPS_MEM_KEY, 0, const_cast<char*>(config.tls_key_pem)};
+  }
   daemon_ = MHD_start_daemon(
       flags, config.port, nullptr, nullptr, &HttpServerCallbacks::Dispatch, this,
       MHD_OPTION_SOCK_ADDR, reinterpret_cast<sockaddr*>(&address.storage),
       MHD_OPTION_CONNECTION_LIMIT, kMaxConnections, MHD_OPTION_PER_IP_CONNECTION_LIMIT,
       kMaxConnectionsPerAddress, MHD_OPTION_CONNECTION_TIMEOUT, kConnectionTimeoutS,
       MHD_OPTION_CONNECTION_MEMORY_LIMIT, kConnectionMemoryBytes, MHD_OPTION_NOTIFY_COMPLETED,
-      &HttpServerCallbacks::Completed, this, MHD_OPTION_END);
+      &HttpServerCallbacks::Completed, this, MHD_OPTION_ARRAY, tls, MHD_OPTION_END);
+  if (daemon_ == nullptr && https) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "web server: cannot serve HTTPS on %s port %u: keys 'http_tls_cert' and "
+                         "'http_tls_key' must be a PEM certificate and its own unencrypted key",
+                         config.bind_address, config.port);
+  }
   if (daemon_ == nullptr) {
     return Status::Error(StatusCode::kUnavailable, "web server: cannot listen on %s port %u",
                          config.bind_address, config.port);
   }
+  https_ = https;
   const MHD_DaemonInfo* info = MHD_get_daemon_info(daemon_, MHD_DAEMON_INFO_BIND_PORT);
   port_ = info != nullptr ? info->port : config.port;
   stop_ = false;

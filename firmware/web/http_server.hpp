@@ -52,6 +52,10 @@ class HttpHandler {
 struct HttpServerConfig {
   const char* bind_address = "127.0.0.1";  // IPv4 or IPv6
   uint16_t port = 0;                       // 0 = ephemeral
+  // HTTPS only when both are given: PEM text of the certificate (chain) and its private key,
+  // valid until Stop().
+  const char* tls_cert_pem = nullptr;
+  const char* tls_key_pem = nullptr;
 };
 
 class HttpServer {
@@ -65,6 +69,7 @@ class HttpServer {
   Status Start(const HttpServerConfig& config, HttpHandler* handler);
   void Stop();
   uint16_t port() const { return port_; }
+  bool https() const { return https_; }
 
   // Requests refused by the server itself (body too large), for the page's counters.
   uint64_t refused() const { return refused_.load(); }
@@ -74,6 +79,7 @@ class HttpServer {
   void Loop();
 
   MHD_Daemon* daemon_ = nullptr;
+  bool https_ = false;
   HttpHandler* handler_ = nullptr;
   uint16_t port_ = 0;
   std::atomic<bool> stop_{false};

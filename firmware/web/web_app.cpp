@@ -191,8 +191,9 @@ void WebApp::Login(const HttpRequest& request, int64_t now_ns, HttpResponse* res
     const int status = tokens.status().code() == StatusCode::kUnavailable ? 429 : 403;
     return Reply(response, status, false, tokens.status().message());
   }
-  response->set_cookie =
-      std::string(kSessionCookie) + "=" + tokens->session + "; Path=/; HttpOnly; SameSite=Strict";
+  // Over HTTPS the browser must never send the session in clear.
+  response->set_cookie = std::string(kSessionCookie) + "=" + tokens->session +
+                         "; Path=/; HttpOnly; SameSite=Strict" + (config_.https ? "; Secure" : "");
   JsonWriter j;
   j.BeginObject().Key("ok").Bool(true).Key("csrf").String(tokens->csrf.c_str()).EndObject();
   response->content_type = "application/json";

@@ -26,6 +26,7 @@ inline constexpr const char* kCsrfHeader = "X-CSRF-Token";
 struct WebAppConfig {
   const char* record_dir = "";    // recordings offered for download; "" = none
   const char* output_frame = "";  // name of the poses' frame
+  bool https = false;             // served over TLS: the session cookie is Secure
   // The rig for the overlays, or nullptr (no overlays).
   const StereoCalibration* calibration = nullptr;
   // The working volume box, drawn on request: its corners in the frame left_T_volume maps into

@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "tables/input_file.hpp"
+
 #include "firmware/web/core_target.hpp"
 #include "firmware/web/http_server.hpp"
 #include "firmware/web/live_snapshot.hpp"
@@ -21,7 +23,41 @@ class WebServiceParts {
   HttpServer server;
   StereoCalibration calibration;
   std::string record_dir, output_frame;
+  std::string tls_cert_pem, tls_key_pem;  // the server reads them until it stops
 };
+
+namespace {
+
+// A PEM file of the TLS keys: a regular file of at most this size (a certificate chain).
+constexpr size_t kMaxPemBytes = size_t{64} * 1024;
+
+Result<std::string> ReadPemFile(const char* path, const char* key) {
+  std::string text;
+  SH_RETURN_IF_ERROR(ReadInputFile(std::string(path), key, kMaxPemBytes, &text));
+  if (text.find("-----BEGIN ") == std::string::npos) {
+    return Status::Error(StatusCode::kInvalidArgument, "key '%s': %s holds no PEM block", key,
+                         path);
+  }
+  return text;
+}
+
+// The certificate and key of HTTPS: both keys or neither.
+Status LoadTlsKeys(const FwConfig& config, WebServiceParts* p, HttpServerConfig* sc) {
+  const bool cert = config.http_tls_cert[0] != '\0', key = config.http_tls_key[0] != '\0';
+  if (!cert && !key) return Status::Ok();
+  if (cert != key) {
+    return Status::Error(
+        StatusCode::kInvalidArgument, "key '%s' is set but '%s' is not: HTTPS needs both",
+        cert ? "http_tls_cert" : "http_tls_key", cert ? "http_tls_key" : "http_tls_cert");
+  }
+  SH_ASSIGN_OR_RETURN(p->tls_cert_pem, ReadPemFile(config.http_tls_cert, "http_tls_cert"));
+  SH_ASSIGN_OR_RETURN(p->tls_key_pem, ReadPemFile(config.http_tls_key, "http_tls_key"));
+  sc->tls_cert_pem = p->tls_cert_pem.c_str();
+  sc->tls_key_pem = p->tls_key_pem.c_str();
+  return Status::Ok();
+}
+
+}  // namespace
 
 WebService::WebService() = default;
 WebService::~WebService() { Stop(); }
@@ -42,6 +78,10 @@ Status WebService::Start(const FwConfig& config, const Running& running, std::FI
     SH_ASSIGN_OR_RETURN(hash, ReadPasswordHashFile(config.http_password_file));
   }
   SH_RETURN_IF_ERROR(p.auth.Configure(config.http_password, hash.c_str()));
+  HttpServerConfig sc;
+  sc.bind_address = config.http_bind;
+  sc.port = static_cast<uint16_t>(config.http_port);
+  SH_RETURN_IF_ERROR(LoadTlsKeys(config, &p, &sc));
   p.settings = std::make_unique<WebSettings>(config, running.config_path);
   p.target =
       std::make_unique<CoreTarget>(running.core, running.recorder, running.can, running.camera);
@@ -50,6 +90,7 @@ Status WebService::Start(const FwConfig& config, const Running& running, std::FI
   WebAppConfig ac;
   ac.record_dir = p.record_dir.c_str();
   ac.output_frame = p.output_frame.c_str();
+  ac.https = sc.tls_cert_pem != nullptr;
   if (running.calibration != nullptr) {
     p.calibration = *running.calibration;
     ac.calibration = &p.calibration;
@@ -63,11 +104,9 @@ Status WebService::Start(const FwConfig& config, const Running& running, std::FI
     }
   }
   p.app = std::make_unique<WebApp>(ac, &p.auth, p.settings.get(), &p.snapshot, p.target.get());
-  HttpServerConfig sc;
-  sc.bind_address = config.http_bind;
-  sc.port = static_cast<uint16_t>(config.http_port);
   SH_RETURN_IF_ERROR(p.server.Start(sc, p.app.get()));
   std::fprintf(announce, "HTTP_PORT=%u\n", p.server.port());
+  if (p.server.https()) std::fprintf(announce, "HTTP_SCHEME=https\n");
   std::fflush(announce);
   return Status::Ok();
 }

@@ -13,7 +13,8 @@ cross=0
 
 host_packages=(cmake ninja-build g++ pkg-config libeigen3-dev libpng-dev libgtest-dev libgmock-dev
   libbenchmark-dev libcamera-dev libgpiod-dev libopencv-dev libmicrohttpd-dev libassimp-dev python3 python3-can
-  python3-canmatrix python3-opencv opencv-doc clang clang-tidy libclang-rt-14-dev chromium firefox-esr)
+  python3-canmatrix python3-opencv opencv-doc clang clang-tidy libclang-rt-14-dev chromium firefox-esr
+  openssl)
 cross_packages=(g++-aarch64-linux-gnu qemu-user libpng-dev:arm64 libcamera-dev:arm64 libgpiod-dev:arm64
   libgtest-dev:arm64 libbenchmark-dev:arm64 libmicrohttpd-dev:arm64)
 
