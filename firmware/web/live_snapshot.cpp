@@ -41,6 +41,7 @@ void LiveSnapshot::Reduce(ConstGrayView image, int side) {
 }
 
 void LiveSnapshot::OnResult(const protocol::ResultSet& set, const hal::StereoFrame* frame) {
+  if (capture_ != nullptr && frame != nullptr) capture_->OnFrame(*frame);
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
   if (!lock.owns_lock() || pixels_[0] == nullptr) {
     ++skipped_;  // the page is reading: this result is not shown, the next one is

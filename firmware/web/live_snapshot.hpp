@@ -15,6 +15,7 @@
 
 #include "firmware/firmware_core.hpp"
 #include "firmware/result_codec.hpp"
+#include "firmware/web/pair_capture.hpp"
 #include "hal/camera.hpp"
 #include "recog/base/status.hpp"
 #include "recog/geometry/rigid_transform.hpp"
@@ -58,6 +59,9 @@ class LiveSnapshot final : public CoreObserver {
   size_t model_count() const;
   bool CopyModel(size_t id, Model* out) const;
   const RigidTransform& camera_T_out() const { return camera_T_out_; }
+  // Boot, before the core runs: every result's full frames are also offered to `capture` (the
+  // calibration helper), which copies them only when armed.
+  void SetCapture(PairCapture* capture) { capture_ = capture; }
   uint64_t skipped() const { return skipped_.load(); }
 
  private:
@@ -72,6 +76,7 @@ class LiveSnapshot final : public CoreObserver {
   std::unique_ptr<Model[]> models_;
   size_t model_count_ = 0;
   std::atomic<uint64_t> skipped_{0};
+  PairCapture* capture_ = nullptr;
 };
 
 // Pixels per live pixel for a frame of width x height: the smallest power of two that fits it

@@ -21,14 +21,14 @@ bool IsPairName(const char* name) {
   return n == 8;
 }
 
-std::vector<std::string> ListPairs(const char* record_dir, size_t limit) {
+std::vector<std::string> ListPairs(const char* record_dir, size_t limit, const char* done_file) {
   std::vector<std::string> names;
   DIR* dir = opendir(record_dir);
   if (dir == nullptr) return names;
   while (const dirent* e = readdir(dir)) {
-    // The recorder writes result.json last: a pair without it is still being written.
+    // A pair without its last file is still being written.
     if (IsPairName(e->d_name) &&
-        access((std::string(record_dir) + "/" + e->d_name + "/result.json").c_str(), R_OK) == 0) {
+        access((std::string(record_dir) + "/" + e->d_name + "/" + done_file).c_str(), R_OK) == 0) {
       names.emplace_back(e->d_name);
     }
   }

@@ -13,9 +13,10 @@ namespace sh::fw::web {
 // A pair folder's name: exactly 8 decimal digits.
 bool IsPairName(const char* name);
 
-// The complete pair folders of `record_dir` (their result.json written), newest last (at most
-// `limit`, the newest).
-std::vector<std::string> ListPairs(const char* record_dir, size_t limit);
+// The complete pair folders of `record_dir` (their `done_file` written: the recorder writes
+// result.json last), newest last (at most `limit`, the newest).
+std::vector<std::string> ListPairs(const char* record_dir, size_t limit,
+                                   const char* done_file = "result.json");
 
 // The regular files of record_dir/pair as a ustar archive (pair/left.png, ...), at most
 // kMaxArchiveBytes.

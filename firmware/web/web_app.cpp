@@ -1,10 +1,14 @@
 #include "firmware/web/web_app.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <thread>
 
 #include "firmware/canopen/eds_writer.hpp"
+#include "firmware/web/calibration_pairs.hpp"
 #include "firmware/web/json_writer.hpp"
 #include "firmware/web/png_encode.hpp"
 #include "firmware/web/recordings.hpp"
@@ -112,6 +116,7 @@ void WebApp::Get(const HttpRequest& request, int64_t now_ns, HttpResponse* respo
     return;
   }
   if (!std::strcmp(path, "/api/recordings")) return Recordings(request, response);
+  if (!std::strcmp(path, "/api/calibration")) return CalibrationPairs(request, response);
   if (!std::strcmp(path, "/api/eds")) {
     response->body = EdsText();
     response->content_disposition = "attachment; filename=stereohash.eds";
@@ -185,6 +190,80 @@ void WebApp::Recordings(const HttpRequest& request, HttpResponse* response) {
   response->content_disposition = std::string("attachment; filename=") + pair + ".tar";
 }
 
+void WebApp::CalibrationPairs(const HttpRequest& request, HttpResponse* response) {
+  if (config_.record_dir[0] == '\0') return Reply(response, 404, false, "record_dir is not set");
+  const char* pair = request.Argument("pair");
+  if (pair == nullptr) {
+    JsonWriter j;
+    j.BeginObject().Key("folder").String(CalibrationDir(config_.record_dir).c_str());
+    j.Key("pairs").BeginArray();
+    for (const std::string& name : ListCalibrationPairs(config_.record_dir)) {
+      j.String(name.c_str());
+    }
+    j.EndArray().EndObject();
+    response->content_type = "application/json";
+    response->body = j.text();
+    return;
+  }
+  // Only 8-digit names reach the file system: nothing outside the folder can be named.
+  const sh::Status s =
+      ArchivePair(CalibrationDir(config_.record_dir).c_str(), pair, &response->body);
+  if (!s.ok()) return Reply(response, HttpStatusOf(s), false, s.message());
+  response->content_type = "application/x-tar";
+  response->content_disposition = std::string("attachment; filename=calibration-") + pair + ".tar";
+}
+
+void WebApp::CaptureSize(int* width, int* height) const {
+  *width = *height = 0;
+  if (config_.calibration != nullptr) {
+    *width = std::max(config_.calibration->left.width, config_.calibration->right.width);
+    *height = std::max(config_.calibration->left.height, config_.calibration->right.height);
+    return;
+  }
+  const LiveResult last = snapshot_->Result();
+  *width = std::max(last.full_width[0], last.full_width[1]);
+  *height = std::max(last.full_height[0], last.full_height[1]);
+}
+
+void WebApp::CaptureCalibrationPair(HttpResponse* response) {
+  if (config_.record_dir[0] == '\0') {
+    return Reply(response, 404, false, "record_dir is not set: the pairs are written under it");
+  }
+  if (config_.capture == nullptr) return Reply(response, 503, false, "no capture on this page");
+  int width = 0, height = 0;
+  CaptureSize(&width, &height);
+  sh::Status s = config_.capture->Prepare(width, height);
+  if (!s.ok()) return Reply(response, HttpStatusOf(s), false, s.message());
+  config_.capture->Arm();
+  // A trigger for the pair; in continuous mode the next frame serves as well (a refused trigger
+  // is then no error).
+  const sh::Status triggered = target_->Trigger();
+  for (int waited_ms = 0; waited_ms < kCaptureWaitMs && !config_.capture->ready();
+       waited_ms += 10) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  if (!config_.capture->ready()) {
+    config_.capture->Disarm();
+    if (!config_.capture->ready()) {
+      return Reply(response, 503, false,
+                   std::string("no pair with both images came within the wait") +
+                       (triggered.ok() ? "" : std::string(": ") + triggered.message()));
+    }
+  }
+  const Result<std::string> saved = SaveCalibrationPair(config_.record_dir, *config_.capture);
+  if (!saved.ok())
+    return Reply(response, HttpStatusOf(saved.status()), false, saved.status().message());
+  const size_t pairs = ListCalibrationPairs(config_.record_dir).size();
+  const std::string message =
+      "pair " + *saved + " captured (" + std::to_string(pairs) + " in the calibration folder)";
+  JsonWriter j;
+  j.BeginObject().Key("ok").Bool(true).Key("message").String(message.c_str());
+  j.Key("pair").String(saved->c_str()).Key("pairs").Uint(pairs);
+  j.EndObject();
+  response->content_type = "application/json";
+  response->body = j.text();
+}
+
 void WebApp::Login(const HttpRequest& request, int64_t now_ns, HttpResponse* response) {
   const Result<LoginTokens> tokens = auth_->Login(request.body, request.body_bytes, now_ns);
   if (!tokens.ok()) {
@@ -237,6 +316,7 @@ void WebApp::Action(const HttpRequest& request, HttpResponse* response) {
     return Reply(response, s.ok() ? 200 : HttpStatusOf(s), s.ok(),
                  s.ok() ? "the next triggered pairs are recorded" : s.message());
   }
+  if (!std::strcmp(path, "/api/calibration/capture")) return CaptureCalibrationPair(response);
   if (!std::strcmp(path, "/api/clear-fault")) {
     target_->ClearFault();
     return Reply(response, 200, true, "clear-fault requested");

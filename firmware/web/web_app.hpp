@@ -12,6 +12,7 @@
 #include "firmware/web/http_server.hpp"
 #include "firmware/web/live_snapshot.hpp"
 #include "firmware/web/overlay_edges.hpp"
+#include "firmware/web/pair_capture.hpp"
 #include "firmware/web/web_auth.hpp"
 #include "firmware/web/web_settings.hpp"
 #include "firmware/web/web_target.hpp"
@@ -27,6 +28,8 @@ struct WebAppConfig {
   const char* record_dir = "";    // recordings offered for download; "" = none
   const char* output_frame = "";  // name of the poses' frame
   bool https = false;             // served over TLS: the session cookie is Secure
+  // Full-size pairs for the calibration helper (the worker feeds it), or nullptr (no helper).
+  PairCapture* capture = nullptr;
   // The rig for the overlays, or nullptr (no overlays).
   const StereoCalibration* calibration = nullptr;
   // The working volume box, drawn on request: its corners in the frame left_T_volume maps into
@@ -65,6 +68,11 @@ class WebApp final : public HttpHandler {
   void ServeStatus(const HttpRequest& request, int64_t now_ns, HttpResponse* response);
   void Image(const HttpRequest& request, HttpResponse* response);
   void Recordings(const HttpRequest& request, HttpResponse* response);
+  // The calibration helper: the captured chessboard pairs (list, one as a tar), and a capture.
+  void CalibrationPairs(const HttpRequest& request, HttpResponse* response);
+  void CaptureCalibrationPair(HttpResponse* response);
+  // The size to prepare the capture for: the calibration's, else the last frames'.
+  void CaptureSize(int* width, int* height) const;
 
   WebAppConfig config_;
   WebAuth* auth_;

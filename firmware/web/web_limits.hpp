@@ -27,6 +27,9 @@ inline constexpr int64_t kLoginPauseNs = int64_t{1'000'000'000};
 // Pairs one request may ask to record, and the largest recording archive served (a pair of
 // kMaxImageWidth x kMaxImageHeight PGMs with its result is 2.6 MB).
 inline constexpr int kMaxRecordRequest = 100;
+// How long a chessboard capture waits for its pair (the trigger's capture and recognition); the
+// server thread answers no other request meanwhile.
+inline constexpr int kCaptureWaitMs = 3000;
 inline constexpr size_t kMaxArchiveBytes = size_t{4} * 1024 * 1024;
 // Answers above kLargeResponseBytes (the archives) count against kMaxLargeResponseBytes until
 // sent; one that would pass it is refused (503) for the client to try again. With the connection

@@ -24,6 +24,7 @@ class WebServiceParts {
   StereoCalibration calibration;
   std::string record_dir, output_frame;
   std::string tls_cert_pem, tls_key_pem;  // the server reads them until it stops
+  PairCapture capture;                    // the calibration helper's pairs
 };
 
 namespace {
@@ -67,6 +68,7 @@ Result<CoreObserver*> WebService::Prepare(const FwConfig& config,
   if (config.http_bind[0] == '\0') return static_cast<CoreObserver*>(nullptr);
   parts_ = std::make_unique<WebServiceParts>();
   SH_RETURN_IF_ERROR(parts_->snapshot.Init(out_T_camera.Inverse()));
+  parts_->snapshot.SetCapture(&parts_->capture);
   return static_cast<CoreObserver*>(&parts_->snapshot);
 }
 
@@ -91,6 +93,7 @@ Status WebService::Start(const FwConfig& config, const Running& running, std::FI
   ac.record_dir = p.record_dir.c_str();
   ac.output_frame = p.output_frame.c_str();
   ac.https = sc.tls_cert_pem != nullptr;
+  ac.capture = &p.capture;
   if (running.calibration != nullptr) {
     p.calibration = *running.calibration;
     ac.calibration = &p.calibration;

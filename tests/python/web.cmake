@@ -22,3 +22,15 @@ if(TARGET stereohash-fw-sim)
     set_tests_properties(python_web_tls PROPERTIES LABELS host_only)
   endif()
 endif()
+
+# The page's chessboard-pair helper: captures refused without a login, full-size pairs written,
+# listed and downloaded, names outside the folder refused, no record_dir said.
+if(TARGET stereohash-fw-sim)
+  add_test(NAME python_web_calibration
+           COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/test_web_calibration.py
+                   --firmware $<TARGET_FILE:stereohash-fw-sim>)
+  set_tests_properties(python_web_calibration PROPERTIES TIMEOUT 300)
+  if(CMAKE_CROSSCOMPILING)
+    set_tests_properties(python_web_calibration PROPERTIES LABELS host_only)
+  endif()
+endif()

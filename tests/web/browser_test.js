@@ -100,6 +100,7 @@ async function checkRefusedWithoutLogin(browser, fw) {
     const requests = [
         ['/api/trigger', ''], ['/api/continuous?rate_dhz=10', ''], ['/api/record?pairs=1', ''],
         ['/api/clear-fault', ''], ['/api/settings', 'budget_ms = 600\n'], ['/api/settings/save', ''],
+        ['/api/calibration/capture', ''],
     ];
     for (const [url, body] of requests) {
         const status = await page.evaluate(async ([u, b]) => {
@@ -122,7 +123,8 @@ async function checkRefusedWithoutLogin(browser, fw) {
         'a refused save wrote the configuration file');
     assert.deepStrictEqual(fs.readdirSync(fw.recordDir).filter((n) => /^\d{8}$/.test(n)), [],
         'a refused recording wrote a pair');
-    console.log('without login: 6 actions and a wrong password refused (403), nothing changed');
+    assert(!fs.existsSync(path.join(fw.recordDir, 'calibration')), 'a refused capture wrote a pair');
+    console.log('without login: 7 actions and a wrong password refused (403), nothing changed');
 }
 
 // Canvas size and how many pixels the overlay coloured (not grey).
@@ -255,6 +257,21 @@ async function recordPair(page, fw) {
     console.log(`recording: pair ${pairs[0]} written and downloaded (${tar.bytes} bytes of tar)`);
 }
 
+async function captureChessboardPair(page, fw) {
+    await page.getByRole('button', { name: 'Capture chessboard pair' }).click();
+    await until(async () => (await page.textContent('#message')).includes('captured'),
+        'the pair captured');
+    const link = await until(async () => {
+        const hrefs = await page.$$eval('#calibration-pairs a',
+            (as) => as.map((a) => a.getAttribute('href')));
+        return hrefs.length > 0 ? hrefs[0] : null;
+    }, 'the calibration pair listed on the page', 30000);
+    assert.strictEqual(link, '/api/calibration?pair=00000001');
+    const pair = path.join(fw.recordDir, 'calibration', '00000001');
+    assert.deepStrictEqual(fs.readdirSync(pair).sort(), ['capture.json', 'left.png', 'right.png']);
+    console.log('calibration: pair 00000001 captured at full size and listed');
+}
+
 async function main() {
     const { chromium } = loadPlaywright();
     if (!fs.existsSync(ARGS.chromium)) {
@@ -286,6 +303,7 @@ async function main() {
         await triggerAndCheck(page, fw);
         await changeSetting(page, fw);
         await recordPair(page, fw);
+        await captureChessboardPair(page, fw);
         if (ARGS.screenshot) {
             // The picture shows the table plane and the working volume too.
             if (!(await page.isDisabled('#show-table'))) await page.check('#show-table');

@@ -224,6 +224,25 @@ async function loadRecordings() {
   }));
 }
 
+async function loadCalibrationPairs() {
+  const list = $('calibration-pairs');
+  const response = await fetch('/api/calibration', { credentials: 'same-origin' });
+  if (!response.ok) {
+    list.replaceChildren();
+    return;
+  }
+  const answer = await response.json();
+  list.replaceChildren(...answer.pairs.slice().reverse().map((n) => {
+    const li = document.createElement('li');
+    const a = document.createElement('a');
+    a.href = '/api/calibration?pair=' + n;
+    a.textContent = 'calibration-' + n + '.tar';
+    a.download = 'calibration-' + n + '.tar';
+    li.appendChild(a);
+    return li;
+  }));
+}
+
 function settingInput(key) {
   const input = document.createElement('input');
   input.value = key.value;
@@ -302,6 +321,10 @@ function wire() {
   $('record').addEventListener('click',
       () => action('/api/record?pairs=' + encodeURIComponent($('record-pairs').value)));
   $('clear-fault').addEventListener('click', () => action('/api/clear-fault'));
+  $('capture-pair').addEventListener('click', async () => {
+    await action('/api/calibration/capture');
+    loadCalibrationPairs();
+  });
   $('settings-apply').addEventListener('click', applySettings);
   $('settings-save').addEventListener('click', async () => {
     const answer = await post('/api/settings/save');
@@ -317,4 +340,6 @@ wire();
 poll();
 loadSettings();
 loadRecordings();
+loadCalibrationPairs();
 setInterval(loadRecordings, 3000);
+setInterval(loadCalibrationPairs, 3000);
