@@ -7,7 +7,6 @@ headers against the sizes the status reports) and lists it; that a pair download
 its two images and capture.json, in the file names `stereohash calibrate` globs; that names
 outside the folder are refused; and that without record_dir the capture says why.
 """
-import argparse
 import http.client
 import io
 import json
@@ -20,6 +19,7 @@ import tempfile
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import firmware_test_main  # noqa: E402
 from test_firmware_e2e import Firmware  # noqa: E402 (skips without python-can)
 
 ARGS = None
@@ -128,14 +128,5 @@ class WebCalibrationTest(unittest.TestCase):
             fw.stop()
 
 
-def main():
-    global ARGS
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--firmware", required=True)
-    ARGS, rest = parser.parse_known_args()
-    result = unittest.main(argv=[sys.argv[0]] + rest, exit=False).result
-    return 0 if result.wasSuccessful() else 1
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(firmware_test_main.main(sys.modules[__name__], __doc__))

@@ -10,7 +10,6 @@ host name checked) that:
     keys, and the node still runs: its heartbeat keeps coming on the CAN bus.
 Skips (exit 77, saying why) without openssl or python-can's socketcand peers.
 """
-import argparse
 import http.client
 import json
 import os
@@ -24,6 +23,7 @@ import time
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import firmware_test_main  # noqa: E402
 from test_firmware_e2e import Firmware  # noqa: E402 (skips without python-can)
 from test_web_hostile import Plc  # noqa: E402
 
@@ -122,17 +122,9 @@ class WebTlsTest(unittest.TestCase):
             fw.stop()
 
 
-def main():
-    global ARGS
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--firmware", required=True)
-    ARGS, rest = parser.parse_known_args()
-    if shutil.which("openssl") is None:
-        print("skipped: openssl is not installed (Debian openssl)")
-        return 77
-    result = unittest.main(argv=[sys.argv[0]] + rest, exit=False).result
-    return 0 if result.wasSuccessful() else 1
+def no_openssl():
+    return None if shutil.which("openssl") else "openssl is not installed (Debian openssl)"
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(firmware_test_main.main(sys.modules[__name__], __doc__, no_openssl))
