@@ -254,11 +254,19 @@ CellGeometry LoadCellGeometry(const Board& board, const FwConfig& config) {
   return cell;
 }
 
+// The keys the core and the recognition facade take as they are (same name; the others are
+// derived from keys below).
+#define STEREOHASH_CORE_KEYS(X)                                                    \
+  X(node_id)                                                                       \
+  X(heartbeat_ms) X(capture_timeout_ms) X(budget_ms) X(free_run_dhz) X(model_mask) \
+      X(sched_fifo_priority) X(result_mode) X(record_all)
+#define STEREOHASH_RECOGNIZER_KEYS(X) X(threads) X(table_confirm_frames) X(table_check_frames)
+
 ObjectRecognizerConfig PipelineSettings(const FwConfig& config, const TablePoseSource& table) {
   ObjectRecognizerConfig pc;
   pc.automatic = config.background == BackgroundKey::kAuto;
   pc.light_background = config.background == BackgroundKey::kLight;
-  pc.threads = config.threads;
+  STEREOHASH_FW_COPY_KEYS(STEREOHASH_RECOGNIZER_KEYS, config, &pc);
   // The simulator's cameras hand over grey or NV12 frames, always with a luma plane; libcamera
   // may offer only BGR888, which needs the grey images to convert into.
   pc.rgb_frames = config.camera == CameraSource::kLibcamera;
@@ -279,8 +287,6 @@ ObjectRecognizerConfig PipelineSettings(const FwConfig& config, const TablePoseS
   // Without one, the plane the objects rest on: per frame, or confirmed and carried.
   pc.table_estimate = config.table_estimate != TableEstimateKey::kOff;
   pc.table_carry = config.table_estimate == TableEstimateKey::kCarry;
-  pc.table_confirm_frames = config.table_confirm_frames;
-  pc.table_check_frames = config.table_check_frames;
   // One camera needs the table for millimetre poses: any known pose, the rendered rig's too.
   pc.mono_table_known = table.known;
   // A model set as tables may carry the fallback's aspect table too.
@@ -461,14 +467,7 @@ int FirmwareMain(int argc, char** argv, Board* board) {
     if (!s.ok()) return Fail(*board, "start", s);
   }
   CoreConfig cc;
-  cc.node_id = config.node_id;
-  cc.heartbeat_ms = config.heartbeat_ms;
-  cc.capture_timeout_ms = config.capture_timeout_ms;
-  cc.budget_ms = config.budget_ms;
-  cc.free_run_dhz = config.free_run_dhz;
-  cc.model_mask = config.model_mask;
-  cc.sched_fifo_priority = config.sched_fifo_priority;
-  cc.result_mode = config.result_mode;
+  STEREOHASH_FW_COPY_KEYS(STEREOHASH_CORE_KEYS, config, &cc);
   cc.output_frame = cell.output.frame;
   cc.out_T_camera = cell.output.out_T_camera;
   cc.cell_geometry = cell.error;
@@ -476,7 +475,6 @@ int FirmwareMain(int argc, char** argv, Board* board) {
   cc.hardware_version = board->hardware_version();
   // Locked by the core once it has started (docs/memory.md, "Locked memory").
   cc.lock_memory = config.mlock;
-  cc.record_all = config.record_all;
   CoreDevices core_devices;
   core_devices.can = devices.can;
   core_devices.gpio = devices.gpio;

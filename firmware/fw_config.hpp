@@ -70,4 +70,17 @@ RigidTransform TablePose(const FwConfig& c);
 // Checks combinations (the board needs a calibration file and its own cameras, ...).
 Status ValidateConfig(const FwConfig& config);
 
+// Copies the keys of a list macro (`X(key) X(key) ...`) into the fields of the same names of a
+// component's settings, each converted to its field's type: the key's range, checked when the
+// file was read, fits it. A name that is no key, or no field of the component, does not
+// compile, so a list cannot drift from the key table.
+#define STEREOHASH_FW_COPY_KEY(name) \
+  sh_out_->name = static_cast<decltype(sh_out_->name)>(sh_config_.name);
+#define STEREOHASH_FW_COPY_KEYS(LIST, config_value, out_pointer) \
+  do {                                                           \
+    const FwConfig& sh_config_ = (config_value);                 \
+    auto* sh_out_ = (out_pointer);                               \
+    LIST(STEREOHASH_FW_COPY_KEY)                                 \
+  } while (false)
+
 }  // namespace sh::fw

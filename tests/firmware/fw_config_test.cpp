@@ -58,6 +58,29 @@ struct BadCase {
   const char* expected;  // substring of the message
 };
 
+// A component's settings of other types take the listed keys' values, converted; the rest of
+// the component is left alone.
+struct Component {
+  uint8_t node_id = 0;
+  uint16_t budget_ms = 0;
+  bool record_all = false;
+  int untouched = 7;
+};
+#define TEST_COMPONENT_KEYS(X) X(node_id) X(budget_ms) X(record_all)
+
+TEST(FwConfig, ListedKeysAreCopiedIntoAComponent) {
+  FwConfig config;
+  const char text[] = "node_id = 42\nbudget_ms = 750\nrecord_all = false\n";
+  ASSERT_TRUE(ParseConfig(text, std::strlen(text), &config).ok());
+  Component c;
+  c.record_all = true;
+  STEREOHASH_FW_COPY_KEYS(TEST_COMPONENT_KEYS, config, &c);
+  EXPECT_EQ(c.node_id, 42);
+  EXPECT_EQ(c.budget_ms, 750);
+  EXPECT_FALSE(c.record_all);
+  EXPECT_EQ(c.untouched, 7);
+}
+
 TEST(FwConfig, ErrorsNameLineAndKey) {
   const BadCase cases[] = {
       {"node_id = 1\nnode_id = 0\n", "line 2: key 'node_id'"},
