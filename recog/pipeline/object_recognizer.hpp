@@ -172,6 +172,10 @@ class ObjectRecognizer {
   const Pipeline& pipeline() const { return *paths_.stereo; }
   // The last one-camera frame's result (features, stages), for diagnostics.
   const MonoResult* mono_result() const { return paths_.mono_result; }
+  // Diagnosis only (bench tools): the monocular pipeline of that frame, for its features and its
+  // recogniser's Diagnose at the true poses (which overwrites the search state; the next frame
+  // sets it again). Null without the fallback.
+  MonoPipeline* mono_pipeline() const { return paths_.mono; }
   // Diagnosis only (bench tools): sees every hypothesis of the following stereo searches.
   void SetSearchObserver(SearchObserver* observer) { paths_.stereo->SetSearchObserver(observer); }
   const ModelSet& models() const { return models_; }
