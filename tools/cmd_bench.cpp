@@ -1,7 +1,8 @@
 // `stereohash bench scenes|synthetic`: the thesis's evaluation grids, measured on this machine.
 //
-// scenes:    rendered stereo pairs through the whole pipeline, one row per background x
-//            occlusion (thesis table 5.4), reported like table 5.5.
+// scenes:    rendered stereo pairs through the recognition facade (the stereo pipeline, or the
+//            monocular mode), one row per background x occlusion (thesis table 5.4), reported
+//            like table 5.5.
 // synthetic: the recogniser alone on synthetic 3-D scenes, for all five hash functions, and the
 //            time per scene against the number of scene features.
 #include <algorithm>
@@ -15,12 +16,16 @@
 
 #include "hal/sim/world/scene_generator.hpp"
 #include "recog/hashing/recognizer.hpp"
+#include "recog/pipeline/object_recognizer.hpp"
 #include "recog/pipeline/pipeline.hpp"
 #include "recog/verify/verify.hpp"
+#include "tables/aspect_file.hpp"
 #include "tables/model_files.hpp"
 #include "tables/table_builder.hpp"
 #include "tables/table_file.hpp"
+#include "tools/bench_recognizer.hpp"
 #include "tools/bench_recorded.hpp"
+#include "tools/bench_scoring.hpp"
 #include "tools/bench_textured.hpp"
 #include "tools/command.hpp"
 #include "tools/cv_program.hpp"
@@ -55,15 +60,13 @@ bool ParseInt(const char* text, int lo, int hi, int* value) {
 
 struct SceneRow {
   SceneRow(const char* b, const char* o, render::Background bg_, render::Occlusion occ_)
-      : background(b), occlusion(o), bg(bg_), occ(occ_) {}
-  const char* background;
-  const char* occlusion;
+      : bg(bg_), occ(occ_) {
+    score.background = b;
+    score.occlusion = o;
+  }
   render::Background bg;
   render::Occlusion occ;
-  int scenes = 0, objects = 0, correct = 0, missed = 0, false_alarms = 0, failed = 0;
-  long scene_bases_tried = 0;  // summed over the scenes: the search's cost, machine-independent
-  std::vector<float> time_ms, points2d, lines2d, points3d, lines3d, t_err_mm, r_err_deg;
-  std::vector<float> features_ms, stereo_ms, hashing_ms, verify_ms;
+  ScoreRow score;
 };
 
 PipelineConfig PipelineConfigFor(bool dark) {
@@ -92,8 +95,8 @@ render::ScenarioParams ScenarioFor(const SceneRow& row, int i,
 
 // For --verbose: every reported object that matches no truth object, with the nearest truth.
 void PrintErrors(const std::vector<Model>& models, const std::vector<TruthObject>& truth,
-                 const PipelineResult& result, uint64_t seed) {
-  for (const RecognizedObject& o : result.objects) {
+                 const Vector<RecognizedObject>& objects, uint64_t seed) {
+  for (const RecognizedObject& o : objects) {
     const std::vector<RecognizedPose> one = {{o.model, o.cam_T_model}};
     if (MatchToTruth(models, truth, one).correct == 1) {
       std::printf("  seed %llu: ok %s (vote %.2f, verify %.2f %.2f)\n",
@@ -119,11 +122,7 @@ void PrintErrors(const std::vector<Model>& models, const std::vector<TruthObject
   }
 }
 
-// Working volume over the rendered table (table frame, mm), as an integrator would set it.
-const Eigen::Vector3f kTableVolumeMin(render::kTableVolumeMinMm);
-const Eigen::Vector3f kTableVolumeMax(render::kTableVolumeMaxMm);
-
-int RunBenchScenes(int argc, char** argv) {
+struct ScenesOptions {
   int per_row = 10;
   const char* json_path = nullptr;
   const char* models_dir = STEREOHASH_DEFAULT_MODELS_DIR;
@@ -134,7 +133,6 @@ int RunBenchScenes(int argc, char** argv) {
   // The working volume an integrator configures: the box over the table the objects can occupy
   // (table frame: z up from the table top, mm). Off: the stereo module's large default box.
   bool table_volume = true;
-  MissCauses miss_causes;
   const char* only = nullptr;         // restrict to one background
   int seed_offset = 0;                // another set of scenes (the presets were chosen on offset 0)
   std::vector<const char*> settings;  // name=value overrides of the presets
@@ -142,98 +140,266 @@ int RunBenchScenes(int argc, char** argv) {
   render::ScenarioParams camera;      // --camera: another camera than the thesis's
   bool monocular = false;             // the monocular mode on the left images instead
   float max_t_mm = 10.0f, max_r_deg = 10.0f;  // scoring (thesis: 10 mm, 10 deg)
+};
+
+// A flag, or an option whose value is valid, at argv[*i] (moved past the value); false: neither.
+bool TakeScenesOption(int argc, char** argv, int* i, ScenesOptions* o) {
+  const char* arg = argv[*i];
+  const char* value = *i + 1 < argc ? argv[*i + 1] : nullptr;
+  const auto is = [arg](const char* name) { return std::strcmp(arg, name) == 0; };
+  bool taken = true;  // a value, when there is one, is consumed below
+  if (is("--verbose")) {
+    o->verbose = true;
+    return true;
+  }
+  if (is("--monocular")) {
+    o->monocular = true;
+    return true;
+  }
+  if (is("--no-table-volume")) {
+    o->table_volume = false;
+    return true;
+  }
+  if (value == nullptr) return false;
+  if (is("--scenes-per-row")) {
+    taken = ParseInt(value, 1, 1000, &o->per_row);
+  } else if (is("--json")) {
+    o->json_path = value;
+  } else if (is("--models")) {
+    o->models_dir = value;
+  } else if (is("--budget-ms")) {
+    o->budget_ms = static_cast<float>(std::atof(value));
+  } else if (is("--min-fraction")) {
+    o->min_fraction = static_cast<float>(std::atof(value));
+  } else if (is("--set")) {
+    o->settings.push_back(value);
+  } else if (is("--seed-offset")) {
+    taken = ParseInt(value, 0, 1000000000, &o->seed_offset);
+  } else if (is("--camera")) {
+    taken = render::NamedCamera(value, &o->camera);
+  } else if (is("--only")) {
+    o->only = value;
+  } else if (is("--tolerance")) {
+    taken = std::sscanf(value, "%f,%f", &o->max_t_mm, &o->max_r_deg) == 2;
+  } else if (is("--fruitless")) {
+    taken = ParseInt(value, 1, 100000, &o->fruitless);
+  } else if (is("--features")) {
+    taken = std::strcmp(value, "dark") == 0 || std::strcmp(value, "light") == 0 ||
+            std::strcmp(value, "row") == 0;
+    if (taken) o->preset = value;
+  } else {
+    taken = false;
+  }
+  if (taken) ++*i;
+  return taken;
+}
+
+bool ParseScenesOptions(int argc, char** argv, ScenesOptions* o) {
   for (int i = 2; i < argc; ++i) {
-    const bool has_value = i + 1 < argc;
-    // Options with a numeric value all end by consuming it (++i): the same body on purpose.
-    if (std::strcmp(argv[i], "--scenes-per-row") == 0 && has_value &&
-        // NOLINTNEXTLINE(bugprone-branch-clone)
-        ParseInt(argv[i + 1], 1, 1000, &per_row)) {
-      ++i;
-    } else if (std::strcmp(argv[i], "--json") == 0 && has_value) {
-      json_path = argv[++i];
-    } else if (std::strcmp(argv[i], "--models") == 0 && has_value) {
-      models_dir = argv[++i];
-    } else if (std::strcmp(argv[i], "--budget-ms") == 0 && has_value) {
-      budget_ms = static_cast<float>(std::atof(argv[++i]));
-    } else if (std::strcmp(argv[i], "--min-fraction") == 0 && has_value) {
-      min_fraction = static_cast<float>(std::atof(argv[++i]));
-    } else if (std::strcmp(argv[i], "--set") == 0 && has_value) {
-      settings.push_back(argv[++i]);
-    } else if (std::strcmp(argv[i], "--seed-offset") == 0 && has_value &&
-               ParseInt(argv[i + 1], 0, 1000000000, &seed_offset)) {
-      ++i;
-    } else if (std::strcmp(argv[i], "--camera") == 0 && has_value &&
-               render::NamedCamera(argv[i + 1], &camera)) {
-      ++i;
-    } else if (std::strcmp(argv[i], "--only") == 0 && has_value) {
-      only = argv[++i];
-    } else if (std::strcmp(argv[i], "--verbose") == 0) {
-      verbose = true;
-    } else if (std::strcmp(argv[i], "--monocular") == 0) {
-      monocular = true;
-    } else if (std::strcmp(argv[i], "--tolerance") == 0 && has_value &&
-               std::sscanf(argv[i + 1], "%f,%f", &max_t_mm, &max_r_deg) == 2) {
-      ++i;
-    } else if (std::strcmp(argv[i], "--no-table-volume") == 0) {
-      table_volume = false;
-    } else if (std::strcmp(argv[i], "--fruitless") == 0 && has_value &&
-               ParseInt(argv[i + 1], 1, 100000, &fruitless)) {
-      ++i;
-    } else if (std::strcmp(argv[i], "--features") == 0 && has_value &&
-               (std::strcmp(argv[i + 1], "dark") == 0 || std::strcmp(argv[i + 1], "light") == 0 ||
-                std::strcmp(argv[i + 1], "row") == 0)) {
-      preset = argv[++i];
-    } else {
-      std::fprintf(
-          stderr,
-          "usage: stereohash bench scenes [--scenes-per-row N] [--json OUT] "
-          "[--budget-ms MS] [--min-fraction F] [--fruitless N] [--features dark|light|row] "
-          "[--set NAME=VALUE] [--only dark|light] [--seed-offset N] [--verbose] "
-          "[--no-table-volume] [--camera thesis|wide|tele|hd] [--models DIR] [--monocular] "
-          "[--tolerance MM,DEG]\n");
-      return 2;
+    if (TakeScenesOption(argc, argv, &i, o)) continue;
+    std::fprintf(stderr,
+                 "usage: stereohash bench scenes [--scenes-per-row N] [--json OUT] "
+                 "[--budget-ms MS] [--min-fraction F] [--fruitless N] [--features dark|light|row] "
+                 "[--set NAME=VALUE] [--only dark|light] [--seed-offset N] [--verbose] "
+                 "[--no-table-volume] [--camera thesis|wide|tele|hd] [--models DIR] [--monocular] "
+                 "[--tolerance MM,DEG]\n");
+    return false;
+  }
+  return true;
+}
+// The stereo pipeline's settings of a row: the product's default (thresholds measured per
+// image), or a preset when asked for (`--features dark|light` for every row, `--features row`
+// by the row's background), with the command's settings on it; false when one is not known
+// (said).
+bool RowConfig(const ScenesOptions& o, const SceneRow& row, PipelineConfig* config) {
+  *config = PipelineConfig::Automatic();
+  if (o.preset != nullptr && std::strcmp(o.preset, "row") == 0) {
+    *config = PipelineConfigFor(row.bg == render::Background::kDark);
+  } else if (o.preset != nullptr) {
+    *config = PipelineConfigFor(o.preset[0] == 'd');
+  }
+  if (o.min_fraction >= 0) config->verify.min_fraction = o.min_fraction;
+  if (o.fruitless > 0) config->recognizer.max_fruitless_bases = static_cast<uint32_t>(o.fruitless);
+  for (const char* setting : o.settings) {
+    if (std::strncmp(setting, "mono.", 5) == 0) continue;  // the monocular mode's
+    if (const Status applied = ApplyPipelineSetting(setting, config); !applied.ok()) {
+      std::fprintf(stderr, "stereohash bench: %s\n", applied.message());
+      return false;
     }
   }
-  std::printf("command: %s\n", CommandLine(argc, argv).c_str());
+  return true;
+}
 
-  const Result<TableView> table = OpenDefaultTable();
-  if (!table.ok()) {
-    std::fprintf(stderr, "stereohash bench: %s\n", table.status().message());
-    return 1;
-  }
+// What the rows share: the models, the facade and the figures beyond the rows.
+struct ScenesBench {
+  ScenesOptions o;
+  TableView table;
   RenderModels models;
-  Status st = LoadRenderModels(models_dir, *table, &models);
-  if (!st.ok()) {
+  PipelineConfig row_config;  // the row's settings, the facade's in place of its preset
+  MonoPipelineConfig mono_config = MonoPipelineConfig::Automatic();
+  // The rendered table of the scene, which the facade reads at each Init (every scene brings its
+  // own calibration, the camera distance varies, and its own table pose).
+  RigidTransform left_T_table;
+  BenchRecognizer facade;
+  std::unique_ptr<RenderedPair> pair = std::make_unique<RenderedPair>();
+  MissTally misses;
+  RescueTally rescue;  // the one-image rescue over the stereo frames
+  ObjectRecognizer& recognizer() const { return *facade.recognizer; }
+};
+
+// The model set and, for the monocular mode, the aspect table; false when one failed (said).
+bool LoadScenesModels(ScenesBench* b) {
+  const Result<TableView> table = OpenDefaultTable();
+  Status st = table.status();
+  if (st.ok()) b->table = *table;
+  if (st.ok()) st = LoadRenderModels(b->o.models_dir, b->table, &b->models);
+  // The monocular mode: the left image, the rendered table's pose as the installation's.
+  if (st.ok() && b->o.monocular) st = OpenDefaultAspectTable().status();
+  if (st.ok() && b->o.monocular && !b->o.table_volume) {
+    st = Status::Error(StatusCode::kInvalidArgument,
+                       "%s: --monocular needs the rendered table (without --no-table-volume)",
+                       kMonoNeedsTablePlane);
+  }
+  if (!st.ok()) std::fprintf(stderr, "stereohash bench: %s\n", st.message());
+  return st.ok();
+}
+
+// The monocular settings, and the first row's to check the others; false when one is not known
+// (said).
+bool TuneScenes(ScenesBench* b) {
+  for (const char* setting : b->o.settings) {
+    if (std::strncmp(setting, "mono.", 5) != 0) continue;
+    if (const Status applied = ApplyMonoSetting(setting, &b->mono_config); !applied.ok()) {
+      std::fprintf(stderr, "stereohash bench: %s\n", applied.message());
+      return false;
+    }
+  }
+  const SceneRow first{"dark", "none", render::Background::kDark, render::Occlusion::kNone};
+  return RowConfig(b->o, first, &b->row_config);
+}
+
+// The facade on the row's settings (what it sets on top of them is the same for every row).
+Status MakeScenesFacade(ScenesBench* b) {
+  ObjectRecognizerConfig config = TunedRecognizerConfig(b->row_config, b->mono_config, NowNs);
+  // With the table volume, the working volume over the rendered table and the table pose known,
+  // as an integrator would set them; the monocular mode and the rescue lay objects onto it.
+  config.table_known = config.volume_set = config.volume_in_table_frame = b->o.table_volume;
+  config.mono_table_known = b->o.table_volume;
+  std::copy(render::kTableVolumeMinMm, render::kTableVolumeMinMm + 3, config.volume_min_mm);
+  std::copy(render::kTableVolumeMaxMm, render::kTableVolumeMaxMm + 3, config.volume_max_mm);
+  config.left_T_table_at_init = &b->left_T_table;
+  return MakeBenchRecognizer(config, &b->facade);
+}
+
+// The rendered pair through the facade, set up for its calibration and table: the stereo pair,
+// or the left image in the monocular mode.
+Status RecognizeRendered(ScenesBench* b) {
+  const RenderedPair& pair = *b->pair;
+  b->left_T_table = pair.generated.scene.left_T_table;
+  ObjectRecognizer& recognizer = b->recognizer();
+  SH_RETURN_IF_ERROR(recognizer.Init(pair.generated.calib, ModelSet(&b->table, nullptr), ~0u));
+  RecognitionOutput* out = b->facade.output.get();
+  if (b->o.monocular) return recognizer.ProcessMonocular(0, pair.left_view(), b->o.budget_ms, out);
+  const StereoInput input{FrameView::Gray(pair.left_view()), FrameView::Gray(pair.right_view()),
+                          pair.left_view(), pair.right_view()};
+  SH_RETURN_IF_ERROR(recognizer.Process(input, b->o.budget_ms, out));
+  b->rescue.Add(recognizer.stereo_result());
+  return Status::Ok();
+}
+
+// Scores the recognised pair into its row, with why its objects were missed.
+void ScoreRendered(ScenesBench* b, uint64_t seed, ScoreRow* row) {
+  const ObjectRecognizer& recognizer = b->recognizer();
+  const std::vector<Model>& models = b->models.table;
+  const std::vector<TruthObject>& truth = b->pair->truth;
+  const bool mono = b->o.monocular;
+  const Vector<RecognizedObject>& objects =
+      mono ? static_cast<const Vector<RecognizedObject>&>(recognizer.mono_result()->objects)
+           : static_cast<const Vector<RecognizedObject>&>(recognizer.stereo_result().objects);
+  std::vector<RecognizedPose> poses;
+  for (const RecognizedObject& o : objects) poses.push_back({o.model, o.cam_T_model});
+  const MatchCounts m = MatchToTruth(models, truth, poses, b->o.max_t_mm, b->o.max_r_deg);
+  if (b->o.verbose) PrintErrors(models, truth, objects, seed);
+  char label[32];
+  std::snprintf(label, sizeof(label), "seed %llu", static_cast<unsigned long long>(seed));
+  if (mono) {
+    MonoPipeline& pipeline = *recognizer.mono_pipeline();
+    ExplainMonoMisses(models, truth, recognizer.mono_result()->objects, pipeline.features(),
+                      pipeline.recognizer(), label, b->o.verbose, b->misses.mono, b->o.max_t_mm,
+                      b->o.max_r_deg);
+    row->AddMonoFrame(*recognizer.mono_result());
+  } else {
+    ExplainMisses(models, truth, recognizer.stereo_result(), recognizer.pipeline(), label,
+                  b->o.verbose, &b->misses.stereo, b->o.max_t_mm, b->o.max_r_deg);
+    row->AddStereoFrame(recognizer.stereo_result());
+  }
+  row->AddMatch(m, truth.size());
+}
+
+// The row's scenes: rendered (seeds whose objects cannot be placed for the scenario are
+// skipped, and said), recognised and scored; false when its settings are not known (said).
+bool RunRow(ScenesBench* b, int r, SceneRow* row) {
+  if (!RowConfig(b->o, *row, &b->row_config)) return false;
+  const int per_row = b->o.per_row;
+  for (int i = 0, attempt = 0; i < per_row && attempt < 4 * per_row; ++attempt) {
+    const uint64_t seed = uint64_t(b->o.seed_offset) + uint64_t{1000} * (r + 1) + attempt;
+    const auto seed_ull = static_cast<unsigned long long>(seed);
+    const char* background = row->score.background.c_str();
+    const char* occlusion = row->score.occlusion.c_str();
+    Status st = RenderPair(seed, ScenarioFor(*row, i, b->o.camera), b->models, b->pair.get());
+    if (!st.ok()) {
+      std::fprintf(stderr, "scene %s/%s seed %llu skipped: %s\n", background, occlusion, seed_ull,
+                   st.message());
+      continue;
+    }
+    ++i;
+    st = RecognizeRendered(b);
+    if (!st.ok()) {
+      std::fprintf(stderr, "scene %s/%s seed %llu: %s\n", background, occlusion, seed_ull,
+                   st.message());
+      ++row->score.failed;
+      continue;
+    }
+    ScoreRendered(b, seed, &row->score);
+  }
+  return true;
+}
+
+// The table's heading: what ran, the threads and the scoring.
+void PrintScenesHeading(const ScenesBench& b) {
+  const bool mono = b.o.monocular;
+  const int threads = mono ? 1 : b.recognizer().pipeline().threads();
+  std::printf(
+      "\nRendered scenes, %s%d thread%s); 2-D counts are per image (mean\n"
+      "of left and right), all counts medians; correct = same model, centre within %.0f mm,\n"
+      "rotation within %.0f deg (symmetry-aware); pose errors are medians over correct "
+      "objects.\n\n",
+      mono ? "monocular mode on the left images (stage 'hashing' = recognition; "
+           : "whole pipeline (hash fn 5, ",
+      threads, !mono && threads != 1 ? "s" : "", double(b.o.max_t_mm), double(b.o.max_r_deg));
+}
+
+// Recall, false alarms, stage times, failures, the misses' causes and the rescue's figures.
+void PrintScenesSummary(const ScenesBench& b, const ScoreRow& total) {
+  std::printf(
+      "\ncorrect %.1f %% of objects, false alarms %.1f %% of reported objects; median stage "
+      "times: features %.1f, stereo %.1f, hashing %.1f, verify %.1f ms; %d scenes failed\n",
+      Percent(total.correct, total.objects),
+      Percent(total.false_alarms, total.correct + total.false_alarms), Median(total.features_ms),
+      Median(total.stereo_ms), Median(total.hashing_ms), Median(total.verify_ms), total.failed);
+  b.misses.Print(b.o.monocular, total);
+  if (!b.o.monocular && !b.rescue.ms.empty()) b.rescue.Print(total.scenes);
+}
+
+int RunBenchScenes(int argc, char** argv) {
+  auto bench = std::make_unique<ScenesBench>();
+  if (!ParseScenesOptions(argc, argv, &bench->o)) return 2;
+  std::printf("command: %s\n", CommandLine(argc, argv).c_str());
+  if (!LoadScenesModels(bench.get())) return 1;
+  if (!TuneScenes(bench.get())) return 2;
+  if (const Status st = MakeScenesFacade(bench.get()); !st.ok()) {
     std::fprintf(stderr, "stereohash bench: %s\n", st.message());
     return 1;
-  }
-  auto pipeline = std::make_unique<Pipeline>();
-  auto pair = std::make_unique<RenderedPair>();
-  // The monocular mode: the left image, the rendered table's pose as the installation's.
-  Result<AspectTableView> aspects = OpenDefaultAspectTable();
-  if (monocular && !aspects.ok()) {
-    std::fprintf(stderr, "stereohash bench: %s\n", aspects.status().message());
-    return 1;
-  }
-  std::unique_ptr<MonoPipeline> mono;
-  ZeroedPtr<FeatureWorkspace> workspace;
-  auto mono_result = std::make_unique<MonoResult>();
-  MonoPipelineConfig mono_config = MonoPipelineConfig::Automatic();
-  int mono_causes[3] = {};
-  // The stereo pipeline's one-image rescue (PipelineConfig::rescue): set up for each scene.
-  ZeroedPtr<MonoRecognizer> rescue;
-  int rescue_added = 0, rescue_ran = 0;
-  std::vector<float> rescue_ms;
-  for (const char* setting : settings) {
-    if (std::strncmp(setting, "mono.", 5) != 0) continue;
-    if (const Status applied = ApplyMonoSetting(setting, &mono_config); !applied.ok()) {
-      std::fprintf(stderr, "stereohash bench: %s\n", applied.message());
-      return 2;
-    }
-  }
-  if (monocular) {
-    mono = std::make_unique<MonoPipeline>();
-    workspace = MakeWorkspace<FeatureWorkspace>();  // any image size up to the maximum
   }
   SceneRow rows[] = {
       {"dark", "none", render::Background::kDark, render::Occlusion::kNone},
@@ -243,207 +409,26 @@ int RunBenchScenes(int argc, char** argv) {
       {"light", "some", render::Background::kLight, render::Occlusion::kSome},
       {"light", "severe", render::Background::kLight, render::Occlusion::kSevere},
   };
-  PipelineResult result;
   for (int r = 0; r < 6; ++r) {
-    SceneRow& row = rows[r];
-    if (only != nullptr && std::strcmp(only, row.background) != 0) continue;
-    // The product's default (thresholds measured per image), or a preset when asked for:
-    // `--features dark|light` for every row, `--features row` by the row's background.
-    PipelineConfig config = PipelineConfig::Automatic();
-    if (preset != nullptr && std::strcmp(preset, "row") == 0) {
-      config = PipelineConfigFor(row.bg == render::Background::kDark);
-    } else if (preset != nullptr) {
-      config = PipelineConfigFor(preset[0] == 'd');
-    }
-    if (min_fraction >= 0) config.verify.min_fraction = min_fraction;
-    if (fruitless > 0) config.recognizer.max_fruitless_bases = static_cast<uint32_t>(fruitless);
-    for (const char* setting : settings) {
-      if (std::strncmp(setting, "mono.", 5) == 0) continue;  // the monocular mode's
-      if (const Status applied = ApplyPipelineSetting(setting, &config); !applied.ok()) {
-        std::fprintf(stderr, "stereohash bench: %s\n", applied.message());
-        return 2;
-      }
-    }
-    for (int i = 0, attempt = 0; i < per_row && attempt < 4 * per_row; ++attempt) {
-      // Seeds whose objects cannot be placed for the scenario are skipped (reported).
-      const uint64_t seed = uint64_t(seed_offset) + uint64_t{1000} * (r + 1) + attempt;
-      st = RenderPair(seed, ScenarioFor(row, i, camera), models, pair.get());
-      if (!st.ok()) {
-        std::fprintf(stderr, "scene %s/%s seed %llu skipped: %s\n", row.background, row.occlusion,
-                     static_cast<unsigned long long>(seed), st.message());
-        continue;
-      }
-      ++i;
-      // Every scene brings its own calibration (camera distance varies) and its own table pose.
-      PipelineConfig scene_config = config;
-      if (table_volume) {
-        scene_config.stereo.volume = WorkingVolume::InFrame(pair->generated.scene.left_T_table,
-                                                            kTableVolumeMin, kTableVolumeMax);
-        scene_config.table.known = true;
-        scene_config.table.left_T_table = pair->generated.scene.left_T_table;
-      }
-      if (monocular) {
-        const RigidTransform& left_T_table = pair->generated.scene.left_T_table;
-        st = mono->Init(pair->generated.calib, 0, *aspects, table_volume ? &left_T_table : nullptr,
-                        mono_config, NowNs);
-        if (st.ok())
-          st = mono->Process(pair->left_view(), budget_ms, *workspace, mono_result.get());
-        if (st.ok()) {
-          // The monocular result in the stereo result's place, for the scoring below.
-          result = PipelineResult{};
-          for (const RecognizedObject& o : mono_result->objects) (void)result.objects.push_back(o);
-          result.points2d[0] = result.points2d[1] = mono_result->points2d;
-          result.lines2d[0] = result.lines2d[1] = mono_result->lines2d;
-          result.time.features_ms = mono_result->time.features_ms;
-          result.time.hashing_ms = mono_result->time.recognition_ms;
-          result.time.total_ms = mono_result->time.total_ms;
-        }
-      } else {
-        st = pipeline->Init(pair->generated.calib, *table, scene_config, NowNs);
-        // The one-image rescue: the left camera of this scene, its table when the scene's is
-        // given.
-        if (st.ok() && scene_config.rescue.enabled) {
-          const RigidTransform& left_T_table = pair->generated.scene.left_T_table;
-          st = aspects.ok() ? LendRescueRecognizer(*aspects, pair->generated.calib,
-                                                   table_volume ? &left_T_table : nullptr,
-                                                   mono_config.mono, pipeline.get(), &rescue)
-                            : aspects.status();
-        }
-        if (st.ok())
-          st = pipeline->Process(pair->left_view(), pair->right_view(), budget_ms, &result);
-        if (st.ok()) {
-          rescue_added += static_cast<int>(result.rescue.added);
-          rescue_ran += result.rescue.ran ? 1 : 0;
-          rescue_ms.push_back(result.time.rescue_ms);
-        }
-      }
-      if (!st.ok()) {
-        std::fprintf(stderr, "scene %s/%s seed %llu: %s\n", row.background, row.occlusion,
-                     static_cast<unsigned long long>(seed), st.message());
-        ++row.failed;
-        continue;
-      }
-      const MatchCounts m =
-          MatchToTruth(models.table, pair->truth, PosesOf(result), max_t_mm, max_r_deg);
-      if (verbose) PrintErrors(models.table, pair->truth, result, seed);
-      char label[32];
-      std::snprintf(label, sizeof(label), "seed %llu", static_cast<unsigned long long>(seed));
-      if (monocular) {
-        ExplainMonoMisses(models.table, pair->truth, mono_result->objects, mono->features(),
-                          mono->recognizer(), label, verbose, mono_causes, max_t_mm, max_r_deg);
-      } else {
-        ExplainMisses(models.table, pair->truth, result, *pipeline, label, verbose, &miss_causes,
-                      max_t_mm, max_r_deg);
-      }
-      ++row.scenes;
-      row.objects += static_cast<int>(pair->truth.size());
-      row.correct += m.correct;
-      row.missed += m.missed;
-      row.false_alarms += m.false_alarms;
-      row.t_err_mm.insert(row.t_err_mm.end(), m.translation_errors_mm.begin(),
-                          m.translation_errors_mm.end());
-      row.r_err_deg.insert(row.r_err_deg.end(), m.rotation_errors_deg.begin(),
-                           m.rotation_errors_deg.end());
-      row.time_ms.push_back(result.time.total_ms);
-      row.features_ms.push_back(result.time.features_ms);
-      row.stereo_ms.push_back(result.time.stereo_ms);
-      row.hashing_ms.push_back(result.time.hashing_ms);
-      row.verify_ms.push_back(result.time.verify_ms);
-      row.scene_bases_tried += result.recognition.scene_bases_tried;
-      row.points2d.push_back(float(result.points2d[0] + result.points2d[1]) * 0.5f);
-      row.lines2d.push_back(float(result.lines2d[0] + result.lines2d[1]) * 0.5f);
-      row.points3d.push_back(float(result.points3d));
-      row.lines3d.push_back(float(result.lines3d));
-    }
+    const char* only = bench->o.only;
+    if (only != nullptr && rows[r].score.background != only) continue;
+    if (!RunRow(bench.get(), r, &rows[r])) return 2;
   }
-
-  std::printf(
-      "\nRendered scenes, %s%d thread%s); 2-D counts are per image (mean\n"
-      "of left and right), all counts medians; correct = same model, centre within %.0f mm,\n"
-      "rotation within %.0f deg (symmetry-aware); pose errors are medians over correct "
-      "objects.\n\n",
-      monocular ? "monocular mode on the left images (stage 'hashing' = recognition; "
-                : "whole pipeline (hash fn 5, ",
-      monocular ? 1 : pipeline->threads(), !monocular && pipeline->threads() != 1 ? "s" : "",
-      double(max_t_mm), double(max_r_deg));
-  std::printf("%-6s %-7s %6s %7s %7s %6s %6s %8s %8s %6s %6s %6s %6s %7s %7s\n", "backgr", "occlus",
-              "scenes", "objects", "correct", "missed", "false", "med ms", "worst ms", "2D pts",
-              "2D lin", "3D pts", "3D lin", "t mm", "R deg");
+  PrintScenesHeading(*bench);
+  PrintScoreHeader();
   std::string json = "{\n  \"command\": \"" + CommandLine(argc, argv) + "\",\n  \"rows\": [";
-  SceneRow total{"all", "all", render::Background::kDark, render::Occlusion::kNone};
+  ScoreRow total;
+  total.background = total.occlusion = "all";
   for (int r = 0; r < 7; ++r) {
-    SceneRow& row = r < 6 ? rows[r] : total;
-    if (r < 6) {
-      total.scenes += row.scenes;
-      total.objects += row.objects;
-      total.correct += row.correct;
-      total.missed += row.missed;
-      total.false_alarms += row.false_alarms;
-      total.failed += row.failed;
-      total.scene_bases_tried += row.scene_bases_tried;
-      for (auto [dst, src] : {std::pair{&total.time_ms, &row.time_ms},
-                              {&total.points2d, &row.points2d},
-                              {&total.lines2d, &row.lines2d},
-                              {&total.points3d, &row.points3d},
-                              {&total.lines3d, &row.lines3d},
-                              {&total.t_err_mm, &row.t_err_mm},
-                              {&total.r_err_deg, &row.r_err_deg},
-                              {&total.features_ms, &row.features_ms},
-                              {&total.stereo_ms, &row.stereo_ms},
-                              {&total.hashing_ms, &row.hashing_ms},
-                              {&total.verify_ms, &row.verify_ms}}) {
-        dst->insert(dst->end(), src->begin(), src->end());
-      }
-    }
-    std::printf("%-6s %-7s %6d %7d %7d %6d %6d %8.1f %8.1f %6.0f %6.0f %6.0f %6.0f %7.2f %7.2f\n",
-                row.background, row.occlusion, row.scenes, row.objects, row.correct, row.missed,
-                row.false_alarms, Median(row.time_ms), Max(row.time_ms), Median(row.points2d),
-                Median(row.lines2d), Median(row.points3d), Median(row.lines3d),
-                Median(row.t_err_mm), Median(row.r_err_deg));
-    char buffer[1024];
-    std::snprintf(
-        buffer, sizeof(buffer),
-        "%s\n    {\"background\": \"%s\", \"occlusion\": \"%s\", \"scenes\": %d, \"objects\": %d, "
-        "\"correct\": %d, \"missed\": %d, \"false_alarms\": %d, \"failed\": %d, "
-        "\"median_ms\": %.2f, \"worst_ms\": %.2f, \"median_stage_ms\": {\"features\": %.2f, "
-        "\"stereo\": %.2f, \"hashing\": %.2f, \"verify\": %.2f}, \"points2d\": %.0f, "
-        "\"lines2d\": %.0f, \"points3d\": %.0f, \"lines3d\": %.0f, \"median_t_err_mm\": %.3f, "
-        "\"median_r_err_deg\": %.3f}",
-        r ? "," : "", row.background, row.occlusion, row.scenes, row.objects, row.correct,
-        row.missed, row.false_alarms, row.failed, Median(row.time_ms), Max(row.time_ms),
-        Median(row.features_ms), Median(row.stereo_ms), Median(row.hashing_ms),
-        Median(row.verify_ms), Median(row.points2d), Median(row.lines2d), Median(row.points3d),
-        Median(row.lines3d), Median(row.t_err_mm), Median(row.r_err_deg));
-    json += buffer;
+    if (r < 6) total.Add(rows[r].score);
+    const ScoreRow& row = r < 6 ? rows[r].score : total;
+    PrintScoreRow(row);
+    json += (r ? ",\n    " : "\n    ") + ScoreRowJson(row, true);
   }
   json += "\n  ]\n}\n";
-  const int found = total.correct + total.false_alarms;
-  std::printf(
-      "\ncorrect %.1f %% of objects, false alarms %.1f %% of reported objects; median stage "
-      "times: features %.1f, stereo %.1f, hashing %.1f, verify %.1f ms; %d scenes failed\n",
-      total.objects ? 100.0 * total.correct / total.objects : 0.0,
-      found ? 100.0 * total.false_alarms / found : 0.0, Median(total.features_ms),
-      Median(total.stereo_ms), Median(total.hashing_ms), Median(total.verify_ms), total.failed);
-  if (monocular) {
-    std::printf(
-        "missed %d: at the true pose %d show under half of their corners and edges in the "
-        "image's features, %d fail the image verification, %d were not found by the search\n",
-        total.missed, mono_causes[0], mono_causes[1], mono_causes[2]);
-  } else {
-    std::printf(
-        "missed %d: at the true pose %d fail the image verification (edges too weak or hidden), "
-        "%d have under 30 %% 3-D support (stereo lost them), %d were not reached by the search\n",
-        total.missed, miss_causes.no_edges, miss_causes.no_3d, miss_causes.not_searched);
-    std::printf("scene bases tried %ld over %d scenes\n", total.scene_bases_tried, total.scenes);
-    if (!rescue_ms.empty()) {
-      std::printf(
-          "rescue (one image, confirmed in both): ran in %d of %d scenes, added %d "
-          "objects; %.1f ms median, %.1f ms worst\n",
-          rescue_ran, total.scenes, rescue_added, Median(rescue_ms), Max(rescue_ms));
-    }
-  }
-  if (json_path != nullptr && !WriteTextFile(json_path, json)) {
-    std::fprintf(stderr, "stereohash bench: cannot write %s\n", json_path);
+  PrintScenesSummary(*bench, total);
+  if (bench->o.json_path != nullptr && !WriteTextFile(bench->o.json_path, json)) {
+    std::fprintf(stderr, "stereohash bench: cannot write %s\n", bench->o.json_path);
     return 1;
   }
   return total.failed == 0 ? 0 : 1;

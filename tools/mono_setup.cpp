@@ -43,21 +43,6 @@ Status LoadAspects(const RecognizeOptions& options, LoadedAspects* out, bool req
   return Status::Ok();
 }
 
-Status LendRescueRecognizer(const AspectTableView& aspects, const StereoCalibration& calib,
-                            const RigidTransform* left_T_table, const MonoConfig& config,
-                            Pipeline* pipeline, ZeroedPtr<MonoRecognizer>* recognizer) {
-  if (!pipeline->config().rescue.enabled || pipeline->models().hash_count() == 0) {
-    return Status::Ok();
-  }
-  if (*recognizer == nullptr) *recognizer = MakeZeroed<MonoRecognizer>();
-  if (*recognizer == nullptr) {
-    return Status::Error(StatusCode::kUnavailable, "cannot allocate the rescue's %zu bytes",
-                         sizeof(MonoRecognizer));
-  }
-  SH_RETURN_IF_ERROR((*recognizer)->Init(LeftView(calib), aspects, left_T_table, config));
-  return pipeline->LendRescue(recognizer->get());
-}
-
 MonoPipelineConfig MakeMonoConfig(const RecognizeOptions& options) {
   if (options.background == nullptr) return MonoPipelineConfig::Automatic();
   return options.background[0] == 'l' ? MonoPipelineConfig::LightBackground()

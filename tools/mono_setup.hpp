@@ -6,7 +6,6 @@
 #include <vector>
 
 #include "recog/base/status.hpp"
-#include "recog/base/zeroed.hpp"
 #include "recog/mono/mono_pipeline.hpp"
 #include "recog/pipeline/pipeline.hpp"
 #include "tables/aspect_file.hpp"
@@ -35,14 +34,6 @@ Status ApplyMonoSetting(const char* setting, MonoPipelineConfig* config);
 
 // The names ApplyMonoSetting knows, for the commands' help (as PipelineSettingNames).
 std::string MonoSettingNames(const char* indent, size_t width);
-
-// The stereo pipeline's one-image rescue (PipelineConfig::rescue): a monocular recogniser for
-// the left camera of `calib` with `aspects` (allocated into *recognizer once), lent to the
-// initialised `pipeline`. Nothing is lent when the pipeline's rescue is off or it has no hash
-// models. An aspect table of other models than the hash tables' is an error.
-Status LendRescueRecognizer(const AspectTableView& aspects, const StereoCalibration& calib,
-                            const RigidTransform* left_T_table, const MonoConfig& config,
-                            Pipeline* pipeline, ZeroedPtr<MonoRecognizer>* recognizer);
 
 // One line per object, the feature and search counts, the stage times.
 void PrintMonoResult(const AspectTableView& aspects, const MonoResult& result, int camera);
