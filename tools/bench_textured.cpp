@@ -334,9 +334,7 @@ int Fail(const char* message) {
   return 1;
 }
 
-}  // namespace
-
-int RunBenchTextured(int argc, char** argv) {
+struct TexturedOptions {
   const char* recorded = nullptr;
   const char* json_path = nullptr;
   const char* save_dir = nullptr;
@@ -345,105 +343,118 @@ int RunBenchTextured(int argc, char** argv) {
   uint64_t seed = 1000;
   bool peer = true, verbose = false;
   render::ScenarioParams camera;  // the thesis camera unless --camera
+};
+
+// An option with a value; false when the value is missing or bad (said).
+bool TakeTexturedValue(const std::string& a, const char* v, TexturedOptions* o) {
+  if (a == "--camera") {
+    if (v == nullptr || !render::NamedCamera(v, &o->camera)) {
+      std::fprintf(stderr, "stereohash bench textured: --camera needs wide, tele or hd\n");
+      return false;
+    }
+    return true;
+  }
+  if (v == nullptr) {
+    std::fprintf(stderr, "stereohash bench textured: %s needs a value\n", a.c_str());
+    return false;
+  }
+  if (a == "--recorded") o->recorded = v;
+  if (a == "--rendered") o->rendered = std::atoi(v);
+  if (a == "--seed") o->seed = std::strtoull(v, nullptr, 10);
+  if (a == "--models") o->models_dir = v;
+  if (a == "--json") o->json_path = v;
+  if (a == "--save") o->save_dir = v;
+  return true;
+}
+
+// -1 to go on, else the exit code.
+int ParseTexturedOptions(int argc, char** argv, TexturedOptions* o) {
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
-    auto value = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
     if (a == "--help" || a == "-h") {
       PrintHelp();
       return 0;
     } else if (a == "--no-peer") {
-      peer = false;
+      o->peer = false;
     } else if (a == "--verbose") {
-      verbose = true;
-    } else if (a == "--camera") {
-      const char* v = value();
-      if (v == nullptr || !render::NamedCamera(v, &camera)) {
-        std::fprintf(stderr, "stereohash bench textured: --camera needs wide, tele or hd\n");
-        return 2;
-      }
-    } else if (a == "--recorded" || a == "--rendered" || a == "--seed" || a == "--models" ||
-               a == "--json" || a == "--save") {
-      const char* v = value();
-      if (v == nullptr) {
-        std::fprintf(stderr, "stereohash bench textured: %s needs a value\n", a.c_str());
-        return 2;
-      }
-      if (a == "--recorded") recorded = v;
-      if (a == "--rendered") rendered = std::atoi(v);
-      if (a == "--seed") seed = std::strtoull(v, nullptr, 10);
-      if (a == "--models") models_dir = v;
-      if (a == "--json") json_path = v;
-      if (a == "--save") save_dir = v;
+      o->verbose = true;
+    } else if (a == "--camera" || a == "--recorded" || a == "--rendered" || a == "--seed" ||
+               a == "--models" || a == "--json" || a == "--save") {
+      const char* v = i + 1 < argc ? argv[++i] : nullptr;
+      if (!TakeTexturedValue(a, v, o)) return 2;
     } else {
       std::fprintf(stderr, "stereohash bench textured: unknown option '%s' (see --help)\n",
                    a.c_str());
       return 2;
     }
   }
-  if ((recorded == nullptr) == (rendered <= 0)) {
+  if ((o->recorded == nullptr) == (o->rendered <= 0)) {
     std::fprintf(stderr, "stereohash bench textured: give --recorded DIR or --rendered N\n");
     return 2;
   }
-  // The models and the feature database.
+  return -1;
+}
+
+// The printed models and the feature database learnt from them.
+struct PrintedSet {
   std::vector<TexturedModel> printed;
+  std::vector<Model> models;
+  FeatureDbBuildOptions build;
+  std::vector<uint8_t> storage;  // the database, aligned within
+  FeatureDbView db;
+};
+
+Status LoadPrintedSet(const std::string& models_dir, PrintedSet* set) {
   for (const char* name : kCartons) {
     Result<TexturedModel> m = LoadTexturedModelFile(models_dir + "/" + name + ".obj");
-    if (!m.ok()) return Fail(m.status().message());
-    printed.push_back(std::move(*m));
+    if (!m.ok()) return m.status();
+    set->printed.push_back(std::move(*m));
   }
-  std::vector<Model> models;
-  models.reserve(printed.size());
-  for (const TexturedModel& t : printed) models.push_back(t.model);
-  FeatureDbBuildOptions build;
+  set->models.reserve(set->printed.size());
+  for (const TexturedModel& t : set->printed) set->models.push_back(t.model);
   FeatureDbBuildReport report;
-  Result<std::vector<uint8_t>> blob = BuildFeatureDb(printed, build, &report);
-  if (!blob.ok()) return Fail(blob.status().message());
-  std::vector<uint8_t> aligned_storage(blob->size() + 64);
+  Result<std::vector<uint8_t>> blob = BuildFeatureDb(set->printed, set->build, &report);
+  if (!blob.ok()) return blob.status();
+  set->storage.resize(blob->size() + 64);
   uint8_t* aligned =
-      aligned_storage.data() + (64 - reinterpret_cast<uintptr_t>(aligned_storage.data()) % 64) % 64;
+      set->storage.data() + (64 - reinterpret_cast<uintptr_t>(set->storage.data()) % 64) % 64;
   std::memcpy(aligned, blob->data(), blob->size());
   Result<FeatureDbView> db = FeatureDbView::Open(aligned, blob->size());
-  if (!db.ok()) return Fail(db.status().message());
+  if (!db.ok()) return db.status();
+  set->db = *db;
   std::printf("feature database: %u models, %u faces, %u views, %u features, %zu bytes\n",
               db->model_count(), db->face_count(), db->view_count(), db->feature_count(),
               blob->size());
-  // The scenes.
-  std::vector<Scene> scenes;
+  return Status::Ok();
+}
+
+// The recorded set's scenes, or rendered ones (saved as a recorded set with --save).
+Status LoadTexturedScenes(const TexturedOptions& o, const PrintedSet& set,
+                          std::vector<Scene>* scenes) {
   StereoCalibration calib;
-  if (recorded != nullptr) {
-    // The set's calibration (scene folders may hold their own).
-    struct stat st_calib {};
-    const std::string set_calib = std::string(recorded) + "/calib.yaml";
-    if (stat(set_calib.c_str(), &st_calib) == 0) {
-      const Result<StereoCalibration> c = LoadFrameCalibration(set_calib.c_str());
-      if (!c.ok()) return Fail(c.status().message());
-      calib = *c;
-    }
-    const Status st = LoadRecorded(recorded, calib, models, &scenes);
-    if (!st.ok()) return Fail(st.message());
-  } else {
-    Status st = RenderScenes(rendered, seed, camera, printed, &scenes, &calib);
-    if (st.ok() && save_dir != nullptr) st = SaveScenes(save_dir, models, scenes);
-    if (!st.ok()) return Fail(st.message());
+  if (o.recorded == nullptr) {
+    SH_RETURN_IF_ERROR(RenderScenes(o.rendered, o.seed, o.camera, set.printed, scenes, &calib));
+    return o.save_dir != nullptr ? SaveScenes(o.save_dir, set.models, *scenes) : Status::Ok();
   }
-  auto recognizer = std::make_unique<texture::TextureRecognizer>();
-  Status st = Status::Ok();
-#ifdef STEREOHASH_OPENCV_PEER
-  auto opencv = std::make_unique<OpenCvTexturePeer>();
-  if (peer) {
-    st = opencv->Learn(printed, build);
-    if (!st.ok()) return Fail(st.message());
+  // The set's calibration (scene folders may hold their own).
+  struct stat st_calib {};
+  const std::string set_calib = std::string(o.recorded) + "/calib.yaml";
+  if (stat(set_calib.c_str(), &st_calib) == 0) {
+    const Result<StereoCalibration> c = LoadFrameCalibration(set_calib.c_str());
+    if (!c.ok()) return c.status();
+    calib = *c;
   }
-#else
-  if (peer) std::printf("(no OpenCV peer in this build)\n");
-  peer = false;
-#endif
-  auto result = std::make_unique<texture::TextureResult>();
+  return LoadRecorded(o.recorded, calib, set.models, scenes);
+}
+
+// The scores of the texture path and of the peer, in total and per background x occlusion row
+// (the thesis's table 5.5): correct / missed / false alarms.
+struct TexturedScores {
   Score ours, theirs;
-  // Per background x occlusion row (the thesis's table 5.5): correct / missed / false alarms.
   std::vector<std::string> row_names;
   std::vector<Score> row_ours, row_theirs;
-  auto row_of = [&](const Scene& s) {
+
+  size_t RowOf(const Scene& s) {
     const std::string name = s.background + " " + s.occlusion;
     for (size_t i = 0; i < row_names.size(); ++i) {
       if (row_names[i] == name) return i;
@@ -452,67 +463,120 @@ int RunBenchTextured(int argc, char** argv) {
     row_ours.emplace_back();
     row_theirs.emplace_back();
     return row_names.size() - 1;
-  };
-  for (const Scene& s : scenes) {
-    const ConstGrayView l{s.left.data(), s.width, s.height, s.width};
-    const ConstGrayView r{s.right.data(), s.width, s.height, s.width};
-    st = recognizer->Init(s.calib, *db, texture::TextureRecognizerConfig{}, NowNs);
-    if (st.ok()) st = recognizer->Process(l, r, result.get());
-    if (!st.ok()) return Fail(st.message());
-    std::vector<RecognizedPose> found;
-    for (const texture::TextureObject& o : result->objects)
-      found.push_back({o.model, o.cam_T_model});
-    ScoreScene(models, s, found, &ours, verbose, "texture");
-    const size_t row = row_of(s);
-    ScoreScene(models, s, found, &row_ours[row], false, "texture");
-    const texture::TextureTimings& t = result->time;
-    ours.total_ms.push_back(t.total_ms);
-    ours.stage_ms[0].push_back(t.features_ms);
-    ours.stage_ms[1].push_back(t.matching_ms);
-    ours.stage_ms[2].push_back(t.clustering_ms);
-    ours.stage_ms[3].push_back(t.stereo_ms + t.verify_ms);
+  }
+};
+
+// The scene through the texture path, scored.
+Status RunOurs(const PrintedSet& set, const Scene& s, bool verbose,
+               texture::TextureRecognizer* recognizer, texture::TextureResult* result,
+               TexturedScores* scores) {
+  const ConstGrayView l{s.left.data(), s.width, s.height, s.width};
+  const ConstGrayView r{s.right.data(), s.width, s.height, s.width};
+  SH_RETURN_IF_ERROR(recognizer->Init(s.calib, set.db, texture::TextureRecognizerConfig{}, NowNs));
+  SH_RETURN_IF_ERROR(recognizer->Process(l, r, result));
+  std::vector<RecognizedPose> found;
+  for (const texture::TextureObject& o : result->objects) found.push_back({o.model, o.cam_T_model});
+  Score& ours = scores->ours;
+  ScoreScene(set.models, s, found, &ours, verbose, "texture");
+  ScoreScene(set.models, s, found, &scores->row_ours[scores->RowOf(s)], false, "texture");
+  const texture::TextureTimings& t = result->time;
+  ours.total_ms.push_back(t.total_ms);
+  ours.stage_ms[0].push_back(t.features_ms);
+  ours.stage_ms[1].push_back(t.matching_ms);
+  ours.stage_ms[2].push_back(t.clustering_ms);
+  ours.stage_ms[3].push_back(t.stereo_ms + t.verify_ms);
+  return Status::Ok();
+}
+
 #ifdef STEREOHASH_OPENCV_PEER
-    if (peer) {
-      std::vector<PeerObject> objects;
-      PeerTimings pt;
-      st = opencv->Process(s.calib, l, r, &objects, &pt);
-      if (!st.ok()) return Fail(st.message());
-      std::vector<RecognizedPose> peer_found;
-      peer_found.reserve(objects.size());
-      for (const PeerObject& o : objects) peer_found.push_back({o.model, o.cam_T_model});
-      ScoreScene(models, s, peer_found, &theirs, verbose, "opencv");
-      ScoreScene(models, s, peer_found, &row_theirs[row], false, "opencv");
-      theirs.total_ms.push_back(pt.total_ms);
-      theirs.stage_ms[0].push_back(pt.features_ms);
-      theirs.stage_ms[1].push_back(pt.matching_ms);
-      theirs.stage_ms[2].push_back(pt.clustering_ms);
-      theirs.stage_ms[3].push_back(pt.stereo_ms);
-    }
+// The scene through the OpenCV peer, scored.
+Status RunPeer(const PrintedSet& set, const Scene& s, bool verbose, OpenCvTexturePeer* opencv,
+               TexturedScores* scores) {
+  const ConstGrayView l{s.left.data(), s.width, s.height, s.width};
+  const ConstGrayView r{s.right.data(), s.width, s.height, s.width};
+  std::vector<PeerObject> objects;
+  PeerTimings pt;
+  SH_RETURN_IF_ERROR(opencv->Process(s.calib, l, r, &objects, &pt));
+  std::vector<RecognizedPose> peer_found;
+  peer_found.reserve(objects.size());
+  for (const PeerObject& o : objects) peer_found.push_back({o.model, o.cam_T_model});
+  Score& theirs = scores->theirs;
+  ScoreScene(set.models, s, peer_found, &theirs, verbose, "opencv");
+  ScoreScene(set.models, s, peer_found, &scores->row_theirs[scores->RowOf(s)], false, "opencv");
+  theirs.total_ms.push_back(pt.total_ms);
+  theirs.stage_ms[0].push_back(pt.features_ms);
+  theirs.stage_ms[1].push_back(pt.matching_ms);
+  theirs.stage_ms[2].push_back(pt.clustering_ms);
+  theirs.stage_ms[3].push_back(pt.stereo_ms);
+  return Status::Ok();
+}
+#endif
+
+// Every scene through the texture path and, with `*peer`, the OpenCV peer (which *peer turns
+// off when this build has none).
+Status RunScenes(const PrintedSet& set, const std::vector<Scene>& scenes, bool verbose, bool* peer,
+                 TexturedScores* scores) {
+  auto recognizer = std::make_unique<texture::TextureRecognizer>();
+#ifdef STEREOHASH_OPENCV_PEER
+  auto opencv = std::make_unique<OpenCvTexturePeer>();
+  if (*peer) SH_RETURN_IF_ERROR(opencv->Learn(set.printed, set.build));
+#else
+  if (*peer) std::printf("(no OpenCV peer in this build)\n");
+  *peer = false;
+#endif
+  auto result = std::make_unique<texture::TextureResult>();
+  for (const Scene& s : scenes) {
+    SH_RETURN_IF_ERROR(RunOurs(set, s, verbose, recognizer.get(), result.get(), scores));
+#ifdef STEREOHASH_OPENCV_PEER
+    if (*peer) SH_RETURN_IF_ERROR(RunPeer(set, s, verbose, opencv.get(), scores));
 #endif
   }
-  std::printf("%zu scenes, %s\n", scenes.size(),
-              recorded != nullptr ? recorded : "rendered (held-out seeds)");
+  return Status::Ok();
+}
+
+void PrintTexturedRows(const TexturedScores& scores, bool peer) {
   std::printf("%-14s %7s  %-22s%s\n", "row", "objects", "texture: ok / miss / FA",
               peer ? "  opencv: ok / miss / FA" : "");
-  for (size_t i = 0; i < row_names.size(); ++i) {
-    std::printf("%-14s %7d  %5d / %4d / %2d        ", row_names[i].c_str(), row_ours[i].objects,
-                row_ours[i].correct, row_ours[i].missed, row_ours[i].false_alarms);
+  for (size_t i = 0; i < scores.row_names.size(); ++i) {
+    const Score& ours = scores.row_ours[i];
+    std::printf("%-14s %7d  %5d / %4d / %2d        ", scores.row_names[i].c_str(), ours.objects,
+                ours.correct, ours.missed, ours.false_alarms);
     if (peer) {
-      std::printf("  %5d / %4d / %2d", row_theirs[i].correct, row_theirs[i].missed,
-                  row_theirs[i].false_alarms);
+      const Score& theirs = scores.row_theirs[i];
+      std::printf("  %5d / %4d / %2d", theirs.correct, theirs.missed, theirs.false_alarms);
     }
     std::printf("\n");
   }
-  PrintScore("texture", ours);
-  if (peer) PrintScore("opencv", theirs);
+}
+
+}  // namespace
+
+int RunBenchTextured(int argc, char** argv) {
+  TexturedOptions o;
+  const int exit_code = ParseTexturedOptions(argc, argv, &o);
+  if (exit_code >= 0) return exit_code;
+  auto set = std::make_unique<PrintedSet>();
+  Status st = LoadPrintedSet(o.models_dir, set.get());
+  if (!st.ok()) return Fail(st.message());
+  std::vector<Scene> scenes;
+  st = LoadTexturedScenes(o, *set, &scenes);
+  if (!st.ok()) return Fail(st.message());
+  TexturedScores scores;
+  st = RunScenes(*set, scenes, o.verbose, &o.peer, &scores);
+  if (!st.ok()) return Fail(st.message());
+  std::printf("%zu scenes, %s\n", scenes.size(),
+              o.recorded != nullptr ? o.recorded : "rendered (held-out seeds)");
+  PrintTexturedRows(scores, o.peer);
+  PrintScore("texture", scores.ours);
+  if (o.peer) PrintScore("opencv", scores.theirs);
   std::printf("(the paper: about 1 s per scene on a 3 GHz CPU, SIFT 0.4 s, matching 0.6 s)\n");
-  if (json_path != nullptr) {
+  if (o.json_path != nullptr) {
     std::string json = "{\"command\": \"" + CommandLine(argc, argv) +
                        "\", \"scenes\": " + std::to_string(scenes.size()) +
-                       ", \"texture\": " + ScoreJson(ours);
-    if (peer) json += ", \"opencv\": " + ScoreJson(theirs);
+                       ", \"texture\": " + ScoreJson(scores.ours);
+    if (o.peer) json += ", \"opencv\": " + ScoreJson(scores.theirs);
     json += "}\n";
-    if (!WriteTextFile(json_path, json)) return Fail("cannot write the JSON file");
+    if (!WriteTextFile(o.json_path, json)) return Fail("cannot write the JSON file");
   }
   return 0;
 }

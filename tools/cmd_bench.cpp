@@ -433,7 +433,6 @@ int RunBenchScenes(int argc, char** argv) {
   }
   return total.failed == 0 ? 0 : 1;
 }
-
 // ---------------------------------------------------------------------------------------------
 // bench synthetic
 
@@ -457,136 +456,140 @@ Status BuildTable(const std::vector<Model>& models, int hf, AlignedBlob* out) {
   return Status::Ok();
 }
 
-int RunBenchSynthetic(int argc, char** argv) {
+struct SyntheticOptions {
   int n_scenes = 200;
   int features = 1000;
   const char* json_path = nullptr;
   const char* models_dir = STEREOHASH_DEFAULT_MODELS_DIR;
+};
+
+bool ParseSyntheticOptions(int argc, char** argv, SyntheticOptions* o) {
   for (int i = 2; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
     // Options with a numeric value all end by consuming it (++i): the same body on purpose.
     if (std::strcmp(argv[i], "--scenes") == 0 && has_value &&
         // NOLINTNEXTLINE(bugprone-branch-clone)
-        ParseInt(argv[i + 1], 1, 100000, &n_scenes)) {
+        ParseInt(argv[i + 1], 1, 100000, &o->n_scenes)) {
       ++i;
     } else if (std::strcmp(argv[i], "--features") == 0 && has_value &&
-               ParseInt(argv[i + 1], 10, 4000, &features)) {
+               ParseInt(argv[i + 1], 10, 4000, &o->features)) {
       ++i;
     } else if (std::strcmp(argv[i], "--json") == 0 && has_value) {
-      json_path = argv[++i];
+      o->json_path = argv[++i];
     } else if (std::strcmp(argv[i], "--models") == 0 && has_value) {
-      models_dir = argv[++i];
+      o->models_dir = argv[++i];
     } else {
       std::fprintf(stderr,
                    "usage: stereohash bench synthetic [--scenes N] [--features N] [--json OUT] "
                    "[--models DIR]\n");
-      return 2;
+      return false;
     }
   }
-  std::printf("command: %s\n", CommandLine(argc, argv).c_str());
+  return true;
+}
+
+constexpr float kVerifierMinFraction = 0.5f;  // SceneSupportVerifier's default
+
+// The recogniser, its verifier and the scenes, shared by every hash function.
+struct SyntheticBench {
+  SyntheticOptions o;
   std::vector<Model> obj_models;
-  Status st = LoadModelFolder(models_dir, &obj_models);
-  if (!st.ok()) {
-    std::fprintf(stderr, "stereohash bench: %s\n", st.message());
-    return 1;
-  }
-  auto scene = std::make_unique<SyntheticScene>();
-  auto recognizer = std::make_unique<Recognizer>();
-  static Vector<RecognizedObject, kMaxObjects> objects;
-  constexpr float kVerifierMinFraction = 0.5f;  // SceneSupportVerifier's default
-  SceneSupportVerifier verifier(kVerifierMinFraction);
-  std::string json =
-      "{\n  \"command\": \"" + CommandLine(argc, argv) + "\",\n  \"hash_functions\": [";
-  std::printf(
-      "\nSynthetic 3-D scenes (1-5 objects, %d features, 20-40 %% of object features missing,\n"
-      "noise 0.5-1 mm), recogniser with SceneSupportVerifier, %d scenes per hash function:\n\n",
-      features, n_scenes);
-  std::printf("%-3s %7s %7s %6s %6s %8s %8s %8s %8s\n", "hf", "objects", "correct", "missed",
-              "false", "t mm", "R deg", "med ms", "worst ms");
-  AlignedBlob hf5;
+  std::unique_ptr<SyntheticScene> scene = std::make_unique<SyntheticScene>();
+  std::unique_ptr<Recognizer> recognizer = std::make_unique<Recognizer>();
+  Vector<RecognizedObject, kMaxObjects> objects;
+  SceneSupportVerifier verifier{kVerifierMinFraction};
   // The same scenes at their true poses (independent of the hash function): objects whose
   // support there is below the verifier's threshold cannot be accepted by any search, and
   // refinement from the true pose gives the pose-error floor the feature noise sets.
   int truth_support_low = 0;
   std::vector<float> truth_t_err, truth_r_err;
-  for (int hf = 1; hf <= 5; ++hf) {
-    AlignedBlob table;
-    st = BuildTable(obj_models, hf, &table);
-    if (st.ok()) st = recognizer->Init(table.view, RecognizerConfig{});
-    if (!st.ok()) {
-      std::fprintf(stderr, "stereohash bench: hash fn %d: %s\n", hf, st.message());
-      return 1;
-    }
-    std::vector<Model> models;
-    for (uint32_t m = 0; m < table.view.model_count(); ++m) models.push_back(table.view.model(m));
-    SyntheticSceneParams params;
-    params.total_features = features;
-    int objects_total = 0, correct = 0, missed = 0, false_alarms = 0;
-    std::vector<float> t_err, r_err, time_ms;
-    for (int s = 0; s < n_scenes; ++s) {
-      GenerateSyntheticScene(models, params, 5000 + s, scene.get());
-      const int64_t t0 = NowNs();
-      st = recognizer->Recognize(scene->scene, verifier, Budget{}, objects);
-      time_ms.push_back(float(NowNs() - t0) * 1e-6f);
-      if (!st.ok()) {
-        std::fprintf(stderr, "stereohash bench: %s\n", st.message());
-        return 1;
-      }
-      std::vector<RecognizedPose> poses;
-      for (const RecognizedObject& o : objects) poses.push_back({o.model, o.cam_T_model});
-      const MatchCounts m = MatchToTruth(models, scene->truth, poses);
-      objects_total += static_cast<int>(scene->truth.size());
-      correct += m.correct;
-      missed += m.missed;
-      false_alarms += m.false_alarms;
-      t_err.insert(t_err.end(), m.translation_errors_mm.begin(), m.translation_errors_mm.end());
-      r_err.insert(r_err.end(), m.rotation_errors_deg.begin(), m.rotation_errors_deg.end());
-      if (hf == 5) {
-        for (const TruthObject& t : scene->truth) {
-          const TruthPoseFit fit =
-              FitFromTruePose(models[t.model], t.cam_T_model, scene->scene, recognizer->config());
-          truth_support_low += fit.support < kVerifierMinFraction;
-          truth_t_err.push_back(fit.t_err_mm);
-          truth_r_err.push_back(fit.r_err_deg);
-        }
-      }
-    }
-    std::printf("%-3d %7d %7d %6d %6d %8.3f %8.3f %8.2f %8.2f\n", hf, objects_total, correct,
-                missed, false_alarms, Median(t_err), Median(r_err), Median(time_ms), Max(time_ms));
-    char buffer[512];
-    std::snprintf(buffer, sizeof(buffer),
-                  "%s\n    {\"hash_function\": %d, \"scenes\": %d, \"objects\": %d, \"correct\": "
-                  "%d, \"missed\": %d, \"false_alarms\": %d, \"median_t_err_mm\": %.3f, "
-                  "\"median_r_err_deg\": %.3f, \"median_ms\": %.3f, \"worst_ms\": %.3f}",
-                  hf > 1 ? "," : "", hf, n_scenes, objects_total, correct, missed, false_alarms,
-                  Median(t_err), Median(r_err), Median(time_ms), Max(time_ms));
-    json += buffer;
-    if (hf == 5) hf5 = std::move(table);
+};
+
+std::vector<Model> TableModels(const TableView& table) {
+  std::vector<Model> models;
+  for (uint32_t m = 0; m < table.model_count(); ++m) models.push_back(table.model(m));
+  return models;
+}
+
+// The current scene's objects refined from their true poses (the hash fn 5 run).
+void FitTruePoses(const std::vector<Model>& models, SyntheticBench* b) {
+  for (const TruthObject& t : b->scene->truth) {
+    const TruthPoseFit fit =
+        FitFromTruePose(models[t.model], t.cam_T_model, b->scene->scene, b->recognizer->config());
+    b->truth_support_low += fit.support < kVerifierMinFraction;
+    b->truth_t_err.push_back(fit.t_err_mm);
+    b->truth_r_err.push_back(fit.r_err_deg);
   }
-  const size_t truth_objects = truth_t_err.size();
+}
+
+// The scenes through the recogniser on hash function hf's table: one line and one JSON row.
+Status RunHashFunction(int hf, const AlignedBlob& table, SyntheticBench* b, std::string* json) {
+  SH_RETURN_IF_ERROR(b->recognizer->Init(table.view, RecognizerConfig{}));
+  const std::vector<Model> models = TableModels(table.view);
+  SyntheticSceneParams params;
+  params.total_features = b->o.features;
+  int objects_total = 0;
+  MatchCounts sum;  // counts and errors over the scenes
+  std::vector<float> time_ms;
+  for (int s = 0; s < b->o.n_scenes; ++s) {
+    GenerateSyntheticScene(models, params, 5000 + s, b->scene.get());
+    const int64_t t0 = NowNs();
+    const Status st = b->recognizer->Recognize(b->scene->scene, b->verifier, Budget{}, b->objects);
+    time_ms.push_back(float(NowNs() - t0) * 1e-6f);
+    if (!st.ok()) return st;
+    std::vector<RecognizedPose> poses;
+    for (const RecognizedObject& o : b->objects) poses.push_back({o.model, o.cam_T_model});
+    const MatchCounts m = MatchToTruth(models, b->scene->truth, poses);
+    objects_total += static_cast<int>(b->scene->truth.size());
+    sum.correct += m.correct;
+    sum.missed += m.missed;
+    sum.false_alarms += m.false_alarms;
+    std::vector<float>&t_err = sum.translation_errors_mm, &r_err = sum.rotation_errors_deg;
+    t_err.insert(t_err.end(), m.translation_errors_mm.begin(), m.translation_errors_mm.end());
+    r_err.insert(r_err.end(), m.rotation_errors_deg.begin(), m.rotation_errors_deg.end());
+    if (hf == 5) FitTruePoses(models, b);
+  }
+  const float t_med = Median(sum.translation_errors_mm), r_med = Median(sum.rotation_errors_deg);
+  std::printf("%-3d %7d %7d %6d %6d %8.3f %8.3f %8.2f %8.2f\n", hf, objects_total, sum.correct,
+              sum.missed, sum.false_alarms, t_med, r_med, Median(time_ms), Max(time_ms));
+  char buffer[512];
+  std::snprintf(buffer, sizeof(buffer),
+                "%s\n    {\"hash_function\": %d, \"scenes\": %d, \"objects\": %d, \"correct\": "
+                "%d, \"missed\": %d, \"false_alarms\": %d, \"median_t_err_mm\": %.3f, "
+                "\"median_r_err_deg\": %.3f, \"median_ms\": %.3f, \"worst_ms\": %.3f}",
+                hf > 1 ? "," : "", hf, b->o.n_scenes, objects_total, sum.correct, sum.missed,
+                sum.false_alarms, t_med, r_med, Median(time_ms), Max(time_ms));
+  *json += buffer;
+  return Status::Ok();
+}
+
+// What the search cannot reach: support and refinement at the true poses (hash fn 5 run).
+void ReportTruePoses(const SyntheticBench& b, std::string* json) {
+  const size_t truth_objects = b.truth_t_err.size();
   std::printf(
       "\nAt the true poses (hash fn 5 run): %d of %zu objects (%.1f %%) have less than %.0f %% "
       "support even there;\nrefinement started from the true pose: median %.3f mm, %.3f deg.\n",
-      truth_support_low, truth_objects,
-      truth_objects ? 100.0 * truth_support_low / double(truth_objects) : 0.0,
-      100.0 * kVerifierMinFraction, Median(truth_t_err), Median(truth_r_err));
+      b.truth_support_low, truth_objects,
+      truth_objects ? 100.0 * b.truth_support_low / double(truth_objects) : 0.0,
+      100.0 * kVerifierMinFraction, Median(b.truth_t_err), Median(b.truth_r_err));
   char truth_buffer[256];
   std::snprintf(truth_buffer, sizeof(truth_buffer),
                 "\n  ],\n  \"true_pose\": {\"objects\": %zu, \"below_verifier_threshold\": %d, "
                 "\"median_t_err_mm\": %.3f, \"median_r_err_deg\": %.3f},",
-                truth_objects, truth_support_low, Median(truth_t_err), Median(truth_r_err));
-  json += truth_buffer;
-  json += "\n  \"hf5_time_per_scene\": [";
+                truth_objects, b.truth_support_low, Median(b.truth_t_err), Median(b.truth_r_err));
+  *json += truth_buffer;
+}
 
-  // Time per scene against scene size (hash fn 5; five objects, a fixed number of scenes).
+// Time per scene against scene size (hash fn 5; five objects, a fixed number of scenes).
+Status TimeAgainstFeatures(const AlignedBlob& hf5, SyntheticBench* b, std::string* json) {
+  const int n_scenes = std::min(b->o.n_scenes, 50);
   std::printf(
       "\nhash fn 5, five objects, time per scene against scene features (%d scenes "
       "each):\n\n%8s %8s %8s %8s\n",
-      std::min(n_scenes, 50), "features", "med ms", "worst ms", "correct");
-  st = recognizer->Init(hf5.view, RecognizerConfig{});
-  if (!st.ok()) return 1;
-  std::vector<Model> models;
-  for (uint32_t m = 0; m < hf5.view.model_count(); ++m) models.push_back(hf5.view.model(m));
+      n_scenes, "features", "med ms", "worst ms", "correct");
+  SH_RETURN_IF_ERROR(b->recognizer->Init(hf5.view, RecognizerConfig{}));
+  const std::vector<Model> models = TableModels(hf5.view);
+  *json += "\n  \"hf5_time_per_scene\": [";
   bool first = true;
   for (int n : {100, 250, 500, 1000, 1500, 2000}) {
     SyntheticSceneParams params;
@@ -594,27 +597,67 @@ int RunBenchSynthetic(int argc, char** argv) {
     params.total_features = n;
     std::vector<float> time_ms;
     int objects_total = 0, correct = 0;
-    for (int s = 0; s < std::min(n_scenes, 50); ++s) {
-      GenerateSyntheticScene(models, params, 9000 + s, scene.get());
+    for (int s = 0; s < n_scenes; ++s) {
+      GenerateSyntheticScene(models, params, 9000 + s, b->scene.get());
       const int64_t t0 = NowNs();
-      (void)recognizer->Recognize(scene->scene, verifier, Budget{}, objects);
+      (void)b->recognizer->Recognize(b->scene->scene, b->verifier, Budget{}, b->objects);
       time_ms.push_back(float(NowNs() - t0) * 1e-6f);
       std::vector<RecognizedPose> poses;
-      for (const RecognizedObject& o : objects) poses.push_back({o.model, o.cam_T_model});
-      correct += MatchToTruth(models, scene->truth, poses).correct;
-      objects_total += static_cast<int>(scene->truth.size());
+      for (const RecognizedObject& o : b->objects) poses.push_back({o.model, o.cam_T_model});
+      correct += MatchToTruth(models, b->scene->truth, poses).correct;
+      objects_total += static_cast<int>(b->scene->truth.size());
     }
     std::printf("%8d %8.2f %8.2f %7.1f%%\n", n, Median(time_ms), Max(time_ms),
-                objects_total ? 100.0 * correct / objects_total : 0.0);
+                Percent(correct, objects_total));
     char buffer[256];
     std::snprintf(buffer, sizeof(buffer),
                   "%s\n    {\"features\": %d, \"median_ms\": %.3f, \"worst_ms\": %.3f, "
                   "\"correct\": %d, \"objects\": %d}",
                   first ? "" : ",", n, Median(time_ms), Max(time_ms), correct, objects_total);
-    json += buffer;
+    *json += buffer;
     first = false;
   }
+  return Status::Ok();
+}
+
+// Every hash function on the same scenes; the hash fn 5 table is kept in *hf5.
+bool RunHashFunctions(SyntheticBench* b, AlignedBlob* hf5, std::string* json) {
+  std::printf(
+      "\nSynthetic 3-D scenes (1-5 objects, %d features, 20-40 %% of object features missing,\n"
+      "noise 0.5-1 mm), recogniser with SceneSupportVerifier, %d scenes per hash function:\n\n",
+      b->o.features, b->o.n_scenes);
+  std::printf("%-3s %7s %7s %6s %6s %8s %8s %8s %8s\n", "hf", "objects", "correct", "missed",
+              "false", "t mm", "R deg", "med ms", "worst ms");
+  for (int hf = 1; hf <= 5; ++hf) {
+    AlignedBlob table;
+    Status st = BuildTable(b->obj_models, hf, &table);
+    if (st.ok()) st = RunHashFunction(hf, table, b, json);
+    if (!st.ok()) {
+      std::fprintf(stderr, "stereohash bench: hash fn %d: %s\n", hf, st.message());
+      return false;
+    }
+    if (hf == 5) *hf5 = std::move(table);
+  }
+  return true;
+}
+
+int RunBenchSynthetic(int argc, char** argv) {
+  auto bench = std::make_unique<SyntheticBench>();
+  if (!ParseSyntheticOptions(argc, argv, &bench->o)) return 2;
+  std::printf("command: %s\n", CommandLine(argc, argv).c_str());
+  const Status st = LoadModelFolder(bench->o.models_dir, &bench->obj_models);
+  if (!st.ok()) {
+    std::fprintf(stderr, "stereohash bench: %s\n", st.message());
+    return 1;
+  }
+  std::string json =
+      "{\n  \"command\": \"" + CommandLine(argc, argv) + "\",\n  \"hash_functions\": [";
+  AlignedBlob hf5;
+  if (!RunHashFunctions(bench.get(), &hf5, &json)) return 1;
+  ReportTruePoses(*bench, &json);
+  if (!TimeAgainstFeatures(hf5, bench.get(), &json).ok()) return 1;
   json += "\n  ]\n}\n";
+  const char* json_path = bench->o.json_path;
   if (json_path != nullptr && !WriteTextFile(json_path, json)) {
     std::fprintf(stderr, "stereohash bench: cannot write %s\n", json_path);
     return 1;
