@@ -242,28 +242,30 @@ int AspectVoter::StripRows(const Grid2d& g, const Eigen::Vector2f& n, float lo, 
   return n_rows;
 }
 
+// What one Vote() looks up with: the frame's inverse, the size slices the request's key range
+// reaches, its squared reach (image units) and the basis keys that may receive votes.
+struct AspectVoter::VoteSpan {
+  const FrameInverse& fi;
+  uint32_t size_lo, size_hi;
+  float reach2;
+  // Similarity frames scale hash space uniformly (G = |p1 - p0|^2 I): distances compare in
+  // hash units directly.
+  bool isotropic;
+  // Bases outside the key range are skipped entry by entry (a compare instead of a vote).
+  struct Keys {
+    const float* keys;
+    float lo, hi;
+    bool Pass(uint32_t basis) const {
+      return keys == nullptr || (keys[basis] >= lo && keys[basis] <= hi);
+    }
+  } keys;
+};
+
 int AspectVoter::Vote(const VoteScene& scene, const VoteRequest& request, AspectHypothesis* out,
                       int max_out, VoteCounts* counts) {
   NextStamp();
   const FrameInverse fi(request.frame);
-  const ScenePoint2d* points = scene.points;
-  const SceneLine2d* lines = scene.lines;
-  // Bases outside the key range are skipped entry by entry (a compare instead of a vote).
-  const float* keys = basis_keys_;
-  const float key_lo = request.key_lo, key_hi = request.key_hi;
-  auto passes = [keys, key_lo, key_hi](uint32_t basis) {
-    return keys == nullptr || (keys[basis] >= key_lo && keys[basis] <= key_hi);
-  };
   if (!(fi.min_scale > 1e-6f)) return 0;  // degenerate basis
-  const Eigen::Matrix2f& G = fi.metric;
-  VoteCounts local;
-
-  // Points. The vote vanishes beyond 2 sigma (vote table cut-off), at most this far in hash
-  // units.
-  const Grid2d& pg = table_.point_grid();
-  const uint32_t* point_bins = table_.point_bin_offsets();
-  const AspectPointEntry* pe = table_.point_entries();
-  const float point_reach = 2.0f * config_.sigma_point_px / fi.min_scale;
   // Size slices the request's key range can reach (the keys are apparent sizes).
   const AspectHeader& header = table_.header();
   uint32_t size_lo = 0, size_hi = header.size_slices - 1u;
@@ -276,11 +278,37 @@ int AspectVoter::Vote(const VoteScene& scene, const VoteRequest& request, Aspect
         SizeSlice(request.key_hi, header.log_size_min, header.log_size_max, header.size_slices);
   }
   if (request.key_lo > request.key_hi || std::isnan(request.key_lo)) return 0;
-  const float reach2 = request.reach * request.reach;
+  const VoteSpan span{fi,
+                      size_lo,
+                      size_hi,
+                      request.reach * request.reach,
+                      table_.basis_kind() == AspectBasisKind::kSimilarity,
+                      {basis_keys_, request.key_lo, request.key_hi}};
+  VoteCounts local;
+  VotePoints(scene, request, span, &local);
+  VoteLines(scene, request, span, &local);
+  const int n_out = BestHypotheses(request.threshold, out, max_out);
+  if (counts != nullptr) *counts = local;
+  return n_out;
+}
+
+// The scene points' votes. The vote vanishes beyond 2 sigma (vote table cut-off), at most this
+// far in hash units.
+void AspectVoter::VotePoints(const VoteScene& scene, const VoteRequest& request,
+                             const VoteSpan& span, VoteCounts* counts) {
+  const FrameInverse& fi = span.fi;
+  const ScenePoint2d* points = scene.points;
+  const VoteSpan::Keys keys = span.keys;
+  const uint32_t size_lo = span.size_lo, size_hi = span.size_hi;
+  const float reach2 = span.reach2;
+  const bool isotropic = span.isotropic;
+  const Grid2d& pg = table_.point_grid();
+  const uint32_t* point_bins = table_.point_bin_offsets();
+  const AspectPointEntry* pe = table_.point_entries();
+  const float point_reach = 2.0f * config_.sigma_point_px / fi.min_scale;
+  const Eigen::Matrix2f& G = fi.metric;
   const float g00 = G(0, 0), g01x2 = 2.0f * G(0, 1), g11 = G(1, 1);
-  // Similarity frames scale hash space uniformly (G = |p1 - p0|^2 I): distances compare in
-  // hash units directly.
-  const bool isotropic = table_.basis_kind() == AspectBasisKind::kSimilarity;
+  VoteCounts local;
   for (int i = 0; i < scene.n_points; ++i) {
     if (scene.point_active != nullptr && scene.point_active[i] == 0) continue;
     bool skip = false;
@@ -318,63 +346,102 @@ int AspectVoter::Vote(const VoteScene& scene, const VoteRequest& request, Aspect
           const float dy = hy - static_cast<float>(entry.y) * kHashUnit;
           const float x = (g00 * dx * dx + g01x2 * dx * dy + g11 * dy * dy) * inv_sigma2_point_;
           if (!(x < static_cast<float>(kVoteCutoff))) continue;
-          if (!passes(entry.basis)) continue;
+          if (!keys.Pass(entry.basis)) continue;
           const uint16_t vote = lut_.VoteRaw(static_cast<uint32_t>(x * kVoteIndexScale));
           if (vote != 0) AddPointVote(e, vote);
         }
       }
     }
   }
+  counts->point_lookups += local.point_lookups;
+  counts->point_entries += local.point_entries;
+}
 
-  // Lines: a model segment can vote only if its centre lies within 2 sigma of the scene line
-  // (the first term of eq. 6.1), so the look-up visits the strip of centre bins along the line,
-  // in the direction slices near the line's own direction.
+// A scene line ready for the look-up in one frame: the hash line, its unit normal and offset
+// along it (rho = normal . s), the rows of line-centre bins its strip crosses (row_y_, row_x0_,
+// row_x1_) and the direction slices [first, last] (modulo the slice count) near its direction.
+struct AspectVoter::LineScan {
+  HashLine hl;
+  Eigen::Vector2f normal{0, 1};
+  float rho = 0;
+  int n_rows = 0;
+  int first = 0, last = -1;
+};
+
+// Prepares `line` for the look-up (LineScan); false when it is beyond the request's reach,
+// degenerate in this frame, or its strip crosses no bin.
+bool AspectVoter::ScanLine(const SceneLine2d& line, const VoteRequest& request,
+                           const VoteSpan& span, LineScan* out) {
+  const FrameInverse& fi = span.fi;
+  {
+    // Nearest point of the supported segment to the frame's origin.
+    const Eigen::Vector2f w = request.frame.origin - line.point;
+    const float t = std::max(line.t0, std::min(line.t1, w.dot(line.dir)));
+    if (!((w - t * line.dir).squaredNorm() <= span.reach2)) return false;
+  }
+  const Eigen::Vector2f s = fi.ToHash(line.point);
+  const Eigen::Vector2f v = fi.DirectionToHash(line.dir);
+  const float vn = v.norm();
+  if (!(vn > 1e-9f)) return false;
+  const Eigen::Vector2f along = v / vn;
+  const Eigen::Vector2f normal(-along.y(), along.x());
+  // The centres near the line's supported extent, lengthened by a margin for segments the
+  // image shows only in part: s + t v for t in [t0 - m, t1 + m] (image units), widened by
+  // the strip in hash units.
+  const float strip = 2.0f * config_.sigma_line_px / fi.min_scale;
+  const float margin = std::max(config_.line_extent_margin_px, 0.5f * (line.t1 - line.t0));
+  const float a0 = along.dot(s) + (line.t0 - margin) * vn - strip;
+  const float a1 = along.dot(s) + (line.t1 + margin) * vn + strip;
+  const float rho = normal.dot(s);
+  const int n_rows = StripRows(table_.line_grid(), normal, rho - strip, rho + strip, along, a0, a1);
+  if (n_rows == 0) return false;
+  out->hl = MakeHashLine(fi.metric, s, v);
+  out->normal = normal;
+  out->rho = rho;
+  out->n_rows = n_rows;
+  // Slices overlapping [angle - window, angle + window], modulo 180 degrees.
+  const uint32_t slices = table_.header().line_angle_slices;
+  const bool keeps_angles = table_.basis_kind() == AspectBasisKind::kSimilarity;
+  const float window = keeps_angles ? config_.line_angle_window_deg * (kPi / 180.0f) : kPi;
+  const float slice_width = kPi / static_cast<float>(slices);
+  float angle = std::atan2(v.y(), v.x());
+  if (angle < 0) angle += kPi;
+  out->first = static_cast<int>(std::floor((angle - window) / slice_width));
+  out->last = std::min(out->first + static_cast<int>(slices) - 1,
+                       static_cast<int>(std::floor((angle + window) / slice_width)));
+  return true;
+}
+
+// The scene lines' votes. A model segment can vote only if its centre lies within 2 sigma of the
+// scene line (the first term of eq. 6.1), so the look-up visits the strip of centre bins along
+// the line, in the direction slices near the line's own direction.
+void AspectVoter::VoteLines(const VoteScene& scene, const VoteRequest& request,
+                            const VoteSpan& span, VoteCounts* counts) {
+  const VoteSpan::Keys keys = span.keys;
+  const uint32_t size_lo = span.size_lo, size_hi = span.size_hi;
+  const bool isotropic = span.isotropic;
+  const Eigen::Matrix2f& G = span.fi.metric;
+  const float g00 = G(0, 0);
   const Grid2d& lg = table_.line_grid();
   const uint32_t slices = table_.header().line_angle_slices;
   const uint32_t slice_bins = lg.bin_count();
   const uint32_t* line_bins = table_.line_bin_offsets();
   const AspectLineEntry* le = table_.line_entries();
-  const float strip = 2.0f * config_.sigma_line_px / fi.min_scale;
-  const bool keeps_angles = table_.basis_kind() == AspectBasisKind::kSimilarity;
-  const float window = keeps_angles ? config_.line_angle_window_deg * (kPi / 180.0f) : kPi;
-  const float slice_width = kPi / static_cast<float>(slices);
+  // Isotropic quick tests, in hash units: the centre's distance to the line (the first term
+  // of eq. 6.1 alone must stay within 2 sigma) and the tilt term (len^2 / 12) sin^2.
+  const float across_max = 2.0f * config_.sigma_line_px / span.fi.min_scale;
+  const float tilt_max = 4.0f * config_.sigma_line_px * config_.sigma_line_px / g00 * 12.0f;
+  VoteCounts local;
   for (int i = 0; i < scene.n_lines; ++i) {
     if (scene.line_active != nullptr && scene.line_active[i] == 0) continue;
-    {
-      // Nearest point of the supported segment to the frame's origin.
-      const Eigen::Vector2f w = request.frame.origin - lines[i].point;
-      const float t = std::max(lines[i].t0, std::min(lines[i].t1, w.dot(lines[i].dir)));
-      if (!((w - t * lines[i].dir).squaredNorm() <= reach2)) continue;
-    }
-    const Eigen::Vector2f s = fi.ToHash(lines[i].point);
-    const Eigen::Vector2f v = fi.DirectionToHash(lines[i].dir);
-    const float vn = v.norm();
-    if (!(vn > 1e-9f)) continue;
-    const Eigen::Vector2f along = v / vn;
-    const Eigen::Vector2f normal(-along.y(), along.x());
-    // The centres near the line's supported extent, lengthened by a margin for segments the
-    // image shows only in part: s + t v for t in [t0 - m, t1 + m] (image units), widened by
-    // the strip in hash units.
-    const float margin =
-        std::max(config_.line_extent_margin_px, 0.5f * (lines[i].t1 - lines[i].t0));
-    const float a0 = along.dot(s) + (lines[i].t0 - margin) * vn - strip;
-    const float a1 = along.dot(s) + (lines[i].t1 + margin) * vn + strip;
-    const float rho = normal.dot(s);
-    const int n_rows = StripRows(lg, normal, rho - strip, rho + strip, along, a0, a1);
-    if (n_rows == 0) continue;
+    LineScan scan;
+    if (!ScanLine(scene.lines[i], request, span, &scan)) continue;
     ++local.line_lookups;
-    const HashLine hl = MakeHashLine(G, s, v);
-    // Isotropic quick tests, in hash units: the centre's distance to the line (the first term
-    // of eq. 6.1 alone must stay within 2 sigma) and the tilt term (len^2 / 12) sin^2.
-    const float across_max = strip;
-    const float tilt_max = 4.0f * config_.sigma_line_px * config_.sigma_line_px / g00 * 12.0f;
-    // Slices overlapping [angle - window, angle + window], modulo 180 degrees.
-    float angle = std::atan2(v.y(), v.x());
-    if (angle < 0) angle += kPi;
-    const int first = static_cast<int>(std::floor((angle - window) / slice_width));
-    const int last = std::min(first + static_cast<int>(slices) - 1,
-                              static_cast<int>(std::floor((angle + window) / slice_width)));
-    for (int k = first; k <= last; ++k) {
+    const HashLine hl = scan.hl;
+    const Eigen::Vector2f normal = scan.normal;
+    const float rho = scan.rho;
+    const int n_rows = scan.n_rows;
+    for (int k = scan.first; k <= scan.last; ++k) {
       const int n_slices = static_cast<int>(slices);
       const uint32_t slice = static_cast<uint32_t>(((k % n_slices) + n_slices) % n_slices);
       for (uint32_t size = size_lo; size <= size_hi; ++size) {
@@ -397,7 +464,7 @@ int AspectVoter::Vote(const VoteScene& scene, const VoteRequest& request, Aspect
             }
             const float x = SegmentLineDistance2(G, hl, c, u, len) * inv_sigma2_line_;
             if (!(x < static_cast<float>(kVoteCutoff))) continue;
-            if (!passes(entry.basis)) continue;
+            if (!keys.Pass(entry.basis)) continue;
             const uint16_t vote = lut_.VoteRaw(static_cast<uint32_t>(x * kVoteIndexScale));
             if (vote != 0) AddLineVote(e, vote);
           }
@@ -405,13 +472,18 @@ int AspectVoter::Vote(const VoteScene& scene, const VoteRequest& request, Aspect
       }
     }
   }
+  counts->line_lookups += local.line_lookups;
+  counts->line_entries += local.line_entries;
+}
 
-  // The best bases above the threshold, best first.
+// The bases of the last vote with at least `threshold`, best first, into out[0, max_out);
+// returns their number.
+int AspectVoter::BestHypotheses(float threshold, AspectHypothesis* out, int max_out) const {
   int n_out = 0;
   for (uint32_t k = 0; k < n_touched_; ++k) {
     const uint32_t b = touched_[k];
     const float v = LastVote(b);
-    if (!(v >= request.threshold) || max_out <= 0) continue;
+    if (!(v >= threshold) || max_out <= 0) continue;
     if (n_out == max_out && !(v > out[n_out - 1].vote)) continue;
     int pos = n_out < max_out ? n_out++ : max_out - 1;
     while (pos > 0 && out[pos - 1].vote < v) {
@@ -420,7 +492,6 @@ int AspectVoter::Vote(const VoteScene& scene, const VoteRequest& request, Aspect
     }
     out[pos] = {b, v};
   }
-  if (counts != nullptr) *counts = local;
   return n_out;
 }
 

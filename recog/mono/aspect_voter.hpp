@@ -120,6 +120,17 @@ class AspectVoter {
   void NextStamp();
   void AddPointVote(uint32_t entry, uint16_t vote);
   void AddLineVote(uint32_t entry, uint16_t vote);
+  // The parts of Vote(): the scene points' votes, the scene lines' votes (each line prepared
+  // by ScanLine; both counted into `counts`), and the best bases voted for.
+  struct VoteSpan;
+  struct LineScan;
+  bool ScanLine(const SceneLine2d& line, const VoteRequest& request, const VoteSpan& span,
+                LineScan* out);
+  void VotePoints(const VoteScene& scene, const VoteRequest& request, const VoteSpan& span,
+                  VoteCounts* counts);
+  void VoteLines(const VoteScene& scene, const VoteRequest& request, const VoteSpan& span,
+                 VoteCounts* counts);
+  int BestHypotheses(float threshold, AspectHypothesis* out, int max_out) const;
 
   AspectTableView table_;
   VoterConfig config_;
