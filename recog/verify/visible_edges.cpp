@@ -140,6 +140,190 @@ bool BlockedByOccluders(const Occluder* occ, size_t n, uint32_t relevant,
   return false;
 }
 
+// The arguments of ComputeVisibleEdges past the null checks, and the model's depth (its
+// corners must lie at least min_depth_mm in front of the camera).
+Status CheckVisibleEdgeInputs(const ViewCamera& camera, const PosedModel& object,
+                              const PosedModel* occluders, size_t n_occluders, float sample_step_px,
+                              float min_depth_mm) {
+  if (!(sample_step_px >= 0.05f)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "visible edges: sample step %g px must be >= 0.05", sample_step_px);
+  }
+  if (n_occluders > kMaxOccluders || (n_occluders > 0 && occluders == nullptr)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "visible edges: %zu occluders (capacity %zu)", n_occluders, kMaxOccluders);
+  }
+  const Model& m = *object.model;
+  SH_RETURN_IF_ERROR(CheckModel(m));
+  const float min_z = MinCornerDepthMm(camera, object);
+  if (!(min_z >= min_depth_mm)) {
+    return Status::Error(StatusCode::kOutOfRange,
+                         "visible edges: model '%.31s' reaches depth %.1f mm, behind the camera "
+                         "(minimum %.1f mm)",
+                         m.name, min_z, min_depth_mm);
+  }
+  return Status::Ok();
+}
+
+// Occluder `index` as this camera sees it: its pose, the faces it turns to the camera, its
+// bounding sphere and its ray box.
+Status PlaceOccluder(const ViewCamera& camera, const PosedModel& occluder, size_t index,
+                     Occluder* occ) {
+  const Model* om = occluder.model;
+  if (om == nullptr) {
+    return Status::Error(StatusCode::kInvalidArgument, "visible edges: occluder %zu has no model",
+                         index);
+  }
+  SH_RETURN_IF_ERROR(CheckModel(*om));
+  const RigidTransform cam_T_occ = camera.cam_T_left * occluder.cam_T_model;
+  const RigidTransform occ_T_cam = cam_T_occ.Inverse();
+  occ->model = om;
+  occ->occ_R_cam = occ_T_cam.R.cast<double>();
+  occ->occ_t_cam = occ_T_cam.t_mm.cast<double>();
+  occ->front_mask = FrontFaceMask(*om, occ->occ_t_cam);
+  Eigen::Vector3d centre_model = Eigen::Vector3d::Zero();
+  for (int k = 0; k < om->n_corners; ++k) centre_model += om->corner(k).cast<double>();
+  if (om->n_corners > 0) centre_model /= om->n_corners;
+  double r2 = 0;
+  for (int k = 0; k < om->n_corners; ++k) {
+    r2 = std::max(r2, (om->corner(k).cast<double>() - centre_model).squaredNorm());
+  }
+  occ->centre_cam = cam_T_occ.R.cast<double>() * centre_model + cam_T_occ.t_mm.cast<double>();
+  const double radius = std::sqrt(r2) + kOcclusionToleranceMm;
+  occ->radius2 = radius * radius;
+  for (int k = 0; k < om->n_corners; ++k) {
+    const Eigen::Vector3f p = cam_T_occ * om->corner(k);
+    if (!(p.z() > 0.0f)) {
+      occ->box = RayBox::All();
+      break;
+    }
+    occ->box.Add(p);
+  }
+  return Status::Ok();
+}
+
+// The edges of one model seen by one camera, sampled and tested for occlusion edge by edge.
+class EdgeSampler {
+ public:
+  EdgeSampler(const Model& m, const RigidTransform& cam_T_model, const CameraIntrinsics& cam,
+              float sample_step_px, const Occluder* occ, size_t n_occluders)
+      : model_(m),
+        cam_T_model_(cam_T_model),
+        cam_(cam),
+        sample_step_px_(sample_step_px),
+        occ_(occ),
+        n_occluders_(n_occluders),
+        centre_model_(cam_T_model.Inverse().t_mm.cast<double>()),
+        front_(FrontFaceMask(m, centre_model_)) {
+    // Ray boxes of the front faces (all corners are in front of the camera, checked before).
+    for (int f = 0; f < model_.n_faces; ++f) {
+      if (!(front_ & (uint64_t{1} << f))) continue;
+      for (int k = 0; k < model_.faces[f].n_vertices; ++k) {
+        face_box_[f].Add(cam_T_model_ * model_.corner(model_.faces[f].vertices[k]));
+      }
+    }
+  }
+
+  // Adds edge e to `out` when a face next to it is turned to the camera (a candidate), with
+  // the runs of its samples that nothing hides (kept when there is one).
+  void AddEdge(int e, VisibleEdgeSet* out) {
+    const ModelEdge& edge = model_.edges[e];
+    const uint64_t adjacent = (uint64_t{1} << edge.face0) | (uint64_t{1} << edge.face1);
+    if (!(front_ & adjacent)) return;  // both faces turned away: hidden
+    ++out->n_candidate_edges;
+
+    VisibleEdge& ve = out->edges[out->n_edges];
+    ve = VisibleEdge{};
+    ve.edge = static_cast<uint8_t>(e);
+    ve.a_cam_mm = cam_T_model_ * model_.corner(edge.a);
+    ve.b_cam_mm = cam_T_model_ * model_.corner(edge.b);
+    // Projected length without distortion decides the number of samples.
+    const double dx = cam_.fx * (double{ve.a_cam_mm.x()} / ve.a_cam_mm.z() -
+                                 double{ve.b_cam_mm.x()} / ve.b_cam_mm.z());
+    const double dy = cam_.fy * (double{ve.a_cam_mm.y()} / ve.a_cam_mm.z() -
+                                 double{ve.b_cam_mm.y()} / ve.b_cam_mm.z());
+    const double n_wanted = std::ceil(std::sqrt(dx * dx + dy * dy) / sample_step_px_);
+    const int n = static_cast<int>(std::max(1.0, std::min<double>(kMaxSamplesPerEdge, n_wanted)));
+    ve.n_samples = static_cast<uint16_t>(n);
+    out->n_candidate_samples += n;
+
+    // Self-occlusion is tested in the model frame against front faces other than the edge's own
+    // (the sample lies on those, exactly at the ray's end).
+    RayBox edge_box;
+    edge_box.Add(ve.a_cam_mm);
+    edge_box.Add(ve.b_cam_mm);
+    const float edge_far_z = std::max(ve.a_cam_mm.z(), ve.b_cam_mm.z());
+    uint64_t self_mask = 0;
+    for (int f = 0; f < model_.n_faces; ++f) {
+      if ((front_ & ~adjacent & (uint64_t{1} << f)) && face_box_[f].MayHide(edge_box, edge_far_z)) {
+        self_mask |= uint64_t{1} << f;
+      }
+    }
+    if (self_mask != 0 && shape_ == Shape::kUnknown) {
+      shape_ = IsConvex(model_) ? Shape::kConvex : Shape::kOther;
+    }
+    if (shape_ == Shape::kConvex) self_mask = 0;
+    uint32_t relevant_occluders = 0;
+    for (size_t i = 0; i < n_occluders_; ++i) {
+      if (occ_[i].box.MayHide(edge_box, edge_far_z)) relevant_occluders |= 1u << i;
+    }
+    SampleRuns(edge, self_mask, relevant_occluders, &ve, out);
+    if (ve.n_runs > 0) ++out->n_edges;
+  }
+
+ private:
+  // The n_samples samples of `ve` (edge `edge`), each visible unless a face of `self_mask` or
+  // an occluder of `relevant_occluders` hides it, as runs of visible samples.
+  void SampleRuns(const ModelEdge& edge, uint64_t self_mask, uint32_t relevant_occluders,
+                  VisibleEdge* ve_out, VisibleEdgeSet* out) const {
+    VisibleEdge& ve = *ve_out;
+    const int n = ve.n_samples;
+    const Eigen::Vector3d a_m = model_.corner(edge.a).cast<double>();
+    const Eigen::Vector3d ab_m = model_.corner(edge.b).cast<double>() - a_m;
+    const double az = ve.a_cam_mm.z(), bz = ve.b_cam_mm.z();
+    enum class Run { kNone, kOpen, kDropped } run = Run::kNone;
+    for (int i = 0; i < n; ++i) {
+      const double s = (i + 0.5) / n;
+      const double t = s * az / ((1.0 - s) * bz + s * az);
+      bool visible = !(self_mask && RayBlocked(model_, self_mask, centre_model_, a_m + t * ab_m));
+      if (visible && relevant_occluders != 0) {
+        const Eigen::Vector3d x_cam =
+            ve.a_cam_mm.cast<double>() + t * (ve.b_cam_mm - ve.a_cam_mm).cast<double>();
+        visible = !BlockedByOccluders(occ_, n_occluders_, relevant_occluders, x_cam);
+      }
+      if (!visible) {
+        run = Run::kNone;
+        continue;
+      }
+      if (run == Run::kNone) {
+        if (ve.n_runs < kMaxVisibleRunsPerEdge) {
+          ve.runs[ve.n_runs++] = {static_cast<uint16_t>(i), static_cast<uint16_t>(i)};
+          run = Run::kOpen;
+        } else {
+          ++out->dropped_runs;
+          run = Run::kDropped;
+        }
+      }
+      if (run == Run::kOpen) {
+        ve.runs[ve.n_runs - 1].end = static_cast<uint16_t>(i + 1);
+        ++out->n_visible_samples;
+      }
+    }
+  }
+
+  const Model& model_;
+  const RigidTransform cam_T_model_;
+  const CameraIntrinsics& cam_;
+  const float sample_step_px_;
+  const Occluder* const occ_;
+  const size_t n_occluders_;
+  const Eigen::Vector3d centre_model_;  // the camera centre, model frame
+  const uint64_t front_;                // faces turned to the camera
+  RayBox face_box_[kMaxModelFaces];     // of the front faces
+  // Whether the model is convex, found when an edge first has faces that may hide it.
+  enum class Shape { kUnknown, kConvex, kOther } shape_ = Shape::kUnknown;
+};
+
 }  // namespace
 
 Status CheckModel(const Model& m) {
@@ -218,149 +402,17 @@ Status ComputeVisibleEdges(const ViewCamera& camera, const PosedModel& object,
   if (out == nullptr || object.model == nullptr) {
     return Status::Error(StatusCode::kInvalidArgument, "visible edges: null model or output");
   }
-  if (!(sample_step_px >= 0.05f)) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "visible edges: sample step %g px must be >= 0.05", sample_step_px);
-  }
-  if (n_occluders > kMaxOccluders || (n_occluders > 0 && occluders == nullptr)) {
-    return Status::Error(StatusCode::kInvalidArgument,
-                         "visible edges: %zu occluders (capacity %zu)", n_occluders, kMaxOccluders);
-  }
-  const Model& m = *object.model;
-  SH_RETURN_IF_ERROR(CheckModel(m));
-  const float min_z = MinCornerDepthMm(camera, object);
-  if (!(min_z >= min_depth_mm)) {
-    return Status::Error(StatusCode::kOutOfRange,
-                         "visible edges: model '%.31s' reaches depth %.1f mm, behind the camera "
-                         "(minimum %.1f mm)",
-                         m.name, min_z, min_depth_mm);
-  }
-
+  SH_RETURN_IF_ERROR(
+      CheckVisibleEdgeInputs(camera, object, occluders, n_occluders, sample_step_px, min_depth_mm));
   // Occluders in this camera's frame, with the faces they turn towards it.
   Occluder occ[kMaxOccluders];
   for (size_t i = 0; i < n_occluders; ++i) {
-    const Model* om = occluders[i].model;
-    if (om == nullptr) {
-      return Status::Error(StatusCode::kInvalidArgument, "visible edges: occluder %zu has no model",
-                           i);
-    }
-    SH_RETURN_IF_ERROR(CheckModel(*om));
-    const RigidTransform cam_T_occ = camera.cam_T_left * occluders[i].cam_T_model;
-    const RigidTransform occ_T_cam = cam_T_occ.Inverse();
-    occ[i].model = om;
-    occ[i].occ_R_cam = occ_T_cam.R.cast<double>();
-    occ[i].occ_t_cam = occ_T_cam.t_mm.cast<double>();
-    occ[i].front_mask = FrontFaceMask(*om, occ[i].occ_t_cam);
-    Eigen::Vector3d centre_model = Eigen::Vector3d::Zero();
-    for (int k = 0; k < om->n_corners; ++k) centre_model += om->corner(k).cast<double>();
-    if (om->n_corners > 0) centre_model /= om->n_corners;
-    double r2 = 0;
-    for (int k = 0; k < om->n_corners; ++k) {
-      r2 = std::max(r2, (om->corner(k).cast<double>() - centre_model).squaredNorm());
-    }
-    occ[i].centre_cam = cam_T_occ.R.cast<double>() * centre_model + cam_T_occ.t_mm.cast<double>();
-    const double radius = std::sqrt(r2) + kOcclusionToleranceMm;
-    occ[i].radius2 = radius * radius;
-    for (int k = 0; k < om->n_corners; ++k) {
-      const Eigen::Vector3f p = cam_T_occ * om->corner(k);
-      if (!(p.z() > 0.0f)) {
-        occ[i].box = RayBox::All();
-        break;
-      }
-      occ[i].box.Add(p);
-    }
+    SH_RETURN_IF_ERROR(PlaceOccluder(camera, occluders[i], i, &occ[i]));
   }
-
-  const RigidTransform cam_T_model = camera.cam_T_left * object.cam_T_model;
-  const Eigen::Vector3d centre_model = cam_T_model.Inverse().t_mm.cast<double>();
-  const uint64_t front = FrontFaceMask(m, centre_model);
-  const CameraIntrinsics& cam = camera.intrinsics;
-  // Ray boxes of the front faces (all corners are in front of the camera, checked above).
-  RayBox face_box[kMaxModelFaces];
-  for (int f = 0; f < m.n_faces; ++f) {
-    if (!(front & (uint64_t{1} << f))) continue;
-    for (int k = 0; k < m.faces[f].n_vertices; ++k) {
-      face_box[f].Add(cam_T_model * m.corner(m.faces[f].vertices[k]));
-    }
-  }
-
+  EdgeSampler sampler(*object.model, camera.cam_T_left * object.cam_T_model, camera.intrinsics,
+                      sample_step_px, occ, n_occluders);
   *out = VisibleEdgeSet{};
-  // Whether the model is convex, found when an edge first has faces that may hide it.
-  enum class Shape { kUnknown, kConvex, kOther } shape = Shape::kUnknown;
-  for (int e = 0; e < m.n_edges; ++e) {
-    const ModelEdge& edge = m.edges[e];
-    const uint64_t adjacent = (uint64_t{1} << edge.face0) | (uint64_t{1} << edge.face1);
-    if (!(front & adjacent)) continue;  // both faces turned away: hidden
-    ++out->n_candidate_edges;
-
-    VisibleEdge& ve = out->edges[out->n_edges];
-    ve = VisibleEdge{};
-    ve.edge = static_cast<uint8_t>(e);
-    ve.a_cam_mm = cam_T_model * m.corner(edge.a);
-    ve.b_cam_mm = cam_T_model * m.corner(edge.b);
-    // Projected length without distortion decides the number of samples.
-    const double dx = cam.fx * (double{ve.a_cam_mm.x()} / ve.a_cam_mm.z() -
-                                double{ve.b_cam_mm.x()} / ve.b_cam_mm.z());
-    const double dy = cam.fy * (double{ve.a_cam_mm.y()} / ve.a_cam_mm.z() -
-                                double{ve.b_cam_mm.y()} / ve.b_cam_mm.z());
-    const double n_wanted = std::ceil(std::sqrt(dx * dx + dy * dy) / sample_step_px);
-    const int n = static_cast<int>(std::max(1.0, std::min<double>(kMaxSamplesPerEdge, n_wanted)));
-    ve.n_samples = static_cast<uint16_t>(n);
-    out->n_candidate_samples += n;
-
-    // Self-occlusion is tested in the model frame against front faces other than the edge's own
-    // (the sample lies on those, exactly at the ray's end).
-    RayBox edge_box;
-    edge_box.Add(ve.a_cam_mm);
-    edge_box.Add(ve.b_cam_mm);
-    const float edge_far_z = std::max(ve.a_cam_mm.z(), ve.b_cam_mm.z());
-    uint64_t self_mask = 0;
-    for (int f = 0; f < m.n_faces; ++f) {
-      if ((front & ~adjacent & (uint64_t{1} << f)) && face_box[f].MayHide(edge_box, edge_far_z)) {
-        self_mask |= uint64_t{1} << f;
-      }
-    }
-    if (self_mask != 0 && shape == Shape::kUnknown) {
-      shape = IsConvex(m) ? Shape::kConvex : Shape::kOther;
-    }
-    if (shape == Shape::kConvex) self_mask = 0;
-    uint32_t relevant_occluders = 0;
-    for (size_t i = 0; i < n_occluders; ++i) {
-      if (occ[i].box.MayHide(edge_box, edge_far_z)) relevant_occluders |= 1u << i;
-    }
-    const Eigen::Vector3d a_m = m.corner(edge.a).cast<double>();
-    const Eigen::Vector3d ab_m = m.corner(edge.b).cast<double>() - a_m;
-    const double az = ve.a_cam_mm.z(), bz = ve.b_cam_mm.z();
-    enum class Run { kNone, kOpen, kDropped } run = Run::kNone;
-    for (int i = 0; i < n; ++i) {
-      const double s = (i + 0.5) / n;
-      const double t = s * az / ((1.0 - s) * bz + s * az);
-      bool visible = !(self_mask && RayBlocked(m, self_mask, centre_model, a_m + t * ab_m));
-      if (visible && relevant_occluders != 0) {
-        const Eigen::Vector3d x_cam =
-            ve.a_cam_mm.cast<double>() + t * (ve.b_cam_mm - ve.a_cam_mm).cast<double>();
-        visible = !BlockedByOccluders(occ, n_occluders, relevant_occluders, x_cam);
-      }
-      if (!visible) {
-        run = Run::kNone;
-        continue;
-      }
-      if (run == Run::kNone) {
-        if (ve.n_runs < kMaxVisibleRunsPerEdge) {
-          ve.runs[ve.n_runs++] = {static_cast<uint16_t>(i), static_cast<uint16_t>(i)};
-          run = Run::kOpen;
-        } else {
-          ++out->dropped_runs;
-          run = Run::kDropped;
-        }
-      }
-      if (run == Run::kOpen) {
-        ve.runs[ve.n_runs - 1].end = static_cast<uint16_t>(i + 1);
-        ++out->n_visible_samples;
-      }
-    }
-    if (ve.n_runs > 0) ++out->n_edges;
-  }
+  for (int e = 0; e < object.model->n_edges; ++e) sampler.AddEdge(e, out);
   return Status::Ok();
 }
 
