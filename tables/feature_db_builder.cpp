@@ -335,9 +335,11 @@ Result<FaceLearning> LearnFace(const TexturedModel& tm, int fi,
   return out;
 }
 
-Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& models,
-                                            const FeatureDbBuildOptions& options,
-                                            FeatureDbBuildReport* report) {
+namespace {
+
+// The models and options BuildFeatureDb accepts.
+Status CheckFeatureDbOptions(const std::vector<TexturedModel>& models,
+                             const FeatureDbBuildOptions& options) {
   SH_RETURN_IF_ERROR(options.features.Validate());
   if (models.empty() || models.size() > kMaxFeatureDbModels) {
     return Status::Error(StatusCode::kOutOfRange, "feature database: %zu models (1..%u)",
@@ -360,107 +362,158 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
     return Status::Error(StatusCode::kOutOfRange,
                          "feature database: 1..16 tilt directions and leaf size 1..256 required");
   }
-  FeatureDbBuildReport local_report;
-  FeatureDbBuildReport& rep = report ? *report : local_report;
-  rep = {};
+  return Status::Ok();
+}
 
-  auto extractor = std::make_unique<texture::TextureFeatureExtractor>();
-  auto features = std::make_unique<texture::TextureFeatures>();
-  std::vector<Model> db_models;
+// The database's contents as learnt, features in the order found.
+struct LearntDb {
+  std::vector<Model> models;
   std::vector<TexturedFace> faces;
   std::vector<FaceView> views;
-  std::vector<LearntFeature> learnt;
+  std::vector<LearntFeature> features;
   std::vector<uint8_t> texels;
+};
 
-  for (size_t mi = 0; mi < models.size(); ++mi) {
-    const TexturedModel& tm = models[mi];
+// Learns the printed faces of models, one after the other, into a LearntDb (one extractor and
+// its output for all views).
+class FeatureLearner {
+ public:
+  // Model `mi`'s printed faces; a model without features is refused.
+  Status AddModel(const TexturedModel& tm, size_t mi, const FeatureDbBuildOptions& options,
+                  LearntDb* db, FeatureDbBuildReport* rep) {
     if (!tm.texturing.textured()) {
       return Status::Error(StatusCode::kInvalidArgument,
                            "feature database: model '%s' has no printed face", tm.model.name);
     }
-    db_models.push_back(tm.model);
-    const size_t first_feature = learnt.size();
+    db->models.push_back(tm.model);
+    const size_t first_feature = db->features.size();
     for (int fi = 0; fi < tm.model.n_faces; ++fi) {
       if (tm.texturing.faces[fi].material < 0) continue;
-      if (faces.size() >= kMaxFeatureDbFaces) {
-        return Status::Error(StatusCode::kResourceExhausted,
-                             "feature database: more than %u printed faces", kMaxFeatureDbFaces);
-      }
-      Result<FaceLearning> learning = LearnFace(tm, fi, options);
-      if (!learning.ok()) return learning.status();
-      TexturedFace face = learning->face;
-      face.model = static_cast<uint16_t>(mi);
-      face.texel_offset = texels.size();
-      texels.insert(texels.end(), learning->texture.pixels.begin(), learning->texture.pixels.end());
-      const uint32_t face_index = static_cast<uint32_t>(faces.size());
-      uint32_t face_features = 0;
-      for (const LearningView& view : learning->views) {
-        if (views.size() >= kMaxFeatureDbViews) {
-          return Status::Error(StatusCode::kResourceExhausted,
-                               "feature database: more than %u views", kMaxFeatureDbViews);
-        }
-        FaceView fv{};
-        fv.face = static_cast<uint16_t>(face_index);
-        fv.tilt = static_cast<uint8_t>(view.tilt);
-        fv.view_from_face[0] = view.view_from_face(0, 0);
-        fv.view_from_face[1] = view.view_from_face(0, 1);
-        fv.view_from_face[2] = view.view_from_face(1, 0);
-        fv.view_from_face[3] = view.view_from_face(1, 1);
-        fv.centre_ab_mm[0] = view.centre_ab_mm.x();
-        fv.centre_ab_mm[1] = view.centre_ab_mm.y();
-        const uint32_t view_index = static_cast<uint32_t>(views.size());
-        views.push_back(fv);
-        SH_RETURN_IF_ERROR(extractor->Extract(view.image.view(), options.features, features.get()));
-        for (size_t k = 0; k < features->keypoints.size(); ++k) {
-          const texture::TextureKeypoint& kp = features->keypoints[k];
-          const Eigen::Vector2f p(kp.x_px, kp.y_px);
-          const float window = 0.5f * static_cast<float>(texture::DescriptorBorderPx()) * kp.scale;
-          if (!view.Inside(p, window)) continue;
-          if (learnt.size() >= kMaxFeatureDbFeatures) {
-            return Status::Error(StatusCode::kResourceExhausted,
-                                 "feature database: more than %u features", kMaxFeatureDbFeatures);
-          }
-          const Eigen::Vector2f uv = p - view.view_of_centre;
-          const Eigen::Vector3f x = view.ModelPoint(learning->face, p);
-          LearntFeature lf;
-          lf.record.u_px = uv.x();
-          lf.record.v_px = uv.y();
-          lf.record.angle_rad = kp.angle_rad;
-          lf.record.scale = kp.scale;
-          for (int c = 0; c < 3; ++c) lf.record.model_mm[c] = x[c];
-          lf.record.view = static_cast<uint16_t>(view_index);
-          lf.record.level = kp.level;
-          lf.descriptor = features->descriptors[k];
-          learnt.push_back(lf);
-          ++face_features;
-        }
-      }
-      face.n_features = face_features;
-      faces.push_back(face);
-      rep.faces.push_back({tm.model.name, fi, face.texel_width, face.texel_height, face_features});
+      SH_RETURN_IF_ERROR(AddFace(tm, mi, fi, options, db, rep));
     }
     // A carton without features is never found: refused when built, not written to fail later.
-    if (learnt.size() == first_feature) {
+    if (db->features.size() == first_feature) {
       return Status::Error(StatusCode::kInvalidArgument,
                            "feature database: model '%s' gives no features: its print is too "
                            "small or too flat (1 x 1, one grey level)",
                            tm.model.name);
     }
+    return Status::Ok();
   }
 
-  // Kd-tree, and the features in its leaf order.
+ private:
+  // Printed face fi of model mi: its verification texture, its views and their features.
+  Status AddFace(const TexturedModel& tm, size_t mi, int fi, const FeatureDbBuildOptions& options,
+                 LearntDb* db, FeatureDbBuildReport* rep) {
+    if (db->faces.size() >= kMaxFeatureDbFaces) {
+      return Status::Error(StatusCode::kResourceExhausted,
+                           "feature database: more than %u printed faces", kMaxFeatureDbFaces);
+    }
+    Result<FaceLearning> learning = LearnFace(tm, fi, options);
+    if (!learning.ok()) return learning.status();
+    TexturedFace face = learning->face;
+    face.model = static_cast<uint16_t>(mi);
+    face.texel_offset = db->texels.size();
+    db->texels.insert(db->texels.end(), learning->texture.pixels.begin(),
+                      learning->texture.pixels.end());
+    const uint32_t face_index = static_cast<uint32_t>(db->faces.size());
+    uint32_t face_features = 0;
+    for (const LearningView& view : learning->views) {
+      if (db->views.size() >= kMaxFeatureDbViews) {
+        return Status::Error(StatusCode::kResourceExhausted, "feature database: more than %u views",
+                             kMaxFeatureDbViews);
+      }
+      FaceView fv{};
+      fv.face = static_cast<uint16_t>(face_index);
+      fv.tilt = static_cast<uint8_t>(view.tilt);
+      fv.view_from_face[0] = view.view_from_face(0, 0);
+      fv.view_from_face[1] = view.view_from_face(0, 1);
+      fv.view_from_face[2] = view.view_from_face(1, 0);
+      fv.view_from_face[3] = view.view_from_face(1, 1);
+      fv.centre_ab_mm[0] = view.centre_ab_mm.x();
+      fv.centre_ab_mm[1] = view.centre_ab_mm.y();
+      const uint32_t view_index = static_cast<uint32_t>(db->views.size());
+      db->views.push_back(fv);
+      SH_RETURN_IF_ERROR(AddViewFeatures(view, learning->face, view_index, options, &db->features,
+                                         &face_features));
+    }
+    face.n_features = face_features;
+    db->faces.push_back(face);
+    rep->faces.push_back({tm.model.name, fi, face.texel_width, face.texel_height, face_features});
+    return Status::Ok();
+  }
+
+  // The features of one view (view_index) of `face` that lie inside the face far enough for
+  // their descriptor window, appended to `learnt` and counted in face_features.
+  Status AddViewFeatures(const LearningView& view, const TexturedFace& face, uint32_t view_index,
+                         const FeatureDbBuildOptions& options, std::vector<LearntFeature>* learnt,
+                         uint32_t* face_features) {
+    SH_RETURN_IF_ERROR(extractor_->Extract(view.image.view(), options.features, features_.get()));
+    for (size_t k = 0; k < features_->keypoints.size(); ++k) {
+      const texture::TextureKeypoint& kp = features_->keypoints[k];
+      const Eigen::Vector2f p(kp.x_px, kp.y_px);
+      const float window = 0.5f * static_cast<float>(texture::DescriptorBorderPx()) * kp.scale;
+      if (!view.Inside(p, window)) continue;
+      if (learnt->size() >= kMaxFeatureDbFeatures) {
+        return Status::Error(StatusCode::kResourceExhausted,
+                             "feature database: more than %u features", kMaxFeatureDbFeatures);
+      }
+      const Eigen::Vector2f uv = p - view.view_of_centre;
+      const Eigen::Vector3f x = view.ModelPoint(face, p);
+      LearntFeature lf;
+      lf.record.u_px = uv.x();
+      lf.record.v_px = uv.y();
+      lf.record.angle_rad = kp.angle_rad;
+      lf.record.scale = kp.scale;
+      for (int c = 0; c < 3; ++c) lf.record.model_mm[c] = x[c];
+      lf.record.view = static_cast<uint16_t>(view_index);
+      lf.record.level = kp.level;
+      lf.descriptor = features_->descriptors[k];
+      learnt->push_back(lf);
+      ++*face_features;
+    }
+    return Status::Ok();
+  }
+
+  std::unique_ptr<texture::TextureFeatureExtractor> extractor_ =
+      std::make_unique<texture::TextureFeatureExtractor>();
+  std::unique_ptr<texture::TextureFeatures> features_ =
+      std::make_unique<texture::TextureFeatures>();
+};
+
+// The features in the kd-tree's leaf order, and the tree.
+struct OrderedFeatures {
+  std::vector<FeatureRecord> records;
+  std::vector<TextureDescriptor> descriptors;
+  std::vector<texture::KdNode> nodes;
+};
+
+OrderedFeatures OrderByKdTree(const std::vector<LearntFeature>& learnt, uint32_t leaf_size,
+                              uint32_t* tree_depth) {
   std::vector<TextureDescriptor> unordered(learnt.size());
   for (size_t i = 0; i < learnt.size(); ++i) unordered[i] = learnt[i].descriptor;
   std::vector<uint32_t> order;
-  std::vector<texture::KdNode> nodes;
-  BuildKdTree(unordered, options.leaf_size, &nodes, &order, &rep.tree_depth);
-  std::vector<FeatureRecord> records(learnt.size());
-  std::vector<TextureDescriptor> descriptors(learnt.size());
+  OrderedFeatures out;
+  BuildKdTree(unordered, leaf_size, &out.nodes, &order, tree_depth);
+  out.records.resize(learnt.size());
+  out.descriptors.resize(learnt.size());
   for (size_t i = 0; i < order.size(); ++i) {
-    records[i] = learnt[order[i]].record;
-    descriptors[i] = learnt[order[i]].descriptor;
+    out.records[i] = learnt[order[i]].record;
+    out.descriptors[i] = learnt[order[i]].descriptor;
   }
+  return out;
+}
 
+// The blob (feature_db_format.hpp): header, sections, CRC.
+std::vector<uint8_t> WriteFeatureDb(const LearntDb& db, const OrderedFeatures& ordered,
+                                    const FeatureDbBuildOptions& options) {
+  const std::vector<Model>& db_models = db.models;
+  const std::vector<TexturedFace>& faces = db.faces;
+  const std::vector<FaceView>& views = db.views;
+  const std::vector<uint8_t>& texels = db.texels;
+  const std::vector<FeatureRecord>& records = ordered.records;
+  const std::vector<TextureDescriptor>& descriptors = ordered.descriptors;
+  const std::vector<texture::KdNode>& nodes = ordered.nodes;
   FeatureDbHeader h{};
   std::memcpy(h.magic, kFeatureDbMagic, sizeof(kFeatureDbMagic));
   h.format_version = kFeatureDbFormatVersion;
@@ -502,9 +555,29 @@ Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& mo
   std::memcpy(blob.data(), &h, sizeof(h));
   h.blob_crc32 = BlobCrc32(blob.data(), blob.size(), offsetof(FeatureDbHeader, blob_crc32));
   std::memcpy(blob.data(), &h, sizeof(h));
-  rep.views = h.n_views;
-  rep.features = h.n_features;
-  rep.nodes = h.n_nodes;
+  return blob;
+}
+
+}  // namespace
+
+Result<std::vector<uint8_t>> BuildFeatureDb(const std::vector<TexturedModel>& models,
+                                            const FeatureDbBuildOptions& options,
+                                            FeatureDbBuildReport* report) {
+  SH_RETURN_IF_ERROR(CheckFeatureDbOptions(models, options));
+  FeatureDbBuildReport local_report;
+  FeatureDbBuildReport& rep = report ? *report : local_report;
+  rep = {};
+
+  FeatureLearner learner;
+  LearntDb db;
+  for (size_t mi = 0; mi < models.size(); ++mi) {
+    SH_RETURN_IF_ERROR(learner.AddModel(models[mi], mi, options, &db, &rep));
+  }
+  const OrderedFeatures ordered = OrderByKdTree(db.features, options.leaf_size, &rep.tree_depth);
+  std::vector<uint8_t> blob = WriteFeatureDb(db, ordered, options);
+  rep.views = static_cast<uint32_t>(db.views.size());
+  rep.features = static_cast<uint32_t>(ordered.records.size());
+  rep.nodes = static_cast<uint32_t>(ordered.nodes.size());
   return blob;
 }
 
