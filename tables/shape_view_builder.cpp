@@ -210,14 +210,11 @@ Status CheckColours(const std::vector<ShapeModelInput>& models) {
                              &all, class_of_model.data());
 }
 
-}  // namespace
-
-Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> models,
-                                                const ShapeViewBuildOptions& options,
-                                                ShapeViewBuildReport* report) {
-  if (models.empty() || models.size() > kMaxShapeModels) {
-    return Status::Error(StatusCode::kOutOfRange, "view database: %zu models (1..%u)",
-                         models.size(), kMaxShapeModels);
+// The model count and options BuildShapeViewBlob accepts.
+Status CheckShapeViewOptions(size_t n_models, const ShapeViewBuildOptions& options) {
+  if (n_models == 0 || n_models > kMaxShapeModels) {
+    return Status::Error(StatusCode::kOutOfRange, "view database: %zu models (1..%u)", n_models,
+                         kMaxShapeModels);
   }
   if (!(options.view_spacing_deg >= 2.0f && options.view_spacing_deg <= 45.0f)) {
     return Status::Error(StatusCode::kOutOfRange, "view database: spacing %.1f deg outside 2..45",
@@ -232,11 +229,25 @@ Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> mod
     return Status::Error(StatusCode::kInvalidArgument,
                          "view database: bad render camera or PCA settings");
   }
-  SH_RETURN_IF_ERROR(CheckColours(models));
-  // Symmetry groups, radii and orientation samples.
-  std::vector<ShapeModelRecord> records(models.size());
-  std::vector<std::vector<Eigen::Matrix3f>> orientations(models.size());
+  return Status::Ok();
+}
+
+// The models with their symmetry groups (stored in them), records (colour, radius, views) and
+// orientation samples; n_views counts the views of all.
+struct SampledModels {
+  std::vector<ShapeModelRecord> records;
+  std::vector<std::vector<Eigen::Matrix3f>> orientations;
   size_t n_views = 0;
+};
+
+Status SampleModels(std::vector<ShapeModelInput>& models, const ShapeViewBuildOptions& options,
+                    SampledModels* out) {
+  std::vector<ShapeModelRecord>& records = out->records;
+  std::vector<std::vector<Eigen::Matrix3f>>& orientations = out->orientations;
+  size_t& n_views = out->n_views;
+  records.resize(models.size());
+  orientations.resize(models.size());
+  n_views = 0;
   for (size_t m = 0; m < models.size(); ++m) {
     Model& model = models[m].model;
     SH_RETURN_IF_ERROR(CheckModel(model));
@@ -264,9 +275,25 @@ Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> mod
                          "view database: %zu views exceed %u; use a larger spacing", n_views,
                          kMaxShapeViews);
   }
+  return Status::Ok();
+}
 
-  // PCA fitted to a per-model share of the views (every model is represented).
-  ViewRenderer renderer(options);
+// The PCA basis of the windows: k components (quantised, component-major), the mean window and
+// the share of the fitted windows' energy the components explain.
+struct WindowBasis {
+  int k = 0;
+  Eigen::VectorXf mean;
+  float explained = 0;
+  std::vector<QBasis::Raw> basis;
+};
+
+// PCA fitted to a per-model share of the views (every model is represented).
+Status FitWindowBasis(const std::vector<ShapeModelInput>& models, const SampledModels& sampled,
+                      const ShapeViewBuildOptions& options, ViewRenderer& renderer,
+                      RenderedView* rendered_view, WindowBasis* out) {
+  const std::vector<ShapeModelRecord>& records = sampled.records;
+  const std::vector<std::vector<Eigen::Matrix3f>>& orientations = sampled.orientations;
+  RenderedView& rendered = *rendered_view;
   const size_t quota = std::max<size_t>(1, options.pca_views / models.size());
   std::vector<std::pair<size_t, size_t>> fit;  // (model, orientation)
   for (size_t m = 0; m < models.size(); ++m) {
@@ -275,7 +302,6 @@ Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> mod
     for (size_t i = 0; i < take; ++i) fit.push_back({m, i * n / take});
   }
   RowMatrix X(static_cast<Eigen::Index>(fit.size()), kWindowPixels);
-  RenderedView rendered{};
   for (size_t i = 0; i < fit.size(); ++i) {
     const auto [m, o] = fit[i];
     SH_RETURN_IF_ERROR(
@@ -285,61 +311,69 @@ Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> mod
   }
   const int k = std::min<int>(options.n_components, static_cast<int>(fit.size()) - 1);
   if (k < 1) return Status::Error(StatusCode::kInvalidArgument, "view database: too few views");
-  Eigen::VectorXf mean;
-  float explained = 0;
-  const Eigen::MatrixXf V = PrincipalDirections(X, k, options.power_iterations, &mean, &explained);
+  out->k = k;
+  const Eigen::MatrixXf V =
+      PrincipalDirections(X, k, options.power_iterations, &out->mean, &out->explained);
   X.resize(0, 0);
-  std::vector<QBasis::Raw> basis(static_cast<size_t>(k) * kWindowPixels);
+  std::vector<QBasis::Raw>& basis = out->basis;
+  basis.resize(static_cast<size_t>(k) * kWindowPixels);
   for (int c = 0; c < k; ++c) {
     for (int i = 0; i < kWindowPixels; ++i) {
       basis[static_cast<size_t>(c) * kWindowPixels + i] = QBasis::FromDouble(V(i, c)).raw();
     }
   }
+  return Status::Ok();
+}
 
-  // Layout.
+// The header of n_models models and n_views views over `basis`, its sections placed.
+ShapeViewsHeader LayOutShapeViews(size_t n_models, size_t n_views, const WindowBasis& basis,
+                                  const ShapeViewBuildOptions& options) {
+  const int k = basis.k;
   ShapeViewsHeader h{};
   std::memcpy(h.magic, kShapeViewsMagic, sizeof(h.magic));
   h.format_version = kShapeViewsVersion;
   h.window_side = kWindowSide;
   h.header_size = sizeof(ShapeViewsHeader);
-  h.n_models = static_cast<uint32_t>(models.size());
+  h.n_models = static_cast<uint32_t>(n_models);
   h.n_views = static_cast<uint32_t>(n_views);
   h.n_components = static_cast<uint16_t>(k);
   h.component_stride = static_cast<uint16_t>((k + 7) / 8 * 8);
   h.render_focal_px = options.render_focal_px;
   h.render_distance_mm = options.render_distance_mm;
   h.view_spacing_deg = options.view_spacing_deg;
-  h.explained_energy = explained;
+  h.explained_energy = basis.explained;
   size_t at = AlignShapeSection(sizeof(ShapeViewsHeader));
   auto place = [&](ShapeSection& s, size_t bytes) {
     s.offset = at;
     s.size = bytes;
     at = AlignShapeSection(at + bytes);
   };
-  place(h.models, models.size() * sizeof(Model));
-  place(h.shape_models, models.size() * sizeof(ShapeModelRecord));
+  place(h.models, n_models * sizeof(Model));
+  place(h.shape_models, n_models * sizeof(ShapeModelRecord));
   place(h.mean, kWindowPixels * sizeof(float));
-  place(h.basis, basis.size() * sizeof(QBasis::Raw));
+  place(h.basis, basis.basis.size() * sizeof(QBasis::Raw));
   place(h.views, n_views * sizeof(ShapeViewRecord));
   place(h.coefficients, n_views * h.component_stride * sizeof(QCoefficient::Raw));
   h.total_size = at;
-  std::vector<uint8_t> blob(at, 0);
-  for (size_t m = 0; m < models.size(); ++m) {
-    std::memcpy(blob.data() + h.models.offset + m * sizeof(Model), &models[m].model, sizeof(Model));
-  }
-  Put(blob, h.shape_models, records.data(), records.size());
-  Put(blob, h.mean, mean.data(), kWindowPixels);
-  Put(blob, h.basis, basis.data(), basis.size());
+  return h;
+}
 
-  // Every view: render, window, project with the stored (quantised) basis.
-  auto* view_records = reinterpret_cast<ShapeViewRecord*>(blob.data() + h.views.offset);
-  auto* coefficients = reinterpret_cast<QCoefficient::Raw*>(blob.data() + h.coefficients.offset);
+// Every view into the blob laid out by h: render, window, project with the stored (quantised)
+// basis.
+Status WriteViews(const std::vector<ShapeModelInput>& models, const SampledModels& sampled,
+                  const WindowBasis& pca, const ShapeViewsHeader& h, ViewRenderer& renderer,
+                  RenderedView* rendered_view, std::vector<uint8_t>* blob) {
+  const std::vector<ShapeModelRecord>& records = sampled.records;
+  RenderedView& rendered = *rendered_view;
+  auto* view_records = reinterpret_cast<ShapeViewRecord*>(blob->data() + h.views.offset);
+  auto* coefficients = reinterpret_cast<QCoefficient::Raw*>(blob->data() + h.coefficients.offset);
   ShapeCoefficients c;
   size_t v = 0;
   for (size_t m = 0; m < models.size(); ++m) {
-    for (const Eigen::Matrix3f& R : orientations[m]) {
+    for (const Eigen::Matrix3f& R : sampled.orientations[m]) {
       SH_RETURN_IF_ERROR(renderer.Render(models[m].model, records[m].radius_mm, R, &rendered));
-      ProjectShapeWindow(mean.data(), basis.data(), k, h.component_stride, rendered.window, &c);
+      ProjectShapeWindow(pca.mean.data(), pca.basis.data(), pca.k, h.component_stride,
+                         rendered.window, &c);
       std::memcpy(coefficients + v * h.component_stride, c.c,
                   h.component_stride * sizeof(QCoefficient::Raw));
       ShapeViewRecord& rec = view_records[v];
@@ -356,6 +390,35 @@ Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> mod
       ++v;
     }
   }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> models,
+                                                const ShapeViewBuildOptions& options,
+                                                ShapeViewBuildReport* report) {
+  SH_RETURN_IF_ERROR(CheckShapeViewOptions(models.size(), options));
+  SH_RETURN_IF_ERROR(CheckColours(models));
+  // Symmetry groups, radii and orientation samples.
+  SampledModels sampled;
+  SH_RETURN_IF_ERROR(SampleModels(models, options, &sampled));
+  const std::vector<ShapeModelRecord>& records = sampled.records;
+  const size_t n_views = sampled.n_views;
+  ViewRenderer renderer(options);
+  RenderedView rendered{};
+  WindowBasis pca;
+  SH_RETURN_IF_ERROR(FitWindowBasis(models, sampled, options, renderer, &rendered, &pca));
+
+  ShapeViewsHeader h = LayOutShapeViews(models.size(), n_views, pca, options);
+  std::vector<uint8_t> blob(h.total_size, 0);
+  for (size_t m = 0; m < models.size(); ++m) {
+    std::memcpy(blob.data() + h.models.offset + m * sizeof(Model), &models[m].model, sizeof(Model));
+  }
+  Put(blob, h.shape_models, records.data(), records.size());
+  Put(blob, h.mean, pca.mean.data(), kWindowPixels);
+  Put(blob, h.basis, pca.basis.data(), pca.basis.size());
+  SH_RETURN_IF_ERROR(WriteViews(models, sampled, pca, h, renderer, &rendered, &blob));
   // The CRC covers the header too, read with its own field as zero.
   h.blob_crc32 = 0;
   std::memcpy(blob.data(), &h, sizeof(h));
@@ -369,7 +432,7 @@ Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> mod
           {models[m].model.name, records[m].n_views, models[m].model.n_symmetries});
     }
     report->views = static_cast<uint32_t>(n_views);
-    report->explained_energy = explained;
+    report->explained_energy = pca.explained;
   }
   return blob;
 }
