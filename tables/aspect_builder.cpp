@@ -232,15 +232,9 @@ AspectBuildParams ParamsOf(const AspectBuildOptions& o) {
   return p;
 }
 
-// Serialises aspects (their bases in order) of `models` into a blob.
-Result<std::vector<uint8_t>> Serialise(const std::vector<Model>& models,
-                                       const std::vector<BuiltAspect>& aspects,
-                                       const AspectBuildOptions& o, AspectBuildReport* rep) {
-  std::vector<AspectRecord> aspect_records;
-  std::vector<AspectBasis> basis_records;
-  std::vector<Eigen::Vector2f> point_pos, line_centre;
-  std::vector<uint32_t> point_size_slice, line_slice;
-  // Range of the bases' apparent sizes, for the size slices.
+// Range of the bases' apparent sizes (natural log), for the size slices; a range of width 2
+// when they are all alike.
+void LogSizeRange(const std::vector<BuiltAspect>& aspects, float* lo, float* hi) {
   float log_size_min = INFINITY, log_size_max = -INFINITY;
   for (const BuiltAspect& a : aspects) {
     for (const BuiltBasis& b : a.bases) {
@@ -253,59 +247,88 @@ Result<std::vector<uint8_t>> Serialise(const std::vector<Model>& models,
     log_size_min = std::isfinite(log_size_min) ? log_size_min - 1.0f : 0.0f;
     log_size_max = log_size_min + 2.0f;
   }
-  const uint32_t size_slices = static_cast<uint32_t>(o.size_slices);
-  const uint32_t angle_slices = static_cast<uint32_t>(o.line_angle_slices);
+  *lo = log_size_min;
+  *hi = log_size_max;
+}
+
+// The records and entries of a table in build order, with what each entry is binned by: its
+// stored (quantised) position or centre, and its size slice (lines: size and angle slice).
+struct FlatTable {
+  float log_size_min = 0, log_size_max = 0;
+  std::vector<AspectRecord> aspect_records;
+  std::vector<AspectBasis> basis_records;
   std::vector<AspectPointEntry> points;
   std::vector<AspectLineEntry> lines;
+  std::vector<Eigen::Vector2f> point_pos, line_centre;
+  std::vector<uint32_t> point_size_slice, line_slice;
+};
+
+// Appends the point and line entries of basis `basis_index` (in size slice `size_slice`).
+void AddEntries(const BuiltBasis& b, uint32_t basis_index, uint32_t size_slice,
+                uint32_t angle_slices, FlatTable* t) {
+  for (const BuiltPoint& p : b.points) {
+    // hash units -> Q4.12: round(h * 4096), within range (checked when the basis was made).
+    AspectPointEntry e{QHash::FromDouble(p.h.x()).raw(), QHash::FromDouble(p.h.y()).raw(),
+                       basis_index};
+    // Binned by the stored (quantised) coordinates, which are what look-ups compare with.
+    t->point_pos.emplace_back(QHash::FromRaw(e.x).ToFloat(), QHash::FromRaw(e.y).ToFloat());
+    t->point_size_slice.push_back(size_slice);
+    t->points.push_back(e);
+  }
+  for (const BuiltLine& l : b.lines) {
+    AspectLineEntry e{};
+    e.cx = QHash::FromDouble(l.centre.x()).raw();  // hash units -> Q4.12
+    e.cy = QHash::FromDouble(l.centre.y()).raw();
+    e.vx = QUnit::FromDouble(l.dir.x()).raw();  // unit components -> Q2.14
+    e.vy = QUnit::FromDouble(l.dir.y()).raw();
+    e.length = UQHashLength::FromDouble(l.length).raw();  // hash units -> UQ4.12
+    e.basis = basis_index;
+    // Binned by the stored (quantised) centre and direction.
+    t->line_centre.emplace_back(QHash::FromRaw(e.cx).ToFloat(), QHash::FromRaw(e.cy).ToFloat());
+    t->line_slice.push_back(size_slice * angle_slices +
+                            LineAngleSlice(QUnit::FromRaw(e.vx).ToFloat(),
+                                           QUnit::FromRaw(e.vy).ToFloat(), angle_slices));
+    t->lines.push_back(e);
+  }
+}
+
+// The aspects (their bases in order) as records and entries.
+FlatTable FlattenAspects(const std::vector<BuiltAspect>& aspects, uint32_t size_slices,
+                         uint32_t angle_slices) {
+  FlatTable t;
+  LogSizeRange(aspects, &t.log_size_min, &t.log_size_max);
   for (const BuiltAspect& a : aspects) {
     AspectRecord r = a.record;
-    r.first_basis = static_cast<uint32_t>(basis_records.size());
+    r.first_basis = static_cast<uint32_t>(t.basis_records.size());
     r.n_bases = static_cast<uint32_t>(a.bases.size());
-    const uint32_t aspect_index = static_cast<uint32_t>(aspect_records.size());
-    aspect_records.push_back(r);
+    const uint32_t aspect_index = static_cast<uint32_t>(t.aspect_records.size());
+    t.aspect_records.push_back(r);
     for (const BuiltBasis& b : a.bases) {
-      const uint32_t basis_index = static_cast<uint32_t>(basis_records.size());
+      const uint32_t basis_index = static_cast<uint32_t>(t.basis_records.size());
       AspectBasis br = b.record;
       br.aspect = aspect_index;
-      basis_records.push_back(br);
+      t.basis_records.push_back(br);
       const uint32_t size_slice =
-          SizeSlice(AspectApparentSizeMm(r, br), log_size_min, log_size_max, size_slices);
-      for (const BuiltPoint& p : b.points) {
-        // hash units -> Q4.12: round(h * 4096), within range (checked when the basis was made).
-        AspectPointEntry e{QHash::FromDouble(p.h.x()).raw(), QHash::FromDouble(p.h.y()).raw(),
-                           basis_index};
-        // Binned by the stored (quantised) coordinates, which are what look-ups compare with.
-        point_pos.emplace_back(QHash::FromRaw(e.x).ToFloat(), QHash::FromRaw(e.y).ToFloat());
-        point_size_slice.push_back(size_slice);
-        points.push_back(e);
-      }
-      for (const BuiltLine& l : b.lines) {
-        AspectLineEntry e{};
-        e.cx = QHash::FromDouble(l.centre.x()).raw();  // hash units -> Q4.12
-        e.cy = QHash::FromDouble(l.centre.y()).raw();
-        e.vx = QUnit::FromDouble(l.dir.x()).raw();  // unit components -> Q2.14
-        e.vy = QUnit::FromDouble(l.dir.y()).raw();
-        e.length = UQHashLength::FromDouble(l.length).raw();  // hash units -> UQ4.12
-        e.basis = basis_index;
-        // Binned by the stored (quantised) centre and direction.
-        line_centre.emplace_back(QHash::FromRaw(e.cx).ToFloat(), QHash::FromRaw(e.cy).ToFloat());
-        line_slice.push_back(size_slice * angle_slices +
-                             LineAngleSlice(QUnit::FromRaw(e.vx).ToFloat(),
-                                            QUnit::FromRaw(e.vy).ToFloat(), angle_slices));
-        lines.push_back(e);
-      }
+          SizeSlice(AspectApparentSizeMm(r, br), t.log_size_min, t.log_size_max, size_slices);
+      AddEntries(b, basis_index, size_slice, angle_slices, &t);
     }
   }
-  if (models.size() > kMaxAspectModels || aspect_records.size() > kMaxAspects ||
-      basis_records.size() > kMaxAspectBases || points.size() > kMaxAspectPointEntries ||
-      lines.size() > kMaxAspectLineEntries) {
-    return Status::Error(StatusCode::kResourceExhausted,
-                         "aspect table too large for this build: %zu models, %zu aspects, %zu "
-                         "bases, %zu point and %zu line entries (limits %u, %u, %u, %u, %u)",
-                         models.size(), aspect_records.size(), basis_records.size(), points.size(),
-                         lines.size(), kMaxAspectModels, kMaxAspects, kMaxAspectBases,
-                         kMaxAspectPointEntries, kMaxAspectLineEntries);
-  }
+  return t;
+}
+
+// The entries sorted by bin, with the bins' offsets and the grids.
+struct BinnedEntries {
+  Grid2d point_grid{}, line_grid{};
+  std::vector<uint32_t> point_offsets, line_offsets;
+  std::vector<AspectPointEntry> points_sorted;
+  std::vector<AspectLineEntry> lines_sorted;
+  uint32_t max_point_bin = 0, max_line_bin = 0;
+};
+
+Status BinEntries(const FlatTable& t, const AspectBuildOptions& o, uint32_t size_slices,
+                  uint32_t angle_slices, BinnedEntries* out) {
+  const std::vector<Eigen::Vector2f>& point_pos = t.point_pos;
+  const std::vector<Eigen::Vector2f>& line_centre = t.line_centre;
   const Grid2d point_grid = MakeGrid(point_pos, o.point_bin);
   const Grid2d line_grid = MakeGrid(line_centre, o.line_bin);
   const uint32_t point_bins = point_grid.bin_count() * size_slices;
@@ -315,26 +338,34 @@ Result<std::vector<uint8_t>> Serialise(const std::vector<Model>& models,
   }
   std::vector<uint32_t> point_bin_of, line_bin_of, point_order, line_order;
   for (size_t i = 0; i < point_pos.size(); ++i) {
-    point_bin_of.push_back(point_size_slice[i] * point_grid.bin_count() +
+    point_bin_of.push_back(t.point_size_slice[i] * point_grid.bin_count() +
                            BinOf(point_grid, point_pos[i]));
   }
   for (size_t i = 0; i < line_centre.size(); ++i) {
-    line_bin_of.push_back(line_slice[i] * line_grid.bin_count() + BinOf(line_grid, line_centre[i]));
+    line_bin_of.push_back(t.line_slice[i] * line_grid.bin_count() +
+                          BinOf(line_grid, line_centre[i]));
   }
-  uint32_t max_point_bin = 0, max_line_bin = 0;
-  const std::vector<uint32_t> point_offsets =
-      SortByBin(point_bin_of, point_bins, &point_order, &max_point_bin);
-  const std::vector<uint32_t> line_offsets =
-      SortByBin(line_bin_of, line_bins, &line_order, &max_line_bin);
-  std::vector<AspectPointEntry> points_sorted(points.size());
-  std::vector<AspectLineEntry> lines_sorted(lines.size());
-  for (size_t i = 0; i < points.size(); ++i) points_sorted[i] = points[point_order[i]];
-  for (size_t i = 0; i < lines.size(); ++i) lines_sorted[i] = lines[line_order[i]];
-  if (rep != nullptr) {
-    rep->max_point_bin_entries = max_point_bin;
-    rep->max_line_bin_entries = max_line_bin;
-  }
+  out->point_grid = point_grid;
+  out->line_grid = line_grid;
+  out->point_offsets = SortByBin(point_bin_of, point_bins, &point_order, &out->max_point_bin);
+  out->line_offsets = SortByBin(line_bin_of, line_bins, &line_order, &out->max_line_bin);
+  out->points_sorted.resize(t.points.size());
+  out->lines_sorted.resize(t.lines.size());
+  for (size_t i = 0; i < t.points.size(); ++i) out->points_sorted[i] = t.points[point_order[i]];
+  for (size_t i = 0; i < t.lines.size(); ++i) out->lines_sorted[i] = t.lines[line_order[i]];
+  return Status::Ok();
+}
 
+// The blob (aspect_format.hpp) of `models`' table: header, sections, CRC.
+std::vector<uint8_t> WriteAspectBlob(const std::vector<Model>& models, const FlatTable& t,
+                                     const BinnedEntries& binned, const AspectBuildOptions& o,
+                                     uint32_t size_slices, uint32_t angle_slices) {
+  const std::vector<AspectRecord>& aspect_records = t.aspect_records;
+  const std::vector<AspectBasis>& basis_records = t.basis_records;
+  const std::vector<uint32_t>& point_offsets = binned.point_offsets;
+  const std::vector<uint32_t>& line_offsets = binned.line_offsets;
+  const std::vector<AspectPointEntry>& points_sorted = binned.points_sorted;
+  const std::vector<AspectLineEntry>& lines_sorted = binned.lines_sorted;
   AspectHeader h{};
   std::memcpy(h.magic, kAspectMagic, sizeof(kAspectMagic));
   h.format_version = kAspectFormatVersion;
@@ -343,16 +374,16 @@ Result<std::vector<uint8_t>> Serialise(const std::vector<Model>& models,
   h.n_models = static_cast<uint32_t>(models.size());
   h.n_aspects = static_cast<uint32_t>(aspect_records.size());
   h.n_bases = static_cast<uint32_t>(basis_records.size());
-  h.n_point_entries = static_cast<uint32_t>(points.size());
-  h.n_line_entries = static_cast<uint32_t>(lines.size());
-  h.max_point_bin_entries = max_point_bin;
-  h.max_line_bin_entries = max_line_bin;
-  h.point_grid = point_grid;
-  h.line_grid = line_grid;
+  h.n_point_entries = static_cast<uint32_t>(t.points.size());
+  h.n_line_entries = static_cast<uint32_t>(t.lines.size());
+  h.max_point_bin_entries = binned.max_point_bin;
+  h.max_line_bin_entries = binned.max_line_bin;
+  h.point_grid = binned.point_grid;
+  h.line_grid = binned.line_grid;
   h.line_angle_slices = static_cast<uint16_t>(angle_slices);
   h.size_slices = static_cast<uint16_t>(size_slices);
-  h.log_size_min = log_size_min;
-  h.log_size_max = log_size_max;
+  h.log_size_min = t.log_size_min;
+  h.log_size_max = t.log_size_max;
   h.build = ParamsOf(o);
   size_t offset = AlignSection(sizeof(AspectHeader));
   auto place = [&offset](SectionRef& s, size_t bytes) {
@@ -383,6 +414,32 @@ Result<std::vector<uint8_t>> Serialise(const std::vector<Model>& models,
   h.blob_crc32 = BlobCrc32(blob.data(), blob.size(), offsetof(AspectHeader, blob_crc32));
   std::memcpy(blob.data(), &h, sizeof(h));
   return blob;
+}
+
+// Serialises aspects (their bases in order) of `models` into a blob.
+Result<std::vector<uint8_t>> Serialise(const std::vector<Model>& models,
+                                       const std::vector<BuiltAspect>& aspects,
+                                       const AspectBuildOptions& o, AspectBuildReport* rep) {
+  const uint32_t size_slices = static_cast<uint32_t>(o.size_slices);
+  const uint32_t angle_slices = static_cast<uint32_t>(o.line_angle_slices);
+  const FlatTable t = FlattenAspects(aspects, size_slices, angle_slices);
+  if (models.size() > kMaxAspectModels || t.aspect_records.size() > kMaxAspects ||
+      t.basis_records.size() > kMaxAspectBases || t.points.size() > kMaxAspectPointEntries ||
+      t.lines.size() > kMaxAspectLineEntries) {
+    return Status::Error(StatusCode::kResourceExhausted,
+                         "aspect table too large for this build: %zu models, %zu aspects, %zu "
+                         "bases, %zu point and %zu line entries (limits %u, %u, %u, %u, %u)",
+                         models.size(), t.aspect_records.size(), t.basis_records.size(),
+                         t.points.size(), t.lines.size(), kMaxAspectModels, kMaxAspects,
+                         kMaxAspectBases, kMaxAspectPointEntries, kMaxAspectLineEntries);
+  }
+  BinnedEntries binned;
+  SH_RETURN_IF_ERROR(BinEntries(t, o, size_slices, angle_slices, &binned));
+  if (rep != nullptr) {
+    rep->max_point_bin_entries = binned.max_point_bin;
+    rep->max_line_bin_entries = binned.max_line_bin;
+  }
+  return WriteAspectBlob(models, t, binned, o, size_slices, angle_slices);
 }
 
 // Thesis 6.4.1: a test view passes when at least test_pass_fraction of its scene bases give
