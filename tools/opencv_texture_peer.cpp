@@ -98,6 +98,198 @@ Status OpenCvTexturePeer::Learn(const std::vector<TexturedModel>& models,
   return Status::Ok();
 }
 
+namespace {
+
+// Left keypoint and learnt feature indices of matches, by face or model.
+using MatchLists = std::map<int, std::vector<std::pair<int, int>>>;
+
+// Matching: nearest learnt feature, kept when clearly closer than another physical point.
+// Returns face -> (left keypoint, learnt).
+MatchLists MatchByFace(const std::vector<Learnt>& learnt, cv::flann::Index& index,
+                       const cv::Mat& dl) {
+  MatchLists by_face;
+  if (dl.empty()) return by_face;
+  cv::Mat indices, dists;
+  index.knnSearch(dl, indices, dists, kNeighbours, cv::flann::SearchParams(64));
+  for (int i = 0; i < dl.rows; ++i) {
+    const int best = indices.at<int>(i, 0);
+    if (best < 0) continue;
+    const Learnt& l0 = learnt[static_cast<size_t>(best)];
+    float other = dists.at<float>(i, kNeighbours - 1);
+    for (int j = 1; j < kNeighbours; ++j) {
+      const int n = indices.at<int>(i, j);
+      if (n < 0) break;
+      const Learnt& lj = learnt[static_cast<size_t>(n)];
+      if (lj.face != l0.face || (lj.model_mm - l0.model_mm).norm() > kSamePointMm) {
+        other = dists.at<float>(i, j);
+        break;
+      }
+    }
+    // FLANN's L2 distances are squared.
+    if (dists.at<float>(i, 0) < kRatio * kRatio * other) by_face[l0.face].push_back({i, best});
+  }
+  return by_face;
+}
+
+// A RANSAC homography per face (face millimetres to undistorted left pixels): the inliers of
+// the faces that have enough, by model.
+MatchLists InliersByModel(const std::vector<Learnt>& learnt, const std::vector<cv::KeyPoint>& kl,
+                          const MatchLists& by_face, const cv::Mat& K1, const cv::Mat& D1) {
+  MatchLists by_model;
+  for (const auto& [face, list] : by_face) {
+    if (static_cast<int>(list.size()) < kMinFaceInliers) continue;
+    std::vector<cv::Point2f> src, dst_distorted, dst;
+    for (const auto& [k, l] : list) {
+      src.emplace_back(learnt[static_cast<size_t>(l)].ab_mm.x(),
+                       learnt[static_cast<size_t>(l)].ab_mm.y());
+      dst_distorted.push_back(kl[static_cast<size_t>(k)].pt - cv::Point2f(0.5f, 0.5f));
+    }
+    cv::undistortPoints(dst_distorted, dst, K1, D1, cv::noArray(), K1);
+    std::vector<uchar> inlier;
+    const cv::Mat H = cv::findHomography(src, dst, cv::RANSAC, kRansacPx, inlier);
+    if (H.empty()) continue;
+    int n = 0;
+    for (uchar u : inlier) n += u ? 1 : 0;
+    if (n < kMinFaceInliers) continue;
+    const int model = learnt[static_cast<size_t>(list[0].second)].model;
+    for (size_t i = 0; i < list.size(); ++i) {
+      if (inlier[i]) by_model[model].push_back(list[i]);
+    }
+  }
+  return by_model;
+}
+
+// The stereo rig as the pose step uses it: both cameras' matrices, the right camera's pose
+// (OpenCV and as the essential matrix), and the right keypoints (normalised, undistorted) with
+// their descriptors.
+struct StereoRig {
+  const StereoCalibration& calib;
+  cv::Mat K1, D1, K2, D2, R, T;
+  Eigen::Matrix3d E;
+  std::vector<cv::Point2f> kr_norm;
+  const cv::Mat& dr;
+
+  StereoRig(const StereoCalibration& c, const std::vector<cv::KeyPoint>& kr,
+            const cv::Mat& right_descriptors)
+      : calib(c), dr(right_descriptors) {
+    CameraMatrices(calib.left, &K1, &D1);
+    CameraMatrices(calib.right, &K2, &D2);
+    cv::eigen2cv(calib.right_R_left, R);
+    cv::eigen2cv(calib.right_t_left_mm, T);
+    // Right keypoints in normalised undistorted coordinates, once.
+    std::vector<cv::Point2f> kr_px;
+    kr_px.reserve(kr.size());
+    for (const cv::KeyPoint& k : kr) kr_px.push_back(k.pt - cv::Point2f(0.5f, 0.5f));
+    if (!kr_px.empty()) cv::undistortPoints(kr_px, kr_norm, K2, D2);
+    const Eigen::Vector3d& t = calib.right_t_left_mm;
+    Eigen::Matrix3d tx;
+    tx << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
+    E = tx * calib.right_R_left;
+  }
+
+  // The right keypoint matching descriptor q near the epipolar line of the normalised left
+  // point p (descriptor ratio test among the candidates), or -1.
+  int RightMatch(const cv::Point2f& p, const cv::Mat& q) const {
+    const Eigen::Vector3d line = E * Eigen::Vector3d(p.x, p.y, 1.0);
+    const double scale = line.head<2>().norm();
+    if (!(scale > 0)) return -1;
+    double best = 1e30, second = 1e30;
+    int best_j = -1;
+    for (size_t j = 0; j < kr_norm.size(); ++j) {
+      const double dist = std::fabs(line.x() * kr_norm[j].x + line.y() * kr_norm[j].y + line.z()) /
+                          scale * calib.right.fx;
+      if (dist > 2.0) continue;
+      const double d = cv::norm(q, dr.row(static_cast<int>(j)), cv::NORM_L2SQR);
+      if (d < best) {
+        second = best;
+        best = d;
+        best_j = static_cast<int>(j);
+      } else if (d < second) {
+        second = d;
+      }
+    }
+    if (best_j < 0 || best > kRatio * kRatio * second) return -1;
+    return best_j;
+  }
+};
+
+// Refines out's pose (Re, te: its solvePnP pose) by stereo: the left points ln matched to the
+// right points rn, triangulated, kept when near the pose, and the model points fitted to them.
+void FitStereo(const StereoRig& rig, const std::vector<cv::Point2f>& ln,
+               const std::vector<cv::Point2f>& rn, const std::vector<Eigen::Vector3d>& model_pts,
+               const Eigen::Matrix3d& Re, const Eigen::Vector3d& te, PeerObject* out) {
+  cv::Mat P1 = cv::Mat::eye(3, 4, CV_64F), P2(3, 4, CV_64F), X;
+  rig.R.copyTo(P2(cv::Rect(0, 0, 3, 3)));
+  rig.T.copyTo(P2(cv::Rect(3, 0, 1, 3)));
+  cv::triangulatePoints(P1, P2, ln, rn, X);
+  Eigen::Matrix3Xd src(3, 0), dst(3, 0);
+  for (int c = 0; c < X.cols; ++c) {
+    const double w = X.at<float>(3, c);
+    if (std::fabs(w) < 1e-12) continue;
+    const Eigen::Vector3d p(X.at<float>(0, c) / w, X.at<float>(1, c) / w, X.at<float>(2, c) / w);
+    const Eigen::Vector3d predicted = Re * model_pts[static_cast<size_t>(c)] + te;
+    if ((p - predicted).norm() > 10.0) continue;
+    src.conservativeResize(3, src.cols() + 1);
+    dst.conservativeResize(3, dst.cols() + 1);
+    src.col(src.cols() - 1) = model_pts[static_cast<size_t>(c)];
+    dst.col(dst.cols() - 1) = p;
+  }
+  if (src.cols() >= 6) {
+    const Eigen::Matrix4d fit = Eigen::umeyama(src, dst, false);
+    out->cam_T_model.R = fit.topLeftCorner<3, 3>().cast<float>();
+    out->cam_T_model.t_mm = fit.topRightCorner<3, 1>().cast<float>();
+    out->stereo_points = static_cast<int>(src.cols());
+  }
+}
+
+// The pose of `model` from its inlier matches `list`: solvePnP, then stereo. False when
+// solvePnP fails.
+bool ModelPose(const std::vector<Learnt>& learnt, const std::vector<cv::KeyPoint>& kl,
+               const cv::Mat& dl, const StereoRig& rig, int model,
+               const std::vector<std::pair<int, int>>& list, PeerObject* object) {
+  std::vector<cv::Point3f> obj;
+  std::vector<cv::Point2f> img;
+  for (const auto& [k, l] : list) {
+    const Eigen::Vector3f& x = learnt[static_cast<size_t>(l)].model_mm;
+    obj.emplace_back(x.x(), x.y(), x.z());
+    img.push_back(kl[static_cast<size_t>(k)].pt - cv::Point2f(0.5f, 0.5f));
+  }
+  cv::Mat rvec, tvec;
+  if (!cv::solvePnP(obj, img, rig.K1, rig.D1, rvec, tvec, false, cv::SOLVEPNP_ITERATIVE)) {
+    return false;
+  }
+  cv::Mat Rm;
+  cv::Rodrigues(rvec, Rm);
+  PeerObject out;
+  out.model = model;
+  Eigen::Matrix3d Re;
+  Eigen::Vector3d te;
+  cv::cv2eigen(Rm, Re);
+  cv::cv2eigen(tvec, te);
+  out.cam_T_model.R = Re.cast<float>();
+  out.cam_T_model.t_mm = te.cast<float>();
+  out.matches = static_cast<int>(list.size());
+  // Stereo: each inlier's right match near its epipolar line, triangulated, kept when near the
+  // solvePnP pose.
+  std::vector<cv::Point2f> ln, rn;
+  std::vector<Eigen::Vector3d> model_pts;
+  std::vector<cv::Point2f> img_norm;
+  cv::undistortPoints(img, img_norm, rig.K1, rig.D1);
+  for (size_t i = 0; i < list.size(); ++i) {
+    const int best_j = rig.RightMatch(img_norm[i], dl.row(list[i].first));
+    if (best_j < 0) continue;
+    ln.push_back(img_norm[i]);
+    rn.push_back(rig.kr_norm[static_cast<size_t>(best_j)]);
+    const Eigen::Vector3f& x = learnt[static_cast<size_t>(list[i].second)].model_mm;
+    model_pts.push_back(x.cast<double>());
+  }
+  if (ln.size() >= 6) FitStereo(rig, ln, rn, model_pts, Re, te, &out);
+  *object = out;
+  return true;
+}
+
+}  // namespace
+
 Status OpenCvTexturePeer::Process(const StereoCalibration& calib, ConstGrayView left,
                                   ConstGrayView right, std::vector<PeerObject>* objects,
                                   PeerTimings* time) {
@@ -112,154 +304,20 @@ Status OpenCvTexturePeer::Process(const StereoCalibration& calib, ConstGrayView 
   m.sift->detectAndCompute(Wrap(right), cv::noArray(), kr, dr);
   const double t1 = NowMs();
   time->features_ms = static_cast<float>(t1 - t0);
-  // Matching: nearest learnt feature, kept when clearly closer than another physical point.
-  std::map<int, std::vector<std::pair<int, int>>> by_face;  // face -> (left keypoint, learnt)
-  if (!dl.empty()) {
-    cv::Mat indices, dists;
-    m.index->knnSearch(dl, indices, dists, kNeighbours, cv::flann::SearchParams(64));
-    for (int i = 0; i < dl.rows; ++i) {
-      const int best = indices.at<int>(i, 0);
-      if (best < 0) continue;
-      const Learnt& l0 = m.learnt[static_cast<size_t>(best)];
-      float other = dists.at<float>(i, kNeighbours - 1);
-      for (int j = 1; j < kNeighbours; ++j) {
-        const int n = indices.at<int>(i, j);
-        if (n < 0) break;
-        const Learnt& lj = m.learnt[static_cast<size_t>(n)];
-        if (lj.face != l0.face || (lj.model_mm - l0.model_mm).norm() > kSamePointMm) {
-          other = dists.at<float>(i, j);
-          break;
-        }
-      }
-      // FLANN's L2 distances are squared.
-      if (dists.at<float>(i, 0) < kRatio * kRatio * other) by_face[l0.face].push_back({i, best});
-    }
-  }
+  const MatchLists by_face = MatchByFace(m.learnt, *m.index, dl);
   const double t2 = NowMs();
   time->matching_ms = static_cast<float>(t2 - t1);
-  // A RANSAC homography per face (face millimetres to undistorted left pixels).
   cv::Mat K1, D1;
   CameraMatrices(calib.left, &K1, &D1);
-  std::map<int, std::vector<std::pair<int, int>>> by_model;
-  for (const auto& [face, list] : by_face) {
-    if (static_cast<int>(list.size()) < kMinFaceInliers) continue;
-    std::vector<cv::Point2f> src, dst_distorted, dst;
-    for (const auto& [k, l] : list) {
-      src.emplace_back(m.learnt[static_cast<size_t>(l)].ab_mm.x(),
-                       m.learnt[static_cast<size_t>(l)].ab_mm.y());
-      dst_distorted.push_back(kl[static_cast<size_t>(k)].pt - cv::Point2f(0.5f, 0.5f));
-    }
-    cv::undistortPoints(dst_distorted, dst, K1, D1, cv::noArray(), K1);
-    std::vector<uchar> inlier;
-    const cv::Mat H = cv::findHomography(src, dst, cv::RANSAC, kRansacPx, inlier);
-    if (H.empty()) continue;
-    int n = 0;
-    for (uchar u : inlier) n += u ? 1 : 0;
-    if (n < kMinFaceInliers) continue;
-    const int model = m.learnt[static_cast<size_t>(list[0].second)].model;
-    for (size_t i = 0; i < list.size(); ++i) {
-      if (inlier[i]) by_model[model].push_back(list[i]);
-    }
-  }
+  const MatchLists by_model = InliersByModel(m.learnt, kl, by_face, K1, D1);
   const double t3 = NowMs();
   time->clustering_ms = static_cast<float>(t3 - t2);
   // Pose per model: solvePnP, then stereo.
-  cv::Mat K2, D2;
-  CameraMatrices(calib.right, &K2, &D2);
-  cv::Mat R, T;
-  cv::eigen2cv(calib.right_R_left, R);
-  cv::eigen2cv(calib.right_t_left_mm, T);
-  // Right keypoints in normalised undistorted coordinates, once.
-  std::vector<cv::Point2f> kr_px, kr_norm;
-  for (const cv::KeyPoint& k : kr) kr_px.push_back(k.pt - cv::Point2f(0.5f, 0.5f));
-  if (!kr_px.empty()) cv::undistortPoints(kr_px, kr_norm, K2, D2);
-  const Eigen::Matrix3d E = [&] {
-    const Eigen::Vector3d& t = calib.right_t_left_mm;
-    Eigen::Matrix3d tx;
-    tx << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
-    return Eigen::Matrix3d(tx * calib.right_R_left);
-  }();
+  const StereoRig rig(calib, kr, dr);
   for (const auto& [model, list] : by_model) {
     if (list.size() < 6) continue;
-    std::vector<cv::Point3f> obj;
-    std::vector<cv::Point2f> img;
-    for (const auto& [k, l] : list) {
-      const Eigen::Vector3f& x = m.learnt[static_cast<size_t>(l)].model_mm;
-      obj.emplace_back(x.x(), x.y(), x.z());
-      img.push_back(kl[static_cast<size_t>(k)].pt - cv::Point2f(0.5f, 0.5f));
-    }
-    cv::Mat rvec, tvec;
-    if (!cv::solvePnP(obj, img, K1, D1, rvec, tvec, false, cv::SOLVEPNP_ITERATIVE)) continue;
-    cv::Mat Rm;
-    cv::Rodrigues(rvec, Rm);
     PeerObject out;
-    out.model = model;
-    Eigen::Matrix3d Re;
-    Eigen::Vector3d te;
-    cv::cv2eigen(Rm, Re);
-    cv::cv2eigen(tvec, te);
-    out.cam_T_model.R = Re.cast<float>();
-    out.cam_T_model.t_mm = te.cast<float>();
-    out.matches = static_cast<int>(list.size());
-    // Stereo: each inlier's right match near its epipolar line (descriptor ratio test among
-    // the candidates), triangulated, kept when near the solvePnP pose.
-    std::vector<cv::Point2f> ln, rn;
-    std::vector<Eigen::Vector3d> model_pts;
-    std::vector<cv::Point2f> img_norm;
-    cv::undistortPoints(img, img_norm, K1, D1);
-    for (size_t i = 0; i < list.size(); ++i) {
-      const Eigen::Vector3d line = E * Eigen::Vector3d(img_norm[i].x, img_norm[i].y, 1.0);
-      const double scale = line.head<2>().norm();
-      if (!(scale > 0)) continue;
-      const cv::Mat q = dl.row(list[i].first);
-      double best = 1e30, second = 1e30;
-      int best_j = -1;
-      for (size_t j = 0; j < kr_norm.size(); ++j) {
-        const double dist =
-            std::fabs(line.x() * kr_norm[j].x + line.y() * kr_norm[j].y + line.z()) / scale *
-            calib.right.fx;
-        if (dist > 2.0) continue;
-        const double d = cv::norm(q, dr.row(static_cast<int>(j)), cv::NORM_L2SQR);
-        if (d < best) {
-          second = best;
-          best = d;
-          best_j = static_cast<int>(j);
-        } else if (d < second) {
-          second = d;
-        }
-      }
-      if (best_j < 0 || best > kRatio * kRatio * second) continue;
-      ln.push_back(img_norm[i]);
-      rn.push_back(kr_norm[static_cast<size_t>(best_j)]);
-      const Eigen::Vector3f& x = m.learnt[static_cast<size_t>(list[i].second)].model_mm;
-      model_pts.push_back(x.cast<double>());
-    }
-    if (ln.size() >= 6) {
-      cv::Mat P1 = cv::Mat::eye(3, 4, CV_64F), P2(3, 4, CV_64F), X;
-      R.copyTo(P2(cv::Rect(0, 0, 3, 3)));
-      T.copyTo(P2(cv::Rect(3, 0, 1, 3)));
-      cv::triangulatePoints(P1, P2, ln, rn, X);
-      Eigen::Matrix3Xd src(3, 0), dst(3, 0);
-      for (int c = 0; c < X.cols; ++c) {
-        const double w = X.at<float>(3, c);
-        if (std::fabs(w) < 1e-12) continue;
-        const Eigen::Vector3d p(X.at<float>(0, c) / w, X.at<float>(1, c) / w,
-                                X.at<float>(2, c) / w);
-        const Eigen::Vector3d predicted = Re * model_pts[static_cast<size_t>(c)] + te;
-        if ((p - predicted).norm() > 10.0) continue;
-        src.conservativeResize(3, src.cols() + 1);
-        dst.conservativeResize(3, dst.cols() + 1);
-        src.col(src.cols() - 1) = model_pts[static_cast<size_t>(c)];
-        dst.col(dst.cols() - 1) = p;
-      }
-      if (src.cols() >= 6) {
-        const Eigen::Matrix4d fit = Eigen::umeyama(src, dst, false);
-        out.cam_T_model.R = fit.topLeftCorner<3, 3>().cast<float>();
-        out.cam_T_model.t_mm = fit.topRightCorner<3, 1>().cast<float>();
-        out.stereo_points = static_cast<int>(src.cols());
-      }
-    }
-    objects->push_back(out);
+    if (ModelPose(m.learnt, kl, dl, rig, model, list, &out)) objects->push_back(out);
   }
   const double t4 = NowMs();
   time->stereo_ms = static_cast<float>(t4 - t3);
