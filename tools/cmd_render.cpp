@@ -87,7 +87,8 @@ std::string TruthJson(const render::GeneratedScene& g, const Model* models, uint
   return json;
 }
 
-int RunRender(int argc, char** argv) {
+// The command line of `stereohash render`, with its defaults.
+struct RenderArgs {
   const char* out_dir = nullptr;
   const char* models_dir = STEREOHASH_DEFAULT_MODELS_DIR;
   const char* tables_path = "";  // --tables: a model set's polyhedra instead
@@ -97,31 +98,33 @@ int RunRender(int argc, char** argv) {
   render::ScenarioParams params;
   int per_row = 0;      // --scenes-per-row: a recorded set
   int set_objects = 0;  // --objects given
+};
+
+// Reads the options into `args`; false (with the exit code) for --help or a bad option.
+bool ParseRenderArgs(int argc, char** argv, RenderArgs* args, int* exit_code) {
+  render::ScenarioParams& params = args->params;
   for (int i = 1; i < argc; ++i) {
     const char *arg = nullptr, *value = nullptr;
-    int exit_code = 0;
-    if (!NextOption("render", argc, argv, PrintHelp, &i, &arg, &value, &exit_code)) {
-      return exit_code;
-    }
+    if (!NextOption("render", argc, argv, PrintHelp, &i, &arg, &value, exit_code)) return false;
     double number = 0;
     // Within float's range here (the floats' own ranges are checked by GenerateScene); counts
     // and the seed must be whole numbers in their ranges below.
     const bool numeric = ParseNumber(value, -1e30, 1e30, &number);
     const bool whole = numeric && number == std::floor(number);
     if (std::strcmp(arg, "--out") == 0) {
-      out_dir = value;
+      args->out_dir = value;
     } else if (std::strcmp(arg, "--models") == 0) {
-      models_dir = value;
+      args->models_dir = value;
     } else if (std::strcmp(arg, "--tables") == 0) {
-      tables_path = value;
+      args->tables_path = value;
     } else if (std::strcmp(arg, "--seed") == 0 && whole && number >= 0 && number < 1.8e19) {
-      seed = static_cast<uint64_t>(number);
+      args->seed = static_cast<uint64_t>(number);
     } else if (std::strcmp(arg, "--objects") == 0 && whole && number >= 1 &&
                number <= render::kMaxRenderObjects) {
       params.n_objects = static_cast<int>(number);
-      set_objects = params.n_objects;
+      args->set_objects = params.n_objects;
     } else if (std::strcmp(arg, "--scenes-per-row") == 0 && whole && number >= 1 && number <= 100) {
-      per_row = static_cast<int>(number);
+      args->per_row = static_cast<int>(number);
     } else if (std::strcmp(arg, "--distance-mm") == 0 && numeric) {
       params.camera_distance_mm = static_cast<float>(number);
     } else if (std::strcmp(arg, "--baseline-mm") == 0 && numeric) {
@@ -132,111 +135,144 @@ int RunRender(int argc, char** argv) {
       params.noise_sigma = static_cast<float>(number);
     } else if (std::strcmp(arg, "--background") == 0 &&
                (std::strcmp(value, "dark") == 0 || std::strcmp(value, "light") == 0)) {
-      background = value;
+      args->background = value;
       params.background = value[0] == 'd' ? render::Background::kDark : render::Background::kLight;
     } else if (std::strcmp(arg, "--occlusion") == 0 &&
                (std::strcmp(value, "none") == 0 || std::strcmp(value, "some") == 0 ||
                 std::strcmp(value, "severe") == 0)) {
-      occlusion = value;
+      args->occlusion = value;
       params.occlusion = value[1] == 'o'   ? render::Occlusion::kNone
                          : value[1] == 'e' ? render::Occlusion::kSevere
                                            : render::Occlusion::kSome;
     } else {
       std::fprintf(stderr, "stereohash render: bad option or value: %s %s (see --help)\n", arg,
                    value);
-      return 2;
+      *exit_code = 2;
+      return false;
     }
   }
-  if (out_dir == nullptr) {
+  if (args->out_dir == nullptr) {
     std::fprintf(stderr, "stereohash render: --out DIR is required (see --help)\n");
-    return 2;
+    *exit_code = 2;
+    return false;
   }
+  return true;
+}
 
-  if (per_row > 0) {
-    RenderSetOptions set;
-    set.out_dir = out_dir;
-    set.models_dir = models_dir;
-    set.tables_path = tables_path;
-    set.seed = seed;
-    set.per_row = per_row;
-    set.objects = set_objects;
-    set.params = params;
-    const Status written = RenderRecordedSet(set);
-    if (!written.ok()) {
-      std::fprintf(stderr, "stereohash render: %s\n", written.message());
-      return 1;
-    }
-    std::printf("wrote %d scenes to %s\n", 6 * per_row, out_dir);
-    return 0;
-  }
-
-  std::vector<Model> model_set;
-  std::vector<render::ModelColour> colours;
-  const Status loaded = LoadWorldModels(models_dir, tables_path, &model_set, &colours);
-  if (!loaded.ok()) {
-    std::fprintf(stderr, "stereohash render: %s\n", loaded.message());
+// --scenes-per-row: the recorded set.
+int RenderSet(const RenderArgs& args) {
+  RenderSetOptions set;
+  set.out_dir = args.out_dir;
+  set.models_dir = args.models_dir;
+  set.tables_path = args.tables_path;
+  set.seed = args.seed;
+  set.per_row = args.per_row;
+  set.objects = args.set_objects;
+  set.params = args.params;
+  const Status written = RenderRecordedSet(set);
+  if (!written.ok()) {
+    std::fprintf(stderr, "stereohash render: %s\n", written.message());
     return 1;
   }
-  Result<render::GeneratedScene> scene =
-      render::GenerateScene(seed, params, model_set.data(), int(model_set.size()));
-  if (!scene.ok()) {
-    std::fprintf(stderr, "stereohash render: %s\n", scene.status().message());
-    return 1;
-  }
-  render::PaintColourParts(colours, &scene->scene);
-  const bool colour = render::AnyColoured(colours);
-  const CameraIntrinsics& cam = scene->calib.left;
+  std::printf("wrote %d scenes to %s\n", 6 * args.per_row, args.out_dir);
+  return 0;
+}
+
+// A rendered stereo pair: grey images, or RGB ones when a colour part is in the scene.
+struct RenderedImages {
+  bool colour = false;
+  int width = 0, height = 0;
+  std::vector<uint8_t> left, right;
+  std::vector<Rgb8> left_rgb, right_rgb;
+  double render_ms = 0;
+};
+
+Status RenderImages(const render::GeneratedScene& scene, const std::vector<Model>& model_set,
+                    bool colour, RenderedImages* images) {
+  const CameraIntrinsics& cam = scene.calib.left;
   const size_t pixels = size_t(cam.width) * cam.height;
-  std::vector<uint8_t> left(colour ? 0 : pixels), right(left.size());
-  std::vector<Rgb8> left_rgb(colour ? pixels : 0), right_rgb(left_rgb.size());
+  images->colour = colour;
+  images->width = cam.width;
+  images->height = cam.height;
+  images->left.resize(colour ? 0 : pixels);
+  images->right.resize(images->left.size());
+  images->left_rgb.resize(colour ? pixels : 0);
+  images->right_rgb.resize(images->left_rgb.size());
   render::RenderTargets left_targets, right_targets;
   if (colour) {
-    left_targets.rgb = {left_rgb.data(), cam.width, cam.height, cam.width};
-    right_targets.rgb = {right_rgb.data(), cam.width, cam.height, cam.width};
+    left_targets.rgb = {images->left_rgb.data(), cam.width, cam.height, cam.width};
+    right_targets.rgb = {images->right_rgb.data(), cam.width, cam.height, cam.width};
   } else {
-    left_targets.image = {left.data(), cam.width, cam.height, cam.width};
-    right_targets.image = {right.data(), cam.width, cam.height, cam.width};
+    left_targets.image = {images->left.data(), cam.width, cam.height, cam.width};
+    right_targets.image = {images->right.data(), cam.width, cam.height, cam.width};
   }
   const auto start = std::chrono::steady_clock::now();
-  const Status rendered =
-      render::RenderStereo(scene->scene, model_set.data(), int(model_set.size()), scene->calib,
-                           left_targets, right_targets);
-  const double render_ms =
+  const Status rendered = render::RenderStereo(scene.scene, model_set.data(), int(model_set.size()),
+                                               scene.calib, left_targets, right_targets);
+  images->render_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  if (!rendered.ok()) {
-    std::fprintf(stderr, "stereohash render: %s\n", rendered.message());
-    return 1;
-  }
+  return rendered;
+}
 
-  if (mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
-    std::fprintf(stderr, "stereohash render: cannot create %s: %s\n", out_dir,
-                 std::strerror(errno));
-    return 1;
-  }
-  const std::string dir(out_dir);
+// DIR/{left.png,right.png,calib.yaml,table.yaml,truth.json} of a rendered scene.
+Status WriteSceneFiles(const RenderArgs& args, const render::GeneratedScene& scene,
+                       const std::vector<Model>& model_set, const RenderedImages& images) {
+  const std::string dir(args.out_dir);
   std::vector<char> yaml(8192);
-  const Result<size_t> yaml_size = WriteCalibrationYaml(scene->calib, yaml.data(), yaml.size());
+  const Result<size_t> yaml_size = WriteCalibrationYaml(scene.calib, yaml.data(), yaml.size());
   Status st = yaml_size.ok() ? Status::Ok() : yaml_size.status();
   for (int k = 0; k < 2 && st.ok(); ++k) {
     const std::string path = dir + (k == 0 ? "/left.png" : "/right.png");
-    st = colour ? hal::WritePngRgb(
-                      path.c_str(),
-                      reinterpret_cast<const uint8_t*>((k == 0 ? left_rgb : right_rgb).data()),
-                      cam.width, cam.height, 3 * cam.width)
-                : hal::WritePng(path.c_str(), ConstGrayView{(k == 0 ? left : right).data(),
-                                                            cam.width, cam.height, cam.width});
+    st = images.colour ? hal::WritePngRgb(path.c_str(),
+                                          reinterpret_cast<const uint8_t*>(
+                                              (k == 0 ? images.left_rgb : images.right_rgb).data()),
+                                          images.width, images.height, 3 * images.width)
+                       : hal::WritePng(path.c_str(),
+                                       ConstGrayView{(k == 0 ? images.left : images.right).data(),
+                                                     images.width, images.height, images.width});
   }
   if (st.ok()) st = WriteText(dir + "/calib.yaml", std::string(yaml.data(), *yaml_size));
   // The table's pose, as an installation measures it once (`recognize --table`).
   std::vector<char> table_yaml(4096);
   const Result<size_t> table_size =
-      WriteTableYaml(scene->scene.left_T_table, table_yaml.data(), table_yaml.size());
+      WriteTableYaml(scene.scene.left_T_table, table_yaml.data(), table_yaml.size());
   if (st.ok() && !table_size.ok()) st = table_size.status();
   if (st.ok()) st = WriteText(dir + "/table.yaml", std::string(table_yaml.data(), *table_size));
   if (st.ok()) {
-    st = WriteText(dir + "/truth.json",
-                   TruthJson(*scene, model_set.data(), seed, params, background, occlusion));
+    st = WriteText(dir + "/truth.json", TruthJson(scene, model_set.data(), args.seed, args.params,
+                                                  args.background, args.occlusion));
   }
+  return st;
+}
+
+// One scene: generated, rendered and written.
+int RenderOneScene(const RenderArgs& args) {
+  std::vector<Model> model_set;
+  std::vector<render::ModelColour> colours;
+  const Status loaded = LoadWorldModels(args.models_dir, args.tables_path, &model_set, &colours);
+  if (!loaded.ok()) {
+    std::fprintf(stderr, "stereohash render: %s\n", loaded.message());
+    return 1;
+  }
+  Result<render::GeneratedScene> scene =
+      render::GenerateScene(args.seed, args.params, model_set.data(), int(model_set.size()));
+  if (!scene.ok()) {
+    std::fprintf(stderr, "stereohash render: %s\n", scene.status().message());
+    return 1;
+  }
+  render::PaintColourParts(colours, &scene->scene);
+  RenderedImages images;
+  const Status rendered = RenderImages(*scene, model_set, render::AnyColoured(colours), &images);
+  if (!rendered.ok()) {
+    std::fprintf(stderr, "stereohash render: %s\n", rendered.message());
+    return 1;
+  }
+  if (mkdir(args.out_dir, 0777) != 0 && errno != EEXIST) {
+    std::fprintf(stderr, "stereohash render: cannot create %s: %s\n", args.out_dir,
+                 std::strerror(errno));
+    return 1;
+  }
+  const Status st = WriteSceneFiles(args, *scene, model_set, images);
   if (!st.ok()) {
     std::fprintf(stderr, "stereohash render: %s\n", st.message());
     return 1;
@@ -244,8 +280,16 @@ int RunRender(int argc, char** argv) {
   std::printf(
       "rendered %zu objects (seed %llu) in %.0f ms -> %s/{left.png,right.png,calib.yaml,"
       "table.yaml,truth.json}\n",
-      scene->scene.objects.size(), static_cast<unsigned long long>(seed), render_ms, out_dir);
+      scene->scene.objects.size(), static_cast<unsigned long long>(args.seed), images.render_ms,
+      args.out_dir);
   return 0;
+}
+
+int RunRender(int argc, char** argv) {
+  RenderArgs args;
+  int exit_code = 0;
+  if (!ParseRenderArgs(argc, argv, &args, &exit_code)) return exit_code;
+  return args.per_row > 0 ? RenderSet(args) : RenderOneScene(args);
 }
 
 }  // namespace
