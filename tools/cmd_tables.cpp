@@ -324,20 +324,30 @@ Status SplitColourParts(const std::string& dir, const std::vector<std::string>& 
   return Status::Ok();
 }
 
-int RunBuild(int argc, char** argv) {
+// The command line of `stereohash tables build`, with its defaults.
+struct BuildArgs {
   std::string out, models_dir = "models", names, views_out;
   bool models_given = false, bare = false, want_aspects = false, no_aspects = false;
+  // --hash-2d was given; after parsing, want_aspects also holds when the set gets its aspect
+  // table by default.
+  bool aspects_asked = false;
   int hf = 5;
   ShapeViewBuildOptions view_options;
   AspectBuildOptions aspect_options;
   CadImportOptions cad;
+};
+
+// Reads the options into `args`; false (with the exit code) for --help or a bad option.
+bool ParseBuildArgs(int argc, char** argv, BuildArgs* args, int* exit_code) {
+  *exit_code = 2;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    const int aspect = ParseAspectOption(argc, argv, &i, &aspect_options, &want_aspects);
-    if (aspect < 0) return 2;
+    const int aspect =
+        ParseAspectOption(argc, argv, &i, &args->aspect_options, &args->want_aspects);
+    if (aspect < 0) return false;
     if (aspect > 0) continue;
-    const int cad_option = ParseCadOption(argc, argv, &i, &cad);
-    if (cad_option < 0) return 2;
+    const int cad_option = ParseCadOption(argc, argv, &i, &args->cad);
+    if (cad_option < 0) return false;
     if (cad_option > 0) continue;
     auto value = [&]() -> std::string {
       if (i + 1 >= argc) {
@@ -348,132 +358,164 @@ int RunBuild(int argc, char** argv) {
     };
     if (a == "--help" || a == "-h") {
       BuildUsage();
-      return 0;
+      *exit_code = 0;
+      return false;
     } else if (a == "--out") {
-      out = value();
+      args->out = value();
     } else if (a == "--hash-fn") {
       long n = 0;
-      if (!OptionInteger(kBuild, "--hash-fn", value().c_str(), 1, 5, &n)) return 2;
-      hf = int(n);
+      if (!OptionInteger(kBuild, "--hash-fn", value().c_str(), 1, 5, &n)) return false;
+      args->hf = int(n);
     } else if (a == "--models") {
-      models_dir = value();
-      models_given = true;
+      args->models_dir = value();
+      args->models_given = true;
     } else if (a == "--views-out") {
-      views_out = value();
+      args->views_out = value();
     } else if (a == "--spacing-deg") {
       double deg = 0;
-      if (!OptionNumber(kBuild, "--spacing-deg", value().c_str(), 0.1, 180, &deg)) return 2;
-      view_options.view_spacing_deg = static_cast<float>(deg);
+      if (!OptionNumber(kBuild, "--spacing-deg", value().c_str(), 0.1, 180, &deg)) return false;
+      args->view_options.view_spacing_deg = static_cast<float>(deg);
     } else if (a == "--components") {
       long n = 0;
-      if (!OptionInteger(kBuild, "--components", value().c_str(), 1, 1000000, &n)) return 2;
-      view_options.n_components = int(n);
+      if (!OptionInteger(kBuild, "--components", value().c_str(), 1, 1000000, &n)) return false;
+      args->view_options.n_components = int(n);
     } else if (a == "--names") {
-      names = value();
+      args->names = value();
     } else if (a == "--bare") {
-      bare = true;
+      args->bare = true;
     } else if (a == "--no-hash-2d") {
-      no_aspects = true;
+      args->no_aspects = true;
     } else {
       std::fprintf(stderr, "stereohash tables build: unknown option '%s'\n", a.c_str());
       BuildUsage();
-      return 2;
+      return false;
     }
   }
-  if (out.empty() || !IsValidHashFunction(hf)) {
+  if (args->out.empty() || !IsValidHashFunction(args->hf)) {
     std::fprintf(stderr, "stereohash tables build: need --out FILE and --hash-fn 1..5\n");
-    return 2;
+    return false;
   }
-  if (want_aspects && no_aspects) {
+  if (args->want_aspects && args->no_aspects) {
     std::fprintf(stderr,
                  "stereohash tables build: --hash-2d and --no-hash-2d exclude each other\n");
-    return 2;
+    return false;
   }
   // A set with polyhedra carries their aspect table unless told not to (or bare): the one-camera
   // fallback and the stereo path's one-image rescue then work with the set's own models.
-  const bool aspects_asked = want_aspects;
-  want_aspects = want_aspects || (!no_aspects && !bare);
-  // Printed models (OBJ with texture coordinates and an image) of a folder: the feature database.
-  std::vector<std::string> printed, plain;
-  if (names.empty() && models_given) {
-    const Status s = ClassifyModelFolder(models_dir, &printed, &plain);
+  args->aspects_asked = args->want_aspects;
+  args->want_aspects = args->want_aspects || (!args->no_aspects && !args->bare);
+  return true;
+}
+
+// The models to build from: the printed models' paths (a --models folder's; they go to the
+// feature database) and the names of the others. 0 or the command's exit code.
+int ListBuildModels(const BuildArgs& args, std::vector<std::string>* printed,
+                    std::vector<std::string>* list) {
+  std::vector<std::string> plain;
+  if (args.names.empty() && args.models_given) {
+    const Status s = ClassifyModelFolder(args.models_dir, printed, &plain);
     if (!s.ok()) {
       std::fprintf(stderr, "stereohash tables build: %s\n", s.message());
       return 1;
     }
   }
-  std::vector<std::string> list;
-  if (!names.empty()) {
-    list = Split(names);
-    const Status checked = CheckModelNames(list, "--names");
+  if (!args.names.empty()) {
+    *list = Split(args.names);
+    const Status checked = CheckModelNames(*list, "--names");
     if (!checked.ok()) {
       std::fprintf(stderr, "stereohash tables build: %s\n", checked.message());
       return 2;
     }
-  } else if (!models_given || !plain.empty()) {
-    const Status named = PlainModelNames(models_dir, printed, &list);
+  } else if (!args.models_given || !plain.empty()) {
+    const Status named = PlainModelNames(args.models_dir, *printed, list);
     if (!named.ok()) {
       std::fprintf(stderr, "stereohash tables build: %s\n", named.message());
       return 1;
     }
   }
-  // Colour parts (a material with a diffuse colour) go to the view database.
-  std::vector<Model> all, models;
-  std::vector<ShapeModelInput> parts;
-  Status loaded = LoadFolderModels(models_dir, list, cad, &all);
-  if (loaded.ok()) loaded = SplitColourParts(models_dir, list, all, &models, &parts);
-  if (!loaded.ok()) {
-    std::fprintf(stderr, "stereohash tables build: %s\n", loaded.message());
-    return 1;
-  }
-  if (aspects_asked && models.empty()) {
-    std::fprintf(stderr, "stereohash tables build: --hash-2d needs polyhedra; %s holds none\n",
-                 models_dir.c_str());
-    return 2;
-  }
-  if (models.empty() && parts.empty() && printed.empty()) {
-    std::fprintf(stderr, "stereohash tables build: no models in %s\n", models_dir.c_str());
-    return 2;
-  }
-  std::printf("building %s from %s: %zu polyhedra, %zu colour parts, %zu printed models\n",
-              out.c_str(), models_dir.c_str(), models.size(), parts.size(), printed.size());
-  std::vector<BuiltSection> sections, views_sections;
+  return 0;
+}
+
+// The sections of the set (views_sections: the view database when --views-out names its own
+// file); false after printing why one could not be built.
+bool BuildSections(const BuildArgs& args, const std::vector<Model>& models,
+                   const std::vector<ShapeModelInput>& parts,
+                   const std::vector<std::string>& printed, std::vector<BuiltSection>* sections,
+                   std::vector<BuiltSection>* views_sections) {
   if (!models.empty()) {
-    Result<std::vector<uint8_t>> blob = BuildHashSection(models, hf);
-    if (!blob.ok()) return 1;
-    sections.push_back({uint32_t(SectionKind::kHash3d), std::move(*blob)});
+    Result<std::vector<uint8_t>> blob = BuildHashSection(models, args.hf);
+    if (!blob.ok()) return false;
+    sections->push_back({uint32_t(SectionKind::kHash3d), std::move(*blob)});
   }
   if (!parts.empty()) {
     ShapeViewBuildReport report;
-    Result<std::vector<uint8_t>> blob = BuildShapeViewBlob(parts, view_options, &report);
+    Result<std::vector<uint8_t>> blob = BuildShapeViewBlob(parts, args.view_options, &report);
     if (!blob.ok()) {
       std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
-      return 1;
+      return false;
     }
     std::printf("  SHAPE_VIEWS: ");
-    if (!DescribeBlob(uint32_t(SectionKind::kShapeViews), {blob->data(), blob->size()})) return 1;
-    (views_out.empty() ? sections : views_sections)
-        .push_back({uint32_t(SectionKind::kShapeViews), std::move(*blob)});
+    if (!DescribeBlob(uint32_t(SectionKind::kShapeViews), {blob->data(), blob->size()})) {
+      return false;
+    }
+    (args.views_out.empty() ? sections : views_sections)
+        ->push_back({uint32_t(SectionKind::kShapeViews), std::move(*blob)});
   }
   if (!printed.empty()) {
     Result<std::vector<uint8_t>> blob = BuildPrintedSection(printed);
     if (!blob.ok()) {
       std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
-      return 1;
+      return false;
     }
-    sections.push_back({uint32_t(SectionKind::kTextureFeatures), std::move(*blob)});
+    sections->push_back({uint32_t(SectionKind::kTextureFeatures), std::move(*blob)});
   }
-  if (want_aspects && !models.empty()) {
-    Result<std::vector<uint8_t>> blob = BuildAspectSection(models, aspect_options);
+  if (args.want_aspects && !models.empty()) {
+    Result<std::vector<uint8_t>> blob = BuildAspectSection(models, args.aspect_options);
     if (!blob.ok()) {
       std::fprintf(stderr, "stereohash tables build: %s\n", blob.status().message());
-      return 1;
+      return false;
     }
-    sections.push_back({uint32_t(SectionKind::kAspects2d), std::move(*blob)});
+    sections->push_back({uint32_t(SectionKind::kAspects2d), std::move(*blob)});
   }
-  if (!views_sections.empty() && !WriteSections(views_out, views_sections, bare)) return 1;
+  return true;
+}
+
+int RunBuild(int argc, char** argv) {
+  BuildArgs args;
+  int exit_code = 0;
+  if (!ParseBuildArgs(argc, argv, &args, &exit_code)) return exit_code;
+  // Printed models (OBJ with texture coordinates and an image) of a folder: the feature database.
+  std::vector<std::string> printed, list;
+  const int listed = ListBuildModels(args, &printed, &list);
+  if (listed != 0) return listed;
+  // Colour parts (a material with a diffuse colour) go to the view database.
+  std::vector<Model> all, models;
+  std::vector<ShapeModelInput> parts;
+  Status loaded = LoadFolderModels(args.models_dir, list, args.cad, &all);
+  if (loaded.ok()) loaded = SplitColourParts(args.models_dir, list, all, &models, &parts);
+  if (!loaded.ok()) {
+    std::fprintf(stderr, "stereohash tables build: %s\n", loaded.message());
+    return 1;
+  }
+  if (args.aspects_asked && models.empty()) {
+    std::fprintf(stderr, "stereohash tables build: --hash-2d needs polyhedra; %s holds none\n",
+                 args.models_dir.c_str());
+    return 2;
+  }
+  if (models.empty() && parts.empty() && printed.empty()) {
+    std::fprintf(stderr, "stereohash tables build: no models in %s\n", args.models_dir.c_str());
+    return 2;
+  }
+  std::printf("building %s from %s: %zu polyhedra, %zu colour parts, %zu printed models\n",
+              args.out.c_str(), args.models_dir.c_str(), models.size(), parts.size(),
+              printed.size());
+  std::vector<BuiltSection> sections, views_sections;
+  if (!BuildSections(args, models, parts, printed, &sections, &views_sections)) return 1;
+  if (!views_sections.empty() && !WriteSections(args.views_out, views_sections, args.bare)) {
+    return 1;
+  }
   if (sections.empty()) return 0;
-  return WriteSections(out, sections, bare) ? 0 : 1;
+  return WriteSections(args.out, sections, args.bare) ? 0 : 1;
 }
 
 int CompareWithThesis(const std::string& models_dir) {
