@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Installs what building and testing stereohash needs on Debian 12: the host toolchain and
-# libraries, the python peers used by the tests, clang for the fuzzers and, with --cross, the
-# aarch64 cross toolchain with arm64 multiarch libraries and qemu to run the board build,
-# node-canopen (npm `canopen`, pinned) for the CANopen manager tests, Chromium with
-# playwright-core (npm, pinned) for the web page's browser test and Firefox for its smoke load.
+# libraries, the python peers used by the tests, clang for the fuzzers, universal-ctags for the
+# function size check and, with --cross, the aarch64 cross toolchain with arm64 multiarch
+# libraries and qemu to run the board build, node-canopen (npm `canopen`, pinned) for the CANopen
+# manager tests, Chromium with playwright-core (npm, pinned) for the web page's browser test and
+# Firefox for its smoke load.
 # Does nothing for packages already installed. Without network access to the npm registry the
 # node tests skip.
 set -euo pipefail
@@ -13,8 +14,8 @@ cross=0
 
 host_packages=(cmake ninja-build g++ pkg-config libeigen3-dev libpng-dev libgtest-dev libgmock-dev
   libbenchmark-dev libcamera-dev libgpiod-dev libopencv-dev libmicrohttpd-dev libassimp-dev python3 python3-can
-  python3-canmatrix python3-opencv opencv-doc clang clang-tidy libclang-rt-14-dev chromium firefox-esr
-  openssl)
+  python3-canmatrix python3-opencv opencv-doc clang clang-tidy libclang-rt-14-dev universal-ctags
+  chromium firefox-esr openssl)
 cross_packages=(g++-aarch64-linux-gnu qemu-user libpng-dev:arm64 libcamera-dev:arm64 libgpiod-dev:arm64
   libgtest-dev:arm64 libbenchmark-dev:arm64 libmicrohttpd-dev:arm64)
 
