@@ -6,9 +6,6 @@ installs it) and prints each one over the limit as `path:line: name is N lines (
 
   tools/check_function_size.py [ROOT]   check the tree at ROOT (default: this checkout); exit 1
                                         with one line per problem, 2 without universal-ctags
-
-A function on the allow-list below may stay over the limit until it is split; one that is no
-longer over it fails the check until it is taken off the list, so the list only shrinks.
 """
 import os
 import subprocess
@@ -16,17 +13,6 @@ import sys
 
 LIMIT = 150
 DIRECTORIES = ("recog", "tables", "firmware", "hal", "tools")
-
-# (path, name) of functions still over the limit, to be split and then removed from here. A
-# lambda is named `lambda in F` after the function F that holds it.
-ALLOWED = {
-    # The bench commands, being split into smaller functions.
-    ("tools/bench_recorded.cpp", "RunBenchRecorded"),
-    ("tools/bench_recorded.cpp", "lambda in RunBenchRecorded"),
-    ("tools/cmd_bench.cpp", "RunBenchScenes"),
-    ("tools/cmd_bench.cpp", "RunBenchSynthetic"),
-    ("tools/bench_textured.cpp", "RunBenchTextured"),
-}
 
 
 def universal_ctags():
@@ -88,18 +74,8 @@ def main():
     ctags = universal_ctags()
     if ctags is None:
         return 2
-    problems = []
-    over_allowed = set()
-    for path, line, name, length in sorted(functions(ctags, root)):
-        if length <= LIMIT:
-            continue
-        if (path, name) in ALLOWED:
-            over_allowed.add((path, name))
-            continue
-        problems.append("%s:%d: %s is %d lines (limit %d)" % (path, line, name, length, LIMIT))
-    for path, name in sorted(ALLOWED - over_allowed):
-        problems.append("%s: %s is no longer over %d lines (or is gone): remove it from the "
-                        "allow-list in tools/check_function_size.py" % (path, name, LIMIT))
+    problems = ["%s:%d: %s is %d lines (limit %d)" % (path, line, name, length, LIMIT)
+                for path, line, name, length in sorted(functions(ctags, root)) if length > LIMIT]
     for p in problems:
         print(p)
     if problems:
