@@ -4,7 +4,6 @@
 #include "firmware/firmware_core.hpp"
 #include "firmware/realtime.hpp"
 
-
 namespace sh::fw {
 
 using namespace sh::protocol;

@@ -256,10 +256,11 @@ CellGeometry LoadCellGeometry(const Board& board, const FwConfig& config) {
 
 // The keys the core and the recognition facade take as they are (same name; the others are
 // derived from keys below).
-#define STEREOHASH_CORE_KEYS(X)                                                    \
-  X(node_id)                                                                       \
-  X(heartbeat_ms) X(capture_timeout_ms) X(budget_ms) X(free_run_dhz) X(model_mask) \
-      X(sched_fifo_priority) X(result_mode) X(record_all)
+// clang-format off
+#define STEREOHASH_CORE_KEYS(X) \
+  X(node_id) X(heartbeat_ms) X(capture_timeout_ms) X(budget_ms) X(free_run_dhz) \
+  X(model_mask) X(sched_fifo_priority) X(result_mode) X(record_all)
+// clang-format on
 #define STEREOHASH_RECOGNIZER_KEYS(X) X(threads) X(table_confirm_frames) X(table_check_frames)
 
 ObjectRecognizerConfig PipelineSettings(const FwConfig& config, const TablePoseSource& table) {
