@@ -65,7 +65,7 @@ std::vector<std::string> ListCalibrationPairs(const char* record_dir) {
   return ListPairs(CalibrationDir(record_dir).c_str(), kMaxCalibrationPairs, kDoneFile);
 }
 
-Result<std::string> SaveCalibrationPair(const char* record_dir, const PairCapture& capture) {
+Result<SavedPair> SaveCalibrationPair(const char* record_dir, const PairCapture& capture) {
   const std::string dir = CalibrationDir(record_dir);
   SH_RETURN_IF_ERROR(MakeDir(record_dir));
   SH_RETURN_IF_ERROR(MakeDir(dir));
@@ -93,7 +93,7 @@ Result<std::string> SaveCalibrationPair(const char* record_dir, const PairCaptur
     (void)rmdir(part.c_str());
     return s;
   }
-  return std::string(name);
+  return SavedPair{name, pairs.size() + 1};
 }
 
 }  // namespace sh::fw::web

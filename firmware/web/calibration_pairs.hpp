@@ -22,8 +22,14 @@ std::string CalibrationDir(const char* record_dir);
 // The captured pairs, oldest first.
 std::vector<std::string> ListCalibrationPairs(const char* record_dir);
 
-// Writes the ready pair of `capture` as the next pair; its name. kResourceExhausted when
+// A pair written: its name and how many pairs the folder holds with it.
+struct SavedPair {
+  std::string name;
+  size_t pairs = 0;
+};
+
+// Writes the ready pair of `capture` as the next pair. kResourceExhausted when
 // kMaxCalibrationPairs exist, errors naming the path when a file cannot be written.
-Result<std::string> SaveCalibrationPair(const char* record_dir, const PairCapture& capture);
+Result<SavedPair> SaveCalibrationPair(const char* record_dir, const PairCapture& capture);
 
 }  // namespace sh::fw::web

@@ -250,15 +250,15 @@ void WebApp::CaptureCalibrationPair(HttpResponse* response) {
                        (triggered.ok() ? "" : std::string(": ") + triggered.message()));
     }
   }
-  const Result<std::string> saved = SaveCalibrationPair(config_.record_dir, *config_.capture);
-  if (!saved.ok())
+  const Result<SavedPair> saved = SaveCalibrationPair(config_.record_dir, *config_.capture);
+  if (!saved.ok()) {
     return Reply(response, HttpStatusOf(saved.status()), false, saved.status().message());
-  const size_t pairs = ListCalibrationPairs(config_.record_dir).size();
-  const std::string message =
-      "pair " + *saved + " captured (" + std::to_string(pairs) + " in the calibration folder)";
+  }
+  const std::string message = "pair " + saved->name + " captured (" + std::to_string(saved->pairs) +
+                              " in the calibration folder)";
   JsonWriter j;
   j.BeginObject().Key("ok").Bool(true).Key("message").String(message.c_str());
-  j.Key("pair").String(saved->c_str()).Key("pairs").Uint(pairs);
+  j.Key("pair").String(saved->name.c_str()).Key("pairs").Uint(saved->pairs);
   j.EndObject();
   response->content_type = "application/json";
   response->body = j.text();
