@@ -16,7 +16,7 @@ stereohash_module(stereohash_fw_core
   PUBLIC stereohash_can_protocol stereohash_canopen_messages stereohash_canopen stereohash_hal_can
          stereohash_hal_gpio stereohash_hal_camera stereohash_tables stereohash_default_tables stereohash_camera
          stereohash_geometry stereohash_base stereohash_embedded_flags Threads::Threads
-         stereohash_pipeline stereohash_feature_db stereohash_shape_views_file stereohash_shape
+         stereohash_pipeline stereohash_feature_db stereohash_shape_views stereohash_shape
   PRIVATE stereohash_image_files stereohash_image stereohash_input_file)
 
 stereohash_module(stereohash_fw_pipeline

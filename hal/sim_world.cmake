@@ -11,7 +11,7 @@ stereohash_module(stereohash_image_files
 stereohash_module(stereohash_textured_model_files
   SOURCES sim/textured_model_files.cpp
   HEADERS sim/textured_model_files.hpp
-  PUBLIC stereohash_feature_db_builder stereohash_base
+  PUBLIC stereohash_textured_model stereohash_base
   PRIVATE stereohash_image_files stereohash_model stereohash_image stereohash_input_file
           stereohash_model_files)
 
@@ -26,5 +26,5 @@ stereohash_module(stereohash_sim_world
           sim/world/renderer.hpp sim/world/printed_surface.hpp sim/world/scene_generator.hpp
           sim/world/sim_world.hpp sim/world/model_colours.hpp
   PUBLIC stereohash_hal_camera_sim stereohash_camera stereohash_model stereohash_image
-         stereohash_geometry stereohash_base stereohash_feature_db_builder
+         stereohash_geometry stereohash_base stereohash_textured_model
   PRIVATE stereohash_model_files stereohash_textured_model_files)

@@ -22,9 +22,9 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "recog/base/blob_start.hpp"
 #include "recog/base/fixed_point.hpp"
 #include "recog/model/model.hpp"
+#include "tables/blob_checks.hpp"
 #include "tables/table_format.hpp"
 
 namespace sh {

@@ -4,8 +4,8 @@
 #include <cstddef>
 #include <cstring>
 
-#include "recog/base/blob_start.hpp"
 #include "recog/base/crc32.hpp"
+#include "tables/blob_checks.hpp"
 
 namespace sh {
 namespace {
@@ -69,18 +69,20 @@ Result<AspectTableView> AspectTableView::Open(const void* blob, size_t size) {
   const uint32_t point_bins = h->size_slices * h->point_grid.bin_count();
   const uint32_t line_bins = h->size_slices * h->line_angle_slices * h->line_grid.bin_count();
   const uint64_t total = h->total_size;
-  SH_RETURN_IF_ERROR(CheckBlobSection(h->models, h->n_models, sizeof(Model), total, "model"));
   SH_RETURN_IF_ERROR(
-      CheckBlobSection(h->aspects, h->n_aspects, sizeof(AspectRecord), total, "aspect"));
-  SH_RETURN_IF_ERROR(CheckBlobSection(h->bases, h->n_bases, sizeof(AspectBasis), total, "basis"));
+      CheckSection(h->models, h->n_models, sizeof(Model), total, "aspect table", "model"));
+  SH_RETURN_IF_ERROR(CheckSection(h->aspects, h->n_aspects, sizeof(AspectRecord), total,
+                                  "aspect table", "aspect"));
   SH_RETURN_IF_ERROR(
-      CheckBlobSection(h->point_bins, point_bins + 1, sizeof(uint32_t), total, "point bin"));
-  SH_RETURN_IF_ERROR(CheckBlobSection(h->point_entries, h->n_point_entries,
-                                      sizeof(AspectPointEntry), total, "point entry"));
-  SH_RETURN_IF_ERROR(
-      CheckBlobSection(h->line_bins, line_bins + 1, sizeof(uint32_t), total, "line bin"));
-  SH_RETURN_IF_ERROR(CheckBlobSection(h->line_entries, h->n_line_entries, sizeof(AspectLineEntry),
-                                      total, "line entry"));
+      CheckSection(h->bases, h->n_bases, sizeof(AspectBasis), total, "aspect table", "basis"));
+  SH_RETURN_IF_ERROR(CheckSection(h->point_bins, point_bins + 1, sizeof(uint32_t), total,
+                                  "aspect table", "point bin"));
+  SH_RETURN_IF_ERROR(CheckSection(h->point_entries, h->n_point_entries, sizeof(AspectPointEntry),
+                                  total, "aspect table", "point entry"));
+  SH_RETURN_IF_ERROR(CheckSection(h->line_bins, line_bins + 1, sizeof(uint32_t), total,
+                                  "aspect table", "line bin"));
+  SH_RETURN_IF_ERROR(CheckSection(h->line_entries, h->n_line_entries, sizeof(AspectLineEntry),
+                                  total, "aspect table", "line entry"));
 
   AspectTableView v;
   v.header_ = h;

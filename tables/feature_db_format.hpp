@@ -10,7 +10,7 @@
 //   FaceView[n_views]                    each learnt view of a face: frontal or an affine tilt
 //   FeatureRecord[n_features]            each learnt feature: view, position, model point
 //   TextureDescriptor[n_features]        its descriptor (same order)
-//   KdNode[n_nodes]                      kd-tree over the descriptors (recog/texture/kd_tree.hpp)
+//   KdNode[n_nodes]                      kd-tree over the descriptors (tables/texture_records.hpp)
 //   uint8 texels[n_texel_bytes]          grey face textures for verification, row-major
 //
 // The CRC-32 covers every byte of the blob, its own field read as zero (BlobCrc32).
@@ -20,11 +20,10 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "recog/base/blob_start.hpp"
 #include "recog/model/model.hpp"
-#include "recog/texture/kd_tree.hpp"
-#include "recog/texture/texture_features.hpp"
+#include "tables/blob_checks.hpp"
 #include "tables/table_format.hpp"
+#include "tables/texture_records.hpp"
 
 namespace sh {
 

@@ -4,10 +4,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <iterator>
 
-#include "recog/base/blob_start.hpp"
 #include "recog/base/crc32.hpp"
 #include "recog/model/model_check.hpp"
+#include "tables/blob_checks.hpp"
 
 namespace sh {
 namespace {
@@ -16,25 +17,6 @@ constexpr const char* kBlob = "feature database";
 
 Status Corrupt(const char* what, uint32_t index) {
   return Status::Error(StatusCode::kDataLoss, "feature database corrupt: %s %u", what, index);
-}
-
-Status CheckSection(const SectionRef& s, uint64_t count, size_t element_size, uint64_t total,
-                    const char* name) {
-  if (s.offset % kSectionAlignment != 0) {
-    return Status::Error(StatusCode::kDataLoss, "feature database corrupt: %s section misaligned",
-                         name);
-  }
-  if (s.offset > total || s.size > total - s.offset) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "feature database truncated: %s section ends past the blob", name);
-  }
-  const uint64_t expected = count * uint64_t{element_size};
-  if (s.size != expected) {
-    return Status::Error(
-        StatusCode::kDataLoss, "feature database corrupt: %s section has %llu bytes, expected %llu",
-        name, static_cast<unsigned long long>(s.size), static_cast<unsigned long long>(expected));
-  }
-  return Status::Ok();
 }
 
 bool AllFinite(const float* v, int n) {
@@ -66,6 +48,22 @@ Status CheckFace(const TexturedFace& f, uint32_t i, const Model* models, uint32_
   return Status::Ok();
 }
 
+// The stored extraction settings in the format's ranges. Whether an extractor takes them is the
+// texture recogniser's check when it is given the database (TextureFeatureConfig::Validate).
+Status CheckExtraction(const FeatureDbExtraction& e) {
+  const float values[] = {
+      e.input_sigma_px, e.level_sigma_px,       e.integration_sigma_px,       e.harris_k,
+      e.min_response,   e.orientation_sigma_px, e.secondary_orientation_ratio};
+  if (e.levels < 1 || e.levels > static_cast<uint32_t>(kMaxPyramidLevels) || e.nms_radius_px < 1 ||
+      e.max_orientations < 1 || !AllFinite(values, static_cast<int>(std::size(values)))) {
+    return Status::Error(StatusCode::kDataLoss,
+                         "%s corrupt: extraction settings: %u levels (1..%d), NMS radius %u, %u "
+                         "orientations, or a number not finite",
+                         kBlob, e.levels, kMaxPyramidLevels, e.nms_radius_px, e.max_orientations);
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 Result<FeatureDbView> FeatureDbView::Open(const void* blob, size_t size) {
@@ -73,9 +71,9 @@ Result<FeatureDbView> FeatureDbView::Open(const void* blob, size_t size) {
       blob, size, {kBlob, kFeatureDbMagic, kFeatureDbFormatVersion, sizeof(FeatureDbHeader), 16}));
   const auto* bytes = static_cast<const uint8_t*>(blob);
   const auto* h = reinterpret_cast<const FeatureDbHeader*>(bytes);
-  if (h->descriptor_size != texture::kDescriptorSize) {
+  if (h->descriptor_size != kDescriptorSize) {
     return Status::Error(StatusCode::kDataLoss, "%s corrupt: descriptor size %u, this build's %d",
-                         kBlob, h->descriptor_size, texture::kDescriptorSize);
+                         kBlob, h->descriptor_size, kDescriptorSize);
   }
   if (!AllZero(h->reserved, sizeof(h->reserved))) {
     return Status::Error(StatusCode::kDataLoss, "%s corrupt: reserved header bytes not zero",
@@ -98,21 +96,18 @@ Result<FeatureDbView> FeatureDbView::Open(const void* blob, size_t size) {
   if (!(std::isfinite(h->feature_px_per_mm) && h->feature_px_per_mm > 0.0f &&
         std::isfinite(h->texture_px_per_mm) && h->texture_px_per_mm > 0.0f))
     return Status::Error(StatusCode::kDataLoss, "%s corrupt: resolution fields", kBlob);
-  const Status extraction = ExtractionConfig(h->extraction).Validate();
-  if (!extraction.ok()) {
-    return Status::Error(StatusCode::kDataLoss, "%s corrupt: extraction settings: %s", kBlob,
-                         extraction.message());
-  }
+  SH_RETURN_IF_ERROR(CheckExtraction(h->extraction));
   const uint64_t total = h->total_size;
-  SH_RETURN_IF_ERROR(CheckSection(h->models, h->n_models, sizeof(Model), total, "model"));
-  SH_RETURN_IF_ERROR(CheckSection(h->faces, h->n_faces, sizeof(TexturedFace), total, "face"));
-  SH_RETURN_IF_ERROR(CheckSection(h->views, h->n_views, sizeof(FaceView), total, "view"));
+  SH_RETURN_IF_ERROR(CheckSection(h->models, h->n_models, sizeof(Model), total, kBlob, "model"));
   SH_RETURN_IF_ERROR(
-      CheckSection(h->features, h->n_features, sizeof(FeatureRecord), total, "feature"));
-  SH_RETURN_IF_ERROR(CheckSection(h->descriptors, h->n_features, sizeof(texture::TextureDescriptor),
-                                  total, "descriptor"));
-  SH_RETURN_IF_ERROR(CheckSection(h->nodes, h->n_nodes, sizeof(texture::KdNode), total, "node"));
-  SH_RETURN_IF_ERROR(CheckSection(h->texels, h->n_texel_bytes, 1, total, "texel"));
+      CheckSection(h->faces, h->n_faces, sizeof(TexturedFace), total, kBlob, "face"));
+  SH_RETURN_IF_ERROR(CheckSection(h->views, h->n_views, sizeof(FaceView), total, kBlob, "view"));
+  SH_RETURN_IF_ERROR(
+      CheckSection(h->features, h->n_features, sizeof(FeatureRecord), total, kBlob, "feature"));
+  SH_RETURN_IF_ERROR(CheckSection(h->descriptors, h->n_features, sizeof(TextureDescriptor), total,
+                                  kBlob, "descriptor"));
+  SH_RETURN_IF_ERROR(CheckSection(h->nodes, h->n_nodes, sizeof(KdNode), total, kBlob, "node"));
+  SH_RETURN_IF_ERROR(CheckSection(h->texels, h->n_texel_bytes, 1, total, kBlob, "texel"));
 
   FeatureDbView view;
   view.header_ = h;
@@ -120,9 +115,8 @@ Result<FeatureDbView> FeatureDbView::Open(const void* blob, size_t size) {
   view.faces_ = reinterpret_cast<const TexturedFace*>(bytes + h->faces.offset);
   view.views_ = reinterpret_cast<const FaceView*>(bytes + h->views.offset);
   view.features_ = reinterpret_cast<const FeatureRecord*>(bytes + h->features.offset);
-  view.descriptors_ =
-      reinterpret_cast<const texture::TextureDescriptor*>(bytes + h->descriptors.offset);
-  view.nodes_ = reinterpret_cast<const texture::KdNode*>(bytes + h->nodes.offset);
+  view.descriptors_ = reinterpret_cast<const TextureDescriptor*>(bytes + h->descriptors.offset);
+  view.nodes_ = reinterpret_cast<const KdNode*>(bytes + h->nodes.offset);
   view.texels_ = bytes + h->texels.offset;
 
   for (uint32_t i = 0; i < h->n_models; ++i) {
@@ -139,7 +133,7 @@ Result<FeatureDbView> FeatureDbView::Open(const void* blob, size_t size) {
   }
   for (uint32_t i = 0; i < h->n_features; ++i) {
     const FeatureRecord& f = view.features_[i];
-    if (f.view >= h->n_views || f.level >= texture::kMaxPyramidLevels || !std::isfinite(f.u_px) ||
+    if (f.view >= h->n_views || f.level >= kMaxPyramidLevels || !std::isfinite(f.u_px) ||
         !std::isfinite(f.v_px) || !std::isfinite(f.angle_rad) || !std::isfinite(f.scale) ||
         !AllFinite(f.model_mm, 3))
       return Corrupt("feature", i);
@@ -147,47 +141,17 @@ Result<FeatureDbView> FeatureDbView::Open(const void* blob, size_t size) {
   // The kd-tree: children after their parent (so every descent ends), leaves inside the
   // descriptor array.
   for (uint32_t i = 0; i < h->n_nodes; ++i) {
-    const texture::KdNode& n = view.nodes_[i];
+    const KdNode& n = view.nodes_[i];
     if (n.leaf > 1) return Corrupt("kd-tree node kind", i);
     if (n.leaf) {
       if (n.second == 0 || n.first > h->n_features || n.second > h->n_features - n.first)
         return Corrupt("kd-tree leaf range", i);
-    } else if (n.dim >= texture::kDescriptorSize || !std::isfinite(n.split) || n.first <= i ||
+    } else if (n.dim >= kDescriptorSize || !std::isfinite(n.split) || n.first <= i ||
                n.second <= i || n.first >= h->n_nodes || n.second >= h->n_nodes) {
       return Corrupt("kd-tree inner node", i);
     }
   }
   return view;
-}
-
-texture::TextureFeatureConfig ExtractionConfig(const FeatureDbExtraction& e) {
-  texture::TextureFeatureConfig c;
-  c.levels = static_cast<int>(std::min<uint32_t>(e.levels, 1000));
-  c.input_sigma_px = e.input_sigma_px;
-  c.level_sigma_px = e.level_sigma_px;
-  c.integration_sigma_px = e.integration_sigma_px;
-  c.harris_k = e.harris_k;
-  c.min_response = e.min_response;
-  c.nms_radius_px = static_cast<int>(std::min<uint32_t>(e.nms_radius_px, 1000));
-  c.orientation.sigma_px = e.orientation_sigma_px;
-  c.orientation.secondary_ratio = e.secondary_orientation_ratio;
-  c.orientation.max_orientations = static_cast<int>(std::min<uint32_t>(e.max_orientations, 1000));
-  return c;
-}
-
-FeatureDbExtraction ExtractionRecord(const texture::TextureFeatureConfig& c) {
-  FeatureDbExtraction e{};
-  e.levels = static_cast<uint32_t>(c.levels);
-  e.input_sigma_px = c.input_sigma_px;
-  e.level_sigma_px = c.level_sigma_px;
-  e.integration_sigma_px = c.integration_sigma_px;
-  e.harris_k = c.harris_k;
-  e.min_response = c.min_response;
-  e.nms_radius_px = static_cast<uint32_t>(c.nms_radius_px);
-  e.orientation_sigma_px = c.orientation.sigma_px;
-  e.secondary_orientation_ratio = c.orientation.secondary_ratio;
-  e.max_orientations = static_cast<uint32_t>(c.orientation.max_orientations);
-  return e;
 }
 
 int FeatureDbView::FindModel(const char* name) const {
@@ -198,9 +162,9 @@ int FeatureDbView::FindModel(const char* name) const {
   return -1;
 }
 
-ConstGrayView FeatureDbView::face_texture(uint32_t i) const {
+FaceTexels FeatureDbView::face_texels(uint32_t i) const {
   const TexturedFace& f = faces_[i];
-  return {texels_ + f.texel_offset, f.texel_width, f.texel_height, f.texel_width};
+  return {texels_ + f.texel_offset, f.texel_width, f.texel_height};
 }
 
 }  // namespace sh

@@ -10,18 +10,18 @@
 #include <cstdint>
 
 #include "recog/base/status.hpp"
-#include "recog/image/image.hpp"
-#include "recog/texture/feature_extractor.hpp"
-#include "recog/texture/kd_tree.hpp"
 #include "tables/feature_db_format.hpp"
 #include "tables/table_file.hpp"
+#include "tables/texture_records.hpp"
 
 namespace sh {
 
-// The feature extractor's settings stored in a database, and back. Recognition must extract
-// its features with the settings the database was learnt with (max_keypoints is not stored).
-texture::TextureFeatureConfig ExtractionConfig(const FeatureDbExtraction& e);
-FeatureDbExtraction ExtractionRecord(const texture::TextureFeatureConfig& c);
+// A face's grey texture: row-major, `width` bytes a row.
+struct FaceTexels {
+  const uint8_t* texels = nullptr;
+  int width = 0;
+  int height = 0;
+};
 
 class FeatureDbView {
  public:
@@ -38,18 +38,16 @@ class FeatureDbView {
   uint32_t face_count() const { return header_->n_faces; }
   const TexturedFace& face(uint32_t i) const { return faces_[i]; }
   // Grey texture of face i (texture_px_per_mm; see TexturedFace).
-  ConstGrayView face_texture(uint32_t i) const;
+  FaceTexels face_texels(uint32_t i) const;
 
   uint32_t view_count() const { return header_->n_views; }
   const FaceView& view(uint32_t i) const { return views_[i]; }
 
   uint32_t feature_count() const { return header_->n_features; }
   const FeatureRecord& feature(uint32_t i) const { return features_[i]; }
-  const texture::TextureDescriptor& descriptor(uint32_t i) const { return descriptors_[i]; }
+  const TextureDescriptor& descriptor(uint32_t i) const { return descriptors_[i]; }
 
-  texture::KdTreeView tree() const {
-    return {nodes_, header_->n_nodes, descriptors_, header_->n_features};
-  }
+  KdTreeView tree() const { return {nodes_, header_->n_nodes, descriptors_, header_->n_features}; }
 
  private:
   const FeatureDbHeader* header_ = nullptr;
@@ -57,8 +55,8 @@ class FeatureDbView {
   const TexturedFace* faces_ = nullptr;
   const FaceView* views_ = nullptr;
   const FeatureRecord* features_ = nullptr;
-  const texture::TextureDescriptor* descriptors_ = nullptr;
-  const texture::KdNode* nodes_ = nullptr;
+  const TextureDescriptor* descriptors_ = nullptr;
+  const KdNode* nodes_ = nullptr;
   const uint8_t* texels_ = nullptr;
 };
 

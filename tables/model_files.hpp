@@ -38,7 +38,7 @@ Status CheckModelNames(const std::vector<std::string>& names, const char* source
 Status LoadModelColour(const std::string& obj_path, const Model& model, float kd[3]);
 
 // The extensions a model file may have (any case): OBJ, read here, and the CAD exports that the
-// host tools read (tables/cad_import.hpp).
+// host tools read (tools/tablegen/cad_import.hpp).
 inline constexpr const char* kModelFileExtensions[] = {".obj", ".stl", ".ply", ".3mf"};
 
 // The entry of kModelFileExtensions that `path` ends in (any case; the lower-case entry is

@@ -3,8 +3,8 @@
 #include <cstdio>
 #include <cstring>
 
-#include "recog/base/blob_start.hpp"
 #include "recog/base/crc32.hpp"
+#include "tables/blob_checks.hpp"
 
 namespace sh {
 namespace {

@@ -18,7 +18,7 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "recog/base/blob_start.hpp"
+#include "tables/blob_checks.hpp"
 
 namespace sh {
 

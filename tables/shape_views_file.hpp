@@ -1,10 +1,10 @@
-// A view database file (recog/shape/view_database.hpp) mapped read-only and validated in place.
+// A view database file (tables/shape_views_view.hpp) mapped read-only and validated in place.
 #pragma once
 
 #include <cstddef>
 
 #include "recog/base/status.hpp"
-#include "recog/shape/view_database.hpp"
+#include "tables/shape_views_view.hpp"
 #include "tables/table_file.hpp"
 
 namespace sh {

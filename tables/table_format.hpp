@@ -19,20 +19,17 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "recog/base/blob_start.hpp"
 #include "recog/base/fixed_point.hpp"
 #include "recog/model/model.hpp"
+#include "tables/blob_checks.hpp"
 
 namespace sh {
-
-static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "blobs are read in place: little-endian");
 
 inline constexpr char kTableMagic[8] = {'S', 'H', 'T', 'A', 'B', 'L', 'E', '\0'};
 // Version 3: the CRC-32 covers the header too (version 2 left the header, with the hash function,
 // grids and limits, outside it). Version 2: Model records sized for 128 corners, 192 edges,
 // 64 faces of up to 64 corners and 96 symmetries (version 1: 32, 48, 24, 15, 24).
 inline constexpr uint16_t kTableFormatVersion = 3;
-inline constexpr size_t kSectionAlignment = 64;
 
 // Capacities the recogniser's scratch memory is sized for; the loader refuses larger tables.
 inline constexpr uint32_t kMaxTableModels = 16;
@@ -80,11 +77,6 @@ struct GridGeometry {
   uint32_t bin_count() const { return uint32_t{dims[0]} * dims[1] * dims[2]; }
 };
 static_assert(sizeof(GridGeometry) == 24);
-
-struct SectionRef {
-  uint64_t offset;  // from the start of the blob
-  uint64_t size;    // bytes
-};
 
 struct TableHeader {
   char magic[8];
@@ -148,9 +140,5 @@ struct LineEntry {
   uint16_t basis;
 };
 static_assert(sizeof(LineEntry) == 16);
-
-inline constexpr size_t AlignSection(size_t n) {
-  return (n + kSectionAlignment - 1) / kSectionAlignment * kSectionAlignment;
-}
 
 }  // namespace sh

@@ -4,9 +4,9 @@
 #include <cstddef>
 #include <cstring>
 
-#include "recog/base/blob_start.hpp"
 #include "recog/base/crc32.hpp"
 #include "recog/model/model_check.hpp"
+#include "tables/blob_checks.hpp"
 
 namespace sh {
 namespace {
@@ -40,22 +40,6 @@ Status CheckLimits(const TableHeader& h) {
 
 uint32_t TableBlobCrc32(const uint8_t* blob, size_t size) {
   return BlobCrc32(blob, size, offsetof(TableHeader, blob_crc32));
-}
-
-Status CheckBlobSection(const SectionRef& s, size_t count, size_t element_size, uint64_t total,
-                        const char* name) {
-  if (s.offset % kSectionAlignment != 0)
-    return Status::Error(StatusCode::kDataLoss, "table blob corrupt: %s section misaligned", name);
-  if (s.offset > total || s.size > total - s.offset) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "table blob truncated: %s section ends past the blob", name);
-  }
-  if (s.size != count * element_size) {
-    return Status::Error(StatusCode::kDataLoss,
-                         "table blob corrupt: %s section has %llu bytes, expected %zu", name,
-                         static_cast<unsigned long long>(s.size), count * element_size);
-  }
-  return Status::Ok();
 }
 
 Status CheckBinOffsets(const uint32_t* offsets, uint32_t bins, uint32_t entries, const char* name) {
@@ -99,16 +83,18 @@ Result<TableView> TableView::Open(const void* blob, size_t size) {
   SH_RETURN_IF_ERROR(CheckGrid(h->line_grid, "line"));
   const uint32_t point_bins = h->point_grid.bin_count(), line_bins = h->line_grid.bin_count();
   const uint64_t total = h->total_size;
-  SH_RETURN_IF_ERROR(CheckBlobSection(h->models, h->n_models, sizeof(Model), total, "model"));
-  SH_RETURN_IF_ERROR(CheckBlobSection(h->bases, h->n_bases, sizeof(BasisRecord), total, "basis"));
   SH_RETURN_IF_ERROR(
-      CheckBlobSection(h->point_bins, point_bins + 1, sizeof(uint32_t), total, "point bin"));
-  SH_RETURN_IF_ERROR(CheckBlobSection(h->point_entries, h->n_point_entries, sizeof(PointEntry),
-                                      total, "point entry"));
+      CheckSection(h->models, h->n_models, sizeof(Model), total, "table blob", "model"));
   SH_RETURN_IF_ERROR(
-      CheckBlobSection(h->line_bins, line_bins + 1, sizeof(uint32_t), total, "line bin"));
+      CheckSection(h->bases, h->n_bases, sizeof(BasisRecord), total, "table blob", "basis"));
+  SH_RETURN_IF_ERROR(CheckSection(h->point_bins, point_bins + 1, sizeof(uint32_t), total,
+                                  "table blob", "point bin"));
+  SH_RETURN_IF_ERROR(CheckSection(h->point_entries, h->n_point_entries, sizeof(PointEntry), total,
+                                  "table blob", "point entry"));
   SH_RETURN_IF_ERROR(
-      CheckBlobSection(h->line_entries, h->n_line_entries, sizeof(LineEntry), total, "line entry"));
+      CheckSection(h->line_bins, line_bins + 1, sizeof(uint32_t), total, "table blob", "line bin"));
+  SH_RETURN_IF_ERROR(CheckSection(h->line_entries, h->n_line_entries, sizeof(LineEntry), total,
+                                  "table blob", "line entry"));
 
   TableView view;
   view.header_ = h;

@@ -23,11 +23,6 @@ struct ConstSpan {
   const T& operator[](size_t i) const { return data[i]; }
 };
 
-// Checks that a section lies inside a blob of `total` bytes, starts at a multiple of
-// kSectionAlignment and holds exactly `count` elements of `element_size` bytes.
-Status CheckBlobSection(const SectionRef& section, size_t count, size_t element_size,
-                        uint64_t total, const char* name);
-
 // Checks bin offsets [0, bins]: from 0 to `entries`, never decreasing.
 Status CheckBinOffsets(const uint32_t* offsets, uint32_t bins, uint32_t entries, const char* name);
 

@@ -26,7 +26,6 @@
 #include "recog/base/printable.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "recog/texture/texture_recognizer.hpp"
-#include "tables/feature_db_builder.hpp"
 #include "tables/feature_db_view.hpp"
 #include "tools/command.hpp"
 #include "tools/eval/mini_json.hpp"
@@ -34,6 +33,7 @@
 #include "tools/eval/synthetic_scene.hpp"
 #include "tools/recognize_setup.hpp"
 #include "tools/report_util.hpp"
+#include "tools/tablegen/feature_db_builder.hpp"
 #ifdef STEREOHASH_OPENCV_PEER
 #include "tools/opencv_texture_peer.hpp"
 #endif

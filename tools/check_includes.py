@@ -5,9 +5,12 @@ header, PUBLIC or INTERFACE only, as its users see no more; tests may also use w
 along publicly), the
 graph must have no cycle, and the rooms must not lean on each other (recognition and tables know
 nothing of hal/, firmware/, tools/ or tests/; hal/ knows nothing of firmware/, tools/ or tests/;
-the board's code nothing of the simulated world), and the firmware and the recognise command
-include no recognition path's own header (they use the facade, recog/pipeline/object_recognizer). Reads the manifest CMake writes
-(build/<preset>/module_graph.txt).
+the board's code nothing of the simulated world), the firmware and the recognise command
+include no recognition path's own header (they use the facade, recog/pipeline/object_recognizer),
+and tables/ sits below recognition: its formats and readers use only recognition's foundation
+(recog/base, recog/model), which knows nothing of tables/, so that recog/ and tables/ never lean
+on each other; the builders that need the algorithms are in tools/tablegen, above both. Reads
+the manifest CMake writes (build/<preset>/module_graph.txt).
 
   tools/check_includes.py MANIFEST            check; exit 1 with one line per problem
   tools/check_includes.py MANIFEST --graph    print the module graph (direct declared deps)
@@ -35,6 +38,10 @@ BOARD_ALLOWED = ("stereohash_image_files",)
 # and the recognise command reach the paths through it and include none of a path's own headers.
 FACADE_USERS = ("firmware/", "tools/cmd_recognize.cpp")
 PATH_HEADERS = re.compile(r"^recog/(texture|shape|mono|hashing|stereo|verify)/")
+# The readers in tables/ (what the board links of the model data) stand on recognition's
+# foundation only: these targets, which in turn depend on nothing in tables/.
+READERS = "tables/"
+FOUNDATION = ("stereohash_base", "stereohash_model")
 
 
 def parse_manifest(path):
@@ -57,6 +64,41 @@ def parse_manifest(path):
                 "public": [x for x in public.split(";") if x],
             }
     return root, targets
+
+
+def in_dir(targets, name, prefix):
+    files = targets[name]["files"]
+    return bool(files) and all(f.startswith(prefix) for f in files)
+
+
+def reader_problems(root, targets, owner):
+    """tables/ below recognition: its targets depend on tables/ and the foundation only, its files
+    include no other recog/ header, and the foundation depends on nothing in tables/."""
+    problems = []
+    for name, t in targets.items():
+        if t["kind"] == "test":
+            continue
+        if in_dir(targets, name, READERS):
+            for d in t["deps"]:
+                if d in targets and not in_dir(targets, d, READERS) and d not in FOUNDATION:
+                    problems.append(f"{name} (a reader in {READERS}) depends on {d}, which is "
+                                    "neither a reader nor recognition's foundation")
+            for f in t["files"]:
+                path = os.path.join(root, f)
+                if not os.path.isfile(path):
+                    continue
+                with open(path, encoding="utf-8", errors="replace") as src:
+                    for inc in INCLUDE.findall(src.read()):
+                        o = owner.get(inc)
+                        if inc.startswith("recog/") and o not in FOUNDATION:
+                            problems.append(f"{f}: includes {inc} ({o}): {READERS} sits below "
+                                            "recognition and includes only its foundation")
+        if name in FOUNDATION:
+            for d in t["deps"]:
+                if d in targets and in_dir(targets, d, READERS):
+                    problems.append(f"{name} (recognition's foundation) depends on {d} "
+                                    f"({READERS})")
+    return problems
 
 
 def main():
@@ -133,6 +175,8 @@ def main():
                     if PATH_HEADERS.match(inc):
                         problems.append(f"{f}: includes {inc}, a recognition path's own header "
                                         "(use recog/pipeline/object_recognizer.hpp)")
+
+    problems += reader_problems(root, targets, owner)
 
     # Cycles among declared deps.
     state = {}

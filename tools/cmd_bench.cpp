@@ -21,7 +21,6 @@
 #include "recog/verify/verify.hpp"
 #include "tables/aspect_file.hpp"
 #include "tables/model_files.hpp"
-#include "tables/table_builder.hpp"
 #include "tables/table_file.hpp"
 #include "tools/bench_recognizer.hpp"
 #include "tools/bench_recorded.hpp"
@@ -37,6 +36,7 @@
 #include "tools/mono_setup.hpp"
 #include "tools/recognize_setup.hpp"
 #include "tools/report_util.hpp"
+#include "tools/tablegen/table_builder.hpp"
 
 namespace sh::tools {
 namespace {

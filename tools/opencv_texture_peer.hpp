@@ -13,7 +13,7 @@
 #include "recog/camera/camera_model.hpp"
 #include "recog/geometry/rigid_transform.hpp"
 #include "recog/image/image.hpp"
-#include "tables/feature_db_builder.hpp"
+#include "tools/tablegen/feature_db_builder.hpp"
 
 namespace sh::tools {
 

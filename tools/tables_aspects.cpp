@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "recog/base/printable.hpp"
-#include "tables/aspect_builder.hpp"
 #include "tables/aspect_file.hpp"
 #include "tables/model_files.hpp"
 #include "tools/command.hpp"
+#include "tools/tablegen/aspect_builder.hpp"
 
 namespace sh::tools {
 namespace {

@@ -7,8 +7,8 @@
 
 #include "recog/base/status.hpp"
 #include "recog/model/model.hpp"
-#include "tables/aspect_builder.hpp"
 #include "tables/aspect_view.hpp"
+#include "tools/tablegen/aspect_builder.hpp"
 
 namespace sh::tools {
 

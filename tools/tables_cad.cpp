@@ -4,8 +4,8 @@
 #include <cstring>
 
 #include "tables/model_files.hpp"
-#include "tables/model_symmetry.hpp"
 #include "tools/command.hpp"
+#include "tools/tablegen/model_symmetry.hpp"
 
 namespace sh::tools {
 

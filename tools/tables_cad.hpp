@@ -1,5 +1,5 @@
-// `tables build` and CAD exports (tables/cad_import.hpp): the options that govern how they are
-// read, and reading a folder's models with them.
+// `tables build` and CAD exports (tools/tablegen/cad_import.hpp): the options that govern how they
+// are read, and reading a folder's models with them.
 #pragma once
 
 #include <string>
@@ -7,7 +7,7 @@
 
 #include "recog/base/status.hpp"
 #include "recog/model/model.hpp"
-#include "tables/cad_import.hpp"
+#include "tools/tablegen/cad_import.hpp"
 
 namespace sh::tools {
 

@@ -5,9 +5,9 @@
 
 #include "hal/sim/textured_model_files.hpp"
 #include "recog/base/printable.hpp"
-#include "tables/cad_import.hpp"
-#include "tables/feature_db_builder.hpp"
 #include "tables/model_files.hpp"
+#include "tools/tablegen/cad_import.hpp"
+#include "tools/tablegen/feature_db_builder.hpp"
 
 namespace sh::tools {
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "recog/base/status.hpp"
-#include "tables/textured_model.hpp"
+#include "recog/model/textured_model.hpp"
 
 namespace sh {
 

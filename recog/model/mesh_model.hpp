@@ -1,5 +1,5 @@
 // A polygon mesh -> Model record: the geometry half of every model reader (OBJ here on the board
-// and host, STL, PLY and 3MF through tables/cad_import on the host).
+// and host, STL, PLY and 3MF through tools/tablegen/cad_import on the host).
 //
 // The mesh may list polygons or any triangulation of them: adjacent coplanar polygons are merged
 // into one face, corners are the vertices where the surface bends (vertices inside a flat face or

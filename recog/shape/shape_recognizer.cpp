@@ -235,7 +235,7 @@ void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
   const int shares = threads_;
   Spread(n_projected * shares, [&](int /*slot*/, int k) {
     const int cam = projected[k / shares];
-    views_.ProjectShare(windows_[cam], k % shares, shares, &coefficients[cam]);
+    ProjectWindowShare(views_, windows_[cam], k % shares, shares, &coefficients[cam]);
   });
   struct Search {
     int camera = 0;
@@ -264,8 +264,8 @@ void ShapeRecognizer::Candidates(const Seed& seed, Vector<Candidate>& out) {
   }
   Spread(n_searches, [&](int /*slot*/, int j) {
     Search& search = searches[order[j]];
-    views_.Nearest(coefficients[search.camera], 1u << search.model, kNearestPerImage,
-                   search.nearest);
+    NearestViews(views_, coefficients[search.camera], 1u << search.model, kNearestPerImage,
+                 search.nearest);
   });
   for (int k = 0; k < n_searches; ++k) {
     const int cam = searches[k].camera;

@@ -14,11 +14,13 @@
 
 #include "recog/base/status.hpp"
 #include "recog/image/image.hpp"
+#include "tables/shape_views_format.hpp"
 
 namespace sh {
 
-inline constexpr int kWindowSide = 64;  // k of eq. 1
-inline constexpr int kWindowPixels = kWindowSide * kWindowSide;
+// k of eq. 1: the side the view database stores its windows at.
+inline constexpr int kWindowSide = kShapeViewWindowSide;
+inline constexpr int kWindowPixels = kShapeViewWindowPixels;
 
 // Eq. 1: (k, floor(k h / w + 0.5)) when w >= h, else (floor(k w / h + 0.5), k); at least 1.
 void NormalisedSize(int w, int h, int k, int* w0, int* h0);

@@ -67,6 +67,36 @@ Status TextureFeatureConfig::Validate() const {
   return Status::Ok();
 }
 
+TextureFeatureConfig ExtractionConfig(const FeatureDbExtraction& e) {
+  TextureFeatureConfig c;
+  c.levels = static_cast<int>(std::min<uint32_t>(e.levels, 1000));
+  c.input_sigma_px = e.input_sigma_px;
+  c.level_sigma_px = e.level_sigma_px;
+  c.integration_sigma_px = e.integration_sigma_px;
+  c.harris_k = e.harris_k;
+  c.min_response = e.min_response;
+  c.nms_radius_px = static_cast<int>(std::min<uint32_t>(e.nms_radius_px, 1000));
+  c.orientation.sigma_px = e.orientation_sigma_px;
+  c.orientation.secondary_ratio = e.secondary_orientation_ratio;
+  c.orientation.max_orientations = static_cast<int>(std::min<uint32_t>(e.max_orientations, 1000));
+  return c;
+}
+
+FeatureDbExtraction ExtractionRecord(const TextureFeatureConfig& c) {
+  FeatureDbExtraction e{};
+  e.levels = static_cast<uint32_t>(c.levels);
+  e.input_sigma_px = c.input_sigma_px;
+  e.level_sigma_px = c.level_sigma_px;
+  e.integration_sigma_px = c.integration_sigma_px;
+  e.harris_k = c.harris_k;
+  e.min_response = c.min_response;
+  e.nms_radius_px = static_cast<uint32_t>(c.nms_radius_px);
+  e.orientation_sigma_px = c.orientation.sigma_px;
+  e.secondary_orientation_ratio = c.orientation.secondary_ratio;
+  e.max_orientations = static_cast<uint32_t>(c.orientation.max_orientations);
+  return e;
+}
+
 size_t TextureFeatureExtractor::SelectMaxima(int w, int h, const TextureFeatureConfig& config,
                                              size_t budget, TextureFeatureStats* stats) {
   const ConstFloatView r = plane(kSxx, w, h);

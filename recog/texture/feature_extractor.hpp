@@ -18,6 +18,7 @@
 #include "recog/texture/float_planes.hpp"
 #include "recog/texture/parallel.hpp"
 #include "recog/texture/texture_features.hpp"
+#include "tables/feature_db_format.hpp"
 
 namespace sh::texture {
 
@@ -36,6 +37,11 @@ struct TextureFeatureConfig {
 
   Status Validate() const;
 };
+
+// The settings stored in a feature database, and back. Recognition must extract its features
+// with the settings the database was learnt with (max_keypoints is not stored).
+TextureFeatureConfig ExtractionConfig(const FeatureDbExtraction& e);
+FeatureDbExtraction ExtractionRecord(const TextureFeatureConfig& c);
 
 // Largest Harris maxima considered per level before the budget selects the strongest.
 inline constexpr size_t kMaxLevelCandidates = 4096;

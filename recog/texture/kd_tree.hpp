@@ -2,35 +2,17 @@
 // 1997): the tree is built offline and stored in the feature database; a query descends to a
 // leaf, remembers the branches it passed with a lower bound of their distance, and then visits
 // the most promising remembered branches until max_checks descriptors have been compared.
-//
-// Tree layout: KdNode[0] is the root. An inner node splits on one descriptor component: queries
-// with component <= split go to `first` (the left child), others to `second` (the right child);
-// both children have larger indices than their parent. A leaf holds descriptors
-// [first, first + second) of the database's descriptor array.
+// The tree's layout (KdNode, KdTreeView) is part of the database format:
+// tables/texture_records.hpp.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 
 #include "recog/texture/texture_features.hpp"
+#include "tables/texture_records.hpp"
 
 namespace sh::texture {
-
-struct KdNode {
-  uint32_t first = 0;   // inner: left child; leaf: first descriptor
-  uint32_t second = 0;  // inner: right child; leaf: descriptor count
-  uint16_t dim = 0;     // inner: split component (0 .. kDescriptorSize - 1)
-  uint16_t leaf = 0;    // 1 for a leaf
-  float split = 0.0f;   // inner: threshold on the component
-};
-static_assert(sizeof(KdNode) == 16, "stored in the feature database");
-
-struct KdTreeView {
-  const KdNode* nodes = nullptr;
-  uint32_t n_nodes = 0;
-  const TextureDescriptor* descriptors = nullptr;
-  uint32_t n_descriptors = 0;
-};
 
 // Squared Euclidean distance between two descriptors.
 uint32_t DescriptorDistance2(const TextureDescriptor& a, const TextureDescriptor& b);

@@ -102,7 +102,8 @@ PrintScore PrintVerifier::Score(uint32_t model, const RigidTransform& cam_T_mode
     const Eigen::Vector3f a(face.axis_a[0], face.axis_a[1], face.axis_a[2]);
     const Eigen::Vector3f b(face.axis_b[0], face.axis_b[1], face.axis_b[2]);
     const Eigen::Vector3f n_cam = cam_T_model.Rotate(a.cross(b));
-    const ConstGrayView tex = db_->face_texture(fi);
+    const FaceTexels texels = db_->face_texels(fi);
+    const ConstGrayView tex{texels.texels, texels.width, texels.height, texels.width};
     for (int cam = 0; cam < 2; ++cam) {
       // The face must turn towards this camera, and not be seen edge-on: at grazing angles
       // every image pixel mixes many texels (and the face's edges), so the correlation says

@@ -12,21 +12,19 @@
 #include <cstdint>
 
 #include "recog/base/vector.hpp"
+#include "tables/texture_records.hpp"
 
 namespace sh::texture {
 
-// Level k of the pyramid has kPyramidStep^k of the input's resolution.
+// Level k of the pyramid has kPyramidStep^k of the input's resolution (at most
+// kMaxPyramidLevels levels, tables/texture_records.hpp).
 inline constexpr float kPyramidStep = 0.75f;
-inline constexpr int kMaxPyramidLevels = 8;
 
 // Most interest points per image (orientations counted separately). When more pass the
 // threshold, the strongest of each level are kept (level budgets in proportion to level area).
 inline constexpr size_t kMaxTextureKeypoints = 1536;
 
-inline constexpr int kDescriptorCells = 4;         // cells per side
-inline constexpr int kDescriptorOrientations = 8;  // orientation bins per cell
-inline constexpr int kDescriptorSize =
-    kDescriptorCells * kDescriptorCells * kDescriptorOrientations;
+// The descriptor's cells and orientations: tables/texture_records.hpp (TextureDescriptor).
 inline constexpr int kDescriptorCellPx = 4;  // level pixels per cell side
 inline constexpr int kDescriptorWindowPx = kDescriptorCells * kDescriptorCellPx;
 
@@ -37,10 +35,6 @@ struct TextureKeypoint {
   float scale = 1.0f;      // input pixels per level pixel: kPyramidStep^-level
   float response = 0.0f;   // Harris response at the level (intensities on [0, 1])
   uint8_t level = 0;
-};
-
-struct alignas(16) TextureDescriptor {
-  uint8_t v[kDescriptorSize] = {};
 };
 
 struct TextureFeatureStats {

@@ -57,7 +57,11 @@ Status TextureRecognizer::Init(const StereoCalibration& calib, const FeatureDbVi
   }
   extraction_ = ExtractionConfig(db.header().extraction);
   extraction_.max_keypoints = std::min(config.max_keypoints, kMaxTextureKeypoints);
-  SH_RETURN_IF_ERROR(extraction_.Validate());
+  if (const Status valid = extraction_.Validate(); !valid.ok()) {
+    return Status::Error(StatusCode::kDataLoss,
+                         "texture recogniser: the feature database's extraction settings: %s",
+                         valid.message());
+  }
   if (config.hough.n_scales < 1 || config.hough.n_scales > kMaxHoughScales ||
       !(config.hough.resolution > 0.0f && config.hough.resolution <= 1.0f)) {
     return Status::Error(StatusCode::kOutOfRange,

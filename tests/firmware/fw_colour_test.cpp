@@ -20,14 +20,14 @@
 #include "firmware/truth_recognition.hpp"
 #include "recog/geometry/rigid_transform.hpp"
 #include "tables/model_files.hpp"
-#include "tables/model_set_writer.hpp"
-#include "tables/shape_view_builder.hpp"
 #include "tests/support/aligned_blob.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
 #include "tests/support/sim_scene_observer.hpp"
 #include "tests/support/sim_world_once.hpp"
 #include "tests/support/tool_run.hpp"
+#include "tools/tablegen/model_set_writer.hpp"
+#include "tools/tablegen/shape_view_builder.hpp"
 
 namespace sh::testing {
 namespace {

@@ -21,12 +21,12 @@
 #include "recog/mono/aspect.hpp"
 #include "set_score.hpp"
 #include "tables/aspect_file.hpp"
-#include "tables/model_set_writer.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
 #include "tests/support/sim_world_once.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tools/eval/synthetic_scene.hpp"
+#include "tools/tablegen/model_set_writer.hpp"
 
 namespace sh::testing {
 namespace {

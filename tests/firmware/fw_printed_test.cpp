@@ -22,14 +22,14 @@
 #include "firmware/truth_recognition.hpp"
 #include "hal/sim/textured_model_files.hpp"
 #include "recog/geometry/rigid_transform.hpp"
-#include "tables/feature_db_builder.hpp"
-#include "tables/model_set_writer.hpp"
 #include "tests/support/aligned_blob.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/firmware_doubles.hpp"
 #include "tests/support/sim_scene_observer.hpp"
 #include "tests/support/sim_world_once.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "tools/tablegen/feature_db_builder.hpp"
+#include "tools/tablegen/model_set_writer.hpp"
 
 namespace sh::testing {
 namespace {

@@ -30,7 +30,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     sum += view->model(face.model).faces[face.model_face].n_vertices + view->descriptor(i).v[7];
   }
   for (uint32_t i = 0; i < view->face_count(); ++i) {
-    const sh::ConstGrayView t = view->face_texture(i);
+    const sh::FaceTexels texels = view->face_texels(i);
+    const sh::ConstGrayView t{texels.texels, texels.width, texels.height, texels.width};
     sum += t.at(t.width - 1, t.height - 1);
   }
   static auto searcher = std::make_unique<sh::texture::KdSearcher>();

@@ -35,9 +35,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static sh::ShapeWindow window;
   for (float& x : window.v) x = 1.0f / sh::kWindowSide;
   sh::ShapeCoefficients c;
-  view->Project(window, &c);
+  ProjectWindow(*view, window, &c);
   sh::Vector<sh::ViewMatch, 4> best;
-  view->Nearest(c, 0xffffffffu, 4, best);
+  NearestViews(*view, c, 0xffffffffu, 4, best);
   for (const sh::ViewMatch& m : best) sum += m.view;
   return sum == 0xdeadbeef ? 1 : 0;
 }

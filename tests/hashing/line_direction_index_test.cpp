@@ -13,9 +13,9 @@
 #include "recog/hashing/recognizer.hpp"
 #include "recog/hashing/vote_lut.hpp"
 #include "tables/model_files.hpp"
-#include "tables/table_builder.hpp"
 #include "tests/support/random_geometry.hpp"
 #include "tests/support/tables_fixture.hpp"
+#include "tools/tablegen/table_builder.hpp"
 
 namespace sh {
 namespace {

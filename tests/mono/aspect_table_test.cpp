@@ -6,9 +6,9 @@
 #include <cstring>
 
 #include "recog/base/crc32.hpp"
-#include "tables/aspect_builder.hpp"
 #include "tables/aspect_view.hpp"
 #include "tests/mono/mono_fixtures.hpp"
+#include "tools/tablegen/aspect_builder.hpp"
 
 namespace sh {
 namespace {

@@ -15,10 +15,10 @@
 #include "recog/mono/mono_pose.hpp"
 #include "recog/mono/resting_pose.hpp"
 #include "recog/verify/visible_edges.hpp"
-#include "tables/aspect_builder.hpp"
 #include "tables/aspect_view.hpp"
 #include "tables/model_files.hpp"
-#include "tables/model_symmetry.hpp"
+#include "tools/tablegen/aspect_builder.hpp"
+#include "tools/tablegen/model_symmetry.hpp"
 
 namespace sh::testing {
 

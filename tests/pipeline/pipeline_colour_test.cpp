@@ -17,13 +17,13 @@
 #include "recog/pipeline/pipeline.hpp"
 #include "recog/verify/inside_object.hpp"
 #include "tables/model_files.hpp"
-#include "tables/shape_view_builder.hpp"
 #include "tables/table_file.hpp"
 #include "tests/support/aligned_blob.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/test_files.hpp"
 #include "tests/support/tool_run.hpp"
+#include "tools/tablegen/shape_view_builder.hpp"
 
 namespace sh {
 namespace {

@@ -19,12 +19,12 @@
 #include "hal/sim/image_files.hpp"
 #include "recog/camera/calibration_yaml.hpp"
 #include "tables/aspect_file.hpp"
-#include "tables/model_set_writer.hpp"
 #include "tables/table_file.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/tool_run.hpp"
 #include "tools/eval/mini_json.hpp"
 #include "tools/eval/synthetic_scene.hpp"
+#include "tools/tablegen/model_set_writer.hpp"
 
 namespace sh {
 namespace {

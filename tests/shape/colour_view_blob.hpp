@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "tables/model_files.hpp"
-#include "tables/shape_view_builder.hpp"
+#include "tools/tablegen/shape_view_builder.hpp"
 
 namespace sh::testing {
 

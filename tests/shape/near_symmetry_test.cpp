@@ -9,7 +9,7 @@
 
 #include "recog/geometry/rigid_transform.hpp"
 #include "tables/model_files.hpp"
-#include "tables/model_symmetry.hpp"
+#include "tools/tablegen/model_symmetry.hpp"
 
 namespace sh {
 namespace {

@@ -9,9 +9,9 @@
 
 #include "recog/shape/segmentation.hpp"
 #include "tables/model_files.hpp"
-#include "tables/model_symmetry.hpp"
 #include "tests/shape/flat_scene.hpp"
 #include "tests/shape/symmetric_angle.hpp"
+#include "tools/tablegen/model_symmetry.hpp"
 
 namespace sh {
 namespace {

@@ -19,9 +19,9 @@
 #include "recog/geometry/rigid_transform.hpp"
 #include "recog/shape/silhouette.hpp"
 #include "tables/model_files.hpp"
-#include "tables/shape_view_builder.hpp"
 #include "tests/shape/symmetric_angle.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "tools/tablegen/shape_view_builder.hpp"
 
 namespace sh {
 namespace {
@@ -131,7 +131,7 @@ TEST(ViewDatabase, ProjectingAViewsOwnWindowGivesItsStoredCoefficients) {
     const ShapeWindow w =
         RenderWindow(v->model(r.model), v->ViewRotation(i), v->header().render_distance_mm);
     ShapeCoefficients c;
-    v->Project(w, &c);
+    ProjectWindow(*v, w, &c);
     // The test camera's focal length differs from the builder's: the window's pixels differ
     // slightly, so compare in value, not bit for bit.
     double d2 = 0;
@@ -141,7 +141,7 @@ TEST(ViewDatabase, ProjectingAViewsOwnWindowGivesItsStoredCoefficients) {
     }
     EXPECT_LT(std::sqrt(d2), 0.1) << i;
     Vector<ViewMatch, 1> best;
-    v->Nearest(c, 0x3, 1, best);
+    NearestViews(*v, c, 0x3, 1, best);
     ASSERT_EQ(best.size(), 1u);
     EXPECT_EQ(v->view(best[0].view).model, r.model);
   }
@@ -158,7 +158,7 @@ TEST(ViewDatabase, SharesOfAProjectionTogetherGiveTheWholeProjection) {
   auto window = std::make_unique<ShapeWindow>();
   for (float& x : window->v) x = pixel(rng);
   ShapeCoefficients whole;
-  v->Project(*window, &whole);
+  ProjectWindow(*v, *window, &whole);
   const int stride = v->header().component_stride;
   int nonzero = 0;
   for (int k = 0; k < stride; ++k) nonzero += whole.c[k] != 0;
@@ -166,7 +166,7 @@ TEST(ViewDatabase, SharesOfAProjectionTogetherGiveTheWholeProjection) {
   for (const int shares : {1, 2, 3, 7}) {
     ShapeCoefficients c;
     for (QCoefficient::Raw& x : c.c) x = 77;  // every entry must be written
-    for (int share = 0; share < shares; ++share) v->ProjectShare(*window, share, shares, &c);
+    for (int share = 0; share < shares; ++share) ProjectWindowShare(*v, *window, share, shares, &c);
     for (int k = 0; k < stride; ++k) EXPECT_EQ(c.c[k], whole.c[k]) << shares << " " << k;
   }
 }
@@ -187,9 +187,9 @@ TEST(ViewDatabase, OrientationsBetweenTheSamplesFindANeighbouringView) {
     float extent[2];
     const ShapeWindow w = RenderWindow(v->model(m), R, 380, extent);
     ShapeCoefficients c;
-    v->Project(w, &c);
+    ProjectWindow(*v, w, &c);
     Vector<ViewMatch, 32> nearest;
-    v->Nearest(c, 0x3, 32, nearest);
+    NearestViews(*v, c, 0x3, 32, nearest);
     ASSERT_EQ(nearest.size(), 32u);
     for (size_t i = 1; i < nearest.size(); ++i) {
       EXPECT_LE(nearest[i - 1].distance2, nearest[i].distance2);
@@ -271,7 +271,7 @@ TEST(ViewDatabase, NearestViewsAreThoseOfAnExhaustiveStableSort) {
       const Eigen::Matrix3f R = Eigen::Quaternionf(n01(rng), n01(rng), n01(rng), n01(rng))
                                     .normalized()
                                     .toRotationMatrix();
-      v->Project(RenderWindow(v->model(t % 2), R, 400), &query);
+      ProjectWindow(*v, RenderWindow(v->model(t % 2), R, 400), &query);
     }
     for (const uint32_t mask : {0x1u, 0x2u, 0x3u}) {
       std::vector<ViewMatch> all;
@@ -293,7 +293,7 @@ TEST(ViewDatabase, NearestViewsAreThoseOfAnExhaustiveStableSort) {
       });
       for (const size_t k : {size_t{1}, size_t{3}, size_t{32}}) {
         Vector<ViewMatch, 32> nearest;
-        v->Nearest(query, mask, k, nearest);
+        NearestViews(*v, query, mask, k, nearest);
         ASSERT_EQ(nearest.size(), std::min(k, all.size()));
         // Bit for bit where multiply and add round apart (x86-64); a compiler that fuses them
         // (aarch64) rounds some sums of the reference loop once less, so distances agree to a

@@ -8,9 +8,9 @@
 
 #include "recog/hashing/recognizer.hpp"
 #include "tables/model_files.hpp"
-#include "tables/table_builder.hpp"
 #include "tables/table_file.hpp"
 #include "tools/eval/synthetic_scene.hpp"
+#include "tools/tablegen/table_builder.hpp"
 
 namespace sh::testing {
 

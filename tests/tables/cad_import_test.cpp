@@ -1,7 +1,7 @@
-// CAD exports -> models (tables/cad_import): the reference models exported by assimp's writers as
-// binary and ASCII STL, binary and ASCII PLY, triangulated OBJ and 3MF become the same models as
-// their OBJ; units scale; curved surfaces and malformed files are refused by name.
-#include "tables/cad_import.hpp"
+// CAD exports -> models (tools/tablegen/cad_import): the reference models exported by assimp's
+// writers as binary and ASCII STL, binary and ASCII PLY, triangulated OBJ and 3MF become the same
+// models as their OBJ; units scale; curved surfaces and malformed files are refused by name.
+#include "tools/tablegen/cad_import.hpp"
 
 #include <Eigen/Core>
 
@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "tables/model_files.hpp"
-#include "tables/table_builder.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "tools/tablegen/table_builder.hpp"
 
 namespace sh {
 namespace {

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "tables/model_files.hpp"
-#include "tables/table_builder.hpp"
 #include "tables/table_file.hpp"
+#include "tools/tablegen/table_builder.hpp"
 
 namespace sh {
 namespace {

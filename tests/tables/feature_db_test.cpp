@@ -14,9 +14,9 @@
 #include "recog/base/crc32.hpp"
 #include "recog/texture/descriptor.hpp"
 #include "recog/texture/polygon.hpp"
-#include "tables/feature_db_builder.hpp"
 #include "tables/feature_db_view.hpp"
 #include "tests/support/aligned_blob.hpp"
+#include "tools/tablegen/feature_db_builder.hpp"
 
 namespace sh {
 namespace {
@@ -97,7 +97,7 @@ TEST(FeatureDb, OpensWhatTheBuilderWroteAndEveryFeatureLiesOnItsFace) {
     EXPECT_NEAR(r.v_px, -view->header().feature_px_per_mm * (ab.y() - v.centre_ab_mm[1]), 0.05f);
   }
   // The stored extraction settings are the builder's.
-  const texture::TextureFeatureConfig c = ExtractionConfig(view->header().extraction);
+  const texture::TextureFeatureConfig c = texture::ExtractionConfig(view->header().extraction);
   const texture::TextureFeatureConfig d;
   EXPECT_EQ(c.levels, d.levels);
   EXPECT_FLOAT_EQ(c.integration_sigma_px, d.integration_sigma_px);

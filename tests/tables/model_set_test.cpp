@@ -11,10 +11,10 @@
 #include "tables/aspect_file.hpp"
 #include "tables/feature_db_format.hpp"
 #include "tables/model_set.hpp"
-#include "tables/model_set_writer.hpp"
 #include "tables/shape_views_file.hpp"
 #include "tables/table_file.hpp"
 #include "tests/support/aligned_blob.hpp"
+#include "tools/tablegen/model_set_writer.hpp"
 
 namespace sh {
 namespace {

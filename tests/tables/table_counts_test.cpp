@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "tables/model_files.hpp"
-#include "tables/model_symmetry.hpp"
-#include "tables/table_builder.hpp"
+#include "tools/tablegen/model_symmetry.hpp"
+#include "tools/tablegen/table_builder.hpp"
 
 namespace sh {
 namespace {

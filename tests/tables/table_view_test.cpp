@@ -5,9 +5,9 @@
 #include <string>
 
 #include "tables/model_files.hpp"
-#include "tables/table_builder.hpp"
 #include "tables/table_view.hpp"
 #include "tests/support/aligned_blob.hpp"
+#include "tools/tablegen/table_builder.hpp"
 
 namespace sh {
 namespace {

@@ -11,7 +11,7 @@
 
 #include "recog/texture/face_hough.hpp"
 #include "recog/texture/kd_tree.hpp"
-#include "tables/kd_tree_builder.hpp"
+#include "tools/tablegen/kd_tree_builder.hpp"
 
 namespace sh::texture {
 namespace {

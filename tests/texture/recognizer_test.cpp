@@ -12,10 +12,11 @@
 #include "hal/sim/world/printed_surface.hpp"
 #include "hal/sim/world/renderer.hpp"
 #include "hal/sim/world/scene_generator.hpp"
+#include "recog/base/crc32.hpp"
 #include "recog/pipeline/worker_pool.hpp"
-#include "tables/feature_db_builder.hpp"
 #include "tests/support/aligned_blob.hpp"
 #include "tests/support/counting_allocator.hpp"
+#include "tools/tablegen/feature_db_builder.hpp"
 
 namespace sh::texture {
 namespace {
@@ -190,6 +191,27 @@ TEST(TextureRecognizer, RefusesImagesThatDoNotMatchTheCalibration) {
   EXPECT_NE(std::strstr(s.message(), "calibration says"), nullptr) << s.message();
   EXPECT_EQ(rec->Init(r.scene.calib, FeatureDbView{}, TextureRecognizerConfig{}).code(),
             StatusCode::kFailedPrecondition);
+}
+
+// The database reader checks the stored extraction settings only against the format (levels in
+// range, numbers finite); whether an extractor takes them is the recogniser's check, which must
+// refuse such a database by name rather than fail on every frame.
+TEST(TextureRecognizer, RefusesADatabaseLearntWithSettingsNoExtractorTakes) {
+  const Fixture& f = Cartons();
+  testing::AlignedBlob blob(std::vector<uint8_t>(f.blob->data, f.blob->data + f.blob->size));
+  auto& header = *reinterpret_cast<FeatureDbHeader*>(blob.data);
+  header.extraction.harris_k = 0.3f;  // finite, but outside the Harris detector's (0, 0.25)
+  header.blob_crc32 = 0;
+  header.blob_crc32 = BlobCrc32(blob.data, blob.size, offsetof(FeatureDbHeader, blob_crc32));
+  Result<FeatureDbView> db = FeatureDbView::Open(blob.data, blob.size);
+  ASSERT_TRUE(db.ok()) << db.status().message();
+
+  const Rendered r = Render(f, 31, render::Background::kDark);
+  auto rec = std::make_unique<TextureRecognizer>();
+  const Status s = rec->Init(r.scene.calib, *db, TextureRecognizerConfig{});
+  EXPECT_EQ(s.code(), StatusCode::kDataLoss);
+  EXPECT_NE(std::strstr(s.message(), "extraction settings"), nullptr) << s.message();
+  EXPECT_NE(std::strstr(s.message(), "Harris k"), nullptr) << s.message();
 }
 
 }  // namespace

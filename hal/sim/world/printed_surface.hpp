@@ -7,7 +7,7 @@
 
 #include "recog/image/image.hpp"
 #include "recog/model/obj_texture.hpp"
-#include "tables/textured_model.hpp"
+#include "recog/model/textured_model.hpp"
 
 namespace sh::render {
 

@@ -15,7 +15,7 @@
 #include "hal/sim/world/model_colours.hpp"
 #include "hal/sim/world/printed_surface.hpp"
 #include "hal/sim/world/scene_generator.hpp"
-#include "tables/textured_model.hpp"
+#include "recog/model/textured_model.hpp"
 
 namespace sh::render {
 

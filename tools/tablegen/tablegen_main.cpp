@@ -4,7 +4,7 @@
 #include <cstdlib>
 
 #include "tables/model_files.hpp"
-#include "tables/table_builder.hpp"
+#include "tools/tablegen/table_builder.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 4) {

@@ -1,8 +1,9 @@
-#include "tables/cad_import.hpp"
+#include "tools/tablegen/cad_import.hpp"
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <assimp/Importer.hpp>
 #include <cctype>

@@ -1,4 +1,4 @@
-#include "tables/model_symmetry.hpp"
+#include "tools/tablegen/model_symmetry.hpp"
 
 #include <Eigen/Geometry>
 

@@ -1,4 +1,4 @@
-#include "tables/aspect_builder.hpp"
+#include "tools/tablegen/aspect_builder.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,8 @@
 #include "recog/mono/frame2d.hpp"
 #include "recog/mono/view_sphere.hpp"
 #include "tables/aspect_view.hpp"
-#include "tables/model_symmetry.hpp"
+#include "tools/tablegen/blob_writer.hpp"
+#include "tools/tablegen/model_symmetry.hpp"
 
 namespace sh {
 namespace {
@@ -194,27 +195,6 @@ uint32_t BinOf(const Grid2d& g, const Eigen::Vector2f& p) {
   return static_cast<uint32_t>(idx[1]) * g.dims[0] + static_cast<uint32_t>(idx[0]);
 }
 
-// Counting sort of items by bin: offsets[b]..offsets[b+1] index into `order`.
-std::vector<uint32_t> SortByBin(const std::vector<uint32_t>& bin_of, uint32_t bins,
-                                std::vector<uint32_t>* order, uint32_t* max_per_bin) {
-  std::vector<uint32_t> offsets(bins + 1, 0);
-  for (uint32_t b : bin_of) ++offsets[b + 1];
-  *max_per_bin = 0;
-  for (uint32_t i = 0; i < bins; ++i) {
-    *max_per_bin = std::max(*max_per_bin, offsets[i + 1]);
-    offsets[i + 1] += offsets[i];
-  }
-  std::vector<uint32_t> next(offsets.begin(), offsets.end() - 1);
-  order->assign(bin_of.size(), 0);
-  for (uint32_t i = 0; i < bin_of.size(); ++i) (*order)[next[bin_of[i]]++] = i;
-  return offsets;
-}
-
-template <typename T>
-void Put(std::vector<uint8_t>& blob, const SectionRef& s, const T* data, size_t count) {
-  if (count != 0) std::memcpy(blob.data() + s.offset, data, count * sizeof(T));
-}
-
 AspectBuildParams ParamsOf(const AspectBuildOptions& o) {
   AspectBuildParams p{};
   p.initial_spacing_deg = o.initial_spacing_deg;
@@ -385,34 +365,25 @@ std::vector<uint8_t> WriteAspectBlob(const std::vector<Model>& models, const Fla
   h.log_size_min = t.log_size_min;
   h.log_size_max = t.log_size_max;
   h.build = ParamsOf(o);
-  size_t offset = AlignSection(sizeof(AspectHeader));
-  auto place = [&offset](SectionRef& s, size_t bytes) {
-    s.offset = offset;
-    s.size = bytes;
-    offset = AlignSection(offset + bytes);
-  };
-  place(h.models, models.size() * sizeof(Model));
-  place(h.aspects, aspect_records.size() * sizeof(AspectRecord));
-  place(h.bases, basis_records.size() * sizeof(AspectBasis));
-  place(h.point_bins, point_offsets.size() * sizeof(uint32_t));
-  place(h.point_entries, points_sorted.size() * sizeof(AspectPointEntry));
-  place(h.line_bins, line_offsets.size() * sizeof(uint32_t));
-  place(h.line_entries, lines_sorted.size() * sizeof(AspectLineEntry));
-  h.total_size = offset;
+  SectionLayout layout(sizeof(AspectHeader));
+  layout.Place(&h.models, models.size() * sizeof(Model));
+  layout.Place(&h.aspects, aspect_records.size() * sizeof(AspectRecord));
+  layout.Place(&h.bases, basis_records.size() * sizeof(AspectBasis));
+  layout.Place(&h.point_bins, point_offsets.size() * sizeof(uint32_t));
+  layout.Place(&h.point_entries, points_sorted.size() * sizeof(AspectPointEntry));
+  layout.Place(&h.line_bins, line_offsets.size() * sizeof(uint32_t));
+  layout.Place(&h.line_entries, lines_sorted.size() * sizeof(AspectLineEntry));
+  h.total_size = layout.total_size();
 
-  std::vector<uint8_t> blob(offset, 0);
-  Put(blob, h.models, models.data(), models.size());
-  Put(blob, h.aspects, aspect_records.data(), aspect_records.size());
-  Put(blob, h.bases, basis_records.data(), basis_records.size());
-  Put(blob, h.point_bins, point_offsets.data(), point_offsets.size());
-  Put(blob, h.point_entries, points_sorted.data(), points_sorted.size());
-  Put(blob, h.line_bins, line_offsets.data(), line_offsets.size());
-  Put(blob, h.line_entries, lines_sorted.data(), lines_sorted.size());
-  // The CRC covers the header too, read with its own field as zero.
-  h.blob_crc32 = 0;
-  std::memcpy(blob.data(), &h, sizeof(h));
-  h.blob_crc32 = BlobCrc32(blob.data(), blob.size(), offsetof(AspectHeader, blob_crc32));
-  std::memcpy(blob.data(), &h, sizeof(h));
+  std::vector<uint8_t> blob(layout.total_size(), 0);
+  PutSection(blob, h.models, models.data(), models.size());
+  PutSection(blob, h.aspects, aspect_records.data(), aspect_records.size());
+  PutSection(blob, h.bases, basis_records.data(), basis_records.size());
+  PutSection(blob, h.point_bins, point_offsets.data(), point_offsets.size());
+  PutSection(blob, h.point_entries, points_sorted.data(), points_sorted.size());
+  PutSection(blob, h.line_bins, line_offsets.data(), line_offsets.size());
+  PutSection(blob, h.line_entries, lines_sorted.data(), lines_sorted.size());
+  SealBlob(blob, h);
   return blob;
 }
 

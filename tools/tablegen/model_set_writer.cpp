@@ -1,9 +1,10 @@
-#include "tables/model_set_writer.hpp"
+#include "tools/tablegen/model_set_writer.hpp"
 
 #include <cstring>
 
 #include "recog/base/crc32.hpp"
 #include "tables/model_set.hpp"
+#include "tools/tablegen/blob_writer.hpp"
 
 namespace sh {
 namespace {
@@ -78,9 +79,7 @@ Result<std::vector<uint8_t>> BuildModelSet(const std::vector<ModelSetInput>& sec
   for (size_t i = 0; i < sections.size(); ++i) {
     std::memcpy(blob.data() + directory[i].offset, sections[i].data, sections[i].size);
   }
-  std::memcpy(blob.data(), &header, sizeof(header));
-  header.blob_crc32 = ModelSetCrc32(blob.data(), blob.size());
-  std::memcpy(blob.data(), &header, sizeof(header));
+  SealBlob(blob, header);
   return blob;
 }
 

@@ -1,4 +1,4 @@
-#include "tables/kd_tree_builder.hpp"
+#include "tools/tablegen/kd_tree_builder.hpp"
 
 #include <algorithm>
 #include <numeric>

@@ -1,4 +1,4 @@
-#include "tables/feature_db_builder.hpp"
+#include "tools/tablegen/feature_db_builder.hpp"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -16,7 +16,8 @@
 #include "recog/texture/polygon.hpp"
 #include "tables/feature_db_format.hpp"
 #include "tables/feature_db_view.hpp"
-#include "tables/kd_tree_builder.hpp"
+#include "tools/tablegen/blob_writer.hpp"
+#include "tools/tablegen/kd_tree_builder.hpp"
 
 namespace sh {
 namespace {
@@ -209,11 +210,6 @@ Result<ViewImage> TiltedView(const FloatImage& rect, float tilt, float phi_rad) 
     }
   }
   return v;
-}
-
-template <typename T>
-void Put(std::vector<uint8_t>& blob, const SectionRef& s, const T* data, size_t count) {
-  if (count > 0) std::memcpy(blob.data() + s.offset, data, count * sizeof(T));
 }
 
 }  // namespace
@@ -528,33 +524,24 @@ std::vector<uint8_t> WriteFeatureDb(const LearntDb& db, const OrderedFeatures& o
   h.feature_px_per_mm = options.feature_px_per_mm;
   h.texture_px_per_mm = options.texture_px_per_mm;
   h.extraction = ExtractionRecord(options.features);
-  size_t offset = AlignSection(sizeof(FeatureDbHeader));
-  auto place = [&](SectionRef& s, size_t bytes) {
-    s.offset = offset;
-    s.size = bytes;
-    offset = AlignSection(offset + bytes);
-  };
-  place(h.models, db_models.size() * sizeof(Model));
-  place(h.faces, faces.size() * sizeof(TexturedFace));
-  place(h.views, views.size() * sizeof(FaceView));
-  place(h.features, records.size() * sizeof(FeatureRecord));
-  place(h.descriptors, descriptors.size() * sizeof(TextureDescriptor));
-  place(h.nodes, nodes.size() * sizeof(texture::KdNode));
-  place(h.texels, texels.size());
-  h.total_size = offset;
-  std::vector<uint8_t> blob(offset, 0);
-  Put(blob, h.models, db_models.data(), db_models.size());
-  Put(blob, h.faces, faces.data(), faces.size());
-  Put(blob, h.views, views.data(), views.size());
-  Put(blob, h.features, records.data(), records.size());
-  Put(blob, h.descriptors, descriptors.data(), descriptors.size());
-  Put(blob, h.nodes, nodes.data(), nodes.size());
-  Put(blob, h.texels, texels.data(), texels.size());
-  // The CRC covers the header too, read with its own field as zero.
-  h.blob_crc32 = 0;
-  std::memcpy(blob.data(), &h, sizeof(h));
-  h.blob_crc32 = BlobCrc32(blob.data(), blob.size(), offsetof(FeatureDbHeader, blob_crc32));
-  std::memcpy(blob.data(), &h, sizeof(h));
+  SectionLayout layout(sizeof(FeatureDbHeader));
+  layout.Place(&h.models, db_models.size() * sizeof(Model));
+  layout.Place(&h.faces, faces.size() * sizeof(TexturedFace));
+  layout.Place(&h.views, views.size() * sizeof(FaceView));
+  layout.Place(&h.features, records.size() * sizeof(FeatureRecord));
+  layout.Place(&h.descriptors, descriptors.size() * sizeof(TextureDescriptor));
+  layout.Place(&h.nodes, nodes.size() * sizeof(texture::KdNode));
+  layout.Place(&h.texels, texels.size());
+  h.total_size = layout.total_size();
+  std::vector<uint8_t> blob(layout.total_size(), 0);
+  PutSection(blob, h.models, db_models.data(), db_models.size());
+  PutSection(blob, h.faces, faces.data(), faces.size());
+  PutSection(blob, h.views, views.data(), views.size());
+  PutSection(blob, h.features, records.data(), records.size());
+  PutSection(blob, h.descriptors, descriptors.data(), descriptors.size());
+  PutSection(blob, h.nodes, nodes.data(), nodes.size());
+  PutSection(blob, h.texels, texels.data(), texels.size());
+  SealBlob(blob, h);
   return blob;
 }
 

@@ -1,4 +1,4 @@
-#include "tables/table_builder.hpp"
+#include "tools/tablegen/table_builder.hpp"
 
 #include <algorithm>
 #include <array>
@@ -6,8 +6,9 @@
 #include <cstring>
 
 #include "recog/base/printable.hpp"
-#include "tables/model_symmetry.hpp"
 #include "tables/table_format.hpp"
+#include "tools/tablegen/blob_writer.hpp"
+#include "tools/tablegen/model_symmetry.hpp"
 
 namespace sh {
 namespace {
@@ -25,11 +26,11 @@ struct StoredPoint {
 };
 struct StoredLine {
   Eigen::Vector3f centre, direction, support;
-  float length;
+  float length = 0.0f;
 };
 
 struct BuiltBasis {
-  BasisRecord record;
+  BasisRecord record{};
   std::vector<StoredPoint> points;
   std::vector<StoredLine> lines;
 };
@@ -130,19 +131,27 @@ bool BuildBasis(const Model& m, uint16_t model_index, HashFunction hf, const Bas
 std::vector<BasisKey> EnumerateKeys(const Model& m, HashFunction hf) {
   std::vector<BasisKey> keys;
   if (UsesThreePoints(hf)) {
-    for (int i = 0; i < m.n_corners; ++i)
-      for (int j = 0; j < m.n_corners; ++j)
-        for (int k = 0; k < m.n_corners; ++k)
+    for (int i = 0; i < m.n_corners; ++i) {
+      for (int j = 0; j < m.n_corners; ++j) {
+        for (int k = 0; k < m.n_corners; ++k) {
           if (i != j && j != k && i != k) keys.push_back({{i, j, k}, 0});
+        }
+      }
+    }
   } else if (hf == HashFunction::kTwoLines) {
-    for (int i = 0; i < m.n_edges; ++i)
-      for (int j = 0; j < m.n_edges; ++j)
-        for (int s = 0; s < 4; ++s)
+    for (int i = 0; i < m.n_edges; ++i) {
+      for (int j = 0; j < m.n_edges; ++j) {
+        for (int s = 0; s < 4; ++s) {
           if (i != j) keys.push_back({{i, j, 0}, s});
+        }
+      }
+    }
   } else {
-    for (int e = 0; e < m.n_edges; ++e)
-      for (int c = 0; c < m.n_corners; ++c)
+    for (int e = 0; e < m.n_edges; ++e) {
+      for (int c = 0; c < m.n_corners; ++c) {
         for (int s = 0; s < 2; ++s) keys.push_back({{e, c, 0}, s});
+      }
+    }
   }
   return keys;
 }
@@ -173,36 +182,16 @@ uint32_t BinOf(const GridGeometry& g, const Eigen::Vector3f& p) {
   return (idx[2] * g.dims[1] + idx[1]) * g.dims[0] + idx[0];
 }
 
-// Counting sort of items into bins; returns offsets[bins + 1] and the permutation.
-std::vector<uint32_t> BinOffsets(const std::vector<uint32_t>& bin_of_item, uint32_t bins,
-                                 std::vector<uint32_t>* order, uint32_t* max_per_bin) {
-  std::vector<uint32_t> offsets(bins + 1, 0);
-  for (uint32_t b : bin_of_item) ++offsets[b + 1];
-  *max_per_bin = 0;
-  for (uint32_t i = 0; i < bins; ++i) {
-    *max_per_bin = std::max(*max_per_bin, offsets[i + 1]);
-    offsets[i + 1] += offsets[i];
-  }
-  std::vector<uint32_t> cursor(offsets.begin(), offsets.end() - 1);
-  order->assign(bin_of_item.size(), 0);
-  for (uint32_t i = 0; i < bin_of_item.size(); ++i) (*order)[cursor[bin_of_item[i]]++] = i;
-  return offsets;
-}
-
-template <typename T>
-void Put(std::vector<uint8_t>& blob, const SectionRef& s, const T* data, size_t count) {
-  if (count != 0) std::memcpy(blob.data() + s.offset, data, count * sizeof(T));
-}
-
 }  // namespace
 
 Result<std::vector<uint8_t>> BuildTableBlob(std::vector<Model> models,
                                             const TableBuildOptions& options,
                                             TableBuildReport* report) {
   const HashFunction hf = options.hash_function;
-  if (models.empty() || models.size() > kMaxTableModels)
+  if (models.empty() || models.size() > kMaxTableModels) {
     return Status::Error(StatusCode::kInvalidArgument, "need 1..%u models, got %zu",
                          kMaxTableModels, models.size());
+  }
   TableBuildReport local;
   TableBuildReport& rep = report ? *report : local;
   rep = {};
@@ -235,10 +224,11 @@ Result<std::vector<uint8_t>> BuildTableBlob(std::vector<Model> models,
     rep.line_entries += count.line_entries;
   }
   if (bases.size() > kMaxTableBases || rep.point_entries > kMaxTablePointEntries ||
-      rep.line_entries > kMaxTableLineEntries)
+      rep.line_entries > kMaxTableLineEntries) {
     return Status::Error(StatusCode::kResourceExhausted,
                          "tables too large for this build: %u bases, %u point and %u line entries",
                          rep.bases, rep.point_entries, rep.line_entries);
+  }
 
   // Flatten and bin.
   std::vector<Eigen::Vector3f> point_pos, line_support;
@@ -254,7 +244,7 @@ Result<std::vector<uint8_t>> BuildTableBlob(std::vector<Model> models,
     }
     for (const auto& l : bases[bi].lines) {
       line_support.push_back(l.support);
-      LineEntry e;
+      LineEntry e{};
       e.cx = QCoordMm::FromDouble(l.centre.x()).raw();
       e.cy = QCoordMm::FromDouble(l.centre.y()).raw();
       e.cz = QCoordMm::FromDouble(l.centre.z()).raw();
@@ -275,9 +265,9 @@ Result<std::vector<uint8_t>> BuildTableBlob(std::vector<Model> models,
   for (const auto& p : point_pos) point_bin_of.push_back(BinOf(point_grid, p));
   for (const auto& s : line_support) line_bin_of.push_back(BinOf(line_grid, s));
   const std::vector<uint32_t> point_offsets =
-      BinOffsets(point_bin_of, point_grid.bin_count(), &point_order, &rep.max_point_bin_entries);
+      SortByBin(point_bin_of, point_grid.bin_count(), &point_order, &rep.max_point_bin_entries);
   const std::vector<uint32_t> line_offsets =
-      BinOffsets(line_bin_of, line_grid.bin_count(), &line_order, &rep.max_line_bin_entries);
+      SortByBin(line_bin_of, line_grid.bin_count(), &line_order, &rep.max_line_bin_entries);
   std::vector<PointEntry> points_sorted(points.size());
   std::vector<LineEntry> lines_sorted(lines.size());
   for (size_t i = 0; i < points.size(); ++i) points_sorted[i] = points[point_order[i]];
@@ -305,32 +295,26 @@ Result<std::vector<uint8_t>> BuildTableBlob(std::vector<Model> models,
   h.min_point_spacing_mm = L.min_point_spacing_mm;
   h.max_point_spacing_mm = L.max_point_spacing_mm;
   h.min_triangle_height_mm = L.min_triangle_height_mm;
-  size_t offset = AlignSection(sizeof(TableHeader));
-  auto place = [&offset](SectionRef& s, size_t bytes) {
-    s.offset = offset;
-    s.size = bytes;
-    offset = AlignSection(offset + bytes);
-  };
-  place(h.models, models.size() * sizeof(Model));
-  place(h.bases, bases.size() * sizeof(BasisRecord));
-  place(h.point_bins, point_offsets.size() * sizeof(uint32_t));
-  place(h.point_entries, points_sorted.size() * sizeof(PointEntry));
-  place(h.line_bins, line_offsets.size() * sizeof(uint32_t));
-  place(h.line_entries, lines_sorted.size() * sizeof(LineEntry));
-  h.total_size = offset;
+  SectionLayout layout(sizeof(TableHeader));
+  layout.Place(&h.models, models.size() * sizeof(Model));
+  layout.Place(&h.bases, bases.size() * sizeof(BasisRecord));
+  layout.Place(&h.point_bins, point_offsets.size() * sizeof(uint32_t));
+  layout.Place(&h.point_entries, points_sorted.size() * sizeof(PointEntry));
+  layout.Place(&h.line_bins, line_offsets.size() * sizeof(uint32_t));
+  layout.Place(&h.line_entries, lines_sorted.size() * sizeof(LineEntry));
+  h.total_size = layout.total_size();
 
-  std::vector<uint8_t> blob(offset, 0);
+  std::vector<uint8_t> blob(layout.total_size(), 0);
   std::vector<BasisRecord> records;
+  records.reserve(bases.size());
   for (const auto& b : bases) records.push_back(b.record);
-  Put(blob, h.models, models.data(), models.size());
-  Put(blob, h.bases, records.data(), records.size());
-  Put(blob, h.point_bins, point_offsets.data(), point_offsets.size());
-  Put(blob, h.point_entries, points_sorted.data(), points_sorted.size());
-  Put(blob, h.line_bins, line_offsets.data(), line_offsets.size());
-  Put(blob, h.line_entries, lines_sorted.data(), lines_sorted.size());
-  std::memcpy(blob.data(), &h, sizeof(h));
-  h.blob_crc32 = TableBlobCrc32(blob.data(), blob.size());
-  std::memcpy(blob.data(), &h, sizeof(h));
+  PutSection(blob, h.models, models.data(), models.size());
+  PutSection(blob, h.bases, records.data(), records.size());
+  PutSection(blob, h.point_bins, point_offsets.data(), point_offsets.size());
+  PutSection(blob, h.point_entries, points_sorted.data(), points_sorted.size());
+  PutSection(blob, h.line_bins, line_offsets.data(), line_offsets.size());
+  PutSection(blob, h.line_entries, lines_sorted.data(), lines_sorted.size());
+  SealBlob(blob, h);
   return blob;
 }
 

@@ -1,8 +1,8 @@
 // Build-time generator of the linked-in default aspect table: aspectgen <models dir> <out>.
 #include <cstdio>
 
-#include "tables/aspect_builder.hpp"
 #include "tables/model_files.hpp"
+#include "tools/tablegen/aspect_builder.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 3) {

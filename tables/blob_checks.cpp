@@ -1,4 +1,4 @@
-#include "recog/base/blob_start.hpp"
+#include "tables/blob_checks.hpp"
 
 #include <cstring>
 
@@ -48,6 +48,25 @@ Status CheckBlobCrc32(const void* blob, size_t size, const char* what) {
   if (crc != carried) {
     return Status::Error(StatusCode::kDataLoss, "%s corrupt: CRC-32 %08x, header says %08x", what,
                          crc, carried);
+  }
+  return Status::Ok();
+}
+
+Status CheckSection(const SectionRef& section, uint64_t count, size_t element_size, uint64_t total,
+                    const char* blob, const char* name) {
+  if (section.offset % kSectionAlignment != 0) {
+    return Status::Error(StatusCode::kDataLoss, "%s corrupt: %s section misaligned", blob, name);
+  }
+  if (section.offset > total || section.size > total - section.offset) {
+    return Status::Error(StatusCode::kDataLoss, "%s truncated: %s section ends past the blob", blob,
+                         name);
+  }
+  // Counts stay below 2^48 and records are a few KiB: the product cannot wrap.
+  const uint64_t expected = count * uint64_t{element_size};
+  if (section.size != expected) {
+    return Status::Error(
+        StatusCode::kDataLoss, "%s corrupt: %s section has %llu bytes, expected %llu", blob, name,
+        static_cast<unsigned long long>(section.size), static_cast<unsigned long long>(expected));
   }
   return Status::Ok();
 }

@@ -19,9 +19,9 @@
 #include <vector>
 
 #include "recog/base/status.hpp"
+#include "recog/model/textured_model.hpp"
 #include "recog/texture/feature_extractor.hpp"
 #include "tables/feature_db_format.hpp"
-#include "tables/textured_model.hpp"
 
 namespace sh {
 

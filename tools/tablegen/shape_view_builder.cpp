@@ -1,4 +1,4 @@
-#include "tables/shape_view_builder.hpp"
+#include "tools/tablegen/shape_view_builder.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
@@ -15,7 +15,8 @@
 #include "recog/shape/silhouette.hpp"
 #include "recog/shape/view_database.hpp"
 #include "recog/verify/visible_edges.hpp"
-#include "tables/model_symmetry.hpp"
+#include "tools/tablegen/blob_writer.hpp"
+#include "tools/tablegen/model_symmetry.hpp"
 
 namespace sh {
 namespace {
@@ -187,11 +188,6 @@ Eigen::MatrixXf PrincipalDirections(RowMatrix& X, int k, int power_iterations,
   return V;
 }
 
-template <typename T>
-void Put(std::vector<uint8_t>& blob, const ShapeSection& s, const T* data, size_t count) {
-  std::memcpy(blob.data() + s.offset, data, count * sizeof(T));
-}
-
 // The colours the recogniser's segmentation takes (DeriveColourClasses), checked when the set
 // is built: a grey, white or missing Kd (an undefined material reads as white) is refused here,
 // naming the part, instead of writing a set that recognize then refuses.
@@ -342,19 +338,14 @@ ShapeViewsHeader LayOutShapeViews(size_t n_models, size_t n_views, const WindowB
   h.render_distance_mm = options.render_distance_mm;
   h.view_spacing_deg = options.view_spacing_deg;
   h.explained_energy = basis.explained;
-  size_t at = AlignShapeSection(sizeof(ShapeViewsHeader));
-  auto place = [&](ShapeSection& s, size_t bytes) {
-    s.offset = at;
-    s.size = bytes;
-    at = AlignShapeSection(at + bytes);
-  };
-  place(h.models, n_models * sizeof(Model));
-  place(h.shape_models, n_models * sizeof(ShapeModelRecord));
-  place(h.mean, kWindowPixels * sizeof(float));
-  place(h.basis, basis.basis.size() * sizeof(QBasis::Raw));
-  place(h.views, n_views * sizeof(ShapeViewRecord));
-  place(h.coefficients, n_views * h.component_stride * sizeof(QCoefficient::Raw));
-  h.total_size = at;
+  SectionLayout layout(sizeof(ShapeViewsHeader));
+  layout.Place(&h.models, n_models * sizeof(Model));
+  layout.Place(&h.shape_models, n_models * sizeof(ShapeModelRecord));
+  layout.Place(&h.mean, kWindowPixels * sizeof(float));
+  layout.Place(&h.basis, basis.basis.size() * sizeof(QBasis::Raw));
+  layout.Place(&h.views, n_views * sizeof(ShapeViewRecord));
+  layout.Place(&h.coefficients, n_views * h.component_stride * sizeof(QCoefficient::Raw));
+  h.total_size = layout.total_size();
   return h;
 }
 
@@ -415,15 +406,11 @@ Result<std::vector<uint8_t>> BuildShapeViewBlob(std::vector<ShapeModelInput> mod
   for (size_t m = 0; m < models.size(); ++m) {
     std::memcpy(blob.data() + h.models.offset + m * sizeof(Model), &models[m].model, sizeof(Model));
   }
-  Put(blob, h.shape_models, records.data(), records.size());
-  Put(blob, h.mean, pca.mean.data(), kWindowPixels);
-  Put(blob, h.basis, pca.basis.data(), pca.basis.size());
+  PutSection(blob, h.shape_models, records.data(), records.size());
+  PutSection(blob, h.mean, pca.mean.data(), kWindowPixels);
+  PutSection(blob, h.basis, pca.basis.data(), pca.basis.size());
   SH_RETURN_IF_ERROR(WriteViews(models, sampled, pca, h, renderer, &rendered, &blob));
-  // The CRC covers the header too, read with its own field as zero.
-  h.blob_crc32 = 0;
-  std::memcpy(blob.data(), &h, sizeof(h));
-  h.blob_crc32 = BlobCrc32(blob.data(), blob.size(), offsetof(ShapeViewsHeader, blob_crc32));
-  std::memcpy(blob.data(), &h, sizeof(h));
+  SealBlob(blob, h);
 
   if (report != nullptr) {
     report->per_model.clear();
