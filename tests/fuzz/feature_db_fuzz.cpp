@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "recog/base/crc32.hpp"
+#include "recog/image/image.hpp"
+#include "recog/texture/kd_tree.hpp"
 #include "tables/feature_db_view.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
