@@ -206,9 +206,12 @@ TEST(TextureRecognizer, RefusesADatabaseLearntWithSettingsNoExtractorTakes) {
   Result<FeatureDbView> db = FeatureDbView::Open(blob.data, blob.size);
   ASSERT_TRUE(db.ok()) << db.status().message();
 
-  const Rendered r = Render(f, 31, render::Background::kDark);
+  // Init needs a calibration only: the scene is generated, not rendered.
+  Result<render::GeneratedScene> g = render::GenerateScene(
+      5, render::ScenarioParams{}, f.models.data(), static_cast<int>(f.models.size()));
+  ASSERT_TRUE(g.ok());
   auto rec = std::make_unique<TextureRecognizer>();
-  const Status s = rec->Init(r.scene.calib, *db, TextureRecognizerConfig{});
+  const Status s = rec->Init(g->calib, *db, TextureRecognizerConfig{});
   EXPECT_EQ(s.code(), StatusCode::kDataLoss);
   EXPECT_NE(std::strstr(s.message(), "extraction settings"), nullptr) << s.message();
   EXPECT_NE(std::strstr(s.message(), "Harris k"), nullptr) << s.message();
