@@ -78,6 +78,14 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
     return Status::Error(StatusCode::kInvalidArgument, "competing bases must be 0..%d",
                          kMaxCompeteBases);
   }
+  // A challenger must explain at least as much as the object: margins of 0 .. 1.
+  if (!(config.compete_evidence_margin >= 0.0f && config.compete_evidence_margin <= 1.0f) ||
+      !(config.compete_score_margin >= 0.0f && config.compete_score_margin <= 1.0f)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "competition margins must be 0..1 (got evidence %g, score %g)",
+                         double(config.compete_evidence_margin),
+                         double(config.compete_score_margin));
+  }
   // The spread's cells: a penalty of 0 or more, cells of 1 mm to 10 m (finite).
   if (!(config.basis_cell_rank_penalty >= 0.0f && config.basis_cell_rank_penalty <= 1e6f) ||
       !(config.basis_cell_size_mm >= 1.0f && config.basis_cell_size_mm <= 10000.0f)) {
@@ -155,6 +163,8 @@ void Recognizer::PrepareScene(const Scene& scene) {
   scene_ = &scene;
   const int np = int(scene.points.size()), nl = int(scene.lines.size());
   for (int i = 0; i < np; ++i) point_active_[i] = scene.points[i].p_mm.allFinite();
+  std::fill(point_claimed_, point_claimed_ + np, uint8_t{0});
+  std::fill(line_claimed_, line_claimed_ + nl, uint8_t{0});
   Eigen::Vector3f* positions = grid_scratch_;
   for (int i = 0; i < np; ++i) positions[i] = scene.points[i].p_mm;
   point_grid_.Build(positions, np, 5.0f);
@@ -582,6 +592,59 @@ bool Recognizer::RefineAndVerifyAt(const Vector<Hypothesis>& hypotheses, size_t 
   return Conclude(hypotheses[i], evaluated_[i], basis_number, stats, candidate, matches);
 }
 
+void Recognizer::ClaimFeatures(const Correspondences& matches, const Model& model) {
+  for (int i = 0; i < model.n_corners; ++i) {
+    if (matches.point_of_corner[i] >= 0) point_claimed_[matches.point_of_corner[i]] = 1;
+  }
+  for (int e = 0; e < model.n_edges; ++e) {
+    if (matches.line_of_edge[e] >= 0) line_claimed_[matches.line_of_edge[e]] = 1;
+  }
+}
+
+void Recognizer::ClearClaims(const Correspondences& matches, const Model& model) {
+  for (int i = 0; i < model.n_corners; ++i) {
+    if (matches.point_of_corner[i] >= 0) point_claimed_[matches.point_of_corner[i]] = 0;
+  }
+  for (int e = 0; e < model.n_edges; ++e) {
+    if (matches.line_of_edge[e] >= 0) line_claimed_[matches.line_of_edge[e]] = 0;
+  }
+}
+
+bool Recognizer::BasisClaimed(const SceneBasis& b) const {
+  const HashFunction hf = table_.hash_function();
+  if (UsesThreePoints(hf)) {
+    return point_claimed_[b.f[0]] && point_claimed_[b.f[1]] && point_claimed_[b.f[2]];
+  }
+  if (hf == HashFunction::kTwoLines) return line_claimed_[b.f[0]] && line_claimed_[b.f[1]];
+  return line_claimed_[b.f[0]] && point_claimed_[b.f[1]];
+}
+
+int Recognizer::ChooseCompeteBases(uint32_t next, const Eigen::Vector3f& centre_mm,
+                                   float radius2_mm2, const Correspondences& matches,
+                                   const Model& model, uint32_t* chosen) {
+  const int most = std::min(config_.compete_bases, kMaxCompeteBases);
+  const uint32_t window_end = std::min(candidates_.count(), next + kCompeteScanBases);
+  ClaimFeatures(matches, model);
+  // First the bases made only of the object's own matched features, anywhere in the rest of the
+  // list (a larger model whose part the object fits shares exactly those, and its bases may rank
+  // far behind); then the next bases near the object's centre.
+  int n_chosen = 0;
+  for (uint32_t j = next; j < candidates_.count() && n_chosen < most; ++j) {
+    if (BasisActive(candidates_[j]) && BasisClaimed(candidates_[j])) chosen[n_chosen++] = j;
+  }
+  for (uint32_t j = next; j < window_end && n_chosen < most; ++j) {
+    const SceneBasis& b = candidates_[j];
+    if (!BasisActive(b) || BasisClaimed(b)) continue;
+    RigidTransform basis_T_cam;
+    Eigen::Vector3f shape_point;
+    if (!SceneBasisFrame(b, &basis_T_cam, &shape_point)) continue;
+    if ((basis_T_cam.Inverse().t_mm - centre_mm).squaredNorm() > radius2_mm2) continue;
+    chosen[n_chosen++] = j;
+  }
+  ClearClaims(matches, model);
+  return n_chosen;
+}
+
 void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInput& refine_in,
                                 const Vector<RecognizedObject>& objects,
                                 HypothesisVerifier& verifier, RecognitionStats& stats,
@@ -593,20 +656,15 @@ void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInpu
   }
   const Eigen::Vector3f centre_mm = best.cam_T_model.t_mm;
   const float place2_mm2 = config_.min_object_separation_mm * config_.min_object_separation_mm;
-  const int most = std::min(config_.compete_bases, kMaxCompeteBases);
-  const uint32_t end = std::min(candidates_.count(), next + kCompeteScanBases);
   // Scores of the object to beat; `best` changes when a challenger wins.
   const RecognizedObject first = best;
+  uint32_t chosen[kMaxCompeteBases];
+  const int n_chosen =
+      ChooseCompeteBases(next, centre_mm, radius2_mm2, best_matches, accepted_model, chosen);
   Vector<Hypothesis, kMaxHypothesesPerBasis> hypotheses;
-  int voted = 0;
-  for (uint32_t j = next; j < end && voted < most; ++j) {
+  for (int c = 0; c < n_chosen; ++c) {
+    const uint32_t j = chosen[c];
     const SceneBasis& b = candidates_[j];
-    if (!BasisActive(b)) continue;
-    RigidTransform basis_T_cam;
-    Eigen::Vector3f shape_point;
-    if (!SceneBasisFrame(b, &basis_T_cam, &shape_point)) continue;
-    if ((basis_T_cam.Inverse().t_mm - centre_mm).squaredNorm() > radius2_mm2) continue;
-    ++voted;
     // With two threads or more the next bases were mostly voted ahead, on this same scene (an
     // acceptance follows, which drops them all).
     if (const auto* voted = ahead_.Find(j)) {

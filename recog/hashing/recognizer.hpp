@@ -75,16 +75,18 @@ struct RecognizerConfig {
   // Look line entries up by direction class (line_direction_index.hpp): the same votes with
   // fewer entries visited. Off: every entry of the neighbourhood, for comparison.
   bool line_direction_index = true;
-  // Competition at acceptance: before an object leaves the scene, the next `compete_bases`
-  // untried active scene bases whose origin lies within the object's model radius of its centre
-  // (looked for among the next kCompeteScanBases candidates) are voted on the scene it is accepted
-  // from. A hypothesis of another model there, refined to within min_object_separation_mm of the
-  // object's centre and matching more scene features than it (corners and edges within the
-  // verifier's gate), replaces the object when its verification explains clearly more: evidence
-  // at least (1 + compete_evidence_margin) times the object's and both scores higher by
-  // compete_score_margin. A model fitting a subset of a larger object's corners and edges (a
-  // pentagon prism on a hexagon prism) would otherwise be accepted first and take the features
-  // that the larger model needed. 0: off (at most kMaxCompeteBases).
+  // Competition at acceptance: before an object leaves the scene, `compete_bases` untried active
+  // scene bases at its place are voted on the scene it is accepted from: first those made only of
+  // the features it matched (from the whole rest of the list), then those whose origin lies
+  // within the object's model radius of its centre (among the next kCompeteScanBases). A
+  // hypothesis of another model there, refined to within min_object_separation_mm of the object's
+  // centre and matching more scene features than it (corners and edges within the verifier's
+  // gate), replaces the object when its verification explains clearly more: evidence at least
+  // (1 + compete_evidence_margin) times the object's, both scores together higher by twice
+  // compete_score_margin and neither lower by more than it. A model fitting a subset of a larger
+  // object's corners and edges (a pentagon prism on a hexagon prism) would otherwise be accepted
+  // first and take the features that the larger model needed. 0: off (at most
+  // kMaxCompeteBases).
   int compete_bases = 0;
   float compete_evidence_margin = 0.1f;
   float compete_score_margin = 0.05f;
@@ -299,6 +301,15 @@ class Recognizer {
                          const Vector<RecognizedObject>& objects, HypothesisVerifier& verifier,
                          RecognitionStats& stats, RecognizedObject* candidate,
                          Correspondences* matches, int min_matched = 0);
+  // Marks (clears) the scene features of `matches` in point_claimed_ / line_claimed_.
+  void ClaimFeatures(const Correspondences& matches, const Model& model);
+  void ClearClaims(const Correspondences& matches, const Model& model);
+  // Whether every feature of b is claimed.
+  bool BasisClaimed(const SceneBasis& b) const;
+  // The scene bases (indices from `next` on) the competition votes at an object's place, at most
+  // compete_bases; returns how many were written to `chosen`.
+  int ChooseCompeteBases(uint32_t next, const Eigen::Vector3f& centre_mm, float radius2_mm2,
+                         const Correspondences& matches, const Model& model, uint32_t* chosen);
   // Competition at acceptance (RecognizerConfig::compete_bases): `best` (with `best_matches`),
   // about to be accepted from the basis before candidate `next`, is replaced by a clearly better
   // verified object of another model at its place, if the bases near it show one.
@@ -319,6 +330,10 @@ class Recognizer {
   // Per scene.
   uint8_t point_active_[kMaxScenePoints];
   uint8_t line_active_[kMaxSceneLines];
+  // The features the object being accepted matched (CompeteAtPlace): bases made of them only
+  // are the ones a larger model under it would be found from.
+  uint8_t point_claimed_[kMaxScenePoints];
+  uint8_t line_claimed_[kMaxSceneLines];
   Eigen::Vector3f line_dir_[kMaxSceneLines];
   SceneGrid point_grid_;
   SceneState state_;  // the above, for the parts
