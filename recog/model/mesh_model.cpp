@@ -22,7 +22,10 @@ struct Topology {
   int corner_index[kMaxObjVertices] = {};  // -1 if the vertex is not a corner
   bool is_corner[kMaxObjVertices] = {};
   int next_boundary[kMaxObjHalfEdges] = {};  // -1 for interior half-edges
-  int group_first_half_edge[kMaxModelFaces] = {};
+  // Each face's outlines: the outer one (counter-clockwise about the face normal), then its holes
+  // (clockwise), each as one of its boundary half-edges.
+  int loop_first[kMaxModelFaces][1 + kMaxFaceHoles] = {};
+  int n_loops[kMaxModelFaces] = {};
 };
 
 int Find(int* parent, int i) {
@@ -211,9 +214,94 @@ bool IsBoundary(const Topology& topo, int h) {
   return topo.group_of[topo.polygon_of[h]] != topo.group_of[topo.polygon_of[topo.twin[h]]];
 }
 
-// Links each boundary half-edge of a merged face to the next one along the face outline, checks
-// that every face has exactly one outline (no holes, no pinched vertices), and marks as corners
-// the vertices where some outline turns.
+// The sum of a face's polygons' Newell vectors: twice its area along its outward normal.
+Eigen::Vector3d GroupNewell(const PolygonMesh& mesh, const Topology& topo, int group) {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (int f = 0; f < mesh.n_polygons; ++f) {
+    if (topo.group_of[f] == group) n += topo.newell[f];
+  }
+  return n;
+}
+
+// Twice the signed area of the outline through half-edge `first`, along `normal`: positive for
+// an outer outline, negative for a hole's.
+double LoopArea2(const PolygonMesh& mesh, const Topology& topo, int first,
+                 const Eigen::Vector3d& normal) {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  int h = first;
+  do {
+    const int nh = topo.next_boundary[h];
+    n += mesh.vertices[mesh.from(h)].cross(mesh.vertices[mesh.from(nh)]);
+    h = nh;
+  } while (h != first);
+  return n.dot(normal);
+}
+
+// The outlines of face `group` (topo.loop_first, outer first): exactly one outer outline and at
+// most kMaxFaceHoles holes.
+Status FindLoops(const PolygonMesh& mesh, const MeshModelOptions& o, int group, Topology& topo) {
+  bool seen[kMaxObjHalfEdges] = {};
+  const Eigen::Vector3d normal = GroupNewell(mesh, topo, group);
+  int outer = -1, holes = 0;
+  int hole_first[kMaxFaceHoles];
+  for (int start = 0; start < mesh.n_half_edges; ++start) {
+    if (seen[start] || topo.next_boundary[start] < 0 ||
+        topo.group_of[topo.polygon_of[start]] != group) {
+      continue;
+    }
+    int h = start;
+    do {
+      seen[h] = true;
+      h = topo.next_boundary[h];
+    } while (h != start && !seen[h]);
+    if (h != start) {
+      return Status::Error(StatusCode::kInternal, "%s: a face outline does not close", o.format);
+    }
+    if (LoopArea2(mesh, topo, start, normal) > 0) {
+      if (outer >= 0) {
+        return Status::Error(StatusCode::kInvalidArgument,
+                             "%s: a face has two outer outlines (two faces touching in a plane)",
+                             o.format);
+      }
+      outer = start;
+    } else {
+      if (holes >= kMaxFaceHoles) {
+        return Status::Error(StatusCode::kResourceExhausted, "%s: a face has more than %d holes",
+                             o.format, kMaxFaceHoles);
+      }
+      hole_first[holes++] = start;
+    }
+  }
+  if (outer < 0) {
+    return Status::Error(StatusCode::kInvalidArgument, "%s: a face has no outer outline", o.format);
+  }
+  topo.loop_first[group][0] = outer;
+  for (int k = 0; k < holes; ++k) topo.loop_first[group][1 + k] = hole_first[k];
+  topo.n_loops[group] = 1 + holes;
+  return Status::Ok();
+}
+
+// Marks as corners the vertices where the outline through `first` turns.
+void MarkTurningVertices(const PolygonMesh& mesh, double tolerance_mm, Topology& topo, int first) {
+  int h = first;
+  do {
+    const int nh = topo.next_boundary[h];
+    const Eigen::Vector3d& a = mesh.vertices[mesh.from(h)];
+    const Eigen::Vector3d& v = mesh.vertices[mesh.from(nh)];
+    const Eigen::Vector3d& b = mesh.vertices[ToVertex(mesh, topo, nh)];
+    const Eigen::Vector3d in = v - a, out = b - v;
+    // The outline turns at v unless it continues straight on: v within the planarity
+    // tolerance of the line from a to b (the rounding of printed coordinates).
+    const Eigen::Vector3d chord = b - a;
+    const bool straight = in.dot(out) > 0 && in.cross(chord).norm() <= tolerance_mm * chord.norm();
+    if (!straight) topo.is_corner[mesh.from(nh)] = true;
+    h = nh;
+  } while (h != first);
+}
+
+// Links each boundary half-edge of a merged face to the next one along the face outline (no
+// pinched vertices), finds each face's outer outline and holes, and marks as corners the
+// vertices where some outline turns.
 Status TraceOutlines(const PolygonMesh& mesh, double tolerance_mm, const MeshModelOptions& o,
                      Topology& topo) {
   for (int h = 0; h < mesh.n_half_edges; ++h) {
@@ -237,41 +325,165 @@ Status TraceOutlines(const PolygonMesh& mesh, double tolerance_mm, const MeshMod
     }
   }
   for (int group = 0; group < topo.n_groups; ++group) {
-    int first = -1, n_boundary = 0;
-    for (int h = 0; h < mesh.n_half_edges; ++h) {
-      if (topo.next_boundary[h] >= 0 && topo.group_of[topo.polygon_of[h]] == group) {
-        if (first < 0) first = h;
-        ++n_boundary;
+    SH_RETURN_IF_ERROR(FindLoops(mesh, o, group, topo));
+    for (int l = 0; l < topo.n_loops[group]; ++l) {
+      MarkTurningVertices(mesh, tolerance_mm, topo, topo.loop_first[group][l]);
+    }
+  }
+  return Status::Ok();
+}
+
+// The corners along the outline through `first`, in order, appended to `out` (at most `most`),
+// and the sum of their offsets along `normal` added to `offset_sum`.
+Status LoopCorners(const PolygonMesh& mesh, const MeshModelOptions& o, const Topology& topo,
+                   int first, const Eigen::Vector3d& normal, uint8_t* out, int* n, int most,
+                   double* offset_sum) {
+  int h = first;
+  do {
+    const int c = topo.corner_index[mesh.from(h)];
+    if (c >= 0) {
+      *offset_sum += normal.dot(mesh.vertices[mesh.from(h)]);
+      if (*n >= most) {
+        return Status::Error(StatusCode::kResourceExhausted, "%s: a face has more than %d corners",
+                             o.format, kMaxFaceVertices);
+      }
+      out[(*n)++] = static_cast<uint8_t>(c);
+    }
+    h = topo.next_boundary[h];
+  } while (h != first);
+  return Status::Ok();
+}
+
+// Whether the open segments p-q and a-b cross or touch, in the face's plane (projected along
+// its dominant normal axis `drop`). Segments sharing an end point do not count.
+bool SegmentsMeet(const Model& m, int drop, int p, int q, int a, int b) {
+  if (p == a || p == b || q == a || q == b) return false;
+  const int u = drop == 0 ? 1 : 0, v = drop == 2 ? 1 : 2;
+  auto at = [&](int c) { return Eigen::Vector2d(m.corners_mm[c][u], m.corners_mm[c][v]); };
+  auto side = [](const Eigen::Vector2d& o, const Eigen::Vector2d& x, const Eigen::Vector2d& y) {
+    const Eigen::Vector2d d1 = x - o, d2 = y - o;
+    return d1.x() * d2.y() - d1.y() * d2.x();
+  };
+  const Eigen::Vector2d P = at(p), Q = at(q), A = at(a), B = at(b);
+  const double d1 = side(P, Q, A), d2 = side(P, Q, B), d3 = side(A, B, P), d4 = side(A, B, Q);
+  return (d1 <= 0) != (d2 <= 0) && (d3 <= 0) != (d4 <= 0);
+}
+
+// Whether the bridge p-q crosses an edge of the face's outlines (`loops`, as corner lists).
+bool BridgeCrosses(const Model& m, int drop, int p, int q, const uint8_t* const* loops,
+                   const int* sizes, int n_loops) {
+  for (int l = 0; l < n_loops; ++l) {
+    for (int k = 0, j = sizes[l] - 1; k < sizes[l]; j = k++) {
+      if (SegmentsMeet(m, drop, p, q, loops[l][j], loops[l][k])) return true;
+    }
+  }
+  return false;
+}
+
+// Face `group` of `model` from its outlines: the outer outline's corners, counter-clockwise from
+// outside, with each hole spliced in along the shortest bridge between an outline corner and a
+// hole corner that crosses no outline: ... p, h_j, h_j+1, ..., h_j-1, h_j, p, ... The bridge's two
+// passes cancel in every even-odd polygon test (PointInFace, the silhouettes, the renderers), and
+// edges come from the outlines, so the bridge is no edge.
+Status BuildFace(const PolygonMesh& mesh, const MeshModelOptions& o, const Topology& topo,
+                 int group, const Model& model, ModelFace& face) {
+  const Eigen::Vector3d n = GroupNewell(mesh, topo, group).normalized();
+  uint8_t loops[1 + kMaxFaceHoles][kMaxFaceVertices];
+  int sizes[1 + kMaxFaceHoles] = {};
+  const uint8_t* loop_ptrs[1 + kMaxFaceHoles];
+  double offset_sum = 0;
+  int n_corners = 0;
+  for (int l = 0; l < topo.n_loops[group]; ++l) {
+    SH_RETURN_IF_ERROR(LoopCorners(mesh, o, topo, topo.loop_first[group][l], n, loops[l], &sizes[l],
+                                   kMaxFaceVertices, &offset_sum));
+    if (sizes[l] < 3) {
+      return Status::Error(StatusCode::kInvalidArgument, "%s: a face %shas fewer than 3 corners",
+                           o.format, l == 0 ? "" : "hole ");
+    }
+    n_corners += sizes[l];
+    loop_ptrs[l] = loops[l];
+  }
+  const int drop = std::fabs(n.x()) >= std::fabs(n.y()) && std::fabs(n.x()) >= std::fabs(n.z())
+                       ? 0
+                       : (std::fabs(n.y()) >= std::fabs(n.z()) ? 1 : 2);
+  uint8_t* out = face.vertices;
+  int size = sizes[0];
+  std::copy(loops[0], loops[0] + size, out);
+  for (int l = 1; l < topo.n_loops[group]; ++l) {
+    if (size + sizes[l] + 2 > kMaxFaceVertices) {
+      return Status::Error(StatusCode::kResourceExhausted,
+                           "%s: a face has more than %d corners (with two more per hole)", o.format,
+                           kMaxFaceVertices);
+    }
+    int best_i = -1, best_j = -1;
+    float best_d2 = 0;
+    for (int i = 0; i < size; ++i) {
+      // A corner the outline already passes twice (a bridge's end) is not used again.
+      if (std::count(out, out + size, out[i]) > 1) continue;
+      for (int j = 0; j < sizes[l]; ++j) {
+        const float d2 = (model.corner(out[i]) - model.corner(loops[l][j])).squaredNorm();
+        if (best_i >= 0 && d2 >= best_d2) continue;
+        const uint8_t* current[1] = {out};
+        if (BridgeCrosses(model, drop, out[i], loops[l][j], current, &size, 1) ||
+            BridgeCrosses(model, drop, out[i], loops[l][j], loop_ptrs + 1, sizes + 1,
+                          topo.n_loops[group] - 1)) {
+          continue;
+        }
+        best_i = i, best_j = j, best_d2 = d2;
       }
     }
-    int loop_length = 0;
-    int h = first;
-    do {
-      ++loop_length;
-      h = topo.next_boundary[h];
-    } while (h != first && loop_length <= n_boundary);
-    if (first < 0 || loop_length != n_boundary) {
+    if (best_i < 0) {
       return Status::Error(StatusCode::kInvalidArgument,
-                           "%s: a face has a hole (more than one outline); not supported",
-                           o.format);
+                           "%s: a face's hole cannot be joined to its outline", o.format);
     }
-    topo.group_first_half_edge[group] = first;
-    h = first;
-    do {
-      const int nh = topo.next_boundary[h];
-      const Eigen::Vector3d& a = mesh.vertices[mesh.from(h)];
-      const Eigen::Vector3d& v = mesh.vertices[mesh.from(nh)];
-      const Eigen::Vector3d& b = mesh.vertices[ToVertex(mesh, topo, nh)];
-      const Eigen::Vector3d in = v - a, out = b - v;
-      // The outline turns at v unless it continues straight on: v within the planarity
-      // tolerance of the line from a to b (the rounding of printed coordinates).
-      const Eigen::Vector3d chord = b - a;
-      const bool straight =
-          in.dot(out) > 0 && in.cross(chord).norm() <= tolerance_mm * chord.norm();
-      if (!straight) topo.is_corner[mesh.from(nh)] = true;
-      h = nh;
-    } while (h != first);
+    // out[0..best_i], the hole from best_j round to best_j, out[best_i], out[best_i+1..].
+    uint8_t spliced[kMaxFaceVertices];
+    int k = 0;
+    for (int i = 0; i <= best_i; ++i) spliced[k++] = out[i];
+    for (int j = 0; j <= sizes[l]; ++j) spliced[k++] = loops[l][(best_j + j) % sizes[l]];
+    for (int i = best_i; i < size; ++i) spliced[k++] = out[i];
+    size = k;
+    std::copy(spliced, spliced + size, out);
   }
+  face.n_vertices = static_cast<uint8_t>(size);
+  for (int k = 0; k < 3; ++k) face.normal[k] = static_cast<float>(n[k]);
+  face.offset_mm = static_cast<float>(offset_sum / n_corners);
+  return Status::Ok();
+}
+
+// The edges along the outline of face `group` through half-edge `first` that face `group` records
+// (those towards a higher-numbered face), appended to model.edges.
+Status AddOutlineEdges(const PolygonMesh& mesh, const MeshModelOptions& o, const Topology& topo,
+                       int group, int first, Model& model, int* n_edges) {
+  // Start the walk at a corner so every piece runs corner to corner.
+  int start = first;
+  while (topo.corner_index[mesh.from(start)] < 0) start = topo.next_boundary[start];
+  int h = start;
+  do {
+    const int a = topo.corner_index[mesh.from(h)];
+    const int other = topo.group_of[topo.polygon_of[topo.twin[h]]];
+    int g = h;
+    do {
+      if (topo.group_of[topo.polygon_of[topo.twin[g]]] != other) {
+        return Status::Error(StatusCode::kInternal,
+                             "%s: neighbouring face changes between two corners", o.format);
+      }
+      g = topo.next_boundary[g];
+    } while (topo.corner_index[mesh.from(g)] < 0);
+    const int b = topo.corner_index[mesh.from(g)];
+    if (group < other) {
+      if (*n_edges >= kMaxModelEdges) {
+        return Status::Error(StatusCode::kResourceExhausted, "%s: more than %d edges", o.format,
+                             kMaxModelEdges);
+      }
+      ModelEdge& e = model.edges[(*n_edges)++];
+      e.a = static_cast<uint8_t>(a);
+      e.b = static_cast<uint8_t>(b);
+      e.face0 = static_cast<uint8_t>(group);
+      e.face1 = static_cast<uint8_t>(other);
+    }
+    h = g;
+  } while (h != start);
   return Status::Ok();
 }
 
@@ -333,69 +545,17 @@ Result<Model> ModelFromMesh(const PolygonMesh& mesh, const char* name,
   model.n_faces = static_cast<uint16_t>(topo.n_groups);
 
   for (int group = 0; group < topo.n_groups; ++group) {
-    ModelFace& face = model.faces[group];
-    Eigen::Vector3d n = Eigen::Vector3d::Zero();
-    for (int f = 0; f < mesh.n_polygons; ++f) {
-      if (topo.group_of[f] == group) n += topo.newell[f];
-    }
-    n.normalize();
-    const int first = topo.group_first_half_edge[group];
-    int h = first;
-    double offset_sum = 0;
-    do {
-      const int c = topo.corner_index[mesh.from(h)];
-      if (c >= 0) {
-        if (face.n_vertices >= kMaxFaceVertices) {
-          return Status::Error(StatusCode::kResourceExhausted,
-                               "%s: a face has more than %d corners", o.format, kMaxFaceVertices);
-        }
-        face.vertices[face.n_vertices++] = static_cast<uint8_t>(c);
-        offset_sum += n.dot(mesh.vertices[mesh.from(h)]);
-      }
-      h = topo.next_boundary[h];
-    } while (h != first);
-    if (face.n_vertices < 3) {
-      return Status::Error(StatusCode::kInvalidArgument, "%s: a face has fewer than 3 corners",
-                           o.format);
-    }
-    for (int k = 0; k < 3; ++k) face.normal[k] = static_cast<float>(n[k]);
-    face.offset_mm = static_cast<float>(offset_sum / face.n_vertices);
+    SH_RETURN_IF_ERROR(BuildFace(mesh, o, topo, group, model, model.faces[group]));
   }
 
   // Edges: outline pieces between consecutive corners, recorded once from the lower-numbered
-  // face, oriented as in face0's counter-clockwise outline.
+  // face, oriented as in face0's counter-clockwise outline (its holes' outlines included).
   int n_edges = 0;
   for (int group = 0; group < topo.n_groups; ++group) {
-    const int first = topo.group_first_half_edge[group];
-    // Start the walk at a corner so every piece runs corner to corner.
-    int start = first;
-    while (topo.corner_index[mesh.from(start)] < 0) start = topo.next_boundary[start];
-    int h = start;
-    do {
-      const int a = topo.corner_index[mesh.from(h)];
-      const int other = topo.group_of[topo.polygon_of[topo.twin[h]]];
-      int g = h;
-      do {
-        if (topo.group_of[topo.polygon_of[topo.twin[g]]] != other) {
-          return Status::Error(StatusCode::kInternal,
-                               "%s: neighbouring face changes between two corners", o.format);
-        }
-        g = topo.next_boundary[g];
-      } while (topo.corner_index[mesh.from(g)] < 0);
-      const int b = topo.corner_index[mesh.from(g)];
-      if (group < other) {
-        if (n_edges >= kMaxModelEdges) {
-          return Status::Error(StatusCode::kResourceExhausted, "%s: more than %d edges", o.format,
-                               kMaxModelEdges);
-        }
-        ModelEdge& e = model.edges[n_edges++];
-        e.a = static_cast<uint8_t>(a);
-        e.b = static_cast<uint8_t>(b);
-        e.face0 = static_cast<uint8_t>(group);
-        e.face1 = static_cast<uint8_t>(other);
-      }
-      h = g;
-    } while (h != start);
+    for (int l = 0; l < topo.n_loops[group]; ++l) {
+      SH_RETURN_IF_ERROR(
+          AddOutlineEdges(mesh, o, topo, group, topo.loop_first[group][l], model, &n_edges));
+    }
   }
   model.n_edges = static_cast<uint16_t>(n_edges);
   return model;

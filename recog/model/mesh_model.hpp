@@ -5,6 +5,7 @@
 // into one face, corners are the vertices where the surface bends (vertices inside a flat face or
 // along a straight edge are dropped) and edges are the boundaries between non-coplanar faces.
 // Polygons must be wound counter-clockwise seen from outside and form a closed 2-manifold surface.
+// A merged face may have holes (a plate with a bore through it): see ModelFace.
 // Symmetries are not computed here (n_symmetries stays 0).
 #pragma once
 
@@ -22,6 +23,9 @@ inline constexpr int kMaxObjVertices = 256;
 inline constexpr int kMaxObjPolygons = 512;
 inline constexpr int kMaxObjPolygonVertices = 64;
 inline constexpr int kMaxObjHalfEdges = 2048;
+// Holes in one face (a plate with bores). A face with holes is stored as one outline that runs
+// out to each hole along a bridge and back (ModelFace): two corners more per hole.
+inline constexpr int kMaxFaceHoles = 8;
 
 // Geometry limits. Coordinates beyond +-kMaxObjCoordinateMm are a unit mistake (metres vs
 // millimetres the other way round) or garbage; a model more than kMaxObjSizeMm across does not

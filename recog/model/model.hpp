@@ -26,6 +26,9 @@ struct ModelEdge {
   uint8_t face0 = 0, face1 = 0;  // the two faces that meet at this edge
 };
 
+// A face with holes is one outline that runs from its outer outline to each hole along a bridge,
+// round the hole and back (a corner pair listed twice, docs/tables.md): even-odd tests of the
+// polygon see the holes open. The bridges are no edges.
 struct ModelFace {
   uint8_t n_vertices = 0;
   uint8_t vertices[kMaxFaceVertices] = {};  // corner indices, counter-clockwise from outside

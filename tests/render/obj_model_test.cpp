@@ -122,6 +122,64 @@ TEST(ObjModel, TriangulatedCubeMergesIntoTheSameCube) {
   CheckConsistent(*tri);
 }
 
+// Even-odd test of (x, y) against a face of constant z, as the verifier, the silhouettes and the
+// renderers test faces.
+bool InsideFaceXy(const Model& m, const ModelFace& face, float x, float y) {
+  bool inside = false;
+  for (int k = 0, j = face.n_vertices - 1; k < face.n_vertices; j = k++) {
+    const Eigen::Vector3f a = m.corner(face.vertices[j]), b = m.corner(face.vertices[k]);
+    if ((a.y() > y) != (b.y() > y) && x < a.x() + (b.x() - a.x()) * (y - a.y()) / (b.y() - a.y())) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+TEST(ObjModel, AFaceWithAHoleIsOneFaceWhoseOutlineRunsRoundTheHole) {
+  const std::string text = testing::PlateWithHoleObj();
+  const Result<Model> plate = ParseObjModel(text.data(), text.size(), "plate");
+  ASSERT_TRUE(plate.ok()) << plate.status().message();
+  EXPECT_EQ(plate->n_corners, 16);
+  EXPECT_EQ(plate->n_edges, 24);  // the bridges to the hole are no edges
+  EXPECT_EQ(plate->n_faces, 10);
+  int holed = 0;
+  for (int f = 0; f < plate->n_faces; ++f) {
+    const ModelFace& face = plate->faces[f];
+    for (int k = 0; k < face.n_vertices; ++k) {
+      EXPECT_NEAR(plate->face_normal(f).dot(plate->corner(face.vertices[k])), face.offset_mm,
+                  1e-4f);
+    }
+    if (std::fabs(plate->face_normal(f).z()) < 0.99f) {
+      EXPECT_EQ(face.n_vertices, 4);
+      continue;
+    }
+    ++holed;
+    EXPECT_EQ(face.n_vertices, 4 + 4 + 2);  // outline, hole, and the bridge's two ends again
+    EXPECT_TRUE(InsideFaceXy(*plate, face, 20.0f, 0.5f));
+    EXPECT_TRUE(InsideFaceXy(*plate, face, -0.5f, -20.0f));
+    EXPECT_FALSE(InsideFaceXy(*plate, face, 0.5f, 0.5f));  // in the hole
+    EXPECT_FALSE(InsideFaceXy(*plate, face, 35.0f, 0.5f));
+  }
+  EXPECT_EQ(holed, 2);
+  std::set<std::pair<int, int>> seen;
+  for (int e = 0; e < plate->n_edges; ++e) {
+    const ModelEdge& edge = plate->edges[e];
+    EXPECT_TRUE(seen.insert({std::min(edge.a, edge.b), std::max(edge.a, edge.b)}).second);
+    const Eigen::Vector3f d = plate->corner(edge.a) - plate->corner(edge.b);
+    EXPECT_NEAR(d.norm(), (std::fabs(d.z()) > 1.0f) ? 10.0f : (d.norm() > 30.0f ? 60.0f : 20.0f),
+                1e-4f);
+    for (int f : {edge.face0, edge.face1}) {
+      const ModelFace& face = plate->faces[f];
+      bool found = false;
+      for (int k = 0; k < face.n_vertices; ++k) {
+        const int u = face.vertices[k], v = face.vertices[(k + 1) % face.n_vertices];
+        found |= (u == edge.a && v == edge.b) || (u == edge.b && v == edge.a);
+      }
+      EXPECT_TRUE(found) << "edge " << e << " not on face " << f;
+    }
+  }
+}
+
 TEST(ObjModel, CarriageReturnLineEndsAreLineEnds) {
   // Old Mac exports end lines with a lone CR, Windows ones with CRLF: the same cube, and line
   // numbers in messages count each line once.

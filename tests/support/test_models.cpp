@@ -90,6 +90,17 @@ Model StarModel() {
   return MakePrism("star", outline, 20.0f);
 }
 
+std::string PlateWithHoleObj() {
+  return "v -30 -30 -5\nv 30 -30 -5\nv 30 30 -5\nv -30 30 -5\n"
+         "v -30 -30 5\nv 30 -30 5\nv 30 30 5\nv -30 30 5\n"
+         "v -10 -10 -5\nv 10 -10 -5\nv 10 10 -5\nv -10 10 -5\n"
+         "v -10 -10 5\nv 10 -10 5\nv 10 10 5\nv -10 10 5\n"
+         "f 5 6 14 13\nf 6 7 15 14\nf 7 8 16 15\nf 8 5 13 16\n"
+         "f 2 1 9 10\nf 3 2 10 11\nf 4 3 11 12\nf 1 4 12 9\n"
+         "f 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n"
+         "f 10 9 13 14\nf 11 10 14 15\nf 12 11 15 16\nf 9 12 16 13\n";
+}
+
 std::string ReadModelText(const std::string& stem) {
   std::ifstream in("models/" + stem + ".obj", std::ios::binary);
   std::stringstream buffer;

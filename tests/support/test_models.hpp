@@ -25,6 +25,10 @@ Result<Model> LoadReferenceModel(const char* stem);
 // The text of models/<stem>.obj ("" when missing), for the parser tests.
 std::string ReadModelText(const std::string& stem);
 
+// OBJ text of a 60 x 60 x 10 mm plate (z -5 .. 5) with a 20 x 20 mm square hole through it; its
+// top and bottom are four quads each, which merge into one face with a hole.
+std::string PlateWithHoleObj();
+
 Model CubeModel();  // 30 x 30 mm base, 40 mm tall
 Model StarModel();  // five-pointed star prism, radii 34 / 22 mm, 20 mm tall
 

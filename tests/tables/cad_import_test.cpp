@@ -19,10 +19,12 @@
 #include <cstring>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tables/model_files.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "tests/support/test_models.hpp"
 #include "tools/tablegen/table_builder.hpp"
 
 namespace sh {
@@ -234,6 +236,27 @@ TEST(CadImport, ACurvedSurfaceIsRefusedByNameAndASharperBoundTakesItAsFacets) {
   EXPECT_EQ(m->n_corners, 64);
   EXPECT_EQ(m->n_edges, 96);
   EXPECT_EQ(m->n_faces, 34);
+}
+
+// A plate with a square hole through it, exported as binary STL and as PLY (triangles
+// everywhere): the same model as its OBJ, with one face with a hole on each side.
+TEST(CadImport, APlateWithAHoleIsTheSameModelAsItsObj) {
+  TempDir dir("cad");
+  {
+    std::ofstream obj(dir.Sub("plate.obj"));
+    obj << testing::PlateWithHoleObj();
+  }
+  const Result<Model> want = LoadModelFile(dir.Sub("plate.obj"));
+  ASSERT_TRUE(want.ok()) << want.status().message();
+  ASSERT_EQ(want->n_faces, 10);
+  for (const auto& [format_id, extension] : {std::pair{"stlb", "stl"}, {"ply", "ply"}}) {
+    ASSERT_EQ(mkdir(dir.Sub(format_id).c_str(), 0755), 0);
+    const std::string path = dir.Sub(std::string(format_id) + "/plate." + extension);
+    Export(dir.Sub("plate.obj"), format_id, path);
+    const Result<Model> got = ImportCadModel(path, {});
+    ASSERT_TRUE(got.ok()) << format_id << ": " << got.status().message();
+    ExpectSameModel(*want, *got, format_id);
+  }
 }
 
 TEST(CadImport, TheCentroidOriginIsReportedAndMovesThePart) {
