@@ -98,6 +98,16 @@ void PrintGrid(const char* what, const GridGeometry& g) {
               double(g.min_mm[1]), double(g.min_mm[2]));
 }
 
+// Holes in a face: each is spliced into the face's outline along a bridge whose two ends the
+// outline then lists twice (ModelFace).
+int FaceHoles(const ModelFace& face) {
+  int repeats = 0;
+  for (int k = 0; k < face.n_vertices; ++k) {
+    for (int j = 0; j < k; ++j) repeats += face.vertices[j] == face.vertices[k] ? 1 : 0;
+  }
+  return repeats / 2;
+}
+
 void PrintModels(const TableView& view) {
   std::vector<uint32_t> bases(view.model_count());
   for (uint32_t b = 0; b < view.basis_count(); ++b) ++bases[view.basis(b).model];
@@ -109,6 +119,15 @@ void PrintModels(const TableView& view) {
         "%4u bases\n",
         m, Printable(model.name, sizeof(model.name), shown, sizeof(shown)), model.n_corners,
         model.n_edges, model.n_faces, model.n_symmetries, bases[m]);
+    int holed_faces = 0, holes = 0;
+    for (int f = 0; f < model.n_faces; ++f) {
+      const int n = FaceHoles(model.faces[f]);
+      holed_faces += n > 0 ? 1 : 0;
+      holes += n;
+    }
+    if (holed_faces > 0) {
+      std::printf("    %d faces with holes, %d holes in all\n", holed_faces, holes);
+    }
     if (bases[m] == 0) {
       const BasisLimits l = view.limits();
       std::printf(

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <set>
 #include <string>
@@ -24,6 +25,22 @@ struct Expected {
 constexpr Expected kReferenceModels[] = {{"cube", 8, 12},      {"hexagon", 12, 18},
                                          {"wedge", 6, 9},      {"star", 20, 30},
                                          {"pentagon", 10, 15}, {"trapezium", 8, 12}};
+
+// Every edge runs between consecutive corners of the outlines of both its faces.
+void ExpectEdgesOnTheirFaces(const Model& m) {
+  for (int e = 0; e < m.n_edges; ++e) {
+    const ModelEdge& edge = m.edges[e];
+    for (int f : {edge.face0, edge.face1}) {
+      const ModelFace& face = m.faces[f];
+      bool found = false;
+      for (int k = 0; k < face.n_vertices; ++k) {
+        const int u = face.vertices[k], v = face.vertices[(k + 1) % face.n_vertices];
+        found |= (u == edge.a && v == edge.b) || (u == edge.b && v == edge.a);
+      }
+      EXPECT_TRUE(found) << m.name << " edge " << e << " not on face " << f;
+    }
+  }
+}
 
 // Checks the invariants every parsed model must satisfy: a closed polyhedron (Euler), every
 // corner on the plane of every face that lists it, outward normals, edges between two faces
@@ -49,18 +66,10 @@ void CheckConsistent(const Model& m, float plane_tolerance_mm = 1e-3f) {
     const ModelEdge& edge = m.edges[e];
     EXPECT_TRUE(seen.insert({std::min(edge.a, edge.b), std::max(edge.a, edge.b)}).second);
     EXPECT_NE(edge.face0, edge.face1);
-    for (int f : {edge.face0, edge.face1}) {
-      const ModelFace& face = m.faces[f];
-      bool found = false;
-      for (int k = 0; k < face.n_vertices; ++k) {
-        const int u = face.vertices[k], v = face.vertices[(k + 1) % face.n_vertices];
-        found |= (u == edge.a && v == edge.b) || (u == edge.b && v == edge.a);
-      }
-      EXPECT_TRUE(found) << m.name << " edge " << e << " not on face " << f;
-    }
     // Faces meeting at an edge are not coplanar.
     EXPECT_LT(m.face_normal(edge.face0).dot(m.face_normal(edge.face1)), 0.9999f);
   }
+  ExpectEdgesOnTheirFaces(m);
 }
 
 TEST(ObjModel, ReferenceModelsHaveTheDocumentedCornerAndEdgeCounts) {
@@ -168,16 +177,81 @@ TEST(ObjModel, AFaceWithAHoleIsOneFaceWhoseOutlineRunsRoundTheHole) {
     const Eigen::Vector3f d = plate->corner(edge.a) - plate->corner(edge.b);
     EXPECT_NEAR(d.norm(), (std::fabs(d.z()) > 1.0f) ? 10.0f : (d.norm() > 30.0f ? 60.0f : 20.0f),
                 1e-4f);
-    for (int f : {edge.face0, edge.face1}) {
-      const ModelFace& face = plate->faces[f];
-      bool found = false;
-      for (int k = 0; k < face.n_vertices; ++k) {
-        const int u = face.vertices[k], v = face.vertices[(k + 1) % face.n_vertices];
-        found |= (u == edge.a && v == edge.b) || (u == edge.b && v == edge.a);
+  }
+  ExpectEdgesOnTheirFaces(*plate);
+}
+
+// 100 x 60 x 10 mm with two 20 x 20 mm square holes, tiled on a grid of quads whose vertices
+// along the straight outlines are no corners: a face with two holes on each side.
+std::string PlateWithTwoHolesObj() {
+  const float xs[] = {-50, -35, -15, 15, 35, 50}, ys[] = {-30, -10, 10, 30};
+  auto filled = [](int i, int j) {
+    return i >= 0 && i < 5 && j >= 0 && j < 3 && !(j == 1 && (i == 1 || i == 3));
+  };
+  // OBJ index of grid vertex (i, j), bottom (z -5) or top (z 5).
+  auto v = [](int i, int j, bool top) { return 1 + (top ? 24 : 0) + j * 6 + i; };
+  std::string obj;
+  char line[96];
+  for (int top = 0; top < 2; ++top) {
+    for (int j = 0; j < 4; ++j) {
+      for (int i = 0; i < 6; ++i) {
+        std::snprintf(line, sizeof(line), "v %g %g %d\n", xs[i], ys[j], top ? 5 : -5);
+        obj += line;
       }
-      EXPECT_TRUE(found) << "edge " << e << " not on face " << f;
     }
   }
+  auto quad = [&](int a, int b, int c, int d) {
+    std::snprintf(line, sizeof(line), "f %d %d %d %d\n", a, b, c, d);
+    obj += line;
+  };
+  for (int j = 0; j < 3; ++j) {
+    for (int i = 0; i < 5; ++i) {
+      if (!filled(i, j)) continue;
+      quad(v(i, j, true), v(i + 1, j, true), v(i + 1, j + 1, true), v(i, j + 1, true));
+      quad(v(i, j + 1, false), v(i + 1, j + 1, false), v(i + 1, j, false), v(i, j, false));
+    }
+  }
+  for (int j = 0; j < 4; ++j) {  // walls along x, between cells (i, j - 1) and (i, j)
+    for (int i = 0; i < 5; ++i) {
+      if (filled(i, j) == filled(i, j - 1)) continue;
+      if (filled(i, j)) {
+        quad(v(i, j, false), v(i + 1, j, false), v(i + 1, j, true), v(i, j, true));
+      } else {
+        quad(v(i + 1, j, false), v(i, j, false), v(i, j, true), v(i + 1, j, true));
+      }
+    }
+  }
+  for (int j = 0; j < 3; ++j) {  // walls along y, between cells (i - 1, j) and (i, j)
+    for (int i = 0; i < 6; ++i) {
+      if (filled(i - 1, j) == filled(i, j)) continue;
+      if (filled(i - 1, j)) {
+        quad(v(i, j, false), v(i, j + 1, false), v(i, j + 1, true), v(i, j, true));
+      } else {
+        quad(v(i, j + 1, false), v(i, j, false), v(i, j, true), v(i, j + 1, true));
+      }
+    }
+  }
+  return obj;
+}
+
+TEST(ObjModel, AFaceWithTwoHolesBridgesToBoth) {
+  const std::string text = PlateWithTwoHolesObj();
+  const Result<Model> plate = ParseObjModel(text.data(), text.size(), "plate2");
+  ASSERT_TRUE(plate.ok()) << plate.status().message();
+  EXPECT_EQ(plate->n_corners, 8 + 2 * 8);
+  EXPECT_EQ(plate->n_edges, 12 + 2 * 12);
+  EXPECT_EQ(plate->n_faces, 6 + 2 * 4);
+  int holed = 0;
+  for (int f = 0; f < plate->n_faces; ++f) {
+    const ModelFace& face = plate->faces[f];
+    if (std::fabs(plate->face_normal(f).z()) < 0.99f) continue;
+    ++holed;
+    EXPECT_EQ(face.n_vertices, 4 + 2 * (4 + 2));
+    for (float x : {-45.0f, 0.5f, 45.0f}) EXPECT_TRUE(InsideFaceXy(*plate, face, x, 0.5f)) << x;
+    for (float x : {-25.0f, 25.0f, 55.0f}) EXPECT_FALSE(InsideFaceXy(*plate, face, x, 0.5f)) << x;
+  }
+  EXPECT_EQ(holed, 2);
+  ExpectEdgesOnTheirFaces(*plate);
 }
 
 TEST(ObjModel, CarriageReturnLineEndsAreLineEnds) {

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "tests/support/temp_dir.hpp"
+#include "tests/support/test_models.hpp"
 #include "tests/support/tool_run.hpp"
 
 namespace sh {
@@ -131,6 +132,30 @@ TEST(ModelNamesTool, CadExportsAreModelsReadInTheirUnit) {
   build(" --units in --origin centroid", 0,
         "block.stl: model origin at its centroid, (6.350, 6.350, 6.350) mm");
   build(" --units in --origin centroid", 0, "symmetry group of order 24");
+}
+
+// A part with a bore through it is built, and `tables build` and `tables info` say which of its
+// faces have holes; a part without holes gets no such line.
+TEST(ModelNamesTool, FacesWithHolesAreShown) {
+  TempDir dir("names");
+  const std::string d = dir.Mkdir("models");
+  std::ofstream(d + "/plate.obj") << testing::PlateWithHoleObj();
+  Copy("models/cube.obj", d + "/cube.obj");
+  const ToolRun r = RunTool("tables build --models " + d + " --out " + dir.Sub("t.bin"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const ToolRun info = RunTool("tables info " + dir.Sub("t.bin"));
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  for (const std::string& out : {r.output, info.output}) {
+    EXPECT_NE(
+        out.find("model 1 plate      16 corners 24 edges 10 faces, symmetry group of order  8"),
+        std::string::npos)
+        << out;
+    EXPECT_NE(out.find("faces, symmetry group of order  8,   74 bases\n"
+                       "    2 faces with holes, 2 holes in all\n"),
+              std::string::npos)
+        << out;
+    EXPECT_EQ(out.find("holes in all"), out.rfind("holes in all")) << out;  // not the cube's
+  }
 }
 
 TEST(ModelNamesTool, OptionNumbersAreReadWholeAndNamed) {
