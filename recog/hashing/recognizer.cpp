@@ -444,12 +444,16 @@ int Recognizer::ActiveFeatureCount() const {
   return active;
 }
 
-bool Recognizer::BasisActive(const SceneBasis& b) const {
+bool Recognizer::BasisFlagged(const SceneBasis& b, const uint8_t* point_flag,
+                              const uint8_t* line_flag) const {
   const HashFunction hf = table_.hash_function();
-  if (UsesThreePoints(hf))
-    return point_active_[b.f[0]] && point_active_[b.f[1]] && point_active_[b.f[2]];
-  if (hf == HashFunction::kTwoLines) return line_active_[b.f[0]] && line_active_[b.f[1]];
-  return line_active_[b.f[0]] && point_active_[b.f[1]];
+  if (UsesThreePoints(hf)) return point_flag[b.f[0]] && point_flag[b.f[1]] && point_flag[b.f[2]];
+  if (hf == HashFunction::kTwoLines) return line_flag[b.f[0]] && line_flag[b.f[1]];
+  return line_flag[b.f[0]] && point_flag[b.f[1]];
+}
+
+bool Recognizer::BasisActive(const SceneBasis& b) const {
+  return BasisFlagged(b, point_active_, line_active_);
 }
 
 void Recognizer::RemoveObjectFeatures(const Model& model, const Correspondences& c) {
@@ -592,31 +596,13 @@ bool Recognizer::RefineAndVerifyAt(const Vector<Hypothesis>& hypotheses, size_t 
   return Conclude(hypotheses[i], evaluated_[i], basis_number, stats, candidate, matches);
 }
 
-void Recognizer::ClaimFeatures(const Correspondences& matches, const Model& model) {
+void Recognizer::MarkClaims(const Correspondences& matches, const Model& model, uint8_t claimed) {
   for (int i = 0; i < model.n_corners; ++i) {
-    if (matches.point_of_corner[i] >= 0) point_claimed_[matches.point_of_corner[i]] = 1;
+    if (matches.point_of_corner[i] >= 0) point_claimed_[matches.point_of_corner[i]] = claimed;
   }
   for (int e = 0; e < model.n_edges; ++e) {
-    if (matches.line_of_edge[e] >= 0) line_claimed_[matches.line_of_edge[e]] = 1;
+    if (matches.line_of_edge[e] >= 0) line_claimed_[matches.line_of_edge[e]] = claimed;
   }
-}
-
-void Recognizer::ClearClaims(const Correspondences& matches, const Model& model) {
-  for (int i = 0; i < model.n_corners; ++i) {
-    if (matches.point_of_corner[i] >= 0) point_claimed_[matches.point_of_corner[i]] = 0;
-  }
-  for (int e = 0; e < model.n_edges; ++e) {
-    if (matches.line_of_edge[e] >= 0) line_claimed_[matches.line_of_edge[e]] = 0;
-  }
-}
-
-bool Recognizer::BasisClaimed(const SceneBasis& b) const {
-  const HashFunction hf = table_.hash_function();
-  if (UsesThreePoints(hf)) {
-    return point_claimed_[b.f[0]] && point_claimed_[b.f[1]] && point_claimed_[b.f[2]];
-  }
-  if (hf == HashFunction::kTwoLines) return line_claimed_[b.f[0]] && line_claimed_[b.f[1]];
-  return line_claimed_[b.f[0]] && point_claimed_[b.f[1]];
 }
 
 int Recognizer::ChooseCompeteBases(uint32_t next, const Eigen::Vector3f& centre_mm,
@@ -624,24 +610,25 @@ int Recognizer::ChooseCompeteBases(uint32_t next, const Eigen::Vector3f& centre_
                                    const Model& model, uint32_t* chosen) {
   const int most = std::min(config_.compete_bases, kMaxCompeteBases);
   const uint32_t window_end = std::min(candidates_.count(), next + kCompeteScanBases);
-  ClaimFeatures(matches, model);
+  MarkClaims(matches, model, 1);
   // First the bases made only of the object's own matched features, anywhere in the rest of the
   // list (a larger model whose part the object fits shares exactly those, and its bases may rank
   // far behind); then the next bases near the object's centre.
   int n_chosen = 0;
   for (uint32_t j = next; j < candidates_.count() && n_chosen < most; ++j) {
-    if (BasisActive(candidates_[j]) && BasisClaimed(candidates_[j])) chosen[n_chosen++] = j;
+    if (BasisActive(candidates_[j]) && BasisFlagged(candidates_[j], point_claimed_, line_claimed_))
+      chosen[n_chosen++] = j;
   }
   for (uint32_t j = next; j < window_end && n_chosen < most; ++j) {
     const SceneBasis& b = candidates_[j];
-    if (!BasisActive(b) || BasisClaimed(b)) continue;
+    if (!BasisActive(b) || BasisFlagged(b, point_claimed_, line_claimed_)) continue;
     RigidTransform basis_T_cam;
     Eigen::Vector3f shape_point;
     if (!SceneBasisFrame(b, &basis_T_cam, &shape_point)) continue;
     if ((basis_T_cam.Inverse().t_mm - centre_mm).squaredNorm() > radius2_mm2) continue;
     chosen[n_chosen++] = j;
   }
-  ClearClaims(matches, model);
+  MarkClaims(matches, model, 0);
   return n_chosen;
 }
 

@@ -261,6 +261,8 @@ class Recognizer {
   int VoteInTurn(uint32_t index, const SceneBasis& b, uint32_t most, Vector<Hypothesis>& out);
   void RemoveObjectFeatures(const Model& model, const Correspondences& c);
   int ActiveFeatureCount() const;
+  // Whether every feature of b has its flag set (per scene point and per scene line).
+  bool BasisFlagged(const SceneBasis& b, const uint8_t* point_flag, const uint8_t* line_flag) const;
   bool BasisActive(const SceneBasis& b) const;
   bool TooCloseToAccepted(const RigidTransform& cam_T_model,
                           const Vector<RecognizedObject>& objects) const;
@@ -301,11 +303,9 @@ class Recognizer {
                          const Vector<RecognizedObject>& objects, HypothesisVerifier& verifier,
                          RecognitionStats& stats, RecognizedObject* candidate,
                          Correspondences* matches, int min_matched = 0);
-  // Marks (clears) the scene features of `matches` in point_claimed_ / line_claimed_.
-  void ClaimFeatures(const Correspondences& matches, const Model& model);
-  void ClearClaims(const Correspondences& matches, const Model& model);
-  // Whether every feature of b is claimed.
-  bool BasisClaimed(const SceneBasis& b) const;
+  // Sets the scene features of `matches` in point_claimed_ / line_claimed_ to `claimed` (1 to
+  // mark them, 0 to clear them again).
+  void MarkClaims(const Correspondences& matches, const Model& model, uint8_t claimed);
   // The scene bases (indices from `next` on) the competition votes at an object's place, at most
   // compete_bases; returns how many were written to `chosen`.
   int ChooseCompeteBases(uint32_t next, const Eigen::Vector3f& centre_mm, float radius2_mm2,
