@@ -30,8 +30,9 @@
 namespace sh {
 
 inline constexpr char kAspectMagic[8] = {'S', 'H', 'A', 'S', 'P', 'E', 'C', 'T'};
-// Version 2: the CRC covers the header too, reserved fields must be zero.
-inline constexpr uint16_t kAspectFormatVersion = 2;
+// Version 3: model edges record whether they are smooth (ModelEdge::smooth). Version 2: the CRC
+// covers the header too, reserved fields must be zero.
+inline constexpr uint16_t kAspectFormatVersion = 3;
 
 // Capacities the monocular recogniser's scratch memory is sized for; larger tables are refused
 // at load (and by the builder).

@@ -28,8 +28,9 @@
 namespace sh {
 
 inline constexpr char kFeatureDbMagic[8] = {'S', 'H', 'T', 'E', 'X', 'D', 'B', '\0'};
-// Version 2: the CRC covers the header too, reserved fields must be zero.
-inline constexpr uint16_t kFeatureDbFormatVersion = 2;
+// Version 3: model edges record whether they are smooth (ModelEdge::smooth). Version 2: the CRC
+// covers the header too, reserved fields must be zero.
+inline constexpr uint16_t kFeatureDbFormatVersion = 3;
 
 // Capacities the recogniser's memory is sized for; the reader refuses larger databases.
 inline constexpr uint32_t kMaxFeatureDbModels = 16;

@@ -33,8 +33,9 @@ inline constexpr int kShapeViewWindowSide = 64;
 inline constexpr int kShapeViewWindowPixels = kShapeViewWindowSide * kShapeViewWindowSide;
 
 inline constexpr char kShapeViewsMagic[8] = {'S', 'H', 'V', 'I', 'E', 'W', 'S', '\0'};
-// Version 2: the CRC covers the header too, reserved fields must be zero.
-inline constexpr uint16_t kShapeViewsVersion = 2;
+// Version 3: model edges record whether they are smooth (ModelEdge::smooth). Version 2: the CRC
+// covers the header too, reserved fields must be zero.
+inline constexpr uint16_t kShapeViewsVersion = 3;
 
 // Capacities the recogniser is sized for; larger databases are refused at load.
 inline constexpr uint32_t kMaxShapeModels = 16;

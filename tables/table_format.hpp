@@ -26,10 +26,11 @@
 namespace sh {
 
 inline constexpr char kTableMagic[8] = {'S', 'H', 'T', 'A', 'B', 'L', 'E', '\0'};
+// Version 4: model edges record whether they are smooth (ModelEdge::smooth, 5 bytes an edge).
 // Version 3: the CRC-32 covers the header too (version 2 left the header, with the hash function,
 // grids and limits, outside it). Version 2: Model records sized for 128 corners, 192 edges,
 // 64 faces of up to 64 corners and 96 symmetries (version 1: 32, 48, 24, 15, 24).
-inline constexpr uint16_t kTableFormatVersion = 3;
+inline constexpr uint16_t kTableFormatVersion = 4;
 
 // Capacities the recogniser's scratch memory is sized for; the loader refuses larger tables.
 inline constexpr uint32_t kMaxTableModels = 16;

@@ -21,9 +21,14 @@ inline constexpr int kMaxFaceVertices = 64;
 inline constexpr int kMaxModelSymmetries = 96;
 inline constexpr int kMaxModelNameLength = 31;
 
+// A smooth edge joins two facets of a tessellated curved surface (a bore, a fillet, a can's
+// side: facets that bend by less than the sharp angle `tables build --sharp-deg` gives). The
+// image shows it only where it is a silhouette (one of its faces turned to the camera, the other
+// away); it is never hashed, and neither are the corners it touches (ModelFeatures).
 struct ModelEdge {
   uint8_t a = 0, b = 0;          // corner indices
   uint8_t face0 = 0, face1 = 0;  // the two faces that meet at this edge
+  uint8_t smooth = 0;            // 1: a facet edge of a curved surface; 0: a feature edge
 };
 
 // A face with holes is one outline that runs from its outer outline to each hole along a bridge,
@@ -61,5 +66,7 @@ struct Model {
 static_assert(std::is_trivially_copyable_v<Model>);
 static_assert(kMaxModelCorners <= 256 && kMaxModelEdges <= 256, "indices are uint8_t");
 static_assert(std::is_standard_layout_v<Model>);
+// The record is part of every blob format (docs/tables.md): a change of layout is a new version.
+static_assert(sizeof(ModelEdge) == 5 && sizeof(Model) == 11368, "Model is a blob format");
 
 }  // namespace sh

@@ -33,6 +33,11 @@ Status ValidateModelRecord(const Model& m, uint32_t index, const char* blob) {
       return Status::Error(StatusCode::kDataLoss,
                            "%s corrupt: model '%s' edge %d indexes out of range", blob, name, i);
     }
+    if (e.smooth > 1) {
+      return Status::Error(StatusCode::kDataLoss,
+                           "%s corrupt: model '%s' edge %d has smooth flag %u (0 or 1)", blob, name,
+                           i, e.smooth);
+    }
   }
   for (int f = 0; f < m.n_faces; ++f) {
     const ModelFace& face = m.faces[f];
