@@ -1,6 +1,8 @@
 // `stereohash tables build` and `stereohash tables info`: offline preprocessing of model folders
 // into one model set (hash tables, view database, feature database, aspect table as sections),
 // and its inspection.
+#include <Eigen/Core>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -9,6 +11,7 @@
 #include <vector>
 
 #include "recog/base/printable.hpp"
+#include "recog/model/model_features.hpp"
 #include "tables/aspect_file.hpp"
 #include "tables/model_files.hpp"
 #include "tables/model_set.hpp"
@@ -59,8 +62,8 @@ void BuildUsage() {
       "                --no-hash-2d or --bare)\n"
       "Models: those of DIR/models.txt, or every model file of DIR (default DIR: ./models), or\n"
       "--names. A model file is an OBJ or a CAD export as STL (binary or ASCII), PLY or 3MF\n"
-      "(docs/tables.md); coplanar triangles are merged into faces, and an edge must bend by the\n"
-      "sharp angle at least (a curved surface is refused by name).\n"
+      "(docs/tables.md); coplanar triangles are merged into faces; facets that bend by less\n"
+      "than the sharp angle are a curved surface, seen as silhouettes and never hashed.\n"
       "%s"
       "  --views-out FILE  write the colour parts' view database to FILE instead\n"
       "%s"
@@ -108,6 +111,36 @@ int FaceHoles(const ModelFace& face) {
   return repeats / 2;
 }
 
+// Area of a face in mm2 (Newell's method: a hole's bridge passes cancel).
+double FaceAreaMm2(const Model& model, const ModelFace& face) {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (int k = 0; k < face.n_vertices; ++k) {
+    const Eigen::Vector3d p = model.corner(face.vertices[k]).cast<double>();
+    const Eigen::Vector3d q = model.corner(face.vertices[(k + 1) % face.n_vertices]).cast<double>();
+    n += p.cross(q);
+  }
+  return 0.5 * n.norm();
+}
+
+// What a part with curved surfaces offers hashing (model_features.hpp): its facets' area, its
+// smooth edges and the corners and edges left to hash.
+void PrintCurvedSurfaces(const Model& model) {
+  const ModelFeatures features = FeaturesOf(model);
+  if (features.n_smooth_edges == 0) return;
+  int facets = 0;
+  double area_mm2 = 0;
+  for (int f = 0; f < model.n_faces; ++f) {
+    if (!FaceIsCurved(model, f)) continue;
+    ++facets;
+    area_mm2 += FaceAreaMm2(model, model.faces[f]);
+  }
+  std::printf(
+      "    curved surfaces: %d facets, %.0f mm2, %d smooth edges (silhouettes only); hashed: %d "
+      "of %u corners, %d of %u edges\n",
+      facets, area_mm2, features.n_smooth_edges, features.n_corners(), model.n_corners,
+      features.n_lines(), model.n_edges);
+}
+
 void PrintModels(const TableView& view) {
   std::vector<uint32_t> bases(view.model_count());
   for (uint32_t b = 0; b < view.basis_count(); ++b) ++bases[view.basis(b).model];
@@ -128,7 +161,13 @@ void PrintModels(const TableView& view) {
     if (holed_faces > 0) {
       std::printf("    %d faces with holes, %d holes in all\n", holed_faces, holes);
     }
-    if (bases[m] == 0) {
+    PrintCurvedSurfaces(model);
+    if (bases[m] == 0 && FeaturesOf(model).n_corners() < 3) {
+      std::printf(
+          "  warning: model %u is curved surfaces with fewer than 3 corners to hash: the stereo "
+          "path cannot find it; as a colour part (an OBJ whose MTL gives Kd) the colour path can\n",
+          m);
+    } else if (bases[m] == 0) {
       const BasisLimits l = view.limits();
       std::printf(
           "  warning: model %u offers no basis within this table's limits (points %.0f..%.0f mm "

@@ -11,7 +11,8 @@ namespace sh::tools {
 
 const char* const kCadOptionsHelp =
     "  --units U     the length unit of the model files (STL has none): mm (default), cm, m, in\n"
-    "  --sharp-deg A the least bend of an edge between facets, degrees (default 20, 2..89)\n"
+    "  --sharp-deg A the least bend of a feature edge between facets, degrees (default 20,\n"
+    "                2..89); facets that bend by less are a curved surface\n"
     "                (with --units or --sharp-deg, OBJ files are read as CAD exports too)\n"
     "  --origin O    a CAD export's model origin: file (default: poses are of the CAD frame)\n"
     "                or centroid (its centre of volume, printed, which lies on every symmetry\n"

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "recog/hashing/scene_grid.hpp"
+#include "recog/model/model_features.hpp"
 
 namespace sh {
 namespace {
@@ -42,8 +43,13 @@ void Accumulate(const Eigen::Matrix<float, N, 6>& J, const Eigen::Matrix<float, 
 void SelectCorrespondences(const RefineInput& in, const RigidTransform& cam_T_model, float gate_mm,
                            Correspondences* out) {
   const Model& m = *in.model;
+  // Tessellation vertices and rim chords of curved surfaces are nothing the scene's corners and
+  // lines stand for: they match nothing.
+  const ModelFeatures features = FeaturesOf(m);
   out->matched_points = out->matched_lines = 0;
   for (int i = 0; i < m.n_corners; ++i) {
+    out->point_of_corner[i] = -1;
+    if (!features.corner(i)) continue;
     const Eigen::Vector3f x = cam_T_model * m.corner(i);
     int best = -1;
     float best_d2 = 1e30f;
@@ -74,6 +80,8 @@ void SelectCorrespondences(const RefineInput& in, const RigidTransform& cam_T_mo
       near[n_near++] = int16_t(j);
   }
   for (int e = 0; e < m.n_edges; ++e) {
+    out->line_of_edge[e] = -1;
+    if (!features.line(e)) continue;
     const EdgeGeometry g = ModelEdgeGeometry(m, e);
     const Eigen::Vector3f centre = cam_T_model * g.centre, dir = cam_T_model.Rotate(g.dir);
     int best = -1;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "recog/model/model_features.hpp"
+
 namespace sh {
 namespace {
 
@@ -50,8 +52,10 @@ bool SceneSupportVerifier::Verify(const Model& model, const Vector<RecognizedObj
                                   RecognizedObject& candidate) {
   // Points and lines are scored separately: a pose held by lines alone (or points alone) is
   // under-determined in ways clutter can satisfy.
-  const float points = float(candidate.matched_points) / float(model.n_corners);
-  const float lines = float(candidate.matched_lines) / float(model.n_edges);
+  // Of the features hashing uses: a part's curved surfaces add none (model_features.hpp).
+  const ModelFeatures features = FeaturesOf(model);
+  const float points = float(candidate.matched_points) / float(std::max(1, features.n_corners()));
+  const float lines = float(candidate.matched_lines) / float(std::max(1, features.n_lines()));
   candidate.verify_score[0] = points;
   candidate.verify_score[1] = lines;
   // Fractions, not counts: in 3-D alone a larger model around a fragment would win by size.

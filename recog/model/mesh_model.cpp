@@ -22,6 +22,7 @@ struct Topology {
   int corner_index[kMaxObjVertices] = {};  // -1 if the vertex is not a corner
   bool is_corner[kMaxObjVertices] = {};
   int next_boundary[kMaxObjHalfEdges] = {};  // -1 for interior half-edges
+  bool smooth[kMaxObjHalfEdges] = {};        // between facets of a curved surface
   // Each face's outlines: the outer one (counter-clockwise about the face normal), then its holes
   // (clockwise), each as one of its boundary half-edges.
   int loop_first[kMaxModelFaces][1 + kMaxFaceHoles] = {};
@@ -175,6 +176,11 @@ Status BuildTopology(const PolygonMesh& mesh, double tolerance_mm, const MeshMod
       continue;
     }
     const double fold_deg = std::acos(std::clamp(nf.dot(ng), -1.0, 1.0)) * 180.0 / kPi;
+    if (fold_deg < o.smooth_below_deg) {
+      // Facets of a curved surface: each stays a face of its own, joined by a smooth edge.
+      topo.smooth[h] = topo.smooth[topo.twin[h]] = true;
+      continue;
+    }
     if (fold_deg < o.min_edge_angle_deg && o.edge_angle_hint != nullptr) {
       // Short: the path comes in front, and messages hold 160 characters.
       return Status::Error(StatusCode::kInvalidArgument,
@@ -481,6 +487,7 @@ Status AddOutlineEdges(const PolygonMesh& mesh, const MeshModelOptions& o, const
       e.b = static_cast<uint8_t>(b);
       e.face0 = static_cast<uint8_t>(group);
       e.face1 = static_cast<uint8_t>(other);
+      e.smooth = topo.smooth[h] ? 1 : 0;
     }
     h = g;
   } while (h != start);

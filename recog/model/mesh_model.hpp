@@ -68,7 +68,10 @@ struct MeshModelOptions {
   const char* format = "OBJ";         // "OBJ lines 3 and 4: ..."
   const char* polygon_word = "line";  // "STL triangles 3 and 4: ..."
   const char* units_hint = "model units are millimetres";
-  // Adjacent faces that bend by less (and are not coplanar) are refused.
+  // Adjacent faces that bend by less than this (and are not coplanar) are facets of a curved
+  // surface, joined by a smooth edge (ModelEdge::smooth); 0: none is.
+  double smooth_below_deg = 0;
+  // Adjacent faces that bend by less (and are not coplanar, nor smooth) are refused.
   double min_edge_angle_deg = kMinObjEdgeAngleDeg;
   // Null: the refusal names the edge, the vertex and its distance. Otherwise it is short and
   // ends in this ("under --sharp-deg 20: ...").

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iterator>
 
+#include "recog/model/model_features.hpp"
 #include "recog/verify/visible_edges.hpp"
 
 namespace sh {
@@ -36,8 +37,10 @@ CornerMask VisibleCorners2d(const Model& model, const VisibleEdgeSet& visible,
     }
   }
   const float max_cos = std::cos(min_angle_deg * 3.14159265f / 180.0f);
+  const ModelFeatures features = FeaturesOf(model);  // no tessellation vertices
   CornerMask mask;
   for (int i = 0; i < model.n_corners; ++i) {
+    if (!features.corner(i)) continue;
     for (int p = 0; p < n_dirs[i]; ++p) {
       for (int q = p + 1; q < n_dirs[i]; ++q) {
         if (std::fabs(dirs[i][p].dot(dirs[i][q])) < max_cos) mask.set(static_cast<size_t>(i));
@@ -134,8 +137,12 @@ Status ComputeAspect(const Model& model, const Eigen::Vector3f& dir_model,
     extent = std::max(extent, std::max(projected[e.a].norm(), projected[e.b].norm()));
   }
   const float min_length = config.min_segment_fraction * extent;
+  // Of a part with curved surfaces, only what hashing uses (model_features.hpp): silhouettes
+  // and rim chords of tessellated surfaces move with the view and are no lines a detector finds.
+  const ModelFeatures features = FeaturesOf(model);
   for (int k = 0; k < visible.n_edges; ++k) {
     const VisibleEdge& ve = visible.edges[k];
+    if (!features.line(ve.edge)) continue;
     const ModelEdge& e = model.edges[ve.edge];
     const Eigen::Vector2f pa = projected[e.a], pb = projected[e.b];
     for (int r = 0; r < ve.n_runs; ++r) {

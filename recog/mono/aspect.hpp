@@ -47,6 +47,7 @@ struct AspectSegment {
   Eigen::Vector2f b{0, 0};
 };
 
+// NOLINTNEXTLINE(bugprone-reserved-identifier): clang-tidy 14 names the implicit array copy's index
 struct AspectView {
   Eigen::Vector3f dir_model{0, 0, 1};  // from the centroid towards the virtual camera
   RigidTransform cam_T_model;          // model -> virtual camera (centroid on the optical axis)
@@ -63,7 +64,8 @@ struct AspectView {
 using CornerMask = std::bitset<kMaxModelCorners>;
 
 // The corners an image shows as 2-D corners: ends of visible edges where two
-// visible edges leave at an angle between min_angle_deg and 180 - min_angle_deg in the image.
+// visible edges leave at an angle between min_angle_deg and 180 - min_angle_deg in the image; of a
+// part with curved surfaces, only hashed corners (model_features.hpp).
 // `projected` holds every corner's image position (any units).
 CornerMask VisibleCorners2d(const Model& model, const VisibleEdgeSet& visible,
                             const Eigen::Vector2f* projected, float min_angle_deg);

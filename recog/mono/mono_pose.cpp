@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "recog/model/model_features.hpp"
+
 namespace sh {
 namespace {
 
@@ -194,8 +196,10 @@ void MatchFeatures(const CameraIntrinsics& cam, const Model& model,
   }
 
   const float max_sin = std::sin(c.line_angle_deg * 3.14159265f / 180.0f);
+  const ModelFeatures features = FeaturesOf(model);  // no silhouettes or chords of curves
   for (int k = 0; k < visible.n_edges; ++k) {
     const VisibleEdge& ve = visible.edges[k];
+    if (!features.line(ve.edge)) continue;
     const ModelEdge& e = model.edges[ve.edge];
     const Eigen::Vector3f a_model = model.corner(e.a), ab_model = model.corner(e.b) - a_model;
     const float az = ve.a_cam_mm.z(), bz = ve.b_cam_mm.z();

@@ -230,6 +230,9 @@ class EdgeSampler {
     const ModelEdge& edge = model_.edges[e];
     const uint64_t adjacent = (uint64_t{1} << edge.face0) | (uint64_t{1} << edge.face1);
     if (!(front_ & adjacent)) return;  // both faces turned away: hidden
+    // A facet edge of a curved surface shows only on its silhouette; between two facets turned
+    // to the camera the surface runs on without a visible edge.
+    if (edge.smooth && (front_ & adjacent) == adjacent) return;
     ++out->n_candidate_edges;
 
     VisibleEdge& ve = out->edges[out->n_edges];

@@ -1,7 +1,9 @@
 // Hidden-line computation for posed polyhedral models (general, also non-convex, polyhedra).
 //
 // An edge is a candidate when at least one of its two faces faces the camera centre (silhouette
-// and crease edges; edges between two back faces are hidden). Each candidate edge is sampled at a
+// and crease edges; edges between two back faces are hidden). A smooth edge (a facet edge of a
+// curved surface) is a candidate only on the silhouette: one face turned to the camera, the
+// other away. Each candidate edge is sampled at a
 // fixed step of projected length, and every sample is tested by casting the ray from the camera
 // centre to the sample point against the model's own front faces (non-convex polygons by the
 // crossing-number point-in-polygon test) and against the faces of occluding objects already

@@ -77,6 +77,35 @@ Model MakePrism(const char* name, const std::vector<Eigen::Vector2f>& outline, f
   return MakeModel(name, corners, faces);
 }
 
+std::vector<std::array<double, 9>> PrismTriangles(int n, double r, double h) {
+  std::vector<std::array<double, 9>> t;
+  auto x = [&](int i) { return r * std::cos(2 * M_PI * i / n); };
+  auto y = [&](int i) { return r * std::sin(2 * M_PI * i / n); };
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    t.push_back({x(i), y(i), 0, x(j), y(j), 0, x(j), y(j), h});
+    t.push_back({x(i), y(i), 0, x(j), y(j), h, x(i), y(i), h});
+    if (i > 0 && j > 0) {
+      t.push_back({x(0), y(0), h, x(i), y(i), h, x(j), y(j), h});
+      t.push_back({x(0), y(0), 0, x(j), y(j), 0, x(i), y(i), 0});
+    }
+  }
+  return t;
+}
+
+void WriteAsciiStl(const std::string& path, const std::vector<std::array<double, 9>>& triangles) {
+  std::ofstream out(path);
+  out << "solid part\n";
+  for (const auto& t : triangles) {
+    out << " facet normal 0 0 0\n  outer loop\n";
+    for (size_t k = 0; k < 9; k += 3) {
+      out << "   vertex " << t[k] << " " << t[k + 1] << " " << t[k + 2] << "\n";
+    }
+    out << "  endloop\n endfacet\n";
+  }
+  out << "endsolid part\n";
+}
+
 Model CubeModel() { return MakePrism("cube", {{-15, -15}, {15, -15}, {15, 15}, {-15, 15}}, 40.0f); }
 
 Model StarModel() {

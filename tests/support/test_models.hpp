@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,12 @@ std::string ReadModelText(const std::string& stem);
 // OBJ text of a 60 x 60 x 10 mm plate (z -5 .. 5) with a 20 x 20 mm square hole through it; its
 // top and bottom are four quads each, which merge into one face with a hole.
 std::string PlateWithHoleObj();
+
+// A closed n-sided prism as triangles (x0 y0 z0 x1 y1 z1 x2 y2 z2), radius r, z from 0 to h,
+// wound counter-clockwise from outside: the triangle soup of a CAD export.
+std::vector<std::array<double, 9>> PrismTriangles(int n, double r, double h);
+// An ASCII STL of the given triangles.
+void WriteAsciiStl(const std::string& path, const std::vector<std::array<double, 9>>& triangles);
 
 Model CubeModel();  // 30 x 30 mm base, 40 mm tall
 Model StarModel();  // five-pointed star prism, radii 34 / 22 mm, 20 mm tall

@@ -1,6 +1,7 @@
 // CAD exports -> models (tools/tablegen/cad_import): the reference models exported by assimp's
 // writers as binary and ASCII STL, binary and ASCII PLY, triangulated OBJ and 3MF become the same
-// models as their OBJ; units scale; curved surfaces and malformed files are refused by name.
+// models as their OBJ; units scale; curved surfaces become smooth edges that hashing leaves out;
+// malformed files are refused by name.
 #include "tools/tablegen/cad_import.hpp"
 
 #include <Eigen/Core>
@@ -22,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "recog/model/model_features.hpp"
 #include "tables/model_files.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/test_models.hpp"
@@ -30,7 +32,9 @@
 namespace sh {
 namespace {
 
+using testing::PrismTriangles;
 using testing::TempDir;
+using testing::WriteAsciiStl;
 
 const char* const kReference[] = {"cube", "hexagon", "wedge", "star", "pentagon", "trapezium"};
 
@@ -165,40 +169,9 @@ TEST(CadImport, FolderListingsTakeEveryFormatAndRefuseAModelInTwo) {
       << s.message();
 }
 
-// An ASCII STL of the given triangles.
-void WriteAsciiStl(const std::string& path, const std::vector<std::array<double, 9>>& triangles) {
-  std::ofstream out(path);
-  out << "solid part\n";
-  for (const auto& t : triangles) {
-    out << " facet normal 0 0 0\n  outer loop\n";
-    for (size_t k = 0; k < 9; k += 3) {
-      out << "   vertex " << t[k] << " " << t[k + 1] << " " << t[k + 2] << "\n";
-    }
-    out << "  endloop\n endfacet\n";
-  }
-  out << "endsolid part\n";
-}
-
-// A closed n-sided prism (radius r, height h), wound counter-clockwise from outside.
-std::vector<std::array<double, 9>> Prism(int n, double r, double h) {
-  std::vector<std::array<double, 9>> t;
-  auto x = [&](int i) { return r * std::cos(2 * M_PI * i / n); };
-  auto y = [&](int i) { return r * std::sin(2 * M_PI * i / n); };
-  for (int i = 0; i < n; ++i) {
-    const int j = (i + 1) % n;
-    t.push_back({x(i), y(i), 0, x(j), y(j), 0, x(j), y(j), h});
-    t.push_back({x(i), y(i), 0, x(j), y(j), h, x(i), y(i), h});
-    if (i > 0 && j > 0) {
-      t.push_back({x(0), y(0), h, x(i), y(i), h, x(j), y(j), h});
-      t.push_back({x(0), y(0), 0, x(j), y(j), 0, x(i), y(i), 0});
-    }
-  }
-  return t;
-}
-
 TEST(CadImport, UnitsScaleToMillimetresAndAMissingUnitIsNamed) {
   TempDir dir("cad");
-  std::vector<std::array<double, 9>> prism = Prism(6, 0.02, 0.03);  // metres
+  std::vector<std::array<double, 9>> prism = PrismTriangles(6, 0.02, 0.03);  // metres
   WriteAsciiStl(dir.Sub("hex.stl"), prism);
   Result<Model> m = ImportCadModel(dir.Sub("hex.stl"), {});
   ASSERT_FALSE(m.ok());
@@ -220,22 +193,120 @@ TEST(CadImport, UnitsScaleToMillimetresAndAMissingUnitIsNamed) {
   EXPECT_FALSE(ParseLengthUnit("ft", &in));
 }
 
-TEST(CadImport, ACurvedSurfaceIsRefusedByNameAndASharperBoundTakesItAsFacets) {
+// A can of 32 facets that bend by 11.25 degrees: under the default sharp angle a curved side
+// of 32 facets joined by smooth edges, with nothing for hashing (every corner lies on a smooth
+// edge); under --sharp-deg 10 a 32-sided prism whose every corner and edge is hashed.
+TEST(CadImport, ACurvedSurfaceIsSmoothAndASharperBoundTakesItAsFacets) {
   TempDir dir("cad");
-  WriteAsciiStl(dir.Sub("can.stl"), Prism(32, 20, 30));  // facets bend by 11.25 degrees
+  WriteAsciiStl(dir.Sub("can.stl"), PrismTriangles(32, 20, 30));
   Result<Model> m = ImportCadModel(dir.Sub("can.stl"), {});
-  ASSERT_FALSE(m.ok());
-  const std::string message = m.status().message();
-  EXPECT_NE(message.find("bend by 11 degrees, under --sharp-deg 20: a curved surface"),
-            std::string::npos)
-      << message;
-  CadImportOptions facets;
-  facets.sharp_deg = 10;
-  m = ImportCadModel(dir.Sub("can.stl"), facets);
   ASSERT_TRUE(m.ok()) << m.status().message();
   EXPECT_EQ(m->n_corners, 64);
   EXPECT_EQ(m->n_edges, 96);
   EXPECT_EQ(m->n_faces, 34);
+  ModelFeatures features = FeaturesOf(*m);
+  EXPECT_EQ(features.n_smooth_edges, 32);
+  EXPECT_EQ(features.n_corners(), 0);
+  EXPECT_EQ(features.n_lines(), 0);
+  for (int e = 0; e < m->n_edges; ++e) {
+    const ModelEdge& edge = m->edges[e];
+    // Smooth exactly where two side facets meet; the rims join a facet to a cap.
+    const bool between_facets = FaceIsCurved(*m, edge.face0) && FaceIsCurved(*m, edge.face1) &&
+                                std::abs(m->corners_mm[edge.a][2] - m->corners_mm[edge.b][2]) > 1;
+    EXPECT_EQ(edge.smooth != 0, between_facets) << "edge " << e;
+  }
+
+  CadImportOptions facets;
+  facets.sharp_deg = 10;
+  m = ImportCadModel(dir.Sub("can.stl"), facets);
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_EQ(m->n_faces, 34);
+  features = FeaturesOf(*m);
+  EXPECT_EQ(features.n_smooth_edges, 0);
+  EXPECT_EQ(features.n_corners(), 64);
+  EXPECT_EQ(features.n_lines(), 96);
+}
+
+// A square plate with a round bore: n facets round the bore between a top and a bottom face
+// each with the bore as a hole, side x side x thickness mm, z 0 .. thickness.
+std::vector<std::array<double, 9>> BoredPlate(int n, double side, double thickness,
+                                              double bore_radius) {
+  std::vector<std::array<double, 9>> t;
+  const double half = 0.5 * side;
+  auto bore = [&](int i, double z) {
+    const double a = 2 * M_PI * i / n;
+    return std::array<double, 3>{bore_radius * std::cos(a), bore_radius * std::sin(a), z};
+  };
+  auto rim = [&](int i, double z) {  // the plate's outline at the bore point's angle
+    const double a = 2 * M_PI * i / n;
+    const double c = std::cos(a), s = std::sin(a), k = half / std::max(std::abs(c), std::abs(s));
+    return std::array<double, 3>{k * c, k * s, z};
+  };
+  auto quad = [&](std::array<double, 3> p, std::array<double, 3> q, std::array<double, 3> r,
+                  std::array<double, 3> u) {  // p q r u counter-clockwise from outside
+    t.push_back({p[0], p[1], p[2], q[0], q[1], q[2], r[0], r[1], r[2]});
+    t.push_back({p[0], p[1], p[2], r[0], r[1], r[2], u[0], u[1], u[2]});
+  };
+  const double z1 = thickness;
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    quad(bore(i, z1), rim(i, z1), rim(j, z1), bore(j, z1));  // top
+    quad(bore(j, 0), rim(j, 0), rim(i, 0), bore(i, 0));      // bottom
+    quad(bore(i, 0), bore(i, z1), bore(j, z1), bore(j, 0));  // the bore's wall faces its axis
+    quad(rim(i, 0), rim(j, 0), rim(j, z1), rim(i, z1));      // the plate's sides
+  }
+  return t;
+}
+
+// The plate without its bore, as the same kind of export.
+std::vector<std::array<double, 9>> PlainPlate(double side, double thickness) {
+  std::vector<std::array<double, 9>> t = PrismTriangles(4, side / std::sqrt(2.0), thickness);
+  for (auto& tri :
+       t) {  // PrismTriangles' square has its corners on the axes: turn it by 45 degrees
+    for (size_t k = 0; k < 9; k += 3) {
+      const double x = tri[k], y = tri[k + 1];
+      tri[k] = (x - y) / std::sqrt(2.0);
+      tri[k + 1] = (x + y) / std::sqrt(2.0);
+    }
+  }
+  return t;
+}
+
+// A 60 x 60 x 10 mm plate with a bore of 32 facets: the bore's wall is a curved surface, its
+// rims two holes of 32 corners, and hashing takes from it exactly what it takes from the plain
+// plate (the same bases and entries), so the stereo path looks for the plate's own corners and
+// edges; the bore is left to the verifier.
+TEST(CadImport, ABoredPlateHashesAsThePlainPlate) {
+  TempDir dir("cad");
+  WriteAsciiStl(dir.Sub("bored.stl"), BoredPlate(32, 60, 10, 12));
+  WriteAsciiStl(dir.Sub("plain.stl"), PlainPlate(60, 10));
+  CadImportOptions centred;
+  centred.origin = ModelOrigin::kCentroid;
+  const Result<Model> bored = ImportCadModel(dir.Sub("bored.stl"), centred);
+  ASSERT_TRUE(bored.ok()) << bored.status().message();
+  const Result<Model> plain = ImportCadModel(dir.Sub("plain.stl"), centred);
+  ASSERT_TRUE(plain.ok()) << plain.status().message();
+  EXPECT_EQ(bored->n_corners, 8 + 64);
+  EXPECT_EQ(bored->n_edges, 12 + 64 + 32);
+  EXPECT_EQ(bored->n_faces, 6 + 32);
+  const ModelFeatures features = FeaturesOf(*bored);
+  EXPECT_EQ(features.n_smooth_edges, 32);
+  EXPECT_EQ(features.n_corners(), 8);
+  EXPECT_EQ(features.n_lines(), 12);
+  for (int i = 0; i < bored->n_corners; ++i) {  // the hashed corners are the plate's
+    const Eigen::Vector3f p = bored->corner(i);
+    EXPECT_EQ(features.corner(i), std::abs(std::abs(p.x()) - 30) < 1e-3f) << "corner " << i;
+  }
+
+  TableBuildReport with_bore, without;
+  const Result<std::vector<uint8_t>> a = BuildTableBlob({*bored}, TableBuildOptions{}, &with_bore);
+  ASSERT_TRUE(a.ok()) << a.status().message();
+  const Result<std::vector<uint8_t>> b = BuildTableBlob({*plain}, TableBuildOptions{}, &without);
+  ASSERT_TRUE(b.ok()) << b.status().message();
+  EXPECT_GT(without.bases, 0u);
+  EXPECT_EQ(with_bore.bases, without.bases);
+  EXPECT_EQ(with_bore.point_entries, without.point_entries);
+  EXPECT_EQ(with_bore.line_entries, without.line_entries);
 }
 
 // A plate with a square hole through it, exported as binary STL and as PLY (triangles
@@ -261,7 +332,7 @@ TEST(CadImport, APlateWithAHoleIsTheSameModelAsItsObj) {
 
 TEST(CadImport, TheCentroidOriginIsReportedAndMovesThePart) {
   TempDir dir("cad");
-  std::vector<std::array<double, 9>> prism = Prism(4, 20, 30);  // z from 0 to 30
+  std::vector<std::array<double, 9>> prism = PrismTriangles(4, 20, 30);  // z from 0 to 30
   for (auto& t : prism) {
     for (size_t k = 0; k < 9; k += 3) t[k] += 50;  // and off the z axis
   }
@@ -319,7 +390,7 @@ std::string Import(const std::string& path) {
 
 TEST(CadImport, MalformedFilesAreRefusedClearly) {
   TempDir dir("cad");
-  const std::vector<std::array<float, 9>> cube = AsFloat(Prism(4, 20, 20));
+  const std::vector<std::array<float, 9>> cube = AsFloat(PrismTriangles(4, 20, 20));
   const std::string whole = BinaryStl(uint32_t(cube.size()), cube);
   std::ofstream(dir.Sub("whole.stl"), std::ios::binary) << whole;
   EXPECT_EQ(Import(dir.Sub("whole.stl")), "ok");
@@ -338,7 +409,7 @@ TEST(CadImport, MalformedFilesAreRefusedClearly) {
   message = Import(dir.Sub("nan.stl"));
   EXPECT_NE(message.find("non-finite vertex coordinate"), std::string::npos) << message;
 
-  const std::vector<std::array<float, 9>> many = AsFloat(Prism(300, 20, 20));
+  const std::vector<std::array<float, 9>> many = AsFloat(PrismTriangles(300, 20, 20));
   std::ofstream(dir.Sub("many.stl"), std::ios::binary) << BinaryStl(uint32_t(many.size()), many);
   message = Import(dir.Sub("many.stl"));
   EXPECT_NE(message.find("1196 triangles; at most 512"), std::string::npos) << message;

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/test_models.hpp"
@@ -134,6 +135,16 @@ TEST(ModelNamesTool, CadExportsAreModelsReadInTheirUnit) {
   build(" --units in --origin centroid", 0, "symmetry group of order 24");
 }
 
+// What `tables build` of the folder `models` printed and what `tables info` of the set it wrote
+// prints.
+std::vector<std::string> BuildAndDescribe(const TempDir& dir, const std::string& models) {
+  const ToolRun r = RunTool("tables build --models " + models + " --out " + dir.Sub("t.bin"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  const ToolRun info = RunTool("tables info " + dir.Sub("t.bin"));
+  EXPECT_EQ(info.exit_code, 0) << info.output;
+  return {r.output, info.output};
+}
+
 // A part with a bore through it is built, and `tables build` and `tables info` say which of its
 // faces have holes; a part without holes gets no such line.
 TEST(ModelNamesTool, FacesWithHolesAreShown) {
@@ -141,11 +152,7 @@ TEST(ModelNamesTool, FacesWithHolesAreShown) {
   const std::string d = dir.Mkdir("models");
   std::ofstream(d + "/plate.obj") << testing::PlateWithHoleObj();
   Copy("models/cube.obj", d + "/cube.obj");
-  const ToolRun r = RunTool("tables build --models " + d + " --out " + dir.Sub("t.bin"));
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const ToolRun info = RunTool("tables info " + dir.Sub("t.bin"));
-  ASSERT_EQ(info.exit_code, 0) << info.output;
-  for (const std::string& out : {r.output, info.output}) {
+  for (const std::string& out : BuildAndDescribe(dir, d)) {
     EXPECT_NE(
         out.find("model 1 plate      16 corners 24 edges 10 faces, symmetry group of order  8"),
         std::string::npos)
@@ -155,6 +162,26 @@ TEST(ModelNamesTool, FacesWithHolesAreShown) {
               std::string::npos)
         << out;
     EXPECT_EQ(out.find("holes in all"), out.rfind("holes in all")) << out;  // not the cube's
+  }
+}
+
+// A can exported as STL is a curved side of 32 facets: shown with its area and what is left to
+// hash (nothing), and warned of as a part the stereo path cannot find; the cube beside it is not.
+TEST(ModelNamesTool, CurvedSurfacesAreShownAndAPartWithNothingToHashIsWarnedOf) {
+  TempDir dir("names");
+  const std::string d = dir.Mkdir("models");
+  testing::WriteAsciiStl(d + "/can.stl", testing::PrismTriangles(32, 20, 30));
+  Copy("models/cube.obj", d + "/cube.obj");
+  for (const std::string& out : BuildAndDescribe(dir, d)) {
+    EXPECT_NE(out.find("model 0 can        64 corners 96 edges 34 faces"), std::string::npos)
+        << out;
+    EXPECT_NE(out.find("    curved surfaces: 32 facets, 3764 mm2, 32 smooth edges (silhouettes "
+                       "only); hashed: 0 of 64 corners, 0 of 96 edges\n"
+                       "  warning: model 0 is curved surfaces with fewer than 3 corners to hash"),
+              std::string::npos)
+        << out;
+    EXPECT_EQ(out.find("curved surfaces:"), out.rfind("curved surfaces:")) << out;  // not the cube
+    EXPECT_EQ(out.find("warning: model 1"), std::string::npos) << out;
   }
 }
 

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -187,6 +188,52 @@ TEST_F(VisibleEdgesTest, RunsAreOrderedAndCountSamples) {
     }
   }
   EXPECT_EQ(total, set.n_visible_samples);
+}
+
+// A can of 24 facets whose side edges are smooth (ModelEdge::smooth), seen from the side and a
+// little above: of the side edges only the two on its silhouette are candidates, each with one
+// face turned to the camera and one away; the rims (feature edges) are seen as before.
+TEST_F(VisibleEdgesTest, SmoothEdgesOfACanShowOnlyOnItsSilhouette) {
+  std::vector<Eigen::Vector2f> outline;
+  for (int i = 0; i < 24; ++i) {
+    const float a = 2.0f * 3.14159265f * float(i) / 24.0f;
+    outline.emplace_back(25.0f * std::cos(a), 25.0f * std::sin(a));
+  }
+  Model can = testing::MakePrism("can", outline, 40.0f);
+  int n_smooth = 0;
+  for (int e = 0; e < can.n_edges; ++e) {
+    ModelEdge& edge = can.edges[e];
+    // Side edges join corner i of the bottom to corner i of the top (MakePrism's numbering).
+    if (edge.a % 24 == edge.b % 24) edge.smooth = 1;
+    n_smooth += edge.smooth;
+  }
+  ASSERT_EQ(n_smooth, 24);
+  const PosedModel object{&can, {AxisAngleDeg({1, 0, 0}, 70), {0, 0, 500}}};
+  const RigidTransform model_T_cam = (left.cam_T_left * object.cam_T_model).Inverse();
+  auto front = [&](int f) {
+    return can.face_normal(f).dot(model_T_cam.t_mm) > can.faces[f].offset_mm;
+  };
+  int smooth_between_front_faces = 0;
+  for (int e = 0; e < can.n_edges; ++e) {
+    smooth_between_front_faces +=
+        can.edges[e].smooth && front(can.edges[e].face0) && front(can.edges[e].face1);
+  }
+  ASSERT_GE(smooth_between_front_faces, 8);  // what a faceted reading would show
+
+  VisibleEdgeSet set;
+  ASSERT_TRUE(ComputeVisibleEdges(left, object, nullptr, 0, 1.0f, 1.0f, &set).ok());
+  int smooth_seen = 0, rims_seen = 0;
+  for (int k = 0; k < set.n_edges; ++k) {
+    const ModelEdge& edge = can.edges[set.edges[k].edge];
+    if (edge.smooth) {
+      ++smooth_seen;
+      EXPECT_NE(front(edge.face0), front(edge.face1)) << "edge " << int(set.edges[k].edge);
+    } else {
+      ++rims_seen;
+    }
+  }
+  EXPECT_EQ(smooth_seen, 2);
+  EXPECT_GE(rims_seen, 12);  // the top rim whole, the front of the bottom rim
 }
 
 TEST_F(VisibleEdgesTest, SampleSpacingFollowsStep) {

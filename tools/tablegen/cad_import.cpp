@@ -174,15 +174,12 @@ Result<Model> ImportCadModel(const std::string& path, const CadImportOptions& op
   char units_hint[48];
   std::snprintf(units_hint, sizeof(units_hint), "read in %s: give its unit with --units",
                 options.unit);
-  char angle_hint[64];
-  std::snprintf(angle_hint, sizeof(angle_hint), "under --sharp-deg %g: a curved surface",
-                options.sharp_deg);
   MeshModelOptions mesh_options;
   mesh_options.format = format.c_str();
   mesh_options.polygon_word = "triangle";
   mesh_options.units_hint = units_hint;
-  mesh_options.min_edge_angle_deg = options.sharp_deg;
-  mesh_options.edge_angle_hint = angle_hint;
+  // Facets that bend by less than the sharp angle are a curved surface: smooth edges.
+  mesh_options.smooth_below_deg = options.sharp_deg;
   Result<Model> model = ModelFromMesh(*mesh, stem.c_str(), mesh_options);
   if (!model.ok()) return model.status().WithContext("%s", path.c_str());
   CadImportReport done;

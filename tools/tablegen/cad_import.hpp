@@ -2,9 +2,11 @@
 //
 // STL (binary and ASCII), PLY, 3MF and OBJ are read with assimp, scaled to millimetres, their
 // vertices welded within kCadWeldMm, and merged into faces, corners and edges exactly as an OBJ
-// is (ModelFromMesh): coplanar triangles become one face, and the bend between adjacent faces must
-// reach the sharp angle. A part whose facets bend by less (a tessellated fillet, bore or cylinder)
-// is refused by name: curved surfaces are not modelled. See docs/tables.md and docs/limits.md.
+// is (ModelFromMesh): coplanar triangles become one face, and adjacent faces that bend by at
+// least the sharp angle meet at a feature edge. Facets that bend by less (a tessellated fillet,
+// bore or cylinder) are a curved surface: each facet is a face, joined to the next by a smooth
+// edge that the verifier sees only as a silhouette and hashing never uses (ModelEdge::smooth,
+// recog/model/model_features.hpp). See docs/tables.md and docs/limits.md.
 #pragma once
 
 #include <Eigen/Core>

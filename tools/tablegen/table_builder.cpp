@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "recog/base/printable.hpp"
+#include "recog/model/model_features.hpp"
 #include "tables/table_format.hpp"
 #include "tools/tablegen/blob_writer.hpp"
 #include "tools/tablegen/model_symmetry.hpp"
@@ -84,26 +85,32 @@ void AddLine(const Model& m, int e, const RigidTransform& basis_T_model, BuiltBa
 }
 
 // Builds one basis' entries, or returns false if the basis is geometrically invalid.
-bool BuildBasis(const Model& m, uint16_t model_index, HashFunction hf, const BasisLimits& limits,
-                const BasisKey& k, BuiltBasis& out) {
+bool BuildBasis(const Model& m, const ModelFeatures& features, uint16_t model_index,
+                HashFunction hf, const BasisLimits& limits, const BasisKey& k, BuiltBasis& out) {
   RigidTransform basis_T_model;
   out = {};
   if (UsesThreePoints(hf)) {
     const Eigen::Vector3f p0 = m.corner(k.f[0]), p1 = m.corner(k.f[1]), p2 = m.corner(k.f[2]);
     if (!ThreePointFrame(hf, p0, p1, p2, limits, &basis_T_model)) return false;
     for (int i = 0; i < m.n_corners; ++i) {
-      if (i != k.f[0] && i != k.f[1] && i != k.f[2])
+      if (features.corner(i) && i != k.f[0] && i != k.f[1] && i != k.f[2])
         out.points.push_back({basis_T_model * m.corner(i)});
     }
     out.points.push_back({TriangleShapePoint(p0, p1, p2)});
-    for (int e = 0; e < m.n_edges; ++e) AddLine(m, e, basis_T_model, out);
+    for (int e = 0; e < m.n_edges; ++e) {
+      if (features.line(e)) AddLine(m, e, basis_T_model, out);
+    }
   } else if (hf == HashFunction::kTwoLines) {
     if (k.f[0] == k.f[1]) return false;
     if (!TwoLineFrame(EdgeLine(m, k.f[0], k.signs & 1), EdgeLine(m, k.f[1], k.signs & 2), limits,
                       &basis_T_model))
       return false;
-    for (int i = 0; i < m.n_corners; ++i) out.points.push_back({basis_T_model * m.corner(i)});
-    for (int e = 0; e < m.n_edges; ++e) AddLine(m, e, basis_T_model, out);
+    for (int i = 0; i < m.n_corners; ++i) {
+      if (features.corner(i)) out.points.push_back({basis_T_model * m.corner(i)});
+    }
+    for (int e = 0; e < m.n_edges; ++e) {
+      if (features.line(e)) AddLine(m, e, basis_T_model, out);
+    }
   } else {
     const ModelEdge& edge = m.edges[k.f[0]];
     if (k.f[1] == edge.a || k.f[1] == edge.b) return false;
@@ -111,10 +118,10 @@ bool BuildBasis(const Model& m, uint16_t model_index, HashFunction hf, const Bas
                         &basis_T_model))
       return false;
     for (int i = 0; i < m.n_corners; ++i) {
-      if (i != k.f[1]) out.points.push_back({basis_T_model * m.corner(i)});
+      if (features.corner(i) && i != k.f[1]) out.points.push_back({basis_T_model * m.corner(i)});
     }
     for (int e = 0; e < m.n_edges; ++e) {
-      if (e != k.f[0]) AddLine(m, e, basis_T_model, out);
+      if (features.line(e) && e != k.f[0]) AddLine(m, e, basis_T_model, out);
     }
   }
   BasisRecord& r = out.record;
@@ -128,13 +135,15 @@ bool BuildBasis(const Model& m, uint16_t model_index, HashFunction hf, const Bas
   return true;
 }
 
-std::vector<BasisKey> EnumerateKeys(const Model& m, HashFunction hf) {
+// Bases of hashed features only (model_features.hpp).
+std::vector<BasisKey> EnumerateKeys(const Model& m, const ModelFeatures& f, HashFunction hf) {
   std::vector<BasisKey> keys;
   if (UsesThreePoints(hf)) {
     for (int i = 0; i < m.n_corners; ++i) {
       for (int j = 0; j < m.n_corners; ++j) {
         for (int k = 0; k < m.n_corners; ++k) {
-          if (i != j && j != k && i != k) keys.push_back({{i, j, k}, 0});
+          const bool hashed = f.corner(i) && f.corner(j) && f.corner(k);
+          if (hashed && i != j && j != k && i != k) keys.push_back({{i, j, k}, 0});
         }
       }
     }
@@ -142,14 +151,16 @@ std::vector<BasisKey> EnumerateKeys(const Model& m, HashFunction hf) {
     for (int i = 0; i < m.n_edges; ++i) {
       for (int j = 0; j < m.n_edges; ++j) {
         for (int s = 0; s < 4; ++s) {
-          if (i != j) keys.push_back({{i, j, 0}, s});
+          if (f.line(i) && f.line(j) && i != j) keys.push_back({{i, j, 0}, s});
         }
       }
     }
   } else {
     for (int e = 0; e < m.n_edges; ++e) {
       for (int c = 0; c < m.n_corners; ++c) {
-        for (int s = 0; s < 2; ++s) keys.push_back({{e, c, 0}, s});
+        for (int s = 0; s < 2; ++s) {
+          if (f.line(e) && f.corner(c)) keys.push_back({{e, c, 0}, s});
+        }
       }
     }
   }
@@ -209,10 +220,11 @@ Result<std::vector<uint8_t>> BuildTableBlob(std::vector<Model> models,
     StoreSymmetries(m, group);
     ModelBasisCount count;
     count.model = m.name;
-    for (const BasisKey& key : EnumerateKeys(m, hf)) {
+    const ModelFeatures features = FeaturesOf(m);
+    for (const BasisKey& key : EnumerateKeys(m, features, hf)) {
       if (!IsCanonical(hf, group, key)) continue;
       BuiltBasis b;
-      if (!BuildBasis(m, uint16_t(mi), hf, options.limits, key, b)) continue;
+      if (!BuildBasis(m, features, uint16_t(mi), hf, options.limits, key, b)) continue;
       ++count.bases;
       count.point_entries += b.record.n_point_entries;
       count.line_entries += b.record.n_line_entries;
