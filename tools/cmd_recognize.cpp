@@ -96,10 +96,15 @@ void PrintTable(const ModelSet& models, const PipelineResult& r) {
   const DetectionChoice* d = r.detection;
   std::printf(
       "detection: %s; noise %.2f / %.2f grey levels, Canny thresholds %.2f-%.2f / %.2f-%.2f, "
-      "corner threshold %.2g / %.2g\n",
+      "corner threshold %.2g / %.2g",
       d[0].adaptive ? "automatic" : "preset", d[0].noise_sigma, d[1].noise_sigma, d[0].canny_low,
       d[0].canny_high, d[1].canny_low, d[1].canny_high, d[0].corner_threshold,
       d[1].corner_threshold);
+  if (d[0].texture_blocks > 0) {
+    std::printf("; raised over texture in %u / %u of %u blocks", d[0].textured_blocks,
+                d[1].textured_blocks, d[0].texture_blocks);
+  }
+  std::printf("\n");
   const TableEstimate& e = r.table_estimate;
   if (r.table_source == TableSource::kEstimated) {
     const Eigen::Vector3f n = e.left_T_table.R.col(2);

@@ -81,6 +81,8 @@ constexpr Setting<MonoPipelineConfig> kMonoSettings[] = {
      [](float v, MonoPipelineConfig& c) { c.mono.verify.max_distance_px = v; }},
     {"mono.features.canny_sigma_px", SettingKind::kReal,
      [](float v, MonoPipelineConfig& c) { c.features.canny.sigma_px = v; }},
+    {"mono.features.canny_texture_factor", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.features.canny.texture_factor = v; }},
     {"mono.features.corner_threshold", SettingKind::kReal,
      [](float v, MonoPipelineConfig& c) { c.features.corners.threshold = v; }},
     {"mono.hypotheses_per_basis", SettingKind::kCount,

@@ -330,6 +330,8 @@ constexpr Setting<PipelineConfig> kPipelineSettings[] = {
      [](float v, PipelineConfig& c) { c.features.canny.low_threshold = v; }},
     {"features.canny_high", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.features.canny.high_threshold = v; }},
+    {"features.canny_texture_factor", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.features.canny.texture_factor = v; }},
     {"features.adaptive", SettingKind::kFlag,
      [](float v, PipelineConfig& c) { c.features.adaptive = v != 0.0f; }},
     {"features.edge_snr", SettingKind::kReal,
@@ -473,10 +475,11 @@ std::string ResultJson(const ModelSet& models, const PipelineResult& r, const Ta
   std::snprintf(buffer, sizeof(buffer),
                 "\"detection\": {\"mode\": \"%s\", \"noise_sigma\": [%.3f, %.3f], "
                 "\"canny_thresholds\": [[%.3f, %.3f], [%.3f, %.3f]], \"corner_threshold\": "
-                "[%.3g, %.3g]}, ",
+                "[%.3g, %.3g], \"textured_blocks\": [%u, %u], \"blocks\": %u}, ",
                 d[0].adaptive ? "automatic" : "preset", d[0].noise_sigma, d[1].noise_sigma,
                 d[0].canny_low, d[0].canny_high, d[1].canny_low, d[1].canny_high,
-                d[0].corner_threshold, d[1].corner_threshold);
+                d[0].corner_threshold, d[1].corner_threshold, d[0].textured_blocks,
+                d[1].textured_blocks, d[0].texture_blocks);
   json += buffer;
   if (table.present) {
     const Eigen::Matrix3f& R = table.left_T_table.R;

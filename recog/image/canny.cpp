@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "recog/base/angles.hpp"
 
@@ -12,6 +13,24 @@ namespace {
 constexpr uint8_t kNotEdge = 0;
 constexpr uint8_t kWeak = 1;
 constexpr uint8_t kStrongPending = 2;
+
+// Texture mode's candidate flags until ClassifyByTexture: the magnitude code (1 .. 127) and
+// whether the global high threshold is met.
+constexpr uint8_t kGlobalStrongBit = 0x80;
+constexpr uint8_t kCodeMask = 0x7f;
+
+// Squared gradient magnitude to its code: the float's exponent and two mantissa bits, four steps
+// per octave of the square (eight of the magnitude), code 1 at and below 2^-9. Monotonic.
+inline int MagnitudeCode(float magnitude2) {
+  uint32_t bits;
+  std::memcpy(&bits, &magnitude2, sizeof(bits));
+  constexpr int kBase = (127 - 9) << 2;
+  const int code = static_cast<int>(bits >> 21) - kBase;
+  return std::clamp(code, 1, kTextureCodes - 1);
+}
+
+// Steps of MagnitudeCode for a magnitude ratio (eight per octave).
+int CodeSteps(float ratio) { return static_cast<int>(std::lround(8.0 * std::log2(ratio))); }
 
 }  // namespace
 
@@ -32,6 +51,10 @@ Status ValidateCannyConfig(const CannyConfig& config) {
                          static_cast<double>(kMinGaussianSigmaPx),
                          static_cast<double>(kMaxGaussianSigmaPx));
   }
+  if (!(config.texture_factor >= 0.0f && config.texture_factor <= 64.0f)) {
+    return Status::Error(StatusCode::kOutOfRange, "Canny texture factor %g outside [0, 64]",
+                         static_cast<double>(config.texture_factor));
+  }
   if (!(config.low_threshold > 0.0f) || !(config.high_threshold >= config.low_threshold)) {
     return Status::Error(
         StatusCode::kInvalidArgument, "Canny thresholds need 0 < low <= high, got low %g high %g",
@@ -45,7 +68,90 @@ EdgeTracer::EdgeTracer(const CannyConfig& config, EdgeBuffers& buffers, int widt
       width_(width),
       height_(height),
       low2_(config.low_threshold * config.low_threshold),
-      high2_(config.high_threshold * config.high_threshold) {}
+      high2_(config.high_threshold * config.high_threshold),
+      texture_(config.texture_factor > 0.0f) {
+  if (texture_) {
+    texture_low_steps_ = CodeSteps(config.texture_factor);
+    texture_high_steps_ =
+        texture_low_steps_ + CodeSteps(config.high_threshold / config.low_threshold);
+    std::memset(b_.texture_hist, 0, sizeof(b_.texture_hist));
+  }
+}
+
+void EdgeTracer::CountTexture(int y, const float* magnitude2) {
+  if ((y & 1) != 0) return;
+  for (int x = 1; x < width_ - 1; x += 2) {
+    ++b_.texture_hist[x / kTextureBlockPx][MagnitudeCode(magnitude2[x])];
+  }
+}
+
+void EdgeTracer::MeasureTextureRow(int block_row) {
+  // Fewer samples than a quarter block (a sliver at the image's edge) measure nothing.
+  constexpr int kMinSamples = kTextureBlockPx * kTextureBlockPx / 16;
+  const int blocks = (width_ + kTextureBlockPx - 1) / kTextureBlockPx;
+  for (int bx = 0; bx < blocks; ++bx) {
+    uint16_t* hist = b_.texture_hist[bx];
+    int total = 0;
+    for (int c = 0; c < kTextureCodes; ++c) total += hist[c];
+    int quartile = 0;
+    if (total >= kMinSamples) {
+      for (int seen = 0; quartile < kTextureCodes - 1; ++quartile) {
+        seen += hist[quartile];
+        if (4 * seen >= total) break;
+      }
+    }
+    b_.texture_code[block_row][bx] = static_cast<uint8_t>(quartile);
+    std::memset(hist, 0, sizeof(b_.texture_hist[0]));
+  }
+}
+
+void EdgeTracer::SpreadTexture() {
+  const int bw = (width_ + kTextureBlockPx - 1) / kTextureBlockPx;
+  const int bh = (height_ + kTextureBlockPx - 1) / kTextureBlockPx;
+  const int global_low_code = MagnitudeCode(low2_);
+  for (int by = 0; by < bh; ++by) {
+    for (int bx = 0; bx < bw; ++bx) {
+      int least = kTextureCodes;
+      for (int j = std::max(0, by - 1); j <= std::min(bh - 1, by + 1); ++j) {
+        for (int i = std::max(0, bx - 1); i <= std::min(bw - 1, bx + 1); ++i) {
+          least = std::min<int>(least, b_.texture_code[j][i]);
+        }
+      }
+      // Only a level that raises the low threshold is kept (0: the global thresholds alone), so
+      // that below it the edge map is exactly that without the test.
+      const bool raised = least > 0 && least + texture_low_steps_ > global_low_code;
+      b_.texture_level[by][bx] = static_cast<uint8_t>(raised ? least : 0);
+      textured_blocks_ += raised;
+    }
+  }
+}
+
+void EdgeTracer::ClassifyByTexture() {
+  const int w = width_;
+  SpreadTexture();
+  for (int y = 1; y < height_ - 1; ++y) {
+    uint8_t* f = b_.edge + static_cast<size_t>(y) * w;
+    const uint8_t* quartile = b_.texture_level[y / kTextureBlockPx];
+    for (int x = 1; x < w - 1; ++x) {
+      const uint8_t flag = f[x];
+      if (flag == kNotEdge) continue;
+      const int code = flag & kCodeMask;
+      const int q = quartile[x / kTextureBlockPx];
+      // A block whose texture is below the noise (q 0) leaves the global thresholds alone.
+      if (q > 0 && code < q + texture_low_steps_) {
+        f[x] = kNotEdge;
+        ++texture_dropped_;
+        continue;
+      }
+      if ((flag & kGlobalStrongBit) != 0 && (q == 0 || code >= q + texture_high_steps_)) {
+        f[x] = kStrongPending;
+        Push(static_cast<uint32_t>(y) * w + x);
+      } else {
+        f[x] = kWeak;
+      }
+    }
+  }
+}
 
 void EdgeTracer::AddRow(const float* __restrict gx, const float* __restrict gy) {
   const int slot = rows_ % 3;
@@ -57,6 +163,10 @@ void EdgeTracer::AddRow(const float* __restrict gx, const float* __restrict gy) 
     rx[x] = gx[x];
     ry[x] = gy[x];
     m[x] = gx[x] * gx[x] + gy[x] * gy[x];
+  }
+  if (texture_) {
+    CountTexture(rows_, m);
+    if ((rows_ + 1) % kTextureBlockPx == 0) MeasureTextureRow(rows_ / kTextureBlockPx);
   }
   ++rows_;
   // Row rows_ - 2 now has both neighbours; the border rows are never edges.
@@ -105,7 +215,10 @@ void EdgeTracer::Suppress(int yc) {
     ++candidates;
     // Orientation now, while the gradient is at hand; Finish clears it where no edge remains.
     o[x] = QuantizeOrientation(std::atan2(ay[x], ax[x]));
-    if (v >= high2) {
+    if (texture_) {
+      // Classified when the blocks are measured (ClassifyByTexture).
+      f[x] = static_cast<uint8_t>(MagnitudeCode(v) | (v >= high2 ? kGlobalStrongBit : 0));
+    } else if (v >= high2) {
       // Marked first: when the list is full the mark alone keeps it for Finish's sweeps.
       f[x] = kStrongPending;
       if (top < capacity) {
@@ -187,6 +300,10 @@ void EdgeTracer::Finish(EdgeMapView& edges, CannyStats* stats) {
   // it is pushed, so each is expanded once; what did not fit in the list is left to the sweeps.
   // The edge pixels are the weak and strong ones connected to a strong one, whatever the order
   // of expansion, so the map is the same with or without sweeps.
+  if (texture_) {
+    if (h % kTextureBlockPx != 0) MeasureTextureRow(h / kTextureBlockPx);
+    ClassifyByTexture();
+  }
   Drain();
   const size_t sweeps = list_was_full_ ? Sweep() : 0;
   // Drop unconnected weak pixels, and the orientation wherever no edge remains. A mask instead of
@@ -205,6 +322,8 @@ void EdgeTracer::Finish(EdgeMapView& edges, CannyStats* stats) {
     stats->edge_pixels = edge_count_;
     stats->nms_candidates = candidates_;
     stats->hysteresis_sweeps = sweeps;
+    stats->textured_blocks = textured_blocks_;
+    stats->texture_dropped = texture_dropped_;
   }
 }
 

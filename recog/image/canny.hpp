@@ -21,7 +21,25 @@ struct CannyConfig {
   // sigma has a peak gradient of C / (sqrt(2 pi) sigma), e.g. 20 for C = 50 at sigma 1.
   float low_threshold = 4.0f;
   float high_threshold = 10.0f;
+  // Thresholds that rise over texture (0: off). A grained or mottled table is no noise: its
+  // gradient is real, and at thresholds set by the sensor noise its every ripple is an edge. In
+  // each block of kTextureBlockPx x kTextureBlockPx pixels the lower quartile of the gradient
+  // magnitude measures the block's texture (a quartile rather than the median, so that a block
+  // crossed by up to three object edges still measures the surface around them). A candidate
+  // edge pixel of that block then needs texture_factor x that quartile to be weak and the
+  // high/low ratio above it to be strong, besides the global thresholds. Where the texture is
+  // weaker than the noise (a plain table, an object's face) the global thresholds rule alone and
+  // the edge map is exactly that without this test.
+  float texture_factor = 0.0f;
 };
+
+// Blocks over which the texture is measured (CannyConfig::texture_factor).
+inline constexpr int kTextureBlockPx = 32;
+inline constexpr int kMaxTextureBlocksX = (kMaxImageWidth + kTextureBlockPx - 1) / kTextureBlockPx;
+inline constexpr int kMaxTextureBlocksY = (kMaxImageHeight + kTextureBlockPx - 1) / kTextureBlockPx;
+// Gradient magnitudes in 8 steps per octave (9 %) from 2^-4.5 up: candidate pixels carry theirs
+// in the flag plane until the blocks are measured.
+inline constexpr int kTextureCodes = 128;
 
 // Entries of the hysteresis work list (256 KiB): strong pixels waiting to be expanded. The
 // busiest recorded frame has about 47,000 edge pixels at 1280 x 800 (4.6 % of its pixels,
@@ -43,6 +61,11 @@ struct EdgeBuffers {
   float ring_gx[3][kMaxImageWidth] = {};
   float ring_gy[3][kMaxImageWidth] = {};
   float ring_mag[3][kMaxImageWidth] = {};
+  // Texture measure (CannyConfig::texture_factor): histograms of magnitude codes for one row of
+  // blocks (10.3 KiB), then each block's lower-quartile code and its level (EdgeTracer).
+  uint16_t texture_hist[kMaxTextureBlocksX][kTextureCodes] = {};
+  uint8_t texture_code[kMaxTextureBlocksY][kMaxTextureBlocksX] = {};
+  uint8_t texture_level[kMaxTextureBlocksY][kMaxTextureBlocksX] = {};
   EdgeMapView view(int width, int height) {
     return {{edge, width, height, width}, {orientation, width, height, width}};
   }
@@ -63,6 +86,8 @@ struct CannyStats {
   size_t edge_pixels = 0;
   size_t nms_candidates = 0;     // pixels left by non-maximum suppression above the low threshold
   size_t hysteresis_sweeps = 0;  // raster sweeps taken because the work list was full (0 if never)
+  size_t textured_blocks = 0;    // blocks whose texture raised the low threshold
+  size_t texture_dropped = 0;    // candidates below their block's texture threshold
 };
 
 Status ValidateCannyConfig(const CannyConfig& config);
@@ -94,10 +119,23 @@ class EdgeTracer {
   // Raster sweeps, alternately forward and backward, expanding every pixel left marked
   // strong-pending, until a sweep finds the list never full.
   size_t Sweep();
+  // Texture mode: counts the magnitude codes of row y (every other pixel of every other row)
+  // into its row of blocks, and measures that row of blocks when y ends it.
+  void CountTexture(int y, const float* magnitude2);
+  void MeasureTextureRow(int block_row);
+  // Texture mode, after the last row: candidates below their block's thresholds are dropped,
+  // the rest become weak or strong (and pushed).
+  void ClassifyByTexture();
+  // Each block's texture level: the least quartile code of it and its 8 neighbours, where that
+  // raises the low threshold, else 0.
+  void SpreadTexture();
 
   EdgeBuffers& b_;
   int width_, height_;
   float low2_, high2_;
+  bool texture_ = false;
+  int texture_low_steps_ = 0, texture_high_steps_ = 0;  // above a block's quartile code
+  size_t textured_blocks_ = 0, texture_dropped_ = 0;
   int rows_ = 0;
   size_t candidates_ = 0, top_ = 0, edge_count_ = 0;
   bool list_was_full_ = false;

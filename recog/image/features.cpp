@@ -111,6 +111,12 @@ Status ExtractFeatures(const ConstGrayView& image, const FeatureConfig& requeste
   }
   SH_RETURN_IF_ERROR(DetectEdges(image, config.canny, workspace.filter, workspace.edges,
                                  features.edges, &features.canny_stats));
+  if (config.canny.texture_factor > 0) {
+    features.chosen.textured_blocks = static_cast<uint32_t>(features.canny_stats.textured_blocks);
+    features.chosen.texture_blocks =
+        static_cast<uint32_t>(((image.width + kTextureBlockPx - 1) / kTextureBlockPx) *
+                              ((image.height + kTextureBlockPx - 1) / kTextureBlockPx));
+  }
   if (mask != nullptr) {
     // In place, keeping the order of strength.
     size_t kept = 0;

@@ -79,6 +79,9 @@ struct DetectionChoice {
   float noise_sigma = 0.0f;  // measured sensor noise, grey levels
   float canny_low = 0.0f, canny_high = 0.0f;
   float corner_threshold = 0.0f;
+  // Blocks of kTextureBlockPx x kTextureBlockPx pixels whose texture raised the Canny thresholds
+  // (CannyConfig::texture_factor), of texture_blocks.
+  uint32_t textured_blocks = 0, texture_blocks = 0;
 };
 
 struct ImageFeatures {

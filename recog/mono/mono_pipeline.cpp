@@ -26,6 +26,8 @@ MonoPipelineConfig MonoPipelineConfig::Automatic() {
   c.features.corner_contrast_snr = 4.0f;
   c.features.corner_min_contrast = 20.0f;
   c.features.edge_snr = 4.5f;
+  // And its thresholds over texture (PipelineConfig::Automatic).
+  c.features.canny.texture_factor = 3.0f;
   return c;
 }
 

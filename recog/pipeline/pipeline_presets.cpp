@@ -78,6 +78,10 @@ PipelineConfig PipelineConfig::Automatic() {
   // Edges: 4.5 gradient-noise sigmas keep the defocused, low-contrast outlines of a factory
   // floor (grey parts on grey tables, sensor noise 3-6 grey levels) connected.
   c.features.edge_snr = 4.5f;
+  // A grained or mottled table is no noise: at those thresholds its every ripple is an edge,
+  // and its hundreds of lines cost the search its time. Over such texture an edge must stand
+  // three times above the block's lower quartile of gradient (CannyConfig::texture_factor).
+  c.features.canny.texture_factor = 3.0f;
   // A noisy edge map holds fewer of an object's edge pixels within the verifier's gate. The
   // image verification accepts half of the visible model edge samples; the competition at
   // acceptance below keeps a wrong model that fits half of another from taking its place.

@@ -142,6 +142,11 @@ TEST_F(RecognizeToolTest, JsonMatchesTheRenderedTruth) {
   EXPECT_NEAR(out["detection"]["noise_sigma"][0].number, 1.55, 0.2);
   EXPECT_GT(out["detection"]["canny_thresholds"][1][1].number,
             out["detection"]["canny_thresholds"][1][0].number);
+  // The renderer's plain table is no texture: no block raises the Canny thresholds.
+  EXPECT_GT(out["detection"]["blocks"].number, 100);
+  ASSERT_EQ(out["detection"]["textured_blocks"].size(), 2u);
+  EXPECT_EQ(out["detection"]["textured_blocks"][0].number, 0);
+  EXPECT_EQ(out["detection"]["textured_blocks"][1].number, 0);
   EXPECT_GE(out["threads"].number, 1);
   for (const char* stage : {"features", "stereo", "hashing", "verify", "refine"}) {
     EXPECT_EQ(t[stage].type, Json::kNumber) << stage;

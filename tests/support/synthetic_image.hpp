@@ -107,6 +107,18 @@ class SyntheticImage {
     for (double& v : value_) v += n(rng);
   }
 
+  // A mottled surface, as a table's grain: white noise blurred at blur_px, scaled to a standard
+  // deviation of `amplitude` grey levels and added.
+  void AddMottle(double amplitude, double blur_px, uint32_t seed) {
+    SyntheticImage field(width_, height_, 0.0);
+    field.AddNoise(1.0, seed);
+    field.Blur(blur_px);
+    double sum2 = 0;
+    for (double v : field.value_) sum2 += v * v;
+    const double scale = amplitude / std::sqrt(sum2 / static_cast<double>(value_.size()));
+    for (size_t i = 0; i < value_.size(); ++i) value_[i] += scale * field.value_[i];
+  }
+
   // Independent uniform grey values: the worst case for every detector.
   void FillUniformNoise(uint32_t seed) {
     std::mt19937 rng(seed);
