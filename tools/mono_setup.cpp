@@ -79,6 +79,8 @@ constexpr Setting<MonoPipelineConfig> kMonoSettings[] = {
      [](float v, MonoPipelineConfig& c) { c.mono.verify.min_fraction = v; }},
     {"mono.verify.max_distance_px", SettingKind::kReal,
      [](float v, MonoPipelineConfig& c) { c.mono.verify.max_distance_px = v; }},
+    {"mono.min_corner_isotropy", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.mono.min_corner_isotropy = v; }},
     {"mono.features.canny_sigma_px", SettingKind::kReal,
      [](float v, MonoPipelineConfig& c) { c.features.canny.sigma_px = v; }},
     {"mono.features.canny_texture_factor", SettingKind::kReal,

@@ -251,6 +251,7 @@ bool RefineToVertex(const ConstGrayView& image, const CornerConfig& config, Corn
     // Smaller eigenvalue relative to the trace: near zero on a straight edge.
     const double disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
     const double lmin = 0.5 * tr - disc;
+    if (iter == 0) c.isotropy = tr > 0.0 ? static_cast<float>(lmin / tr) : 0.0f;
     if (!(tr > 0.0) || lmin < 0.05 * tr) return false;
     const float nx = static_cast<float>((a22 * b1 - a12 * b2) / det);
     const float ny = static_cast<float>((a11 * b2 - a12 * b1) / det);

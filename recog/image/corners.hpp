@@ -25,6 +25,12 @@ struct Corner2D {
   // quadrant) gives 1.0; scale-invariant (sigma^4 normalisation) and proportional to
   // contrast^3, so 0.1 is about a right-angle corner of contrast 118.
   float strength = 0.0f;
+  // How far the gradients around the corner span two directions (with refine_to_vertex, else
+  // 1): the smaller eigenvalue of their structure tensor over its trace, at the detected
+  // position. 0 on a straight edge, (1 - cos a) / 2 for two edges whose normals differ by a,
+  // 0.5 at most. The detector reports points on strong edges too (sensor noise bends the
+  // isophotes there); the one-image recogniser takes no basis from them.
+  float isotropy = 1.0f;
 };
 
 struct CornerConfig {

@@ -47,6 +47,10 @@ Status MonoRecognizer::Init(const ViewCamera& camera, const AspectTableView& tab
                          "out of range",
                          kMaxMonoHypotheses);
   }
+  if (!(config.min_corner_isotropy >= 0.0f && config.min_corner_isotropy <= 0.5f)) {
+    return Status::Error(StatusCode::kOutOfRange, "mono: corner isotropy %g outside [0, 0.5]",
+                         static_cast<double>(config.min_corner_isotropy));
+  }
   SH_RETURN_IF_ERROR(CheckVerifyConfig(config.verify));
   lent_voter_ready_ = false;  // its counters were laid out for the old table
   ahead_.Clear();
@@ -222,6 +226,11 @@ void MonoRecognizer::KeyRange(const Frame2d& frame, VoteRequest* request) const 
   request->reach = 2.0f * max_model_radius_mm_ * ideal_focal_px_ / near;
 }
 
+bool MonoRecognizer::CornerMayBase(int i) const {
+  return i >= static_cast<int>(features_->corners.size()) ||
+         features_->corners[static_cast<size_t>(i)].isotropy >= config_.min_corner_isotropy;
+}
+
 Status MonoRecognizer::PrepareScene(const ImageFeatures& f, const FeatureMask* ignore) {
   const CameraIntrinsics& cam = camera_.intrinsics;
   if (f.edges.edge.width != cam.width || f.edges.edge.height != cam.height) {
@@ -237,7 +246,7 @@ Status MonoRecognizer::PrepareScene(const ImageFeatures& f, const FeatureMask* i
     pose_corners_[i].px = {c.x_px, c.y_px};
     const Eigen::Vector2d n = UndistortPixel(cam, {c.x_px, c.y_px});
     ideal_points_[i].xy = ideal_focal_px_ * n.cast<float>();
-    corner_active_[i] = 1;
+    corner_active_[i] = CornerMayBase(i) ? 1 : 0;
   }
   for (int i = 0; i < n_lines_; ++i) {
     const Line2D& l = f.lines[i];
@@ -659,7 +668,10 @@ bool MonoRecognizer::Evaluate(const AspectHypothesis& h, const Frame2d& scene_fr
 
 void MonoRecognizer::Remove(size_t index, Vector<RecognizedObject>& objects) {
   ahead_.Clear();  // its features vote again
-  for (int i = 0; i < n_claimed_points_[index]; ++i) corner_active_[claimed_points_[index][i]] = 1;
+  for (int i = 0; i < n_claimed_points_[index]; ++i) {
+    const int corner = claimed_points_[index][i];
+    corner_active_[corner] = CornerMayBase(corner) ? 1 : 0;
+  }
   for (int i = 0; i < n_claimed_lines_[index]; ++i) line_active_[claimed_lines_[index][i]] = 1;
   for (size_t o = index; o + 1 < objects.size(); ++o) {
     objects[o] = objects[o + 1];

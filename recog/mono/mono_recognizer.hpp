@@ -61,6 +61,15 @@ struct MonoConfig {
   // Try only corner pairs (triples) joined by image lines: objects show most of their edges, and
   // the other pairs mostly join corners of different things.
   bool connected_bases_only = true;
+  // Corners whose surrounding gradients keep to one direction are points on an edge, not
+  // corners: sensor noise makes the corner response peak along every high-contrast edge, and on
+  // a factory floor (long boxes, cylinders, shadows) such points outnumber the corners several
+  // times and use up the bases. The measure is the vertex refinement's (CornerConfig::
+  // refine_to_vertex): the smaller eigenvalue of the gradients' structure tensor over its trace,
+  // Corner2D::isotropy, which is (1 - cos a) / 2 for two edges whose normals differ by a:
+  // 0.008 is a = 10 deg, a corner of 170 deg. Such points form no scene basis and are not
+  // counted as free corners; they still take part in matching.
+  float min_corner_isotropy = 0.008f;
   // A corner belongs to a line when it lies this close to it and within its support (with the
   // margin) along it.
   float corner_line_distance_px = 3.0f;
@@ -281,6 +290,9 @@ class MonoRecognizer {
   void ChooseAmongCompetitors(uint32_t k, const Vector<RecognizedObject>& objects,
                               MonoStats* stats);
   void AddJunctionCorners();
+  // Whether scene corner i may be a basis corner: a junction corner, or an image corner not on
+  // an edge (MonoConfig::min_corner_isotropy).
+  bool CornerMayBase(int i) const;
   void GenerateBases();
   bool RestingStart(const AspectBasis& basis, const AspectRecord& aspect, const Frame2d& frame,
                     const RigidTransform& hypothesis, MonoStats* stats, RestingPose* out) const;

@@ -91,6 +91,34 @@ TEST_P(CornerScaleTest, FindsEveryVertexAndNothingElse) {
 
 INSTANTIATE_TEST_SUITE_P(Scales, CornerScaleTest, ::testing::Values(1.5f, 2.0f, 4.0f, 6.0f));
 
+// At a threshold near the noise (the automatic preset's: a corner of contrast 20) the detector
+// also reports points along the strong edges, where noise bends the isophotes. Their gradients
+// keep to one direction: the isotropy tells them from the vertices.
+TEST(Corners, PointsOnStrongEdgesHaveNoIsotropyAndVerticesMuch) {
+  auto scratch = MakeWorkspace<FilterScratch>();
+  size_t on_edges = 0, isotropic_on_edges = 0, vertices = 0;
+  for (uint32_t seed = 1; seed <= 4; ++seed) {
+    const Scene s = MakeScene(30, 200, 3.0, seed);
+    CornerConfig config;
+    config.threshold = std::pow(20.0f / 255.0f, 3.0f);
+    Vector<Corner2D, kMaxCorners2d> corners;
+    ASSERT_TRUE(DetectCorners(s.view, config, *scratch, corners).ok());
+    for (const Corner2D& c : corners) {
+      const double d = NearestVertex(s.vertices, c);
+      if (d < 2.0) {
+        ++vertices;
+        EXPECT_GT(c.isotropy, 0.1f) << "vertex at (" << c.x_px << ", " << c.y_px << ")";
+      } else if (d > 6.0) {
+        ++on_edges;
+        isotropic_on_edges += c.isotropy >= 0.008f;
+      }
+    }
+  }
+  EXPECT_EQ(vertices, 4u * 7u);
+  EXPECT_GE(on_edges, 8u);
+  EXPECT_LE(isotropic_on_edges, on_edges / 10);
+}
+
 TEST(Corners, WithoutVertexRefinementTheMaximumLiesInsideTheCorner) {
   // The curvature maximum of a blurred corner sits inside the wedge; the refinement removes that.
   auto scratch = MakeWorkspace<FilterScratch>();
