@@ -49,14 +49,14 @@ Extracted Extract(const ConstGrayView& img, const FeatureConfig& config) {
 }
 
 // Where the texture is no stronger than the sensor noise (a plain table, objects' faces), the
-// edge map is byte for byte that without the test, at every noise level and at sizes that end
+// edge map is byte for byte that without the test, at low and high noise and at sizes that end
 // in part blocks.
 TEST(CannyTexture, APlainNoisyImageGivesTheEdgeMapWithoutTheTest) {
   struct Size {
     int w, h;
   };
-  for (const Size size : {Size{756, 581}, Size{1281, 97}, Size{1296, 1024}}) {
-    for (double noise : {1.0, 3.0, 6.0}) {
+  for (const Size size : {Size{756, 581}, Size{1281, 97}}) {
+    for (double noise : {1.0, 6.0}) {
       std::vector<uint8_t> px;
       const ConstGrayView img = testing::NoisyTestScene(size.w, size.h, noise, 7, px);
       const Extracted off = Extract(img, Automatic(0.0f));
