@@ -67,8 +67,8 @@ struct MonoConfig {
   // times and use up the bases. The measure is the vertex refinement's (CornerConfig::
   // refine_to_vertex): the smaller eigenvalue of the gradients' structure tensor over its trace,
   // Corner2D::isotropy, which is (1 - cos a) / 2 for two edges whose normals differ by a:
-  // 0.008 is a = 10 deg, a corner of 170 deg. Such points form no scene basis and are not
-  // counted as free corners; they still take part in matching.
+  // 0.008 is a = 10 deg, a corner of 170 deg. Such points form no scene basis; they still take
+  // part in matching.
   float min_corner_isotropy = 0.008f;
   // A corner belongs to a line when it lies this close to it and within its support (with the
   // margin) along it.
