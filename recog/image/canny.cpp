@@ -74,6 +74,8 @@ EdgeTracer::EdgeTracer(const CannyConfig& config, EdgeBuffers& buffers, int widt
     texture_low_steps_ = CodeSteps(config.texture_factor);
     texture_high_steps_ =
         texture_low_steps_ + CodeSteps(config.high_threshold / config.low_threshold);
+    // MeasureTextureRow clears each block row it measures; a tracer dropped part-way through
+    // an image (a failed caller) would leave its last rows' counts behind.
     std::memset(b_.texture_hist, 0, sizeof(b_.texture_hist));
   }
 }
@@ -109,6 +111,7 @@ void EdgeTracer::SpreadTexture() {
   const int bw = (width_ + kTextureBlockPx - 1) / kTextureBlockPx;
   const int bh = (height_ + kTextureBlockPx - 1) / kTextureBlockPx;
   const int global_low_code = MagnitudeCode(low2_);
+  texture_blocks_ = static_cast<size_t>(bw) * static_cast<size_t>(bh);
   for (int by = 0; by < bh; ++by) {
     for (int bx = 0; bx < bw; ++bx) {
       int least = kTextureCodes;
@@ -323,6 +326,7 @@ void EdgeTracer::Finish(EdgeMapView& edges, CannyStats* stats) {
     stats->nms_candidates = candidates_;
     stats->hysteresis_sweeps = sweeps;
     stats->textured_blocks = textured_blocks_;
+    stats->texture_blocks = texture_blocks_;
     stats->texture_dropped = texture_dropped_;
   }
 }

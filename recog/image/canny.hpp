@@ -87,6 +87,7 @@ struct CannyStats {
   size_t nms_candidates = 0;     // pixels left by non-maximum suppression above the low threshold
   size_t hysteresis_sweeps = 0;  // raster sweeps taken because the work list was full (0 if never)
   size_t textured_blocks = 0;    // blocks whose texture raised the low threshold
+  size_t texture_blocks = 0;     // blocks measured (0: CannyConfig::texture_factor off)
   size_t texture_dropped = 0;    // candidates below their block's texture threshold
 };
 
@@ -135,7 +136,7 @@ class EdgeTracer {
   float low2_, high2_;
   bool texture_ = false;
   int texture_low_steps_ = 0, texture_high_steps_ = 0;  // above a block's quartile code
-  size_t textured_blocks_ = 0, texture_dropped_ = 0;
+  size_t textured_blocks_ = 0, texture_blocks_ = 0, texture_dropped_ = 0;
   int rows_ = 0;
   size_t candidates_ = 0, top_ = 0, edge_count_ = 0;
   bool list_was_full_ = false;

@@ -113,9 +113,7 @@ Status ExtractFeatures(const ConstGrayView& image, const FeatureConfig& requeste
                                  features.edges, &features.canny_stats));
   if (config.canny.texture_factor > 0) {
     features.chosen.textured_blocks = static_cast<uint32_t>(features.canny_stats.textured_blocks);
-    features.chosen.texture_blocks =
-        static_cast<uint32_t>(((image.width + kTextureBlockPx - 1) / kTextureBlockPx) *
-                              ((image.height + kTextureBlockPx - 1) / kTextureBlockPx));
+    features.chosen.texture_blocks = static_cast<uint32_t>(features.canny_stats.texture_blocks);
   }
   if (mask != nullptr) {
     // In place, keeping the order of strength.

@@ -64,6 +64,11 @@ TEST(CannyTexture, APlainNoisyImageGivesTheEdgeMapWithoutTheTest) {
       const CannyStats& stats = on.features->canny_stats;
       EXPECT_GT(off.features->canny_stats.edge_pixels, 200u) << size.w << " " << noise;
       EXPECT_EQ(stats.textured_blocks, 0u) << size.w << " " << noise;
+      // Partial blocks at the right and bottom borders count.
+      EXPECT_EQ(stats.texture_blocks, size_t((size.w + 31) / 32) * size_t((size.h + 31) / 32))
+          << size.w;
+      EXPECT_EQ(off.features->canny_stats.texture_blocks, 0u) << size.w;
+      EXPECT_EQ(on.features->chosen.texture_blocks, stats.texture_blocks) << size.w;
       EXPECT_EQ(stats.texture_dropped, 0u) << size.w << " " << noise;
       EXPECT_TRUE(off.edge == on.edge) << size.w << " " << noise;
       EXPECT_TRUE(off.orientation == on.orientation) << size.w << " " << noise;
