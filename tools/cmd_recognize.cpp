@@ -118,9 +118,12 @@ void PrintTable(const ModelSet& models, const PipelineResult& r) {
     std::printf("table: none (estimate: %s, %u of %u objects on one plane)\n",
                 TableEstimateOutcomeName(e.outcome), e.resting, e.objects);
   }
-  std::printf("recognition: %u of %u scene bases tried, %u hypotheses, %u verified, %u accepted\n",
-              r.recognition.scene_bases_tried, r.recognition.scene_bases_available,
-              r.recognition.hypotheses, r.recognition.verifications, r.recognition.accepted);
+  std::printf(
+      "recognition: %u of %u scene bases tried, %u hypotheses, %u verified, %u accepted (%u of "
+      "%u weakly confirmed places held back to the end)\n",
+      r.recognition.scene_bases_tried, r.recognition.scene_bases_available,
+      r.recognition.hypotheses, r.recognition.verifications, r.recognition.accepted,
+      r.recognition.deferred_accepted, r.recognition.deferred);
   if (r.rescue.ran) {
     std::printf("rescue (one image, confirmed in both): %u found, %u added, %.1f ms\n",
                 r.rescue.found, r.rescue.added, r.time.rescue_ms);

@@ -280,6 +280,8 @@ constexpr Setting<PipelineConfig> kPipelineSettings[] = {
      [](float v, PipelineConfig& c) { c.shape.explained_share = v; }},
     {"verify.min_fraction", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.verify.min_fraction = v; }},
+    {"recognizer.defer_below_score", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.recognizer.defer_below_score = v; }},
     {"verify.max_distance_px", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.verify.max_distance_px = v; }},
     {"verify.max_angle_deg", SettingKind::kReal,
@@ -463,11 +465,13 @@ std::string ResultJson(const ModelSet& models, const PipelineResult& r, const Ta
   std::snprintf(buffer, sizeof(buffer),
                 "], \"features\": {\"points2d\": [%u, %u], \"lines2d\": [%u, %u], \"points3d\": "
                 "%u, \"lines3d\": %u}, \"recognition\": {\"scene_bases_tried\": %u, "
-                "\"hypotheses\": %u, \"verifications\": %u, \"budget_exhausted\": %s}, "
+                "\"hypotheses\": %u, \"verifications\": %u, \"held_back\": %u, "
+                "\"held_back_accepted\": %u, \"budget_exhausted\": %s}, "
                 "\"rescue\": {\"ran\": %s, \"ran_right\": %s, \"found\": %u, \"added\": %u}, ",
                 r.points2d[0], r.points2d[1], r.lines2d[0], r.lines2d[1], r.points3d, r.lines3d,
                 r.recognition.scene_bases_tried, r.recognition.hypotheses,
-                r.recognition.verifications, r.recognition.budget_exhausted ? "true" : "false",
+                r.recognition.verifications, r.recognition.deferred,
+                r.recognition.deferred_accepted, r.recognition.budget_exhausted ? "true" : "false",
                 r.rescue.ran ? "true" : "false", r.rescue.ran_right ? "true" : "false",
                 r.rescue.found, r.rescue.added);
   json += buffer;

@@ -90,6 +90,10 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
                          double(config.compete_evidence_margin),
                          double(config.compete_score_margin));
   }
+  if (!(config.defer_below_score >= 0.0f && config.defer_below_score <= 1.0f)) {
+    return Status::Error(StatusCode::kInvalidArgument, "defer_below_score must be 0..1 (got %g)",
+                         double(config.defer_below_score));
+  }
   // The spread's cells: a penalty of 0 or more, cells of 1 mm to 10 m (finite).
   if (!(config.basis_cell_rank_penalty >= 0.0f && config.basis_cell_rank_penalty <= 1e6f) ||
       !(config.basis_cell_size_mm >= 1.0f && config.basis_cell_size_mm <= 10000.0f)) {
@@ -504,6 +508,54 @@ bool Recognizer::TooCloseToAccepted(const RigidTransform& cam_T_model,
 
 using Outcome = SearchObserver::Outcome;
 
+bool Recognizer::Defer(const RecognizedObject& object, RecognitionStats& stats) {
+  if (!(std::min(object.verify_score[0], object.verify_score[1]) < config_.defer_below_score)) {
+    return false;
+  }
+  const float d2 = config_.min_object_separation_mm * config_.min_object_separation_mm;
+  RecognizedObject* weakest = nullptr;
+  for (RecognizedObject& held : deferred_) {
+    if ((held.cam_T_model.t_mm - object.cam_T_model.t_mm).squaredNorm() < d2) {
+      if (object.verify_evidence > held.verify_evidence) held = object;  // one per place
+      return true;
+    }
+    if (weakest == nullptr || held.verify_evidence < weakest->verify_evidence) weakest = &held;
+  }
+  ++stats.deferred;
+  if (!deferred_.full()) {
+    (void)deferred_.push_back(object);
+  } else if (object.verify_evidence > weakest->verify_evidence) {
+    *weakest = object;
+  }
+  return true;
+}
+
+void Recognizer::AcceptDeferred(HypothesisVerifier& verifier, const Budget& budget,
+                                Vector<RecognizedObject>& objects, RecognitionStats& stats) {
+  std::sort(deferred_.begin(), deferred_.end(),
+            [](const RecognizedObject& a, const RecognizedObject& b) {
+              return a.verify_evidence > b.verify_evidence;
+            });
+  for (const RecognizedObject& held : deferred_) {
+    if (objects.full() || (budget.max_objects != 0 && objects.size() >= budget.max_objects)) break;
+    const Model& model = table_.model(held.model);
+    if (TooCloseToAccepted(held.cam_T_model, objects) ||
+        verifier.Interpenetrates(model, held, objects)) {
+      continue;
+    }
+    // The objects accepted since may hide part of it.
+    RecognizedObject object = held;
+    if (!verifier.Verify(model, objects, object)) continue;
+    object.instance = 0;
+    for (const RecognizedObject& o : objects) object.instance += o.model == object.model;
+    (void)objects.push_back(object);  // not full: checked above
+    ++stats.accepted;
+    ++stats.deferred_accepted;
+    if (observer_) observer_->OnAccepted(stats.scene_bases_tried, object);
+  }
+  deferred_.clear();
+}
+
 void Recognizer::Evaluate(const Hypothesis& h, const RefineInput& refine_in,
                           const Vector<RecognizedObject>& objects, HypothesisVerifier& verifier,
                           int min_matched, Evaluated* out) const {
@@ -713,6 +765,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
   }
   PrepareScene(scene);
   ahead_.Clear();
+  deferred_.clear();
   uint32_t cursor = 0;
   uint32_t fruitless = 0;
   uint32_t generated = candidates_.count();
@@ -776,6 +829,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
         CompeteAtPlace(cursor, basis_number, refine_in, objects, verifier, stats, best,
                        best_matches);
       }
+      if (Defer(best, stats)) continue;
       for (const RecognizedObject& o : objects) best.instance += o.model == best.model;
       if (!objects.push_back(best)) {
         stats.objects_full = true;
@@ -789,6 +843,8 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     }
     if (stats.objects_full) break;
   }
+  if (!stats.objects_full) AcceptDeferred(verifier, budget, objects, stats);
+  deferred_.clear();
   stats.scene_bases_available = generated;
   if (stats_out) *stats_out = stats;
   return Status::Ok();

@@ -50,6 +50,9 @@ inline constexpr int kMaxVoteThreads = 8;
 // accepted object's place, and how far down the candidate list they are looked for.
 inline constexpr int kMaxCompeteBases = 8;
 inline constexpr uint32_t kCompeteScanBases = 64;
+// Weakly confirmed objects held back until the search ends (RecognizerConfig::defer_below_score);
+// when full, a stronger one takes the weakest one's slot.
+inline constexpr size_t kMaxDeferredObjects = 16;
 
 struct RecognizerConfig {
   float sigma_point_mm = 2.0f;             // vote width for points
@@ -90,6 +93,15 @@ struct RecognizerConfig {
   int compete_bases = 0;
   float compete_evidence_margin = 0.1f;
   float compete_score_margin = 0.05f;
+  // Strong confirmations first: a verified object whose lower verification score is below this
+  // is not accepted during the search but held back (one per place, the one explaining most), and
+  // its features stay in the scene. A wrong pose or a part-fitting model confirmed weakly would
+  // otherwise take the features that the true object's later scene bases need. When the search
+  // ends, the held-back ones are verified again, strongest first, with the accepted objects as
+  // occluders, and accepted where no accepted object stands (closer than
+  // min_object_separation_mm, or solids that interpenetrate). 0: off, every verified object is
+  // accepted at once.
+  float defer_below_score = 0.0f;
   RefineConfig refine;
 };
 
@@ -133,6 +145,13 @@ class HypothesisVerifier {
   // depend on the order of the calls. The search then verifies the hypotheses of a scene basis
   // in parallel (Recognizer::SetParallel).
   virtual bool ConcurrentVerify() const { return false; }
+  // Whether the candidate's solid would pass through one of `accepted` (two objects cannot share
+  // space). Without the models' solids (the default): never.
+  virtual bool Interpenetrates(const Model& model, const RecognizedObject& candidate,
+                               const Vector<RecognizedObject>& accepted) const {
+    (void)model, (void)candidate, (void)accepted;
+    return false;
+  }
 };
 
 // Accepts when enough of the model's corners and edges found scene features after refinement
@@ -181,6 +200,8 @@ struct RecognitionStats {
   uint32_t hypotheses = 0;
   uint32_t verifications = 0;
   uint32_t accepted = 0;
+  uint32_t deferred = 0;           // weakly confirmed places held back (defer_below_score)
+  uint32_t deferred_accepted = 0;  // of them accepted when the search ended (in `accepted`)
   bool budget_exhausted = false;
   bool objects_full = false;
 };
@@ -266,6 +287,11 @@ class Recognizer {
   bool BasisActive(const SceneBasis& b) const;
   bool TooCloseToAccepted(const RigidTransform& cam_T_model,
                           const Vector<RecognizedObject>& objects) const;
+  // RecognizerConfig::defer_below_score: whether `object` waits, holding it back if so.
+  bool Defer(const RecognizedObject& object, RecognitionStats& stats);
+  // The held-back objects, strongest first, verified again and accepted where nothing stands.
+  void AcceptDeferred(HypothesisVerifier& verifier, const Budget& budget,
+                      Vector<RecognizedObject>& objects, RecognitionStats& stats);
   // A refined and verified candidate of hypothesis `h` (the search's step for each hypothesis);
   // false when it is too close to an accepted object, matches fewer than `min_matched` scene
   // features within the verifier's gate (not verified then) or is rejected. Reports verified,
@@ -359,6 +385,7 @@ class Recognizer {
   AheadVotes ahead_;
   // The hypotheses of one scene basis evaluated at once, in parallel (EvaluateAhead).
   Evaluated evaluated_[kMaxHypothesesPerBasis];
+  Vector<RecognizedObject, kMaxDeferredObjects> deferred_;
 };
 
 }  // namespace sh

@@ -27,6 +27,16 @@ void EdgeMapVerifier::Reset(const StereoCalibration* calib, const TableView* tab
   errors_ = 0;
 }
 
+bool EdgeMapVerifier::Interpenetrates(const Model& model, const RecognizedObject& candidate,
+                                      const Vector<RecognizedObject>& accepted) const {
+  for (const RecognizedObject& o : accepted) {
+    if (Interpenetrate({&model, candidate.cam_T_model}, {&table_->model(o.model), o.cam_T_model})) {
+      return true;
+    }
+  }
+  return false;
+}
+
 bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>& accepted,
                              RecognizedObject& candidate) {
   if (support_ != nullptr && support_->known) {

@@ -43,6 +43,9 @@ class EdgeMapVerifier : public HypothesisVerifier {
   // The verdict depends on the arguments and the frame alone, and the counts are sums: the
   // search verifies a scene basis's hypotheses on the pool's threads at once.
   bool ConcurrentVerify() const override { return true; }
+  // Interpenetrate() with each accepted object: either's centre inside the other's box.
+  bool Interpenetrates(const Model& model, const RecognizedObject& candidate,
+                       const Vector<RecognizedObject>& accepted) const override;
 
   // Time spent verifying since Reset, summed over the threads that verified.
   int64_t elapsed_ns() const { return elapsed_ns_.load(std::memory_order_relaxed); }

@@ -82,10 +82,15 @@ PipelineConfig PipelineConfig::Automatic() {
   // and its hundreds of lines cost the search its time. Over such texture an edge must stand
   // three times above the block's lower quartile of gradient (CannyConfig::texture_factor).
   c.features.canny.texture_factor = 3.0f;
-  // A noisy edge map holds fewer of an object's edge pixels within the verifier's gate. The
-  // image verification accepts half of the visible model edge samples; the competition at
+  // A noisy edge map holds fewer of an object's edge pixels within the verifier's gate, and a
+  // lamp's glare or a defocused outline takes more from one image than the other. The image
+  // verification accepts 45 % of the visible model edge samples in each image; an object under
+  // half in either waits until the search ends (RecognizerConfig::defer_below_score), so that a
+  // wrong pose or a part-fitting model confirmed that weakly cannot take the features of the
+  // object there, which its later scene bases find with clearly more support. The competition at
   // acceptance below keeps a wrong model that fits half of another from taking its place.
-  c.verify.min_fraction = 0.5f;
+  c.verify.min_fraction = 0.45f;
+  c.recognizer.defer_below_score = 0.5f;
   c.recognizer.compete_bases = kMaxCompeteBases;
   return c;
 }

@@ -132,9 +132,13 @@ Status Pipeline::RescueInImage(int side, const Budget& budget, PipelineResult* o
       continue;
     }
     // The stereo verifier: both images, its thresholds, the accepted objects as occluders, the
-    // table check.
+    // table check. One image's search is weaker evidence than the stereo search's: what the
+    // stereo search would hold back as weakly confirmed (RecognizerConfig::defer_below_score) is
+    // not taken from it.
     const uint32_t below = verifier_.below_table();
-    if (!verifier_.Verify(model, out->objects, candidate)) {
+    const bool verified = verifier_.Verify(model, out->objects, candidate);
+    if (!verified || std::min(candidate.verify_score[0], candidate.verify_score[1]) <
+                         config_.recognizer.defer_below_score) {
       if (verifier_.below_table() != below) {
         ++stats.refused_rest;
       } else {

@@ -57,6 +57,18 @@ class RecognizerTest : public ::testing::Test {
     return t;
   }
 
+  // One object alone in its scene, a third to a half of its features lost, 1-1.5 mm noise.
+  static SyntheticSceneParams OnePartlySeenObject() {
+    SyntheticSceneParams p;
+    p.min_objects = p.max_objects = 1;
+    p.total_features = 0;
+    p.missing_min = 0.3f;
+    p.missing_max = 0.5f;
+    p.noise_min_mm = 1.0f;
+    p.noise_max_mm = 1.5f;
+    return p;
+  }
+
   TableView view_;
   std::vector<Model> models_;
   std::unique_ptr<SyntheticScene> synthetic_;
@@ -302,13 +314,7 @@ TEST_F(RecognizerTest, ObserverSeesEveryHypothesisAndAcceptance) {
 // scene, one hypothesis per scene basis (so that the object's own model cannot win within the
 // basis that found the smaller one).
 TEST_F(RecognizerTest, CompetitionAtAcceptanceReplacesAModelFittingPartOfAnother) {
-  SyntheticSceneParams p;
-  p.min_objects = p.max_objects = 1;
-  p.total_features = 0;
-  p.missing_min = 0.3f;
-  p.missing_max = 0.5f;
-  p.noise_min_mm = 1.0f;
-  p.noise_max_mm = 1.5f;
+  SyntheticSceneParams p = OnePartlySeenObject();
   const CompetitionTally without = RunAlone(p, 0, 0, 30), with = RunAlone(p, 5, 0, 30);
   std::printf("competition off: %d correct, %d wrong models in place; on: %d, %d\n",
               without.correct, without.wrong_model_in_place, with.correct,
@@ -322,20 +328,152 @@ TEST_F(RecognizerTest, CompetitionAtAcceptanceReplacesAModelFittingPartOfAnother
 // the competition scans after the accepted basis, so the object's own model is found only from
 // bases made of the features the wrong model matched, wherever they rank.
 TEST_F(RecognizerTest, CompetitionReachesTheObjectsOwnBasesBehindClutter) {
-  SyntheticSceneParams p;
-  p.min_objects = p.max_objects = 1;
+  SyntheticSceneParams p = OnePartlySeenObject();
   p.total_features = 800;
   p.volume_min_mm = Eigen::Vector3f(-60.0f, -60.0f, 500.0f);
   p.volume_max_mm = Eigen::Vector3f(60.0f, 60.0f, 570.0f);
-  p.missing_min = 0.3f;
-  p.missing_max = 0.5f;
-  p.noise_min_mm = 1.0f;
-  p.noise_max_mm = 1.5f;
   const int without = RunAlone(p, 0, 7000, 20).wrong_model_in_place;
   const int with = RunAlone(p, 5, 7000, 20).wrong_model_in_place;
   std::printf("crowded: wrong models in place, competition off %d, on %d\n", without, with);
   ASSERT_GT(without, 0);  // the scenes hold the case
   EXPECT_LT(with, without);
+}
+
+// Scores a candidate at the truth's place with the truth's model strongly and anything else
+// weakly (SceneSupportVerifier's verdict): a wrong model or pose confirmed by part of an object.
+class TruthScoringVerifier : public HypothesisVerifier {
+ public:
+  explicit TruthScoringVerifier(const std::vector<TruthObject>* truth) : truth_(truth) {}
+  bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
+              RecognizedObject& candidate) override {
+    if (!support_.Verify(model, accepted, candidate)) return false;
+    bool strong = false;
+    for (const TruthObject& t : *truth_) {
+      strong = strong || (t.model == candidate.model &&
+                          (t.cam_T_model.t_mm - candidate.cam_T_model.t_mm).norm() < 5.0f);
+    }
+    const float score = strong ? 0.9f : 0.46f;
+    candidate.verify_score[0] = candidate.verify_score[1] = score;
+    candidate.verify_evidence = score;
+    return true;
+  }
+
+ private:
+  const std::vector<TruthObject>* truth_;
+  SceneSupportVerifier support_{0.25f, 5};
+};
+
+// Held back, a weakly confirmed wrong model or pose leaves the object's features in the scene:
+// the object's own scene bases, later in the list, find it with clearly more support, and the
+// weak one, standing in its place, is dropped when the search ends. Each model alone in its
+// scene, one hypothesis per scene basis and no competition, so that nothing else replaces it.
+TEST_F(RecognizerTest, WeakConfirmationsWaitForTheStrongOnes) {
+  SyntheticSceneParams p = OnePartlySeenObject();
+  struct Tally {
+    int correct = 0, wrong_in_place = 0;
+    uint32_t deferred = 0, deferred_accepted = 0;
+  };
+  const auto run = [&](float defer_below_score) {
+    RecognizerConfig config;
+    config.hypotheses_per_basis = 1;
+    config.defer_below_score = defer_below_score;
+    auto recognizer = MakeRecognizer(view_, config);
+    Tally t;
+    for (int m = 0; m < int(models_.size()); ++m) {
+      p.model_mask = 1u << m;
+      for (uint64_t seed = 1; seed <= 30; ++seed) {
+        GenerateSyntheticScene(models_, p, 1000 * uint64_t(m) + seed, synthetic_.get());
+        TruthScoringVerifier verifier(&synthetic_->truth);
+        RecognitionStats stats;
+        EXPECT_TRUE(
+            recognizer->Recognize(synthetic_->scene, verifier, Budget{}, objects_, &stats).ok());
+        const TruthObject& truth = synthetic_->truth[0];
+        for (const RecognizedObject& o : objects_) {
+          const bool in_place = (o.cam_T_model.t_mm - truth.cam_T_model.t_mm).norm() <
+                                config.min_object_separation_mm;
+          t.wrong_in_place += in_place && o.verify_score[0] < 0.5f;
+        }
+        t.correct += MatchToTruth(models_, synthetic_->truth, Poses(objects_)).correct;
+        t.deferred += stats.deferred;
+        t.deferred_accepted += stats.deferred_accepted;
+      }
+    }
+    return t;
+  };
+  const Tally now = run(0.0f), later = run(0.5f);
+  std::printf(
+      "weak confirmations accepted at once: %d correct, %d wrong in place; held back: "
+      "%d, %d (%u held, %u accepted)\n",
+      now.correct, now.wrong_in_place, later.correct, later.wrong_in_place, later.deferred,
+      later.deferred_accepted);
+  ASSERT_GT(now.wrong_in_place, 0);  // the scenes hold the case
+  EXPECT_EQ(now.deferred, 0u);
+  EXPECT_GT(later.deferred, 0u);
+  EXPECT_LT(later.wrong_in_place, now.wrong_in_place);
+  EXPECT_GT(later.correct, now.correct);
+  // Where no strong object stands, a held-back one is still reported.
+  EXPECT_GT(later.deferred_accepted, 0u);
+}
+
+// Accepts whatever holds three matched corners and edges, weakly, and reports every candidate
+// as passing through the objects accepted before it when asked to.
+class AcceptAllWeakly : public HypothesisVerifier {
+ public:
+  explicit AcceptAllWeakly(bool solid) : solid_(solid) {}
+  bool Verify(const Model&, const Vector<RecognizedObject>&, RecognizedObject& c) override {
+    c.verify_score[0] = c.verify_score[1] = 0.3f;
+    c.verify_evidence = float(c.matched_points + c.matched_lines);
+    return c.matched_points >= 3 && c.matched_lines >= 3;
+  }
+  bool Interpenetrates(const Model&, const RecognizedObject&,
+                       const Vector<RecognizedObject>& accepted) const override {
+    return solid_ && !accepted.empty();
+  }
+
+ private:
+  bool solid_;
+};
+
+// More weak places than kMaxDeferredObjects: the strongest are kept and reported; a verifier
+// that finds every place taken admits only the first.
+TEST_F(RecognizerTest, HeldBackObjectsAreBoundedAndYieldToOccupiedPlaces) {
+  RecognizerConfig config;
+  config.defer_below_score = 0.5f;
+  config.max_fruitless_bases = 800;
+  config.min_object_separation_mm = 4.0f;  // more places apart
+  auto recognizer = MakeRecognizer(view_, config);
+  SyntheticSceneParams p;
+  p.total_features = 1000;
+  GenerateSyntheticScene(models_, p, 21, synthetic_.get());
+  AcceptAllWeakly open(false), solid(true);
+  RecognitionStats stats;
+  ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, open, Budget{}, objects_, &stats).ok());
+  ASSERT_GT(stats.deferred, kMaxDeferredObjects) << "the scene must hold the case";
+  EXPECT_EQ(stats.deferred_accepted, objects_.size());
+  EXPECT_EQ(stats.accepted, objects_.size());
+  EXPECT_LE(objects_.size(), kMaxDeferredObjects);
+  EXPECT_GT(objects_.size(), 1u);
+  // Strongest first.
+  for (size_t i = 1; i < objects_.size(); ++i) {
+    EXPECT_GE(objects_[i - 1].verify_evidence, objects_[i].verify_evidence);
+  }
+  ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, solid, Budget{}, objects_, &stats).ok());
+  EXPECT_EQ(objects_.size(), 1u);
+  // The object limit holds for them too.
+  Budget two;
+  two.max_objects = 2;
+  ASSERT_TRUE(recognizer->Recognize(synthetic_->scene, open, two, objects_, &stats).ok());
+  EXPECT_EQ(objects_.size(), 2u);
+}
+
+TEST_F(RecognizerTest, RefusesADeferralScoreOutOfRange) {
+  for (const float bad : {-0.1f, 1.5f, std::numeric_limits<float>::quiet_NaN()}) {
+    RecognizerConfig config;
+    config.defer_below_score = bad;
+    const Status s = std::make_unique<Recognizer>()->Init(view_, config);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << bad;
+    EXPECT_NE(std::string(s.message()).find("defer_below_score"), std::string::npos);
+  }
 }
 
 // Removing an object takes every 3-D feature that shares a 2-D feature with it.

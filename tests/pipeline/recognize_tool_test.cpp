@@ -135,6 +135,10 @@ TEST_F(RecognizeToolTest, JsonMatchesTheRenderedTruth) {
   EXPECT_GT(f["lines2d"][1].number, 0);
   EXPECT_GT(f["lines3d"].number, 0);
   EXPECT_EQ(f["points3d"].type, Json::kNumber);
+  const Json& rec = out["recognition"];
+  EXPECT_GT(rec["scene_bases_tried"].number, 0);
+  EXPECT_EQ(rec["held_back"].type, Json::kNumber);
+  EXPECT_LE(rec["held_back_accepted"].number, rec["held_back"].number);
   const Json& t = out["time_ms"];
   EXPECT_EQ(out["detection"]["mode"].text, "automatic");
   ASSERT_EQ(out["detection"]["noise_sigma"].size(), 2u);
