@@ -553,7 +553,6 @@ void Recognizer::AcceptDeferred(HypothesisVerifier& verifier, const Budget& budg
     ++stats.deferred_accepted;
     if (observer_) observer_->OnAccepted(stats.scene_bases_tried, object);
   }
-  deferred_.clear();
 }
 
 void Recognizer::Evaluate(const Hypothesis& h, const RefineInput& refine_in,
@@ -844,7 +843,7 @@ Status Recognizer::Recognize(const Scene& scene, HypothesisVerifier& verifier, c
     if (stats.objects_full) break;
   }
   if (!stats.objects_full) AcceptDeferred(verifier, budget, objects, stats);
-  deferred_.clear();
+  deferred_.clear();  // a full object list drops them unseen
   stats.scene_bases_available = generated;
   if (stats_out) *stats_out = stats;
   return Status::Ok();

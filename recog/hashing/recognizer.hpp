@@ -289,7 +289,8 @@ class Recognizer {
                           const Vector<RecognizedObject>& objects) const;
   // RecognizerConfig::defer_below_score: whether `object` waits, holding it back if so.
   bool Defer(const RecognizedObject& object, RecognitionStats& stats);
-  // The held-back objects, strongest first, verified again and accepted where nothing stands.
+  // The held-back objects, strongest first, verified again and accepted where nothing stands
+  // (sorts deferred_; the caller clears it).
   void AcceptDeferred(HypothesisVerifier& verifier, const Budget& budget,
                       Vector<RecognizedObject>& objects, RecognitionStats& stats);
   // A refined and verified candidate of hypothesis `h` (the search's step for each hypothesis);

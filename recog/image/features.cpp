@@ -111,10 +111,9 @@ Status ExtractFeatures(const ConstGrayView& image, const FeatureConfig& requeste
   }
   SH_RETURN_IF_ERROR(DetectEdges(image, config.canny, workspace.filter, workspace.edges,
                                  features.edges, &features.canny_stats));
-  if (config.canny.texture_factor > 0) {
-    features.chosen.textured_blocks = static_cast<uint32_t>(features.canny_stats.textured_blocks);
-    features.chosen.texture_blocks = static_cast<uint32_t>(features.canny_stats.texture_blocks);
-  }
+  // Both 0 when the texture test is off.
+  features.chosen.textured_blocks = static_cast<uint32_t>(features.canny_stats.textured_blocks);
+  features.chosen.texture_blocks = static_cast<uint32_t>(features.canny_stats.texture_blocks);
   if (mask != nullptr) {
     // In place, keeping the order of strength.
     size_t kept = 0;

@@ -102,6 +102,8 @@ void ExpectSame(const SearchRun& a, const SearchRun& b, uint64_t seed) {
   EXPECT_EQ(a.stats.scene_bases_tried, b.stats.scene_bases_tried) << "seed " << seed;
   EXPECT_EQ(a.stats.hypotheses, b.stats.hypotheses) << "seed " << seed;
   EXPECT_EQ(a.stats.verifications, b.stats.verifications) << "seed " << seed;
+  EXPECT_EQ(a.stats.deferred, b.stats.deferred) << "seed " << seed;
+  EXPECT_EQ(a.stats.deferred_accepted, b.stats.deferred_accepted) << "seed " << seed;
   ExpectSameObjects(a.objects, b.objects, seed);
 }
 
@@ -112,6 +114,7 @@ TEST(RecognizerThreads, VerifiesTheHypothesesOfABasisTogetherAndFindsWhatOneThre
   RecognizerConfig config;
   config.hypotheses_per_basis = 6;  // as the pipeline: several hypotheses to spread
   config.compete_bases = 5;
+  config.defer_below_score = 0.5f;  // weakly confirmed objects wait, as in the pipeline
   auto one = MakeRecognizer(*view, config);
   auto two = MakeRecognizer(*view, config);
   int threads = 2;
@@ -120,6 +123,7 @@ TEST(RecognizerThreads, VerifiesTheHypothesesOfABasisTogetherAndFindsWhatOneThre
   SyntheticSceneParams p;
   p.total_features = 400;
   int compared = 0, off_caller = 0;
+  uint32_t held_back = 0;
   for (uint64_t seed = 1; seed <= 6; ++seed) {
     GenerateSyntheticScene(models, p, seed, synthetic.get());
     SearchRun alone, spread, serial;
@@ -133,8 +137,10 @@ TEST(RecognizerThreads, VerifiesTheHypothesesOfABasisTogetherAndFindsWhatOneThre
     ExpectSame(alone, serial, seed);
     compared += int(alone.objects.size());
     off_caller += spread.off_caller;
+    held_back += alone.stats.deferred;
   }
   EXPECT_GT(compared, 6);    // the scenes held objects to compare
+  EXPECT_GT(held_back, 0u);  // and weakly confirmed ones that waited
   EXPECT_GT(off_caller, 0);  // and the other thread verified some of the hypotheses
 }
 
