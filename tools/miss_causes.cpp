@@ -314,11 +314,11 @@ void ExplainMisses(const std::vector<Model>& models, const std::vector<TruthObje
           "    edges found in both images %d, not triangulated %d, of them %d near the epipolar "
           "direction (interpretation planes under %.1f deg apart)\n",
           label, model.name, record.verify_score[0], record.verify_score[1],
-          verifiable ? "accepted" : "rejected", fit.support, fit.matched_points, fit.matched_lines,
-          record.edges_visible, record.edges_2d[0], record.edges_2d[1], record.edges_3d,
-          record.corners_visible, record.corners_2d[0], record.corners_2d[1], record.corners_3d,
-          record.edges_2d_both, record.edges_lost_stereo, record.edges_lost_epipolar,
-          pipeline.config().stereo.min_plane_angle_deg);
+          verifiable ? "accepted" : (v.ok() ? VerifyReasonName(v->reason) : "error"), fit.support,
+          fit.matched_points, fit.matched_lines, record.edges_visible, record.edges_2d[0],
+          record.edges_2d[1], record.edges_3d, record.corners_visible, record.corners_2d[0],
+          record.corners_2d[1], record.corners_3d, record.edges_2d_both, record.edges_lost_stereo,
+          record.edges_lost_epipolar, pipeline.config().stereo.min_plane_angle_deg);
       if (search != nullptr) {
         std::printf(
             "    search: %d own scene bases of %d (first at rank %d), %d vote the true model near "

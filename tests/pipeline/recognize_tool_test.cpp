@@ -700,6 +700,28 @@ TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
   Json strict_bench;
   ASSERT_TRUE(JsonReader(ReadText(Path("strict.json"))).Parse(&strict_bench));
   EXPECT_EQ(strict_bench["summary"]["correct"].number, 0) << strict.output;
+  // The stereo gates: no line pair shares a kilometre of support, and rays that must meet within
+  // a nanometre leave fewer corner pairs than the default 5 mm.
+  const ToolRun gated = RunTool("bench recorded " + set +
+                                " --set stereo.min_overlap_mm=1e6 --set stereo.max_ray_gap_mm=1e-6 "
+                                "--set rescue.enabled=0 --json " +
+                                Path("gated.json"));
+  ASSERT_EQ(gated.exit_code, 0) << gated.output;
+  const ToolRun open =
+      RunTool("bench recorded " + set + " --set rescue.enabled=0 --json " + Path("open.json"));
+  ASSERT_EQ(open.exit_code, 0) << open.output;
+  Json gated_bench, open_bench;
+  ASSERT_TRUE(JsonReader(ReadText(Path("gated.json"))).Parse(&gated_bench));
+  ASSERT_TRUE(JsonReader(ReadText(Path("open.json"))).Parse(&open_bench));
+  ASSERT_GT(open_bench["scenes"].size(), 0u);
+  ASSERT_EQ(gated_bench["scenes"].size(), open_bench["scenes"].size());
+  for (size_t i = 0; i < gated_bench["scenes"].size(); ++i) {
+    const Json& g = gated_bench["scenes"][i];
+    const Json& o = open_bench["scenes"][i];
+    EXPECT_EQ(g["lines3d"].number, 0) << i;
+    EXPECT_GT(o["lines3d"].number, 0) << i;
+    EXPECT_LT(g["points3d"].number, o["points3d"].number) << i;
+  }
   const ToolRun unknown = RunTool("bench recorded " + set + " --set verify.frobnicate=1");
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_NE(unknown.output.find("unknown setting verify.frobnicate"), std::string::npos)
