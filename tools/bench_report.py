@@ -518,12 +518,61 @@ def plot_lines(series, path, title, xlabel, ylabel, xlabels=None, ymax=None):
 
 
 def latest_sets(records):
-    """For each set name, the latest record that ran it."""
+    """For each set name, the latest record that ran it with the programs' default threads, or
+    failing that the latest that ran it at all (runs with --threads N are the exceptions)."""
     latest = {}
     for r in records:
         for name, s in r.get("sets", {}).items():
-            latest[name] = (r, s)
+            if not s.get("threads") or name not in latest or latest[name][1].get("threads"):
+                latest[name] = (r, s)
     return latest
+
+
+# The clean set and the factory-floor set of each camera, whose frame times the page compares.
+FLOOR_PAIRS = (("thesis-camera", "hard-thesis-camera"), ("wide-camera", "hard-wide-camera"))
+
+
+def floor_times(records):
+    """Per thread setting (None: the programs' default), the latest record that ran both sets of
+    a pair that way, with the clean and the factory-floor frame times."""
+    rows = {}
+    for r in records:
+        sets = r.get("sets", {})
+        for clean, floor in FLOOR_PAIRS:
+            a, b = sets.get(clean), sets.get(floor)
+            if not a or not b or a.get("error") or b.get("error"):
+                continue
+            if a.get("threads") != b.get("threads"):
+                continue
+            fa, fb = a.get("frame_ms") or {}, b.get("frame_ms") or {}
+            if not fa.get("median") or not fb.get("median") or fb.get("worst") is None:
+                continue
+            rows[(a.get("threads"), clean)] = (r, clean, floor, fa, fb)
+    return [rows[k] for k in sorted(rows, key=lambda k: (k[0] or 0, set_key(k[1])))]
+
+
+def write_floor_times(w, records):
+    rows = floor_times(records)
+    if not rows:
+        return
+    w("## Frame time on the factory floor")
+    w("")
+    w("Each factory-floor set against the clean set of the same camera, from one record (same "
+      "machine, same load), warm (`stereohash bench recorded`). The aim: the factory-floor "
+      "median within 1.5 times the clean median, its worst frame within 3 times the clean "
+      "median. Records with `--threads N` are made by `tools/bench-report.sh --quick --threads "
+      "N --sets thesis-camera,wide-camera,hard-thesis-camera,hard-wide-camera`.")
+    w("")
+    w("| threads | clean set | median | factory-floor set | median | worst | median ratio | "
+      "worst / clean median | measured |")
+    w("|---|---|---|---|---|---|---|---|---|")
+    for r, clean, floor, fa, fb in rows:
+        threads = (r["sets"][clean].get("threads")
+                   or f"default ({r.get('machine', {}).get('cores', '?')} cores)")
+        w(f"| {threads} | {clean} | {fmt(fa['median'])} ms | {floor} | {fmt(fb['median'])} ms | "
+          f"{fmt(fb['worst'])} ms | {fb['median'] / fa['median']:.2f} | "
+          f"{fb['worst'] / fa['median']:.2f} | {when(r)} |")
+    w("")
 
 
 def latest_micro(records):
@@ -642,6 +691,7 @@ def render(args):
         prepare = f"`{prep}`, then " if prep else ""
         w(f"- {name}: {prepare}`{s.get('command')}`; {threads}")
     w("")
+    write_floor_times(w, records)
     peers = [(n, latest[n][1]["peer"]) for n in names if latest[n][1].get("peer")]
     for name, p in peers:
         fm = p.get("frame_ms") or {}
