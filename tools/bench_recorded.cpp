@@ -608,10 +608,11 @@ void PrintSceneLines(const RecordedBench& b, const std::string& name, const Scen
     const RescueStats& rs = result.rescue;
     std::printf(
         "  rescue: %u / %u free corners, %u / %u bases tried (left / right image), found "
-        "%u, refused %u resting, %u verify, %u overlap; added %u (%.1f ms)\n",
+        "%u (%u moved by the edge fit), refused %u resting, %u verify, %u overlap; added %u "
+        "(%.1f ms)\n",
         rs.free_corners, rs.free_corners_right, rs.search.scene_bases_tried,
-        rs.search_right.scene_bases_tried, rs.found, rs.refused_rest, rs.refused_verify,
-        rs.refused_overlap, rs.added, result.time.rescue_ms);
+        rs.search_right.scene_bases_tried, rs.found, rs.edge_fitted, rs.refused_rest,
+        rs.refused_verify, rs.refused_overlap, rs.added, result.time.rescue_ms);
   }
   if (b.set.tables.models().shape_count() > 0) {
     const ShapeStats& sh = result.shape;

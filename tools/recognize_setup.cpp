@@ -382,6 +382,8 @@ constexpr Setting<PipelineConfig> kPipelineSettings[] = {
      [](float v, PipelineConfig& c) { c.rescue.max_above_table_mm = v; }},
     {"rescue.right_image", SettingKind::kFlag,
      [](float v, PipelineConfig& c) { c.rescue.right_image = v != 0.0f; }},
+    {"rescue.edge_fit", SettingKind::kFlag,
+     [](float v, PipelineConfig& c) { c.rescue.edge_fit = v != 0.0f; }},
 };
 
 }  // namespace

@@ -54,6 +54,10 @@ struct RescueConfig {
   // corners the left image lacks may show them on the right (the recogniser is set to the right
   // camera for that search and set back).
   bool right_image = true;
+  // A one-image pose is least certain in depth, which the stereo verifier sees as an outline
+  // shifted in the other image: each candidate is first fitted to both images' edge pixels (the
+  // final edge fit, PipelineConfig::edge_refine_config, with the accepted objects as occluders).
+  bool edge_fit = true;
 };
 
 struct PipelineConfig {
@@ -126,6 +130,7 @@ struct RescueStats {
   uint32_t refused_rest = 0;        // ... not resting plausibly (table, working volume)
   uint32_t refused_verify = 0;      // ... failing the stereo verifier (both images)
   uint32_t refused_overlap = 0;     // ... interpenetrating an accepted object
+  uint32_t edge_fitted = 0;         // candidates whose pose the edge fit moved (edge_fit)
   uint32_t added = 0;               // accepted
   MonoStats search;                 // the left image's search
   MonoStats search_right;           // the right image's
@@ -288,6 +293,10 @@ class Pipeline {
   Status RescueInImage(int side, const Budget& budget, PipelineResult* out);
   // The rescue's searches: the left image, then the right one when configured.
   Status RescueInBothImages(const Budget& budget, PipelineResult* out);
+  // RescueConfig::edge_fit: the candidate's pose fitted to both images' edge pixels, the
+  // accepted objects (and fit_hidden_) as occluders; true when the fit moved it.
+  bool FitRescueCandidate(const Model& model, const PipelineResult& out,
+                          RecognizedObject* candidate) const;
   // Drops the objects whose centre lies inside a hidden object (after the edge fit moved them).
   void DropInsideHidden(const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
   // The masks of both images from the hidden objects (counts into out).
@@ -317,9 +326,10 @@ class Pipeline {
   // Per-frame state of the parallel feature extraction (one slot per image).
   ConstGrayView frame_images_[2];
   Status frame_status_[2];
-  // Per-frame state of the parallel final edge fit.
-  const PosedModel* refine_hidden_ = nullptr;
-  size_t refine_n_hidden_ = 0;
+  // Per-frame state of the edge fits (the rescue's and the parallel final one): the hidden
+  // objects of another path, occluders before the accepted objects.
+  const PosedModel* fit_hidden_ = nullptr;
+  size_t fit_n_hidden_ = 0;
   PipelineResult* refine_out_ = nullptr;
   // Silhouettes of the frame's hidden objects, per image (empty: nothing hidden).
   HiddenMask masks_[2];
