@@ -709,13 +709,14 @@ std::string StereoSceneJson(const PipelineResult& result) {
   char buffer[512];
   std::snprintf(buffer, sizeof(buffer),
                 "\"points3d\": %u, \"lines3d\": %u, \"scene_bases_tried\": %u, "
-                "\"held_back\": %u, \"held_back_accepted\": %u, "
+                "\"held_back\": %u, \"held_back_accepted\": %u, \"second_looks\": %u, "
                 "\"rescue\": {\"ran\": %s, \"ran_right\": %s, \"found\": %u, "
                 "\"added\": %u, \"ms\": %.2f}, ",
                 result.points3d, result.lines3d, result.recognition.scene_bases_tried,
                 result.recognition.deferred, result.recognition.deferred_accepted,
-                result.rescue.ran ? "true" : "false", result.rescue.ran_right ? "true" : "false",
-                result.rescue.found, result.rescue.added, result.time.rescue_ms);
+                result.second_looks, result.rescue.ran ? "true" : "false",
+                result.rescue.ran_right ? "true" : "false", result.rescue.found,
+                result.rescue.added, result.time.rescue_ms);
   return buffer;
 }
 

@@ -119,10 +119,10 @@ void PrintTable(const ModelSet& models, const PipelineResult& r) {
                 TableEstimateOutcomeName(e.outcome), e.resting, e.objects);
   }
   std::printf(
-      "recognition: %u of %u scene bases tried, %u hypotheses, %u verified, %u accepted (%u of "
-      "%u weakly confirmed places held back to the end)\n",
+      "recognition: %u of %u scene bases tried, %u hypotheses, %u verified (%u on a second "
+      "look), %u accepted (%u of %u weakly confirmed places held back to the end)\n",
       r.recognition.scene_bases_tried, r.recognition.scene_bases_available,
-      r.recognition.hypotheses, r.recognition.verifications, r.recognition.accepted,
+      r.recognition.hypotheses, r.recognition.verifications, r.second_looks, r.recognition.accepted,
       r.recognition.deferred_accepted, r.recognition.deferred);
   if (r.rescue.ran) {
     std::printf("rescue (one image, confirmed in both): %u found, %u added, %.1f ms\n",

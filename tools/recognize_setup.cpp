@@ -384,6 +384,10 @@ constexpr Setting<PipelineConfig> kPipelineSettings[] = {
      [](float v, PipelineConfig& c) { c.rescue.right_image = v != 0.0f; }},
     {"rescue.edge_fit", SettingKind::kFlag,
      [](float v, PipelineConfig& c) { c.rescue.edge_fit = v != 0.0f; }},
+    {"second_look.floor", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.second_look.floor = v; }},
+    {"second_look.strong", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.second_look.strong = v; }},
 };
 
 }  // namespace
@@ -472,14 +476,14 @@ std::string ResultJson(const ModelSet& models, const PipelineResult& r, const Ta
                 "], \"features\": {\"points2d\": [%u, %u], \"lines2d\": [%u, %u], \"points3d\": "
                 "%u, \"lines3d\": %u}, \"recognition\": {\"scene_bases_tried\": %u, "
                 "\"hypotheses\": %u, \"verifications\": %u, \"held_back\": %u, "
-                "\"held_back_accepted\": %u, \"budget_exhausted\": %s}, "
+                "\"held_back_accepted\": %u, \"second_looks\": %u, \"budget_exhausted\": %s}, "
                 "\"rescue\": {\"ran\": %s, \"ran_right\": %s, \"found\": %u, \"added\": %u}, ",
                 r.points2d[0], r.points2d[1], r.lines2d[0], r.lines2d[1], r.points3d, r.lines3d,
                 r.recognition.scene_bases_tried, r.recognition.hypotheses,
                 r.recognition.verifications, r.recognition.deferred,
-                r.recognition.deferred_accepted, r.recognition.budget_exhausted ? "true" : "false",
-                r.rescue.ran ? "true" : "false", r.rescue.ran_right ? "true" : "false",
-                r.rescue.found, r.rescue.added);
+                r.recognition.deferred_accepted, r.second_looks,
+                r.recognition.budget_exhausted ? "true" : "false", r.rescue.ran ? "true" : "false",
+                r.rescue.ran_right ? "true" : "false", r.rescue.found, r.rescue.added);
   json += buffer;
   const DetectionChoice* d = r.detection;
   std::snprintf(buffer, sizeof(buffer),

@@ -1,5 +1,7 @@
 #include "recog/pipeline/edge_map_verifier.hpp"
 
+#include <algorithm>
+
 #include "recog/pipeline/table_estimate.hpp"
 #include "recog/verify/inside_object.hpp"
 
@@ -25,6 +27,17 @@ void EdgeMapVerifier::Reset(const StereoCalibration* calib, const TableView* tab
   now_ns_ = now_ns;
   elapsed_ns_ = 0;
   errors_ = 0;
+  second_looks_ = 0;
+}
+
+Status CheckSecondLook(const SecondLook& look) {
+  if (!(look.floor >= 0.0f && look.floor <= 1.0f) ||
+      !(look.strong >= 0.0f && look.strong <= 1.0f)) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "second look: floor %g / strong %g outside [0, 1]", look.floor,
+                         look.strong);
+  }
+  return Status::Ok();
 }
 
 bool EdgeMapVerifier::Interpenetrates(const Model& model, const RecognizedObject& candidate,
@@ -88,7 +101,42 @@ bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>&
   candidate.verify_score[0] = r->score_left;
   candidate.verify_score[1] = r->score_right;
   candidate.verify_evidence = float(r->confirmed_left + r->confirmed_right);
-  return r->accepted;
+  if (r->accepted) return true;
+  return LookAgain(model, occluders, n_occluders, *r, candidate);
+}
+
+bool EdgeMapVerifier::LookAgain(const Model& model, const PosedModel* occluders, size_t n_occluders,
+                                const VerifyResult& first, RecognizedObject& candidate) {
+  // Only a hypothesis both images confirm in part: too few samples or a pose behind a camera
+  // is no near miss.
+  const bool low_score =
+      first.reason == VerifyReason::kLowScoreLeft || first.reason == VerifyReason::kLowScoreRight;
+  if (!(look_.floor > 0.0f) || !low_score ||
+      !(std::min(first.score_left, first.score_right) >= look_.floor)) {
+    return false;
+  }
+  const int64_t start = now_ns_ ? now_ns_() : 0;
+  RigidTransform pose = candidate.cam_T_model;
+  EdgeRefineResult fit;
+  bool passed = false;
+  if (RefinePoseOnEdges(*calib_, left_, right_, model, occluders, n_occluders, fit_, &pose, &fit)
+          .ok() &&
+      fit.refined) {
+    const Result<VerifyResult> again =
+        VerifyHypothesis(*calib_, left_, right_, {&model, pose}, occluders, n_occluders, *config_,
+                         left_grey_, right_grey_);
+    passed = again.ok() && again->accepted &&
+             std::min(again->score_left, again->score_right) >= look_.strong;
+    if (passed) {
+      candidate.cam_T_model = pose;
+      candidate.verify_score[0] = again->score_left;
+      candidate.verify_score[1] = again->score_right;
+      candidate.verify_evidence = float(again->confirmed_left + again->confirmed_right);
+      second_looks_.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+  if (now_ns_) elapsed_ns_.fetch_add(now_ns_() - start, std::memory_order_relaxed);
+  return passed;
 }
 
 }  // namespace sh

@@ -9,6 +9,7 @@
 
 #include "recog/camera/camera_model.hpp"
 #include "recog/hashing/recognizer.hpp"
+#include "recog/verify/edge_refine.hpp"
 #include "recog/verify/verify.hpp"
 #include "recog/verify/view_camera.hpp"
 #include "tables/table_view.hpp"
@@ -25,6 +26,22 @@ struct TableConstraint {
   float max_below_mm = 5.0f;
 };
 
+// The second look at a hypothesis the image verification rejects narrowly. A pose refined on
+// 3-D features can sit a pixel or two off its object's outline, which the verifier's 2.5 px gate
+// then misses in one image; fitted to both images' edge pixels (RefinePoseOnEdges, the same
+// occluders) and verified again, it is confirmed where it belongs. A wrong model or pose fitted
+// to nearby edges gains too, so the fitted pose passes only when confirmed strongly.
+struct SecondLook {
+  // Both images must confirm at least this share of the visible samples for the fit to be
+  // tried; 0: no second look.
+  float floor = 0.0f;
+  // The fitted pose passes with at least this share in each image (and the verifier's own bar).
+  float strong = 0.5f;
+};
+
+// Checks the ranges (both shares in [0, 1]).
+Status CheckSecondLook(const SecondLook& look);
+
 // The verifier of the stereo pipeline: projects the refined hypothesis into both images and
 // checks it against their edge pixels, with the objects accepted so far as occluders (the
 // kMaxOccluders nearest to the candidate when there are more). Scores go to
@@ -38,6 +55,11 @@ class EdgeMapVerifier : public HypothesisVerifier {
              ConstEdgeMapView right, const GreyEvidence& left_grey, const GreyEvidence& right_grey,
              const VerifyConfig* config, const TableConstraint* support, int64_t (*now_ns)(),
              const PosedModel* hidden = nullptr, size_t n_hidden = 0);
+  // The second look and its fit (kept until set again; default: none).
+  void SetSecondLook(const SecondLook& look, const EdgeRefineConfig& fit) {
+    look_ = look;
+    fit_ = fit;
+  }
   bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
               RecognizedObject& candidate) override;
   // The verdict depends on the arguments and the frame alone, and the counts are sums: the
@@ -52,8 +74,15 @@ class EdgeMapVerifier : public HypothesisVerifier {
   uint32_t errors() const { return errors_.load(std::memory_order_relaxed); }
   uint32_t below_table() const { return below_table_.load(std::memory_order_relaxed); }
   uint32_t inside_hidden() const { return inside_hidden_.load(std::memory_order_relaxed); }
+  // Hypotheses that passed on the second look since Reset.
+  uint32_t second_looks() const { return second_looks_.load(std::memory_order_relaxed); }
 
  private:
+  // The second look at a rejected hypothesis (SecondLook); true when it passes, with the fitted
+  // pose and its scores in `candidate`.
+  bool LookAgain(const Model& model, const PosedModel* occluders, size_t n_occluders,
+                 const VerifyResult& first, RecognizedObject& candidate);
+
   const StereoCalibration* calib_ = nullptr;
   const TableView* table_ = nullptr;
   ConstEdgeMapView left_{}, right_{};
@@ -63,11 +92,14 @@ class EdgeMapVerifier : public HypothesisVerifier {
   const PosedModel* hidden_ = nullptr;
   size_t n_hidden_ = 0;
   int64_t (*now_ns_)() = nullptr;
+  SecondLook look_;
+  EdgeRefineConfig fit_;
   // Counts of concurrent calls (ConcurrentVerify).
   std::atomic<int64_t> elapsed_ns_{0};
   std::atomic<uint32_t> errors_{0};
   std::atomic<uint32_t> below_table_{0};
   std::atomic<uint32_t> inside_hidden_{0};
+  std::atomic<uint32_t> second_looks_{0};
 };
 
 }  // namespace sh

@@ -52,6 +52,7 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
   if (models_.hash_count() > 0) {
     SH_RETURN_IF_ERROR(ValidateFeatureConfig(config.features));
     SH_RETURN_IF_ERROR(CheckVerifyConfig(config.verify));
+    SH_RETURN_IF_ERROR(CheckSecondLook(config.second_look));
     SH_RETURN_IF_ERROR(stereo_.Configure(calib, config.stereo));
     SH_RETURN_IF_ERROR(recognizer_.Init(table, config.recognizer));
     SH_RETURN_IF_ERROR(CheckTableEstimateConfig(config.table_estimate));
@@ -79,6 +80,7 @@ Status Pipeline::Init(const StereoCalibration& calib, const TableView& table,
   if (shape_enabled_) shape_->SetParallel(ParallelOn(&pool_), pool_.threads());
   calib_ = calib;
   config_ = config;
+  verifier_.SetSecondLook(config.second_look, config.edge_refine_config);
   now_ns_ = now_ns;
   carry_.Reset();  // another calibration or table may mean another cell
   initialised_ = true;
@@ -387,6 +389,7 @@ Status Pipeline::Search(const Budget& budget, const PosedModel* hidden, size_t n
   out->verify_errors += verifier_.errors();
   out->below_table += verifier_.below_table();
   out->inside_hidden += verifier_.inside_hidden();
+  out->second_looks += verifier_.second_looks();
   *verify_ns += verifier_.elapsed_ns();
   return s;
 }

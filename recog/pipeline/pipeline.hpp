@@ -78,6 +78,9 @@ struct PipelineConfig {
   // Final fit of every accepted pose to the edge pixels of both images (edge_refine.hpp).
   bool edge_refine = true;
   EdgeRefineConfig edge_refine_config;
+  // A hypothesis the image verification rejects narrowly is fitted to both images' edge pixels
+  // (edge_refine_config) and verified again (edge_map_verifier.hpp; off by default).
+  SecondLook second_look;
   // Threads of the pipeline's worker pool, the calling thread included: with two or more the
   // left and right features are extracted in parallel, the search votes on all of them
   // (Recognizer::SetParallel), the colour path refines its candidates on them
@@ -182,6 +185,8 @@ struct PipelineResult {
   // Polyhedral hypotheses rejected, and objects dropped after the edge fit, because their centre
   // lies inside a hidden object (inside_object.hpp): one object, one report.
   uint32_t inside_hidden = 0;
+  // Hypotheses that passed the verification on a second look (PipelineConfig::second_look).
+  uint32_t second_looks = 0;
   RescueStats rescue;
 };
 

@@ -91,6 +91,14 @@ PipelineConfig PipelineConfig::Automatic() {
   // acceptance below keeps a wrong model that fits half of another from taking its place.
   c.verify.min_fraction = 0.45f;
   c.recognizer.defer_below_score = 0.5f;
+  // A hypothesis refined on 3-D features can sit a pixel or two off its object's outline in one
+  // image; one that both images confirm by at least 35 % is fitted to their edge pixels and
+  // verified again, and passes only with the strong confirmation that is not held back (the
+  // fit lifts wrong hypotheses near edges too). Floors 0.3, 0.35 and 0.4 found the same 3 objects
+  // more and made 1 false alarm fewer, over twelve polyhedral sets (shared and own, clean and
+  // factory floor) and five clean sets with sigma-6 noise added.
+  c.second_look.floor = 0.35f;
+  c.second_look.strong = c.recognizer.defer_below_score;
   c.recognizer.compete_bases = kMaxCompeteBases;
   return c;
 }
