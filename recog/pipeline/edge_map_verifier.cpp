@@ -50,8 +50,7 @@ bool EdgeMapVerifier::Interpenetrates(const Model& model, const RecognizedObject
   return false;
 }
 
-bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>& accepted,
-                             RecognizedObject& candidate) {
+bool EdgeMapVerifier::Admissible(const Model& model, const RecognizedObject& candidate) {
   if (support_ != nullptr && support_->known) {
     if (LowestCornerHeightMm(model, candidate.cam_T_model, support_->left_T_table) <
         -support_->max_below_mm) {
@@ -64,11 +63,15 @@ bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>&
     inside_hidden_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
-  const int64_t start = now_ns_ ? now_ns_() : 0;
-  // Occluders: the hidden objects of another path, then the accepted objects; of each, the
-  // ones whose centres are nearest to the candidate when there are more than the slots left (far
-  // objects cannot hide it anyway in a table scene).
-  PosedModel occluders[kMaxOccluders];
+  return true;
+}
+
+size_t EdgeMapVerifier::GatherOccluders(const RecognizedObject& candidate,
+                                        const Vector<RecognizedObject>& accepted,
+                                        PosedModel* occluders) const {
+  // The hidden objects of another path, then the accepted objects; of each, the ones whose
+  // centres are nearest to the candidate when there are more than the slots left (far objects
+  // cannot hide it anyway in a table scene).
   size_t n_occluders = 0;
   float dist2[kMaxOccluders];
   const auto add_nearest = [&](const PosedModel& o, size_t first_slot) {
@@ -90,53 +93,91 @@ bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>&
     if (first_accepted == kMaxOccluders) break;
     add_nearest({&table_->model(o.model), o.cam_T_model}, first_accepted);
   }
-  const PosedModel hypothesis{&model, candidate.cam_T_model};
-  const Result<VerifyResult> r = VerifyHypothesis(*calib_, left_, right_, hypothesis, occluders,
-                                                  n_occluders, *config_, left_grey_, right_grey_);
-  if (now_ns_) elapsed_ns_.fetch_add(now_ns_() - start, std::memory_order_relaxed);
+  return n_occluders;
+}
+
+bool EdgeMapVerifier::FitOnEdges(const Model& model, const PosedModel* occluders,
+                                 size_t n_occluders, RigidTransform* pose) const {
+  RigidTransform fitted = *pose;
+  EdgeRefineResult fit;
+  // An error (never seen: the model and maps were checked) leaves the pose as it was.
+  if (!RefinePoseOnEdges(*calib_, left_, right_, model, occluders, n_occluders, fit_, &fitted, &fit)
+           .ok() ||
+      !fit.refined) {
+    return false;
+  }
+  *pose = fitted;
+  return true;
+}
+
+bool EdgeMapVerifier::Score(const Model& model, const PosedModel* occluders, size_t n_occluders,
+                            RecognizedObject& candidate, VerifyResult* result) {
+  const Result<VerifyResult> r =
+      VerifyHypothesis(*calib_, left_, right_, {&model, candidate.cam_T_model}, occluders,
+                       n_occluders, *config_, left_grey_, right_grey_);
   if (!r.ok()) {
     errors_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
+  *result = *r;
   candidate.verify_score[0] = r->score_left;
   candidate.verify_score[1] = r->score_right;
   candidate.verify_evidence = float(r->confirmed_left + r->confirmed_right);
-  if (r->accepted) return true;
-  return LookAgain(model, occluders, n_occluders, *r, candidate);
+  return true;
 }
 
-bool EdgeMapVerifier::LookAgain(const Model& model, const PosedModel* occluders, size_t n_occluders,
-                                const VerifyResult& first, RecognizedObject& candidate) {
+bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>& accepted,
+                             RecognizedObject& candidate) {
+  return Judge(model, accepted, /*look_again=*/true, candidate);
+}
+
+bool EdgeMapVerifier::FitAndVerify(const Model& model, const Vector<RecognizedObject>& accepted,
+                                   RecognizedObject& candidate, bool* moved) {
+  const int64_t start = now_ns_ ? now_ns_() : 0;
+  PosedModel occluders[kMaxOccluders];
+  const size_t n_occluders = GatherOccluders(candidate, accepted, occluders);
+  *moved = FitOnEdges(model, occluders, n_occluders, &candidate.cam_T_model);
+  if (now_ns_) elapsed_ns_.fetch_add(now_ns_() - start, std::memory_order_relaxed);
+  // Fitted already: a second look would fit the same pose again.
+  return Judge(model, accepted, /*look_again=*/false, candidate);
+}
+
+bool EdgeMapVerifier::Judge(const Model& model, const Vector<RecognizedObject>& accepted,
+                            bool look_again, RecognizedObject& candidate) {
+  if (!Admissible(model, candidate)) return false;
+  const int64_t start = now_ns_ ? now_ns_() : 0;
+  PosedModel occluders[kMaxOccluders];
+  const size_t n_occluders = GatherOccluders(candidate, accepted, occluders);
+  VerifyResult first;
+  bool passed = Score(model, occluders, n_occluders, candidate, &first) && first.accepted;
+  if (!passed && look_again && NearMiss(first)) {
+    passed = LookAgain(model, occluders, n_occluders, candidate);
+  }
+  if (now_ns_) elapsed_ns_.fetch_add(now_ns_() - start, std::memory_order_relaxed);
+  return passed;
+}
+
+bool EdgeMapVerifier::NearMiss(const VerifyResult& first) const {
   // Only a hypothesis both images confirm in part: too few samples or a pose behind a camera
   // is no near miss.
   const bool low_score =
       first.reason == VerifyReason::kLowScoreLeft || first.reason == VerifyReason::kLowScoreRight;
-  if (!(look_.floor > 0.0f) || !low_score ||
-      !(std::min(first.score_left, first.score_right) >= look_.floor)) {
+  return look_.floor > 0.0f && low_score &&
+         std::min(first.score_left, first.score_right) >= look_.floor;
+}
+
+bool EdgeMapVerifier::LookAgain(const Model& model, const PosedModel* occluders, size_t n_occluders,
+                                RecognizedObject& candidate) {
+  RecognizedObject fitted = candidate;
+  VerifyResult again;
+  if (!FitOnEdges(model, occluders, n_occluders, &fitted.cam_T_model) ||
+      !Score(model, occluders, n_occluders, fitted, &again) || !again.accepted ||
+      !(std::min(again.score_left, again.score_right) >= look_.strong)) {
     return false;
   }
-  const int64_t start = now_ns_ ? now_ns_() : 0;
-  RigidTransform pose = candidate.cam_T_model;
-  EdgeRefineResult fit;
-  bool passed = false;
-  if (RefinePoseOnEdges(*calib_, left_, right_, model, occluders, n_occluders, fit_, &pose, &fit)
-          .ok() &&
-      fit.refined) {
-    const Result<VerifyResult> again =
-        VerifyHypothesis(*calib_, left_, right_, {&model, pose}, occluders, n_occluders, *config_,
-                         left_grey_, right_grey_);
-    passed = again.ok() && again->accepted &&
-             std::min(again->score_left, again->score_right) >= look_.strong;
-    if (passed) {
-      candidate.cam_T_model = pose;
-      candidate.verify_score[0] = again->score_left;
-      candidate.verify_score[1] = again->score_right;
-      candidate.verify_evidence = float(again->confirmed_left + again->confirmed_right);
-      second_looks_.fetch_add(1, std::memory_order_relaxed);
-    }
-  }
-  if (now_ns_) elapsed_ns_.fetch_add(now_ns_() - start, std::memory_order_relaxed);
-  return passed;
+  candidate = fitted;
+  second_looks_.fetch_add(1, std::memory_order_relaxed);
+  return true;
 }
 
 }  // namespace sh

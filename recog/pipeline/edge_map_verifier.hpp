@@ -55,13 +55,19 @@ class EdgeMapVerifier : public HypothesisVerifier {
              ConstEdgeMapView right, const GreyEvidence& left_grey, const GreyEvidence& right_grey,
              const VerifyConfig* config, const TableConstraint* support, int64_t (*now_ns)(),
              const PosedModel* hidden = nullptr, size_t n_hidden = 0);
-  // The second look and its fit (kept until set again; default: none).
+  // The second look and the fit it and FitAndVerify use (kept until set again; default: no
+  // second look, the default fit).
   void SetSecondLook(const SecondLook& look, const EdgeRefineConfig& fit) {
     look_ = look;
     fit_ = fit;
   }
   bool Verify(const Model& model, const Vector<RecognizedObject>& accepted,
               RecognizedObject& candidate) override;
+  // A pose from elsewhere (the one-image rescue's): fitted to both images' edge pixels first,
+  // with the occluders the verification uses, then verified (no second look: it is fitted
+  // already). *moved tells whether the fit moved it.
+  bool FitAndVerify(const Model& model, const Vector<RecognizedObject>& accepted,
+                    RecognizedObject& candidate, bool* moved);
   // The verdict depends on the arguments and the frame alone, and the counts are sums: the
   // search verifies a scene basis's hypotheses on the pool's threads at once.
   bool ConcurrentVerify() const override { return true; }
@@ -78,10 +84,26 @@ class EdgeMapVerifier : public HypothesisVerifier {
   uint32_t second_looks() const { return second_looks_.load(std::memory_order_relaxed); }
 
  private:
-  // The second look at a rejected hypothesis (SecondLook); true when it passes, with the fitted
-  // pose and its scores in `candidate`.
+  // Verify, with the second look at a near miss when `look_again`.
+  bool Judge(const Model& model, const Vector<RecognizedObject>& accepted, bool look_again,
+             RecognizedObject& candidate);
+  // The checks before any projection: resting on the table, not inside a hidden object.
+  bool Admissible(const Model& model, const RecognizedObject& candidate);
+  // The occluders of `candidate` into occluders[0, kMaxOccluders); returns their number.
+  size_t GatherOccluders(const RecognizedObject& candidate,
+                         const Vector<RecognizedObject>& accepted, PosedModel* occluders) const;
+  // RefinePoseOnEdges with fit_; true when it replaced *pose.
+  bool FitOnEdges(const Model& model, const PosedModel* occluders, size_t n_occluders,
+                  RigidTransform* pose) const;
+  // The image verification of candidate's pose, its scores into candidate; false on an error.
+  bool Score(const Model& model, const PosedModel* occluders, size_t n_occluders,
+             RecognizedObject& candidate, VerifyResult* result);
+  // Whether a rejection earns the second look (SecondLook::floor).
+  bool NearMiss(const VerifyResult& first) const;
+  // The second look (SecondLook); true when it passes, with the fitted pose and its scores in
+  // `candidate`.
   bool LookAgain(const Model& model, const PosedModel* occluders, size_t n_occluders,
-                 const VerifyResult& first, RecognizedObject& candidate);
+                 RecognizedObject& candidate);
 
   const StereoCalibration* calib_ = nullptr;
   const TableView* table_ = nullptr;

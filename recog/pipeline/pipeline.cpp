@@ -303,8 +303,6 @@ Status Pipeline::RecognisePolyhedra(ConstGrayView left, ConstGrayView right, flo
 
   // 5c. What stereo missed, from the left image alone, confirmed in both.
   if (rescue_ != nullptr && config_.rescue.enabled) {
-    fit_hidden_ = hidden;
-    fit_n_hidden_ = n_hidden;
     SH_RETURN_IF_ERROR(Rescue(budget, out));
     if (now_ns_) {
       out->time.rescue_ms = MsSince(t3);
@@ -449,8 +447,8 @@ void Pipeline::RefineOnEdges(const PosedModel* hidden, size_t n_hidden, Pipeline
   // Each object is fitted with the others at their feature poses as occluders, so the fits are
   // independent of each other and of their order: the pool runs them in parallel, each writing
   // only its own object's pose, and the results do not depend on the thread count.
-  fit_hidden_ = hidden;
-  fit_n_hidden_ = n_hidden;
+  refine_hidden_ = hidden;
+  refine_n_hidden_ = n_hidden;
   refine_out_ = out;
   pool_.ParallelFor(static_cast<int>(out->objects.size()), &Pipeline::RefineOne, this);
 }
@@ -461,8 +459,8 @@ void Pipeline::RefineOne(void* self, int index) {
   const auto i = static_cast<size_t>(index);
   PosedModel occluders[kMaxOccluders];
   size_t n_occluders = 0;
-  for (size_t j = 0; j < p.fit_n_hidden_ && n_occluders < kMaxOccluders; ++j) {
-    occluders[n_occluders++] = p.fit_hidden_[j];
+  for (size_t j = 0; j < p.refine_n_hidden_ && n_occluders < kMaxOccluders; ++j) {
+    occluders[n_occluders++] = p.refine_hidden_[j];
   }
   for (size_t j = 0; j < out.objects.size() && n_occluders < kMaxOccluders; ++j) {
     if (j == i) continue;

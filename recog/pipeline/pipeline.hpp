@@ -56,7 +56,8 @@ struct RescueConfig {
   bool right_image = true;
   // A one-image pose is least certain in depth, which the stereo verifier sees as an outline
   // shifted in the other image: each candidate is first fitted to both images' edge pixels (the
-  // final edge fit, PipelineConfig::edge_refine_config, with the accepted objects as occluders).
+  // final edge fit, PipelineConfig::edge_refine_config, with the verifier's occluders:
+  // EdgeMapVerifier::FitAndVerify).
   bool edge_fit = true;
 };
 
@@ -298,10 +299,6 @@ class Pipeline {
   Status RescueInImage(int side, const Budget& budget, PipelineResult* out);
   // The rescue's searches: the left image, then the right one when configured.
   Status RescueInBothImages(const Budget& budget, PipelineResult* out);
-  // RescueConfig::edge_fit: the candidate's pose fitted to both images' edge pixels, the
-  // accepted objects (and fit_hidden_) as occluders; true when the fit moved it.
-  bool FitRescueCandidate(const Model& model, const PipelineResult& out,
-                          RecognizedObject* candidate) const;
   // Drops the objects whose centre lies inside a hidden object (after the edge fit moved them).
   void DropInsideHidden(const PosedModel* hidden, size_t n_hidden, PipelineResult* out);
   // The masks of both images from the hidden objects (counts into out).
@@ -331,10 +328,9 @@ class Pipeline {
   // Per-frame state of the parallel feature extraction (one slot per image).
   ConstGrayView frame_images_[2];
   Status frame_status_[2];
-  // Per-frame state of the edge fits (the rescue's and the parallel final one): the hidden
-  // objects of another path, occluders before the accepted objects.
-  const PosedModel* fit_hidden_ = nullptr;
-  size_t fit_n_hidden_ = 0;
+  // Per-frame state of the parallel final edge fit.
+  const PosedModel* refine_hidden_ = nullptr;
+  size_t refine_n_hidden_ = 0;
   PipelineResult* refine_out_ = nullptr;
   // Silhouettes of the frame's hidden objects, per image (empty: nothing hidden).
   HiddenMask masks_[2];

@@ -135,9 +135,12 @@ Status Pipeline::RescueInImage(int side, const Budget& budget, PipelineResult* o
     // table check. One image's search is weaker evidence than the stereo search's: what the
     // stereo search would hold back as weakly confirmed (RecognizerConfig::defer_below_score) is
     // not taken from it.
-    if (rc.edge_fit && FitRescueCandidate(model, *out, &candidate)) ++stats.edge_fitted;
     const uint32_t below = verifier_.below_table();
-    const bool verified = verifier_.Verify(model, out->objects, candidate);
+    bool moved = false;
+    const bool verified = rc.edge_fit
+                              ? verifier_.FitAndVerify(model, out->objects, candidate, &moved)
+                              : verifier_.Verify(model, out->objects, candidate);
+    stats.edge_fitted += moved ? 1u : 0u;
     if (!verified || std::min(candidate.verify_score[0], candidate.verify_score[1]) <
                          config_.recognizer.defer_below_score) {
       if (verifier_.below_table() != below) {
@@ -153,30 +156,6 @@ Status Pipeline::RescueInImage(int side, const Budget& budget, PipelineResult* o
     ++stats.added;
   }
   return Status::Ok();
-}
-
-bool Pipeline::FitRescueCandidate(const Model& model, const PipelineResult& out,
-                                  RecognizedObject* candidate) const {
-  PosedModel occluders[kMaxOccluders];
-  size_t n_occluders = 0;
-  for (size_t j = 0; j < fit_n_hidden_ && n_occluders < kMaxOccluders; ++j) {
-    occluders[n_occluders++] = fit_hidden_[j];
-  }
-  for (const RecognizedObject& o : out.objects) {
-    if (n_occluders == kMaxOccluders) break;
-    occluders[n_occluders++] = {&table_.model(o.model), o.cam_T_model};
-  }
-  RigidTransform pose = candidate->cam_T_model;
-  EdgeRefineResult fit;
-  // An error (never seen: the model and maps were checked) leaves the one-image pose.
-  if (!RefinePoseOnEdges(calib_, left_edges(), right_edges(), model, occluders, n_occluders,
-                         config_.edge_refine_config, &pose, &fit)
-           .ok() ||
-      !fit.refined) {
-    return false;
-  }
-  candidate->cam_T_model = pose;
-  return true;
 }
 
 }  // namespace sh
