@@ -11,7 +11,7 @@ namespace {
 void LogToStderr(const char* line) { std::fprintf(stderr, "stereohash-fw: %s\n", line); }
 
 ObjectRecognizerConfig OnTheBoard(ObjectRecognizerConfig config) {
-  config.now_ns = &MonotonicNs;
+  if (config.now_ns == nullptr) config.now_ns = &MonotonicNs;
   config.log = &LogToStderr;
   return config;
 }

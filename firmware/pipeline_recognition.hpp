@@ -14,7 +14,8 @@ namespace sh::fw {
 class PipelineRecognition final : public Recognition {
  public:
   // `paths`: the facade's paths (RecognitionPaths), owned by the caller and outliving this. The
-  // facade's clock is the firmware's monotonic one and its log the board's.
+  // facade's clock is the firmware's monotonic one unless `config` names another (a simulation's
+  // clock), and its log the board's.
   PipelineRecognition(const RecognitionPathSet& paths, const ObjectRecognizerConfig& config);
 
   Status Init(const StereoCalibration& calib, const ModelSet& models, uint32_t model_mask) override;

@@ -22,6 +22,7 @@
 #include "tables/model_files.hpp"
 #include "tests/support/aligned_blob.hpp"
 #include "tests/support/counting_allocator.hpp"
+#include "tests/support/clock_standing_still.hpp"
 #include "tests/support/firmware_doubles.hpp"
 #include "tests/support/sim_scene_observer.hpp"
 #include "tests/support/sim_world_once.hpp"
@@ -151,13 +152,13 @@ TEST(FirmwareColour, PartsInResultSetsAtTheirTruthFromNv12FramesWithoutTouchingT
   hal::SimCamera camera(&world, hal::SimCameraConfig{});
   FileDataSource data(files.set.c_str(), "", &world.calibration());
   static Pipeline pipeline;
-  PipelineRecognition recognition({&pipeline}, ObjectRecognizerConfig{});
+  PipelineRecognition recognition({&pipeline}, WithClockStandingStill());
   SceneObserver observer(&world);
   CoreConfig config;
   config.node_id = 1;
   config.heartbeat_ms = 50;
   config.capture_timeout_ms = 2000;
-  config.budget_ms = 10000;  // these tests check poses, not time
+  config.budget_ms = kTimeBudgetMinMs;  // never reached: the recogniser's clock stands still
   const CoreDevices devices =
       SimCoreDevices(can.fw, &gpio, &camera, &recognition, &data, &observer);
   static FirmwareCore core;

@@ -22,6 +22,7 @@
 #include "set_score.hpp"
 #include "tables/aspect_file.hpp"
 #include "tests/support/counting_allocator.hpp"
+#include "tests/support/clock_standing_still.hpp"
 #include "tests/support/firmware_doubles.hpp"
 #include "tests/support/sim_world_once.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -159,6 +160,7 @@ struct FallbackRig {
     pc.mono_table_known = table_configured;
     pc.left_T_table_at_init = table_configured ? &world->left_T_table() : nullptr;
     pc.table_confirm_frames = confirm_frames;
+    pc.now_ns = &ClockStandingStill;
     recognition = std::make_unique<PipelineRecognition>(
         RecognitionPathSet{&pipeline, nullptr, nullptr, fallback ? &mono : nullptr,
                            fallback ? &mono_result : nullptr},
@@ -171,7 +173,7 @@ struct FallbackRig {
     config.node_id = kNodeId;
     config.heartbeat_ms = 100;
     config.capture_timeout_ms = 500;
-    config.budget_ms = 10000;  // these tests check poses and allocations, not time
+    config.budget_ms = kTimeBudgetMinMs;  // never reached: the recogniser's clock stands still
     const CoreDevices devices = SimCoreDevices(fw, nullptr, &camera, recognition.get(), data.get());
     ASSERT_TRUE(core.Start(config, devices).ok());
     ASSERT_EQ(core.state(), FirmwareState::kReady);

@@ -24,6 +24,7 @@
 #include "recog/geometry/rigid_transform.hpp"
 #include "tests/support/aligned_blob.hpp"
 #include "tests/support/counting_allocator.hpp"
+#include "tests/support/clock_standing_still.hpp"
 #include "tests/support/firmware_doubles.hpp"
 #include "tests/support/sim_scene_observer.hpp"
 #include "tests/support/sim_world_once.hpp"
@@ -173,7 +174,7 @@ CoreConfig CartonCoreConfig() {
   config.node_id = 1;
   config.heartbeat_ms = 50;
   config.capture_timeout_ms = 2000;
-  config.budget_ms = 10000;  // the largest: these tests check poses, not time
+  config.budget_ms = kTimeBudgetMinMs;  // never reached: the recogniser's clock stands still
   return config;
 }
 
@@ -194,7 +195,7 @@ TEST(FirmwarePrinted, CartonsInResultSetsAtTheirTruthWithIdsAfterThePolyhedra) {
   static Pipeline pipeline;
   static texture::TextureRecognizer texture;
   static texture::TextureResult texture_result;
-  PipelineRecognition recognition({&pipeline, &texture, &texture_result}, ObjectRecognizerConfig{});
+  PipelineRecognition recognition({&pipeline, &texture, &texture_result}, WithClockStandingStill());
   SceneObserver observer(&world);
   const CoreConfig config = CartonCoreConfig();
   const CoreDevices devices = SimCoreDevices(fw, &gpio, &camera, &recognition, &data, &observer);
@@ -353,7 +354,7 @@ TEST(FirmwarePrinted, OneModelSetAsTablesGivesTheSamePosesAsTheSeparateBlobs) {
     FileDataSource data(tables, "", &world.calibration());
     data.SetFeaturesPath(features);
     PipelineRecognition recognition({&pipeline, &texture, &texture_result},
-                                    ObjectRecognizerConfig{});
+                                    WithClockStandingStill());
     SceneObserver observer(&world);
     const CoreDevices devices =
         SimCoreDevices(can.fw, &gpio, &camera, &recognition, &data, &observer);
