@@ -128,30 +128,30 @@ bool EdgeMapVerifier::Score(const Model& model, const PosedModel* occluders, siz
 
 bool EdgeMapVerifier::Verify(const Model& model, const Vector<RecognizedObject>& accepted,
                              RecognizedObject& candidate) {
-  return Judge(model, accepted, /*look_again=*/true, candidate);
+  return Judge(model, accepted, /*fit_first=*/false, candidate, nullptr);
 }
 
 bool EdgeMapVerifier::FitAndVerify(const Model& model, const Vector<RecognizedObject>& accepted,
                                    RecognizedObject& candidate, bool* moved) {
-  const int64_t start = now_ns_ ? now_ns_() : 0;
-  PosedModel occluders[kMaxOccluders];
-  const size_t n_occluders = GatherOccluders(candidate, accepted, occluders);
-  *moved = FitOnEdges(model, occluders, n_occluders, &candidate.cam_T_model);
-  if (now_ns_) elapsed_ns_.fetch_add(now_ns_() - start, std::memory_order_relaxed);
-  // Fitted already: a second look would fit the same pose again.
-  return Judge(model, accepted, /*look_again=*/false, candidate);
+  return Judge(model, accepted, /*fit_first=*/true, candidate, moved);
 }
 
 bool EdgeMapVerifier::Judge(const Model& model, const Vector<RecognizedObject>& accepted,
-                            bool look_again, RecognizedObject& candidate) {
-  if (!Admissible(model, candidate)) return false;
+                            bool fit_first, RecognizedObject& candidate, bool* moved) {
   const int64_t start = now_ns_ ? now_ns_() : 0;
   PosedModel occluders[kMaxOccluders];
   const size_t n_occluders = GatherOccluders(candidate, accepted, occluders);
-  VerifyResult first;
-  bool passed = Score(model, occluders, n_occluders, candidate, &first) && first.accepted;
-  if (!passed && look_again && NearMiss(first)) {
-    passed = LookAgain(model, occluders, n_occluders, candidate);
+  const bool fitted =
+      fit_first && FitOnEdges(model, occluders, n_occluders, &candidate.cam_T_model);
+  if (moved != nullptr) *moved = fitted;
+  bool passed = false;
+  if (Admissible(model, candidate)) {  // the pose as fitted
+    VerifyResult first;
+    passed = Score(model, occluders, n_occluders, candidate, &first) && first.accepted;
+    // A pose fitted to the edges already would be fitted to the same pose again.
+    if (!passed && !fit_first && NearMiss(first)) {
+      passed = LookAgain(model, occluders, n_occluders, candidate);
+    }
   }
   if (now_ns_) elapsed_ns_.fetch_add(now_ns_() - start, std::memory_order_relaxed);
   return passed;

@@ -84,9 +84,10 @@ class EdgeMapVerifier : public HypothesisVerifier {
   uint32_t second_looks() const { return second_looks_.load(std::memory_order_relaxed); }
 
  private:
-  // Verify, with the second look at a near miss when `look_again`.
-  bool Judge(const Model& model, const Vector<RecognizedObject>& accepted, bool look_again,
-             RecognizedObject& candidate);
+  // Verify and FitAndVerify: the occluders gathered once; with `fit_first` the pose is fitted to
+  // the edges (*moved, when given, says whether it moved) and gets no second look.
+  bool Judge(const Model& model, const Vector<RecognizedObject>& accepted, bool fit_first,
+             RecognizedObject& candidate, bool* moved);
   // The checks before any projection: resting on the table, not inside a hidden object.
   bool Admissible(const Model& model, const RecognizedObject& candidate);
   // The occluders of `candidate` into occluders[0, kMaxOccluders); returns their number.
