@@ -683,16 +683,40 @@ std::string MissJson(const RecordedBench& b, const SceneTruth& truth, const Miss
   return buffer;
 }
 
+// One missed object of a monocular frame and what its diagnosis found at its true pose, as JSON:
+// the image's corners and edge pieces there (detected, shown), the share of its edge samples
+// confirmed, and the scene bases on it (all, those voting its model, those finding it).
+std::string MonoMissJson(const RecordedBench& b, const SceneTruth& truth, const MonoMiss& miss) {
+  const Model& model = b.set.models[truth.objects[miss.truth_index].model];
+  const MonoDiagnosis& d = miss.diagnosis;
+  char model_name[kJsonNameBytes];
+  char buffer[512 + kJsonNameBytes];
+  std::snprintf(buffer, sizeof(buffer),
+                "{\"model\": \"%s\", \"visible\": %.3f, \"cause\": \"%s\", "
+                "\"corners\": [%d, %d], \"edge_pieces\": [%d, %d], "
+                "\"verify_at_truth\": %.3f, \"own_bases\": %d, \"good_bases\": %d, "
+                "\"finding_bases\": %d, \"first_finding_rank\": %d}",
+                JsonEscaped(model.name, sizeof(model.name), model_name, sizeof(model_name)),
+                truth.visible[miss.truth_index], MonoMissCauseKey(miss.cause), d.corners_detected,
+                d.corners_visible, d.pieces_detected, d.pieces_visible, d.verify_fraction,
+                d.object_bases, d.bases_with_model, d.bases_found, d.best_rank);
+  return buffer;
+}
+
 // Why the scene's objects were missed, judged at their true poses: counted into the summary,
-// and for the stereo pipeline as JSON objects.
+// and as JSON objects.
 std::string ExplainSceneMisses(RecordedBench& b, const std::string& name, const SceneTruth& truth,
                                bool monocular, Summary* sum) {
   if (monocular) {
     MonoPipeline& mono = *b.recognizer().mono_pipeline();
+    std::vector<MonoMiss> misses;
     ExplainMonoMisses(b.set.models, truth.objects, b.recognizer().mono_result()->objects,
                       mono.features(), mono.recognizer(), name.c_str(), b.o.verbose,
-                      sum->misses.mono, b.o.max_t_mm, b.o.max_r_deg);
-    return "";
+                      sum->misses.mono, b.o.max_t_mm, b.o.max_r_deg, &misses);
+    std::string json;
+    for (const MonoMiss& miss : misses)
+      json += (json.empty() ? "" : ", ") + MonoMissJson(b, truth, miss);
+    return json;
   }
   std::vector<MissRecord> misses;
   ExplainMisses(b.set.models, truth.objects, b.stereo(), b.recognizer().pipeline(), name.c_str(),

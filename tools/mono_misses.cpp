@@ -4,10 +4,15 @@
 
 namespace sh::tools {
 
+const char* MonoMissCauseKey(int cause) {
+  static const char* const kKeys[3] = {"no_features", "no_edges", "not_searched"};
+  return cause >= 0 && cause < 3 ? kKeys[cause] : "unknown";
+}
+
 void ExplainMonoMisses(const std::vector<Model>& models, const std::vector<TruthObject>& truth,
                        const Vector<RecognizedObject>& found, const ImageFeatures& features,
                        MonoRecognizer& recognizer, const char* label, bool verbose, int causes[3],
-                       float max_t_mm, float max_r_deg) {
+                       float max_t_mm, float max_r_deg, std::vector<MonoMiss>* misses) {
   std::vector<RecognizedPose> poses;
   for (const RecognizedObject& o : found) poses.push_back({o.model, o.cam_T_model});
   const MatchCounts m = MatchToTruth(models, truth, poses, max_t_mm, max_r_deg);
@@ -21,6 +26,7 @@ void ExplainMonoMisses(const std::vector<Model>& models, const std::vector<Truth
                       : d.verify_fraction < recognizer.config().verify.min_fraction ? 1
                                                                                     : 2;
     ++causes[cause];
+    if (misses != nullptr) misses->push_back({t, cause, d});
     if (verbose) {
       static const char* const kCauses[3] = {"features missing", "edges fail verification",
                                              "not found by the search"};

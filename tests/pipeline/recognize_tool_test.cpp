@@ -677,6 +677,22 @@ TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
   EXPECT_EQ(mono_bench["mode"].text, "monocular");
   EXPECT_EQ(mono_bench["summary"]["objects"].number, 6);
   EXPECT_GE(mono_bench["summary"]["correct"].number, 3) << mono.output;
+  // Its misses are listed with their causes, and what their true poses show in the image.
+  double mono_misses = 0;
+  for (const Json& scene : mono_bench["scenes"].items) {
+    ASSERT_EQ(scene["missed"].type, Json::kArray);
+    mono_misses += double(scene["missed"].size());
+    for (const Json& miss : scene["missed"].items) {
+      const std::string& cause = miss["cause"].text;
+      EXPECT_TRUE(cause == "no_features" || cause == "no_edges" || cause == "not_searched")
+          << cause;
+      ASSERT_EQ(miss["corners"].size(), 2u);
+      ASSERT_EQ(miss["edge_pieces"].size(), 2u);
+      EXPECT_LE(miss["corners"].items[0].number, miss["corners"].items[1].number);
+      EXPECT_LE(miss["finding_bases"].number, miss["own_bases"].number);
+    }
+  }
+  EXPECT_EQ(mono_misses, mono_bench["summary"]["missed"].number);
   const ToolRun both = RunTool("bench recorded " + set + " --compare");
   ASSERT_EQ(both.exit_code, 0) << both.output;
   EXPECT_NE(both.output.find("side by side"), std::string::npos) << both.output;
