@@ -376,6 +376,8 @@ constexpr Setting<PipelineConfig> kPipelineSettings[] = {
      [](float v, PipelineConfig& c) { c.rescue.min_free_corners = static_cast<int>(v); }},
     {"rescue.margin_px", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.rescue.margin_px = v; }},
+    {"rescue.corner_radius_px", SettingKind::kReal,
+     [](float v, PipelineConfig& c) { c.rescue.corner_radius_px = v; }},
     {"rescue.max_scene_bases", SettingKind::kCount,
      [](float v, PipelineConfig& c) { c.rescue.max_scene_bases = static_cast<uint32_t>(v); }},
     {"rescue.max_above_table_mm", SettingKind::kReal,

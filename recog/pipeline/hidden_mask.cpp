@@ -7,7 +7,8 @@
 
 namespace sh {
 
-bool HiddenMask::Add(const ViewCamera& view, const PosedModel& object, float margin_px) {
+bool HiddenMask::Add(const ViewCamera& view, const PosedModel& object, float margin_px,
+                     float corner_radius_px) {
   if (n_regions_ == kMaxHiddenObjects || object.model == nullptr) return false;
   const Model& model = *object.model;
   const RigidTransform cam_T_model = view.cam_T_left * object.cam_T_model;
@@ -72,8 +73,39 @@ bool HiddenMask::Add(const ViewCamera& view, const PosedModel& object, float mar
   }
   r.y_min = y_min - margin_px;
   r.y_max = y_max + margin_px;
+  r.first_disc = n_discs_;
+  r.n_discs = 0;
+  r.disc_radius_px = std::max(0.0f, corner_radius_px);
+  if (r.disc_radius_px > 0.0f) {
+    for (int i = 0; i < model.n_corners; ++i) {
+      Eigen::Vector2d pixel;
+      if (!ProjectToPixel(view.intrinsics, (cam_T_model * model.corner(i)).cast<double>(),
+                          &pixel)) {
+        continue;  // in front of the camera: checked with the outline above
+      }
+      if (n_discs_ == kMaxHiddenDiscs) {
+        ++discs_dropped_;
+        continue;
+      }
+      disc_x_[n_discs_] = static_cast<float>(pixel.x());
+      disc_y_[n_discs_] = static_cast<float>(pixel.y());
+      ++n_discs_;
+      ++r.n_discs;
+      r.y_min = std::min(r.y_min, static_cast<float>(pixel.y()) - r.disc_radius_px);
+      r.y_max = std::max(r.y_max, static_cast<float>(pixel.y()) + r.disc_radius_px);
+    }
+  }
   ++n_regions_;
   return true;
+}
+
+bool HiddenMask::InDisc(const Region& r, float x_px, float y_px) const {
+  const float r2 = r.disc_radius_px * r.disc_radius_px;
+  for (int k = r.first_disc; k < r.first_disc + r.n_discs; ++k) {
+    const float dx = x_px - disc_x_[k], dy = y_px - disc_y_[k];
+    if (dx * dx + dy * dy <= r2) return true;
+  }
+  return false;
 }
 
 bool HiddenMask::Hides(float x_px, float y_px) const {
@@ -82,7 +114,7 @@ bool HiddenMask::Hides(float x_px, float y_px) const {
     if (y_px < r.y_min || y_px > r.y_max) continue;
     bool inside = true;
     for (int k = 0; k < r.n && inside; ++k) inside = r.a[k] * x_px + r.b[k] * y_px <= r.c[k];
-    if (inside) return true;
+    if (inside || InDisc(r, x_px, y_px)) return true;
   }
   return false;
 }
@@ -122,6 +154,30 @@ uint32_t HiddenMask::ClearEdges(EdgeMapView edges) const {
       RowSpan(i, y, e.width, &x0, &x1);
       uint8_t* row = e.data + static_cast<ptrdiff_t>(y) * e.stride;
       for (int x = x0; x < x1; ++x) {
+        cleared += row[x] != 0;
+        row[x] = 0;
+      }
+    }
+    cleared += ClearDiscs(r, edges);
+  }
+  return cleared;
+}
+
+uint32_t HiddenMask::ClearDiscs(const Region& r, EdgeMapView edges) const {
+  uint32_t cleared = 0;
+  const ImageView<uint8_t>& e = edges.edge;
+  const float rad = r.disc_radius_px;
+  for (int k = r.first_disc; k < r.first_disc + r.n_discs; ++k) {
+    const float cx = disc_x_[k], cy = disc_y_[k];
+    const int y0 = std::max(0, static_cast<int>(std::ceil(cy - rad)));
+    const int y1 = std::min(e.height - 1, static_cast<int>(std::floor(cy + rad)));
+    const int x0 = std::max(0, static_cast<int>(std::ceil(cx - rad)));
+    const int x1 = std::min(e.width - 1, static_cast<int>(std::floor(cx + rad)));
+    for (int y = y0; y <= y1; ++y) {
+      uint8_t* row = e.data + static_cast<ptrdiff_t>(y) * e.stride;
+      for (int x = x0; x <= x1; ++x) {
+        const float dx = static_cast<float>(x) - cx, dy = static_cast<float>(y) - cy;
+        if (dx * dx + dy * dy > rad * rad) continue;
         cleared += row[x] != 0;
         row[x] = 0;
       }

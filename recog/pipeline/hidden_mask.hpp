@@ -5,11 +5,16 @@
 // straight edges are followed), grown by a margin that covers the pose error and the detectors'
 // blur. A box-shaped carton's silhouette is convex, so the hull is its silhouette.
 //
+// A region may also hold discs around the object's projected corners (the one-image rescue's
+// mask: its own corners hidden where the pose error puts them off the outline, its neighbours'
+// corners next to the outline left in the search).
+//
 // Statically sized: at most kMaxHiddenObjects regions per image, each at most
-// kMaxOutlinePoints + 4 half-planes. (recog/shape's RasterizeSilhouette is the exact,
-// non-convex silhouette in a full-image pixel buffer; a grown convex region is what hiding
-// needs, in a few kB.) The edge map is cleared row by row from each region's span
-// on that row, computed from the half-planes: no per-pixel mask buffer.
+// kMaxOutlinePoints + 4 half-planes, and kMaxHiddenDiscs corner discs in all. (recog/shape's
+// RasterizeSilhouette is the exact, non-convex silhouette in a full-image pixel buffer; a grown
+// convex region is what hiding needs, in a few kB.) The edge map is cleared row by row from each
+// region's span on that row, computed from the half-planes, and disc by disc: no per-pixel mask
+// buffer.
 #pragma once
 
 #include <cstddef>
@@ -25,16 +30,27 @@ inline constexpr size_t kMaxHiddenObjects = 32;
 // Projected edge samples per object: 9 per edge for a box (12 edges), fewer per edge for models
 // with more edges, the corners alone past kMaxOutlinePoints / 2 edges.
 inline constexpr int kMaxOutlinePoints = 192;
+// Corner discs per mask (Add's corner_radius_px), shared by its regions; an object's corners past
+// the last free one get no disc (the region itself is still added).
+inline constexpr int kMaxHiddenDiscs = 512;
 
 class HiddenMask final : public FeatureMask {
  public:
-  void Clear() { n_regions_ = 0; }
+  void Clear() {
+    n_regions_ = 0;
+    n_discs_ = 0;
+    discs_dropped_ = 0;
+  }
   size_t size() const { return n_regions_; }
 
   // Adds the silhouette of `object` (pose in the left-camera frame) as seen by `view`, grown by
-  // margin_px. Returns false, adding nothing, when the mask is full, a model point is not in front
-  // of the camera, or the outline is degenerate (fewer than three hull vertices).
-  bool Add(const ViewCamera& view, const PosedModel& object, float margin_px);
+  // margin_px, and (corner_radius_px > 0) discs of that radius around its projected corners.
+  // Returns false, adding nothing, when the mask is full, a model point is not in front of the
+  // camera, or the outline is degenerate (fewer than three hull vertices).
+  bool Add(const ViewCamera& view, const PosedModel& object, float margin_px,
+           float corner_radius_px = 0.0f);
+  // Corners that found no free disc since Clear (kMaxHiddenDiscs).
+  uint32_t discs_dropped() const { return discs_dropped_; }
 
   bool Hides(float x_px, float y_px) const override;
   uint32_t ClearEdges(EdgeMapView edges) const override;
@@ -52,9 +68,23 @@ class HiddenMask final : public FeatureMask {
     float b[kMaxOutlinePoints + 4];
     float c[kMaxOutlinePoints + 4];
     float y_min = 0, y_max = 0;
+    // Its corner discs: discs_[first_disc, first_disc + n_discs), radius disc_radius_px.
+    int first_disc = 0, n_discs = 0;
+    float disc_radius_px = 0;
   };
+  // Whether (x, y) lies in one of region r's corner discs.
+  bool InDisc(const Region& r, float x_px, float y_px) const;
+  // Clears the edge pixels of region r's corner discs; returns how many were set.
+  uint32_t ClearDiscs(const Region& r, EdgeMapView edges) const;
+
   Region regions_[kMaxHiddenObjects];
   size_t n_regions_ = 0;
+  // Disc centres (pixels); plain floats keep the mask trivially copyable (the rescue copies the
+  // frame's mask before adding to it).
+  float disc_x_[kMaxHiddenDiscs];
+  float disc_y_[kMaxHiddenDiscs];
+  int n_discs_ = 0;
+  uint32_t discs_dropped_ = 0;
 };
 
 }  // namespace sh

@@ -72,7 +72,8 @@ Status Pipeline::RescueInImage(int side, const Budget& budget, PipelineResult* o
   rescue_mask_ = masks_[side];
   const ViewCamera view = side == 0 ? LeftView(calib_) : RightView(calib_);
   for (const RecognizedObject& o : out->objects) {
-    (void)rescue_mask_.Add(view, {&table_.model(o.model), o.cam_T_model}, rc.margin_px);
+    (void)rescue_mask_.Add(view, {&table_.model(o.model), o.cam_T_model}, rc.margin_px,
+                           rc.corner_radius_px);
   }
   // The gate: enough corners left that no accepted object explains.
   uint32_t& free_corners = side == 0 ? stats.free_corners : stats.free_corners_right;

@@ -1,8 +1,9 @@
 // The hidden-object mask against a float reference: a carton-sized box at many poses before a
 // strongly distorted camera, its surface sampled densely and projected point by point. Every
 // projected surface point must be hidden (the hull follows the curved edge images), and every
-// hidden pixel must lie within the margin of the projected surface; the edge map is cleared
-// exactly where Hides() says; a full mask and objects behind the camera are refused.
+// hidden pixel must lie within the margin of the projected surface; corner discs hide around the
+// corners and not between them; the edge map is cleared exactly where Hides() says; a full mask
+// and objects behind the camera are refused, and corners past the disc capacity are counted.
 #include "recog/pipeline/hidden_mask.hpp"
 
 #include <gtest/gtest.h>
@@ -142,7 +143,9 @@ TEST(HiddenMask, ClearsTheEdgeMapExactlyWhereItHides) {
   std::mt19937 rng(11);
   static HiddenMask mask;
   mask.Clear();
-  for (int i = 0; i < 3; ++i) ASSERT_TRUE(mask.Add(cam, {&box, RandomPose(rng)}, 3.0f));
+  // Two grown silhouettes and one with corner discs instead of a margin.
+  for (int i = 0; i < 2; ++i) ASSERT_TRUE(mask.Add(cam, {&box, RandomPose(rng)}, 3.0f));
+  ASSERT_TRUE(mask.Add(cam, {&box, RandomPose(rng)}, 0.0f, 6.0f));
   const int w = cam.intrinsics.width, h = cam.intrinsics.height;
   std::vector<uint8_t> edge(size_t(w) * h, 255), orientation(edge.size(), 0);
   const EdgeMapView view{{edge.data(), w, h, w}, {orientation.data(), w, h, w}};
@@ -161,6 +164,110 @@ TEST(HiddenMask, ClearsTheEdgeMapExactlyWhereItHides) {
   EXPECT_EQ(mismatches, 0u);
   // Nothing left to clear the second time.
   EXPECT_EQ(mask.ClearEdges(view), 0u);
+}
+
+// Corner discs hide each projected corner's surroundings, off the outline too, and leave the
+// outline's surroundings between corners to the search, which a margin as wide would hide.
+TEST(HiddenMask, CornerDiscsHideTheCornersAndNotTheOutlineBetween) {
+  const Model box = Box(100, 70, 30);
+  const ViewCamera cam = Camera();
+  const float radius_px = 4.0f;
+  std::mt19937 rng(7);
+  int near_corner = 0, between = 0;
+  for (int trial = 0; trial < 10; ++trial) {
+    const RigidTransform T = RandomPose(rng);
+    static HiddenMask discs, hull, grown;
+    discs.Clear();
+    hull.Clear();
+    grown.Clear();
+    ASSERT_TRUE(discs.Add(cam, {&box, T}, 0.0f, radius_px));
+    ASSERT_TRUE(hull.Add(cam, {&box, T}, 0.0f));
+    ASSERT_TRUE(grown.Add(cam, {&box, T}, radius_px));
+    std::vector<Eigen::Vector2f> corners;
+    for (int i = 0; i < box.n_corners; ++i) {
+      Eigen::Vector2d px;
+      ASSERT_TRUE(ProjectToPixel(cam.intrinsics, (T * box.corner(i)).cast<double>(), &px));
+      corners.push_back(px.cast<float>());
+    }
+    // Around each corner, within the radius: hidden.
+    for (const Eigen::Vector2f& c : corners) {
+      for (int k = 0; k < 16; ++k) {
+        const float a = 0.3927f * float(k), d = 0.95f * radius_px;
+        const Eigen::Vector2f p = c + d * Eigen::Vector2f(std::cos(a), std::sin(a));
+        ASSERT_TRUE(discs.Hides(p.x(), p.y())) << "trial " << trial << " at " << p.transpose();
+        ++near_corner;
+      }
+    }
+    // In the margin's band around the outline, away from every corner: not hidden.
+    for (int y = 0; y < cam.intrinsics.height; y += 2) {
+      for (int x = 0; x < cam.intrinsics.width; x += 2) {
+        const float xf = float(x), yf = float(y);
+        if (!grown.Hides(xf, yf) || hull.Hides(xf, yf)) continue;
+        float nearest2 = 1e9f;
+        for (const Eigen::Vector2f& c : corners) {
+          nearest2 = std::min(nearest2, (c - Eigen::Vector2f(xf, yf)).squaredNorm());
+        }
+        if (nearest2 <= (radius_px + 0.5f) * (radius_px + 0.5f)) continue;
+        ASSERT_FALSE(discs.Hides(xf, yf)) << "trial " << trial << " at " << x << "," << y;
+        ++between;
+      }
+    }
+  }
+  EXPECT_EQ(near_corner, 10 * 8 * 16);
+  EXPECT_GT(between, 500);
+}
+
+// A prism of `n` sides (2 n corners), radius 20 mm, height 10 mm.
+Model Prism(int n) {
+  std::string text;
+  char line[96];
+  for (int z = 0; z < 2; ++z) {
+    for (int i = 0; i < n; ++i) {
+      const double a = 2.0 * M_PI * i / n;
+      std::snprintf(line, sizeof(line), "v %.4f %.4f %d\n", 20 * std::cos(a), 20 * std::sin(a),
+                    10 * z);
+      text += line;
+    }
+  }
+  for (int z = 0; z < 2; ++z) {
+    text += "f";
+    for (int i = 0; i < n; ++i) text += " " + std::to_string(z == 0 ? n - i : n + 1 + i);
+    text += "\n";
+  }
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    std::snprintf(line, sizeof(line), "f %d %d %d %d\n", i + 1, j + 1, n + j + 1, n + i + 1);
+    text += line;
+  }
+  Result<Model> m = ParseObjModel(text.data(), text.size(), "prism");
+  EXPECT_TRUE(m.ok()) << m.status().message();
+  return m.ok() ? *m : Model{};
+}
+
+// Past kMaxHiddenDiscs the corners get no disc; the silhouettes are still added and hidden.
+TEST(HiddenMask, CornersPastTheDiscCapacityAreCountedAndTheRegionsKept) {
+  const int sides = 40;
+  const Model prism = Prism(sides);
+  ASSERT_EQ(prism.n_corners, 2 * sides);
+  const ViewCamera cam = Camera();
+  static HiddenMask mask;
+  mask.Clear();
+  const int objects = kMaxHiddenDiscs / (2 * sides) + 1;
+  for (int i = 0; i < objects; ++i) {
+    RigidTransform T;
+    T.t_mm = {-150.0f + 50.0f * float(i), 0.0f, 400.0f};
+    ASSERT_TRUE(mask.Add(cam, {&prism, T}, 0.0f, 3.0f));
+  }
+  EXPECT_EQ(mask.size(), size_t(objects));
+  EXPECT_EQ(mask.discs_dropped(), uint32_t(objects * 2 * sides - kMaxHiddenDiscs));
+  // The last object's centre is hidden by its silhouette.
+  Eigen::Vector2d centre;
+  RigidTransform last;
+  last.t_mm = {-150.0f + 50.0f * float(objects - 1), 0.0f, 405.0f};
+  ASSERT_TRUE(ProjectToPixel(cam.intrinsics, last.t_mm.cast<double>(), &centre));
+  EXPECT_TRUE(mask.Hides(float(centre.x()), float(centre.y())));
+  mask.Clear();
+  EXPECT_EQ(mask.discs_dropped(), 0u);
 }
 
 TEST(HiddenMask, RefusesWhenFullOrBehindTheCamera) {
