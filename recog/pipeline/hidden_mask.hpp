@@ -68,7 +68,7 @@ class HiddenMask final : public FeatureMask {
     float b[kMaxOutlinePoints + 4];
     float c[kMaxOutlinePoints + 4];
     float y_min = 0, y_max = 0;
-    // Its corner discs: discs_[first_disc, first_disc + n_discs), radius disc_radius_px.
+    // Its corner discs: entries [first_disc, first_disc + n_discs) of disc_x_ and disc_y_.
     int first_disc = 0, n_discs = 0;
     float disc_radius_px = 0;
   };
