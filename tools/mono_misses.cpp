@@ -4,9 +4,21 @@
 
 namespace sh::tools {
 
+namespace {
+
+// Each cause's JSON key and its words in the --verbose lines.
+struct MissCause {
+  const char* key;
+  const char* words;
+};
+constexpr MissCause kMissCauses[3] = {{"no_features", "features missing"},
+                                      {"no_edges", "edges fail verification"},
+                                      {"not_searched", "not found by the search"}};
+
+}  // namespace
+
 const char* MonoMissCauseKey(int cause) {
-  static const char* const kKeys[3] = {"no_features", "no_edges", "not_searched"};
-  return cause >= 0 && cause < 3 ? kKeys[cause] : "unknown";
+  return cause >= 0 && cause < 3 ? kMissCauses[cause].key : "unknown";
 }
 
 void ExplainMonoMisses(const std::vector<Model>& models, const std::vector<TruthObject>& truth,
@@ -28,13 +40,12 @@ void ExplainMonoMisses(const std::vector<Model>& models, const std::vector<Truth
     ++causes[cause];
     if (misses != nullptr) misses->push_back({t, cause, d});
     if (verbose) {
-      static const char* const kCauses[3] = {"features missing", "edges fail verification",
-                                             "not found by the search"};
       std::printf(
           "  %s: missed %s: %s (corners %d of %d, edge pieces %d of %d, edges confirmed %.2f, "
           "%d scene bases on it, %d of them find it)\n",
-          label, models[truth[t].model].name, kCauses[cause], d.corners_detected, d.corners_visible,
-          d.pieces_detected, d.pieces_visible, d.verify_fraction, d.object_bases, d.bases_found);
+          label, models[truth[t].model].name, kMissCauses[cause].words, d.corners_detected,
+          d.corners_visible, d.pieces_detected, d.pieces_visible, d.verify_fraction, d.object_bases,
+          d.bases_found);
     }
   }
 }
