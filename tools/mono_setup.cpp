@@ -85,6 +85,8 @@ constexpr Setting<MonoPipelineConfig> kMonoSettings[] = {
      [](float v, MonoPipelineConfig& c) { c.features.canny.sigma_px = v; }},
     {"mono.features.canny_texture_factor", SettingKind::kReal,
      [](float v, MonoPipelineConfig& c) { c.features.canny.texture_factor = v; }},
+    {"mono.features.edge_snr", SettingKind::kReal,
+     [](float v, MonoPipelineConfig& c) { c.features.edge_snr = v; }},
     {"mono.features.corner_threshold", SettingKind::kReal,
      [](float v, MonoPipelineConfig& c) { c.features.corners.threshold = v; }},
     {"mono.hypotheses_per_basis", SettingKind::kCount,
