@@ -21,8 +21,10 @@ MonoPipelineConfig MonoPipelineConfig::LightBackground() {
 MonoPipelineConfig MonoPipelineConfig::Automatic() {
   MonoPipelineConfig c = LightBackground();
   c.features.adaptive = true;
-  // The stereo pipeline's noise factors (PipelineConfig::Automatic): corners at four noise
-  // sigmas of contrast (20 grey levels at least), edges at 4.5 gradient-noise sigmas.
+  // The stereo pipeline's corner factors (PipelineConfig::Automatic): four noise sigmas of
+  // contrast, 20 grey levels at least. Edges at 4.5 gradient-noise sigmas, not the stereo
+  // pipeline's 3.5: one image has no second view to refuse an outline fitted to noise edges,
+  // and over sixteen polyhedral sets 3.5 found 12 objects more with 6 false alarms more.
   c.features.corner_contrast_snr = 4.0f;
   c.features.corner_min_contrast = 20.0f;
   c.features.edge_snr = 4.5f;

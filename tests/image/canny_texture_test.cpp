@@ -22,7 +22,7 @@ using testing::Side;
 FeatureConfig Automatic(float texture_factor) {
   FeatureConfig c;
   c.adaptive = true;
-  c.edge_snr = 4.5f;
+  c.edge_snr = 3.5f;
   c.canny.sigma_px = 1.5f;
   c.canny.texture_factor = texture_factor;
   c.detect_corners = false;
