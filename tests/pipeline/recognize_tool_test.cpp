@@ -677,22 +677,36 @@ TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
   EXPECT_EQ(mono_bench["mode"].text, "monocular");
   EXPECT_EQ(mono_bench["summary"]["objects"].number, 6);
   EXPECT_GE(mono_bench["summary"]["correct"].number, 3) << mono.output;
-  // Its misses are listed with their causes, and what their true poses show in the image.
-  double mono_misses = 0;
-  for (const Json& scene : mono_bench["scenes"].items) {
-    ASSERT_EQ(scene["missed"].type, Json::kArray);
-    mono_misses += double(scene["missed"].size());
-    for (const Json& miss : scene["missed"].items) {
-      const std::string& cause = miss["cause"].text;
-      EXPECT_TRUE(cause == "no_features" || cause == "no_edges" || cause == "not_searched")
-          << cause;
-      ASSERT_EQ(miss["corners"].size(), 2u);
-      ASSERT_EQ(miss["edge_pieces"].size(), 2u);
-      EXPECT_LE(miss["corners"].items[0].number, miss["corners"].items[1].number);
-      EXPECT_LE(miss["finding_bases"].number, miss["own_bases"].number);
+  // Its misses are listed with their causes, and what their true poses show in the image: as
+  // the run found them, and with a vote threshold at the normalised vote's maximum (2), which
+  // leaves the objects unfound, so that the listing is checked whatever the recogniser finds.
+  auto check_listed_misses = [](const Json& bench) {
+    double listed = 0;
+    for (const Json& scene : bench["scenes"].items) {
+      EXPECT_EQ(scene["missed"].type, Json::kArray);
+      listed += double(scene["missed"].size());
+      for (const Json& miss : scene["missed"].items) {
+        const std::string& cause = miss["cause"].text;
+        EXPECT_TRUE(cause == "no_features" || cause == "no_edges" || cause == "not_searched")
+            << cause;
+        EXPECT_EQ(miss["corners"].size(), 2u);
+        EXPECT_EQ(miss["edge_pieces"].size(), 2u);
+        if (miss["corners"].size() != 2u) continue;
+        EXPECT_LE(miss["corners"].items[0].number, miss["corners"].items[1].number);
+        EXPECT_LE(miss["finding_bases"].number, miss["own_bases"].number);
+      }
     }
-  }
-  EXPECT_EQ(mono_misses, mono_bench["summary"]["missed"].number);
+    EXPECT_EQ(listed, bench["summary"]["missed"].number);
+  };
+  check_listed_misses(mono_bench);
+  const ToolRun unfound =
+      RunTool("bench recorded " + set + " --monocular left --set mono.vote_threshold=2 --json " +
+              Path("mono_unfound.json"));
+  ASSERT_EQ(unfound.exit_code, 0) << unfound.output;
+  Json unfound_bench;
+  ASSERT_TRUE(JsonReader(ReadText(Path("mono_unfound.json"))).Parse(&unfound_bench));
+  EXPECT_GT(unfound_bench["summary"]["missed"].number, 0) << unfound.output;
+  check_listed_misses(unfound_bench);
   const ToolRun both = RunTool("bench recorded " + set + " --compare");
   ASSERT_EQ(both.exit_code, 0) << both.output;
   EXPECT_NE(both.output.find("side by side"), std::string::npos) << both.output;
