@@ -625,35 +625,46 @@ void PrintSceneLines(const RecordedBench& b, const std::string& name, const Scen
   }
 }
 
-// The reported objects that match no truth object, as JSON objects (and lines, --verbose).
-std::string FalseAlarmsJson(const RecordedBench& b, const std::string& name,
-                            const SceneTruth& truth, const Vector<RecognizedObject>& objects) {
+// One reported object as a JSON object: its model, position, vote, verification scores, the
+// 3-D features its refinement matched and their fit.
+std::string ReportedObjectJson(const std::vector<Model>& models, const RecognizedObject& o) {
+  char model_name[kJsonNameBytes];
+  char buffer[320 + kJsonNameBytes];
+  std::snprintf(
+      buffer, sizeof(buffer),
+      "{\"model\": \"%s\", \"t\": [%.2f, %.2f, %.2f], \"vote\": %.3f, "
+      "\"verify\": [%.3f, %.3f], \"matched\": [%d, %d], \"fit_rms_mm\": %.3f}",
+      JsonEscaped(models[o.model].name, sizeof(Model::name), model_name, sizeof(model_name)),
+      o.cam_T_model.t_mm.x(), o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote,
+      o.verify_score[0], o.verify_score[1], o.matched_points, o.matched_lines, o.fit_rms_mm);
+  return buffer;
+}
+
+// The reported objects as JSON lists: those matching a truth object and the false alarms (also
+// as lines, --verbose).
+struct ReportedLists {
+  std::string found;
+  std::string false_alarms;
+};
+
+ReportedLists ReportedJson(const RecordedBench& b, const std::string& name, const SceneTruth& truth,
+                           const Vector<RecognizedObject>& objects) {
   const std::vector<Model>& models = b.set.models;
-  std::string json;
+  ReportedLists lists;
   for (const RecognizedObject& o : objects) {
     const std::vector<RecognizedPose> one = {{o.model, o.cam_T_model}};
-    if (MatchToTruth(models, truth.objects, one, b.o.max_t_mm, b.o.max_r_deg).correct == 1) {
-      continue;
-    }
-    if (b.o.verbose) {
+    const bool correct =
+        MatchToTruth(models, truth.objects, one, b.o.max_t_mm, b.o.max_r_deg).correct == 1;
+    if (!correct && b.o.verbose) {
       std::printf("  %s: false %s at (%.1f, %.1f, %.1f) mm (vote %.2f, verify %.2f %.2f)\n",
                   name.c_str(), models[o.model].name, o.cam_T_model.t_mm.x(),
                   o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote, o.verify_score[0],
                   o.verify_score[1]);
     }
-    char model_name[kJsonNameBytes];
-    char buffer[256 + kJsonNameBytes];
-    std::snprintf(
-        buffer, sizeof(buffer),
-        "%s{\"model\": \"%s\", \"t\": [%.2f, %.2f, %.2f], \"vote\": %.3f, "
-        "\"verify\": [%.3f, %.3f]}",
-        json.empty() ? "" : ", ",
-        JsonEscaped(models[o.model].name, sizeof(Model::name), model_name, sizeof(model_name)),
-        o.cam_T_model.t_mm.x(), o.cam_T_model.t_mm.y(), o.cam_T_model.t_mm.z(), o.vote,
-        o.verify_score[0], o.verify_score[1]);
-    json += buffer;
+    std::string& list = correct ? lists.found : lists.false_alarms;
+    list += (list.empty() ? "" : ", ") + ReportedObjectJson(models, o);
   }
-  return json;
+  return lists;
 }
 
 // One missed object of a stereo frame and what was found at its true pose, as JSON.
@@ -764,7 +775,7 @@ void ScoreScene(RecordedBench& b, const std::string& name, const SceneTruth& tru
   CountVisibility(truth, m, sum);
   if (!monocular) sum->rescue.Add(b.stereo());
   if (b.o.verbose) PrintSceneLines(b, name, truth, m, total_ms, monocular);
-  const std::string false_json = FalseAlarmsJson(b, name, truth, objects);
+  const ReportedLists reported = ReportedJson(b, name, truth, objects);
   const std::string missed_json = ExplainSceneMisses(b, name, truth, monocular, sum);
   char buffer[512];
   std::snprintf(buffer, sizeof(buffer),
@@ -776,7 +787,8 @@ void ScoreScene(RecordedBench& b, const std::string& name, const SceneTruth& tru
   if (!monocular) sum->scene_json += StereoSceneJson(b.stereo());
   sum->scene_json += table_json;
   sum->scene_json.append("\"missed\": [").append(missed_json);
-  sum->scene_json.append("], \"false\": [").append(false_json).append("]}");
+  sum->scene_json.append("], \"found\": [").append(reported.found);
+  sum->scene_json.append("], \"false\": [").append(reported.false_alarms).append("]}");
 }
 
 // The heading of a system's table: the set, the scoring and the table in use.

@@ -638,11 +638,22 @@ TEST_F(RecognizeToolTest, BenchRecordedScoresAFolderOfScenes) {
   EXPECT_LT(summary["feature_median_t_err_mm"].number, 5.0);
   EXPECT_LT(summary["feature_median_r_err_deg"].number, 5.0);
   EXPECT_GE(summary["worst_ms"].number, summary["median_ms"].number);
-  // Every scene lists its misses (with their causes) and false alarms; together they add up.
+  // Every scene lists its misses (with their causes), its correct objects and its false alarms;
+  // together they add up, and each reported object carries the evidence it was accepted on.
   double listed_misses = 0;
   for (const Json& scene : bench["scenes"].items) {
     ASSERT_EQ(scene["missed"].type, Json::kArray);
+    ASSERT_EQ(scene["found"].type, Json::kArray);
     ASSERT_EQ(scene["false"].type, Json::kArray);
+    EXPECT_EQ(double(scene["found"].size()), scene["correct"].number);
+    EXPECT_EQ(double(scene["false"].size()), scene["false_alarms"].number);
+    EXPECT_EQ(double(scene["found"].size() + scene["missed"].size()), scene["objects"].number);
+    for (const Json& o : scene["found"].items) {
+      EXPECT_FALSE(o["model"].text.empty());
+      ASSERT_EQ(o["verify"].size(), 2u);
+      ASSERT_EQ(o["matched"].size(), 2u);
+      EXPECT_GE(o["fit_rms_mm"].number, 0.0);
+    }
     // What the one-image rescue found and added (on by default).
     ASSERT_EQ(scene["rescue"].type, Json::kObject);
     EXPECT_LE(scene["rescue"]["added"].number, scene["rescue"]["found"].number);
