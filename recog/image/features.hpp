@@ -45,6 +45,9 @@ struct FeatureConfig {
   // Objects on a light, slightly reflective background: lower contrast and more clutter, so
   // sigma_c 2 px and a smoother Canny scale (2 px) with lower thresholds.
   static FeatureConfig LightBackground();
+  // Any background: LightBackground's scales with adaptive thresholds (the automatic presets of
+  // the stereo and one-camera pipelines, which may change edge_snr or the scales).
+  static FeatureConfig Automatic();
 };
 
 // Everything the extraction needs besides the image: about 12.25 W H + 588 W bytes for images up

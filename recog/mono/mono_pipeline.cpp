@@ -20,16 +20,15 @@ MonoPipelineConfig MonoPipelineConfig::LightBackground() {
 
 MonoPipelineConfig MonoPipelineConfig::Automatic() {
   MonoPipelineConfig c = LightBackground();
-  c.features.adaptive = true;
-  // The stereo pipeline's corner factors (PipelineConfig::Automatic): four noise sigmas of
-  // contrast, 20 grey levels at least. Edges at 4.5 gradient-noise sigmas, not the stereo
-  // pipeline's 3.5: one image has no second view to refuse an outline fitted to noise edges,
-  // and over sixteen polyhedral sets 3.5 found 12 objects more with 6 false alarms more.
-  c.features.corner_contrast_snr = 4.0f;
-  c.features.corner_min_contrast = 20.0f;
+  // The stereo pipeline's detection (FeatureConfig::Automatic: corners at four noise sigmas of
+  // contrast, 20 grey levels at least, thresholds raised over texture) at this preset's Canny
+  // scale. Edges at 4.5 gradient-noise sigmas, not 3.5: one image has no second view to refuse
+  // an outline fitted to noise edges, and over sixteen polyhedral sets 3.5 found 12 objects
+  // more with 6 false alarms more.
+  const float canny_sigma_px = c.features.canny.sigma_px;
+  c.features = FeatureConfig::Automatic();
+  c.features.canny.sigma_px = canny_sigma_px;
   c.features.edge_snr = 4.5f;
-  // And its thresholds over texture (PipelineConfig::Automatic).
-  c.features.canny.texture_factor = 3.0f;
   return c;
 }
 

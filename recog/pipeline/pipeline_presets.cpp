@@ -61,32 +61,13 @@ PipelineConfig PipelineConfig::LightBackground() {
 
 PipelineConfig PipelineConfig::Automatic() {
   PipelineConfig c = CommonPreset();
-  c.features.adaptive = true;
-  // 1.5 px: the low-contrast edges of dark objects on their shadows survive (light preset), and
-  // with noise-relative thresholds the finer scale does not admit noise.
-  c.features.canny.sigma_px = 1.5f;
+  // Thresholds from each image's noise (FeatureConfig::Automatic, where their factors are
+  // explained).
+  c.features = FeatureConfig::Automatic();
   // With the lower thresholds most misses on all three test sets (both recorded sets and our
   // renderer's) were scene bases not reached: 200 fruitless bases found 2, 1 and 2 more objects
   // than 150, at about a third more hashing time.
   c.recognizer.max_fruitless_bases = 200;
-  // Corners: the detector integrates over sigma_c (2 px), so a corner stands out of the pixel
-  // noise at a far lower contrast than ten noise sigmas. Four sigmas, with 20 grey levels as the
-  // floor that the thresholds of clean images (noise about 2) came to before: a camera at gain
-  // keeps its corners (and its 3-D support) where ten sigmas dropped two thirds of them.
-  c.features.corner_contrast_snr = 4.0f;
-  c.features.corner_min_contrast = 20.0f;
-  // Edges: 3.5 gradient-noise sigmas keep the defocused, low-contrast outlines of a factory
-  // floor (grey parts on grey tables, sensor noise 3-6 grey levels) connected, and those a
-  // camera at gain blurs into its noise. The noise edges this admits form no object: the
-  // verifier wants an outline confirmed in both images, and the texture factor below keeps a
-  // grained table's ripples out. Over twenty polyhedral sets (shared and own, clean and factory
-  // floor) 3.5 found 13 objects more than 4.5 with 2 false alarms fewer and lost none on any
-  // set; 3.0 found as many, and 2.5 added false alarms on clean sets.
-  c.features.edge_snr = 3.5f;
-  // A grained or mottled table is no noise: at those thresholds its every ripple is an edge,
-  // and its hundreds of lines cost the search its time. Over such texture an edge must stand
-  // three times above the block's lower quartile of gradient (CannyConfig::texture_factor).
-  c.features.canny.texture_factor = 3.0f;
   // A noisy edge map holds fewer of an object's edge pixels within the verifier's gate, and a
   // lamp's glare or a defocused outline takes more from one image than the other. The image
   // verification accepts 45 % of the visible model edge samples in each image; an object under

@@ -18,12 +18,9 @@ namespace {
 using testing::Polygon;
 using testing::Side;
 
-// The detection of the automatic preset (recog/pipeline/pipeline_presets.cpp), edges only.
+// The detection of the automatic presets (FeatureConfig::Automatic), edges only.
 FeatureConfig Automatic(float texture_factor) {
-  FeatureConfig c;
-  c.adaptive = true;
-  c.edge_snr = 3.5f;
-  c.canny.sigma_px = 1.5f;
+  FeatureConfig c = FeatureConfig::Automatic();
   c.canny.texture_factor = texture_factor;
   c.detect_corners = false;
   return c;
