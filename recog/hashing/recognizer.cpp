@@ -508,6 +508,20 @@ bool Recognizer::TooCloseToAccepted(const RigidTransform& cam_T_model,
 
 using Outcome = SearchObserver::Outcome;
 
+bool ChallengerClearlyBetter(const RecognizedObject& challenger, const RecognizedObject& object,
+                             const RecognizerConfig& config) {
+  const float margin = config.compete_score_margin;
+  const float* c = challenger.verify_score;
+  const float* o = object.verify_score;
+  if (!(c[0] + c[1] >= o[0] + o[1] + 2.0f * margin)) return false;
+  const float evidence_margin = config.compete_evidence_margin;
+  if (challenger.verify_evidence >= (1.0f + evidence_margin) * object.verify_evidence) {
+    return c[0] >= o[0] - margin && c[1] >= o[1] - margin;
+  }
+  return challenger.verify_evidence >= (1.0f - evidence_margin) * object.verify_evidence &&
+         c[0] >= o[0] && c[1] >= o[1];
+}
+
 bool Recognizer::Defer(const RecognizedObject& object, RecognitionStats& stats) {
   if (!(std::min(object.verify_score[0], object.verify_score[1]) < config_.defer_below_score)) {
     return false;
@@ -700,6 +714,7 @@ void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInpu
   const float place2_mm2 = config_.min_object_separation_mm * config_.min_object_separation_mm;
   // Scores of the object to beat; `best` changes when a challenger wins.
   const RecognizedObject first = best;
+  bool replaced = false;
   uint32_t chosen[kMaxCompeteBases];
   const int n_chosen =
       ChooseCompeteBases(next, centre_mm, radius2_mm2, best_matches, accepted_model, chosen);
@@ -734,20 +749,11 @@ void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInpu
         continue;
       }
       if ((candidate.cam_T_model.t_mm - centre_mm).squaredNorm() >= place2_mm2) continue;
-      // Clearly better in the two images together, and not worse in either: a smaller model
-      // can fit one view of the larger object as well as the larger model does (its edges
-      // coincide with the larger one's there), but not both.
-      const float margin = config_.compete_score_margin;
-      const bool clearly_better =
-          candidate.verify_evidence >=
-              (1.0f + config_.compete_evidence_margin) * first.verify_evidence &&
-          candidate.verify_score[0] + candidate.verify_score[1] >=
-              first.verify_score[0] + first.verify_score[1] + 2.0f * margin &&
-          candidate.verify_score[0] >= first.verify_score[0] - margin &&
-          candidate.verify_score[1] >= first.verify_score[1] - margin;
-      if (clearly_better && candidate.verify_evidence > best.verify_evidence) {
+      if (ChallengerClearlyBetter(candidate, first, config_) &&
+          (!replaced || candidate.verify_evidence > best.verify_evidence)) {
         best = candidate;
         best_matches = matches;
+        replaced = true;
       }
     }
   }

@@ -84,9 +84,8 @@ struct RecognizerConfig {
   // within the object's model radius of its centre (among the next kCompeteScanBases). A
   // hypothesis of another model there, refined to within min_object_separation_mm of the object's
   // centre and matching more scene features than it (corners and edges within the verifier's
-  // gate), replaces the object when its verification explains clearly more: evidence at least
-  // (1 + compete_evidence_margin) times the object's, both scores together higher by twice
-  // compete_score_margin and neither lower by more than it. A model fitting a subset of a larger
+  // gate), replaces the object when its verification explains clearly more
+  // (ChallengerClearlyBetter). A model fitting a subset of a larger
   // object's corners and edges (a pentagon prism on a hexagon prism) would otherwise be accepted
   // first and take the features that the larger model needed. 0: off (at most
   // kMaxCompeteBases).
@@ -131,6 +130,20 @@ struct RecognizedObject {
   RigidTransform cam_T_model_features;
   bool edge_refined = false;
 };
+
+// The competition at acceptance's test (RecognizerConfig::compete_bases): whether a verified
+// challenger of another model at an object's place explains the images clearly better than the
+// object. Both image scores together must be higher by twice compete_score_margin, and
+//  - its evidence (confirmed edge samples) at least (1 + compete_evidence_margin) times the
+//    object's, neither score lower by more than compete_score_margin: a smaller model can fit
+//    one view of a larger object as well as the larger model does (its edges coincide with the
+//    larger one's there), but not both; or
+//  - its evidence at least (1 - compete_evidence_margin) times the object's and neither score
+//    lower: a model fitting part of an object, posed a little off it, can confirm as many samples
+//    along the object's strong edges as the whole object does where its far edges are weak
+//    (sensor noise), but not the object's share of them in both images.
+bool ChallengerClearlyBetter(const RecognizedObject& challenger, const RecognizedObject& object,
+                             const RecognizerConfig& config);
 
 // Decides whether a refined hypothesis is a real object. The stereo pipeline verifies against
 // edge pixels; recognition of 3-D scenes alone uses SceneSupportVerifier.

@@ -324,6 +324,32 @@ TEST_F(RecognizerTest, CompetitionAtAcceptanceReplacesAModelFittingPartOfAnother
   EXPECT_GT(with.correct, without.correct);
 }
 
+// The competition's test on verification figures: clearly more evidence may come with a score a
+// little lower in one image; as much evidence needs both scores higher.
+TEST(ChallengerClearlyBetterTest, WantsMoreEvidenceOrBetterScoresInBothImages) {
+  RecognizerConfig config;  // margins 0.1 (evidence) and 0.05 (scores)
+  auto object = [](float left, float right, float evidence) {
+    RecognizedObject o;
+    o.verify_score[0] = left;
+    o.verify_score[1] = right;
+    o.verify_evidence = evidence;
+    return o;
+  };
+  const RecognizedObject part = object(0.78f, 0.61f, 942.0f);
+  // A hexagon prism seen whole under noise against a trapezium prism fitted to half of it: a
+  // little less evidence, both shares higher.
+  EXPECT_TRUE(ChallengerClearlyBetter(object(0.83f, 0.71f, 927.0f), part, config));
+  // ... but not with one share lower, nor with clearly less evidence.
+  EXPECT_FALSE(ChallengerClearlyBetter(object(0.77f, 0.80f, 927.0f), part, config));
+  EXPECT_FALSE(ChallengerClearlyBetter(object(0.83f, 0.71f, 840.0f), part, config));
+  // Clearly more evidence: one share may be lower by the score margin, not more.
+  EXPECT_TRUE(ChallengerClearlyBetter(object(0.74f, 0.76f, 1040.0f), part, config));
+  EXPECT_FALSE(ChallengerClearlyBetter(object(0.72f, 0.80f, 1040.0f), part, config));
+  // Never without both shares together higher by twice the score margin.
+  EXPECT_FALSE(ChallengerClearlyBetter(object(0.80f, 0.65f, 2000.0f), part, config));
+  EXPECT_FALSE(ChallengerClearlyBetter(part, part, config));
+}
+
 // The same in a crowded volume: clutter around the object gives its place more scene bases than
 // the competition scans after the accepted basis, so the object's own model is found only from
 // bases made of the features the wrong model matched, wherever they rank.
