@@ -106,8 +106,12 @@ struct MonoConfig {
   // Untried scene bases with a corner among a verified candidate's matched corners, tried
   // before it is accepted; a candidate they find that shares at least this share of the
   // smaller one's matched image features is the same object, and the one with more evidence
-  // wins.
-  int competing_bases = 2;
+  // wins. Five rather than two: the right model's first bases among the object's corners are
+  // often not the next two (on a factory floor, under sensor noise, a hexagon prism's corners
+  // pair with a trapezium's hypotheses first); over twenty polyhedral sets with one camera five
+  // found 7 objects more with 7 false alarms fewer (more than five: no more), for about a fifth
+  // more frame time.
+  int competing_bases = 5;
   float competing_overlap = 0.5f;
   // Solids do not interpenetrate: a candidate whose corner centroid lies inside an object found
   // before, or that holds its centroid, is rejected, unless (displace_weaker) it interpenetrates
