@@ -388,6 +388,8 @@ constexpr Setting<PipelineConfig> kPipelineSettings[] = {
      [](float v, PipelineConfig& c) { c.rescue.edge_fit = v != 0.0f; }},
     {"second_look.floor", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.second_look.floor = v; }},
+    {"second_look.refit_weak", SettingKind::kFlag,
+     [](float v, PipelineConfig& c) { c.second_look.refit_weak = v != 0.0f; }},
     {"second_look.strong", SettingKind::kReal,
      [](float v, PipelineConfig& c) { c.second_look.strong = v; }},
 };

@@ -151,6 +151,9 @@ bool EdgeMapVerifier::Judge(const Model& model, const Vector<RecognizedObject>& 
     // A pose fitted to the edges already would be fitted to the same pose again.
     if (!passed && !fit_first && NearMiss(first)) {
       passed = LookAgain(model, occluders, n_occluders, candidate);
+    } else if (passed && !fit_first && look_.refit_weak &&
+               std::min(first.score_left, first.score_right) < look_.strong) {
+      RefitWeak(model, occluders, n_occluders, first, candidate);
     }
   }
   if (now_ns_) elapsed_ns_.fetch_add(now_ns_() - start, std::memory_order_relaxed);
@@ -164,6 +167,19 @@ bool EdgeMapVerifier::NearMiss(const VerifyResult& first) const {
       first.reason == VerifyReason::kLowScoreLeft || first.reason == VerifyReason::kLowScoreRight;
   return look_.floor > 0.0f && low_score &&
          std::min(first.score_left, first.score_right) >= look_.floor;
+}
+
+void EdgeMapVerifier::RefitWeak(const Model& model, const PosedModel* occluders, size_t n_occluders,
+                                const VerifyResult& first, RecognizedObject& candidate) {
+  RecognizedObject fitted = candidate;
+  VerifyResult again;
+  if (!FitOnEdges(model, occluders, n_occluders, &fitted.cam_T_model) ||
+      !Score(model, occluders, n_occluders, fitted, &again) || !again.accepted ||
+      !(std::min(again.score_left, again.score_right) >
+        std::min(first.score_left, first.score_right))) {
+    return;
+  }
+  candidate = fitted;
 }
 
 bool EdgeMapVerifier::LookAgain(const Model& model, const PosedModel* occluders, size_t n_occluders,

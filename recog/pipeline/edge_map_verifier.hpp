@@ -37,6 +37,9 @@ struct SecondLook {
   float floor = 0.0f;
   // The fitted pose passes with at least this share in each image (and the verifier's own bar).
   float strong = 0.5f;
+  // A hypothesis that passes with under `strong` in either image is fitted to the edge pixels
+  // too, and takes the fitted pose when that confirms more in its weaker image.
+  bool refit_weak = false;
 };
 
 // Checks the ranges (both shares in [0, 1]).
@@ -101,6 +104,8 @@ class EdgeMapVerifier : public HypothesisVerifier {
              RecognizedObject& candidate, VerifyResult* result);
   // Whether a rejection earns the second look (SecondLook::floor).
   bool NearMiss(const VerifyResult& first) const;
+  void RefitWeak(const Model& model, const PosedModel* occluders, size_t n_occluders,
+                 const VerifyResult& first, RecognizedObject& candidate);
   // The second look (SecondLook); true when it passes, with the fitted pose and its scores in
   // `candidate`.
   bool LookAgain(const Model& model, const PosedModel* occluders, size_t n_occluders,
