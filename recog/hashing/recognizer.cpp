@@ -90,6 +90,13 @@ Status Recognizer::Init(const TableView& table, const RecognizerConfig& config) 
                          double(config.compete_evidence_margin),
                          double(config.compete_score_margin));
   }
+  if (!(config.compete_vote_factor > 0.0f && config.compete_vote_factor <= 1.0f) ||
+      config.compete_extra_matches < 0) {
+    return Status::Error(StatusCode::kInvalidArgument,
+                         "competition vote factor must be in (0, 1] and extra matches >= 0 (got "
+                         "%g, %d)",
+                         double(config.compete_vote_factor), config.compete_extra_matches);
+  }
   if (!(config.defer_below_score >= 0.0f && config.defer_below_score <= 1.0f)) {
     return Status::Error(StatusCode::kInvalidArgument, "defer_below_score must be 0..1 (got %g)",
                          double(config.defer_below_score));
@@ -345,7 +352,8 @@ int Recognizer::VoteInTurn(uint32_t index, const SceneBasis& b, uint32_t most,
 }
 
 int Recognizer::Vote(const SceneBasis& b, VoteScratch& v, Vector<Hypothesis>& out,
-                     float* best_per_model) const {
+                     float* best_per_model, float threshold) const {
+  if (threshold < 0.0f) threshold = config_.vote_threshold;
   out.clear();
   if (best_per_model != nullptr) std::fill(best_per_model, best_per_model + kMaxTableModels, 0.0f);
   RigidTransform basis_T_cam;
@@ -419,7 +427,7 @@ int Recognizer::Vote(const SceneBasis& b, VoteScratch& v, Vector<Hypothesis>& ou
     v.basis_touched[bi] = 0;
     if (best_per_model != nullptr)
       best_per_model[r.model] = std::max(best_per_model[r.model], vote);
-    if (vote < config_.vote_threshold || !((config_.model_mask >> r.model) & 1u)) continue;
+    if (vote < threshold || !((config_.model_mask >> r.model) & 1u)) continue;
     int pos = n_best < k_max ? n_best++ : k_max;
     if (pos == k_max && vote <= best_vote[k_max - 1]) continue;
     if (pos == k_max) pos = k_max - 1;
@@ -719,15 +727,18 @@ void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInpu
   const int n_chosen =
       ChooseCompeteBases(next, centre_mm, radius2_mm2, best_matches, accepted_model, chosen);
   Vector<Hypothesis, kMaxHypothesesPerBasis> hypotheses;
+  // Bases voted ahead of their turn were voted at the search's threshold.
+  const float threshold = config_.compete_vote_factor * config_.vote_threshold;
+  const bool afresh = config_.compete_vote_factor < 1.0f;
   for (int c = 0; c < n_chosen; ++c) {
     const uint32_t j = chosen[c];
     const SceneBasis& b = candidates_[j];
     // With two threads or more the next bases were mostly voted ahead, on this same scene (an
     // acceptance follows, which drops them all).
-    if (const auto* voted = ahead_.Find(j)) {
+    if (const auto* voted = afresh ? nullptr : ahead_.Find(j)) {
       hypotheses = *voted;
     } else {
-      (void)Vote(b, scratch_, hypotheses, nullptr);
+      (void)Vote(b, scratch_, hypotheses, nullptr, threshold);
     }
     stats.hypotheses += uint32_t(hypotheses.size());
     // The challengers: other models at this place.
@@ -737,7 +748,8 @@ void Recognizer::CompeteAtPlace(uint32_t next, uint32_t basis_number, RefineInpu
       if ((h.cam_T_model.t_mm - centre_mm).squaredNorm() >= place2_mm2) continue;
       (void)challengers.push_back(h);
     }
-    const int min_matched = first.matched_points + first.matched_lines + 1;
+    const int min_matched =
+        first.matched_points + first.matched_lines + config_.compete_extra_matches;
     const bool ahead = EvaluateAhead(challengers, refine_in, objects, verifier, min_matched);
     for (size_t i = 0; i < challengers.size(); ++i) {
       RecognizedObject candidate;

@@ -92,6 +92,15 @@ struct RecognizerConfig {
   int compete_bases = 0;
   float compete_evidence_margin = 0.1f;
   float compete_score_margin = 0.05f;
+  // A larger model seen in part has no more 3-D features there than the smaller model that
+  // fitted them, and its model bases get fewer votes from them (normalised by its larger feature
+  // count). Its hypotheses at the object's place may therefore come from model bases voted at
+  // compete_vote_factor times vote_threshold (0..1; below 1 the competition's bases are voted
+  // afresh, not taken from the bases voted ahead), and need only compete_extra_matches more
+  // matched scene features than the object (corners and edges within the verifier's gate); the
+  // verification decides (ChallengerClearlyBetter).
+  float compete_vote_factor = 1.0f;
+  int compete_extra_matches = 1;
   // Strong confirmations first: a verified object whose lower verification score is below this
   // is not accepted during the search but held back (one per place, the one explaining most), and
   // its features stay in the scene. A wrong pose or a part-fitting model confirmed weakly would
@@ -281,8 +290,9 @@ class Recognizer {
   // The hypotheses of a scene basis voted ahead of its turn.
   using AheadVotes = AheadBatch<Vector<Hypothesis, kMaxHypothesesPerBasis>, kVoteAheadBases>;
 
+  // `threshold` < 0: config_.vote_threshold.
   int Vote(const SceneBasis& b, VoteScratch& scratch, Vector<Hypothesis>& out,
-           float* best_per_model) const;
+           float* best_per_model, float threshold = -1.0f) const;
   void VotePoint(const Eigen::Vector3f& q, VoteScratch& scratch) const;
   void VoteLine(const Eigen::Vector3f& s, const Eigen::Vector3f& v, VoteScratch& scratch) const;
   void VoteLineEntry(const LineDirectionIndex::Entry& l, const LineLookUp& q,

@@ -218,6 +218,24 @@ TEST_F(RecognizerTest, RefusesCompetitionMarginsOutOfRange) {
   RecognizerConfig zero;
   zero.compete_evidence_margin = zero.compete_score_margin = 0.0f;
   EXPECT_TRUE(std::make_unique<Recognizer>()->Init(view_, zero).ok());
+  // The challengers' vote factor in (0, 1], their extra matches not negative.
+  const float bad_factors[] = {0.0f, -0.5f, 1.5f, nan};
+  for (const float factor : bad_factors) {
+    RecognizerConfig config;
+    config.compete_vote_factor = factor;
+    const Status s = std::make_unique<Recognizer>()->Init(view_, config);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument) << factor;
+    EXPECT_NE(std::string(s.message()).find("competition vote factor"), std::string::npos)
+        << s.message();
+  }
+  RecognizerConfig negative;
+  negative.compete_extra_matches = -1;
+  EXPECT_EQ(std::make_unique<Recognizer>()->Init(view_, negative).code(),
+            StatusCode::kInvalidArgument);
+  RecognizerConfig lowest;
+  lowest.compete_vote_factor = 0.1f;
+  lowest.compete_extra_matches = 0;
+  EXPECT_TRUE(std::make_unique<Recognizer>()->Init(view_, lowest).ok());
 }
 
 TEST_F(RecognizerTest, HonoursTheModelMask) {

@@ -114,6 +114,9 @@ TEST(RecognizerThreads, VerifiesTheHypothesesOfABasisTogetherAndFindsWhatOneThre
   RecognizerConfig config;
   config.hypotheses_per_basis = 6;  // as the pipeline: several hypotheses to spread
   config.compete_bases = 5;
+  // Challengers voted afresh at a lower threshold, as in the automatic preset.
+  config.compete_vote_factor = 0.6f;
+  config.compete_extra_matches = 0;
   config.defer_below_score = 0.5f;  // weakly confirmed objects wait, as in the pipeline
   auto one = MakeRecognizer(*view, config);
   auto two = MakeRecognizer(*view, config);
