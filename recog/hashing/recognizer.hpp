@@ -95,7 +95,7 @@ struct RecognizerConfig {
   // A larger model seen in part has no more 3-D features there than the smaller model that
   // fitted them, and its model bases get fewer votes from them (normalised by its larger feature
   // count). Its hypotheses at the object's place may therefore come from model bases voted at
-  // compete_vote_factor times vote_threshold (0..1; below 1 the competition's bases are voted
+  // compete_vote_factor times vote_threshold (in (0, 1]; below 1 the competition's bases are voted
   // afresh, not taken from the bases voted ahead), and need only compete_extra_matches more
   // matched scene features than the object (corners and edges within the verifier's gate); the
   // verification decides (ChallengerClearlyBetter).

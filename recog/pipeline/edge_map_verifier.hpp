@@ -104,6 +104,8 @@ class EdgeMapVerifier : public HypothesisVerifier {
              RecognizedObject& candidate, VerifyResult* result);
   // Whether a rejection earns the second look (SecondLook::floor).
   bool NearMiss(const VerifyResult& first) const;
+  // SecondLook::refit_weak for a hypothesis that passed with `first`: the fitted pose and its
+  // scores go to `candidate` when its weaker image confirms more; otherwise nothing changes.
   void RefitWeak(const Model& model, const PosedModel* occluders, size_t n_occluders,
                  const VerifyResult& first, RecognizedObject& candidate);
   // The second look (SecondLook); true when it passes, with the fitted pose and its scores in
