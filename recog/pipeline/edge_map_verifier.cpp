@@ -169,28 +169,29 @@ bool EdgeMapVerifier::NearMiss(const VerifyResult& first) const {
          std::min(first.score_left, first.score_right) >= look_.floor;
 }
 
+float EdgeMapVerifier::FitAndRescore(const Model& model, const PosedModel* occluders,
+                                     size_t n_occluders, RecognizedObject* fitted) {
+  VerifyResult again;
+  if (!FitOnEdges(model, occluders, n_occluders, &fitted->cam_T_model) ||
+      !Score(model, occluders, n_occluders, *fitted, &again) || !again.accepted) {
+    return -1.0f;
+  }
+  return std::min(again.score_left, again.score_right);
+}
+
 void EdgeMapVerifier::RefitWeak(const Model& model, const PosedModel* occluders, size_t n_occluders,
                                 const VerifyResult& first, RecognizedObject& candidate) {
   RecognizedObject fitted = candidate;
-  VerifyResult again;
-  if (!FitOnEdges(model, occluders, n_occluders, &fitted.cam_T_model) ||
-      !Score(model, occluders, n_occluders, fitted, &again) || !again.accepted ||
-      !(std::min(again.score_left, again.score_right) >
-        std::min(first.score_left, first.score_right))) {
-    return;
+  if (FitAndRescore(model, occluders, n_occluders, &fitted) >
+      std::min(first.score_left, first.score_right)) {
+    candidate = fitted;
   }
-  candidate = fitted;
 }
 
 bool EdgeMapVerifier::LookAgain(const Model& model, const PosedModel* occluders, size_t n_occluders,
                                 RecognizedObject& candidate) {
   RecognizedObject fitted = candidate;
-  VerifyResult again;
-  if (!FitOnEdges(model, occluders, n_occluders, &fitted.cam_T_model) ||
-      !Score(model, occluders, n_occluders, fitted, &again) || !again.accepted ||
-      !(std::min(again.score_left, again.score_right) >= look_.strong)) {
-    return false;
-  }
+  if (!(FitAndRescore(model, occluders, n_occluders, &fitted) >= look_.strong)) return false;
   candidate = fitted;
   second_looks_.fetch_add(1, std::memory_order_relaxed);
   return true;

@@ -104,6 +104,11 @@ class EdgeMapVerifier : public HypothesisVerifier {
              RecognizedObject& candidate, VerifyResult* result);
   // Whether a rejection earns the second look (SecondLook::floor).
   bool NearMiss(const VerifyResult& first) const;
+  // Fits `fitted`'s pose to the edge pixels (FitOnEdges) and verifies it again: the weaker
+  // image's share when it passes, -1 when the fit or the verification fails. `fitted` holds the
+  // fitted pose and its scores.
+  float FitAndRescore(const Model& model, const PosedModel* occluders, size_t n_occluders,
+                      RecognizedObject* fitted);
   // SecondLook::refit_weak for a hypothesis that passed with `first`: the fitted pose and its
   // scores go to `candidate` when its weaker image confirms more; otherwise nothing changes.
   void RefitWeak(const Model& model, const PosedModel* occluders, size_t n_occluders,
